@@ -1,0 +1,48 @@
+#pragma once
+/// @file contact_nodes.hpp  Γ3 nodes with nodal-quadrature weights w_i, normals ν_i, frames and gaps g_i.
+///
+/// MODEL.md §2: the contact integrals ∫Γ3 j_ν(u_ν), ∫Γ3 F_b|u_τ| are evaluated by nodal quadrature:
+/// node i carries w_i = Σ |F|/d over the Γ3 facets F touching it (half the adjacent lengths in 2D).
+/// Its normal ν_i is the facet normal; at a kink of Γ3 it is the measure-weighted average of the
+/// adjacent facet normals, normalized (this makes Σ_i w_i ν_i equal ∫Γ3 ν, the consistent choice for
+/// the normal force balance). In 2D the tangent is ν turned 90° counter-clockwise, τ = (−ν_y, ν_x),
+/// so on a bottom edge (ν = (0, −1)) τ = (1, 0) and "slip+" means moving in +x.
+
+#include <hemicontact/mesh/mesh.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hemicontact {
+
+/// The thickness g of the soft layer (eq. (7)): a constant, +∞ (no rigid obstacle), or piecewise
+/// linear along one coordinate (constant beyond the end points).
+struct Gap {
+  double constant = INF;                          ///< used when points is empty
+  int axis = 0;                                   ///< coordinate of the table (0 = x, 1 = y, 2 = z)
+  std::vector<std::pair<double, double>> points;  ///< (coordinate, g), increasing coordinate
+  /// @return g at the point @p x. 
+  double at(const Eigen::Ref<const Eigen::RowVectorXd>& x) const;
+  /// @return true if g = +∞ everywhere (no bound constraint at all).
+  bool is_infinite() const { return points.empty() && constant == INF; }
+  /// @return a one-line description.
+  std::string describe() const;
+};
+
+/// The Γ3 nodes, in a fixed order (sorted by coordinates: left to right on a bottom edge).
+struct ContactNodes {
+  std::vector<int> node;  ///< mesh node index of each contact node
+  Vec w;                  ///< nodal quadrature weights w_i
+  RowMat normal;          ///< ν_i, one row each (unit, outward)
+  RowMat tangent;         ///< τ_i (2D: one tangent; 3D: first tangent, the second is ν × τ1)
+  Vec g;                  ///< g_i = g(x_i) (may be +∞)
+  /// @return the number of contact nodes.
+  Index size() const { return static_cast<Index>(node.size()); }
+};
+
+/// Collect the Γ3 nodes of @p mesh that are not clamped (a node on Γ1 ∩ Γ3 is clamped).
+/// @throws Error if a Γ3 gap value is negative (thickness g ≥ 0, eq. (14)).
+ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamped, const Gap& gap);
+
+}  // namespace hemicontact

@@ -1,0 +1,36 @@
+#pragma once
+/// @file error.hpp  Error type and exit codes shared by the library and the CLI.
+
+#include <stdexcept>
+#include <string>
+
+namespace hemicontact {
+
+/// Process exit codes of the `hemicontact` program (documented in README.md).
+enum ExitCode : int {
+  EXIT_OK = 0,             ///< solved, certificate passed
+  EXIT_USAGE = 1,          ///< bad command line
+  EXIT_INPUT = 2,          ///< bad input: scene, mesh, parameters, output directory
+  EXIT_NOT_CONVERGED = 3,  ///< a solver or the outer fixed point did not converge
+  EXIT_CERTIFICATE = 4,    ///< converged, but the certificate (MODEL.md §4) failed
+  EXIT_INTERNAL = 5        ///< anything else (a bug)
+};
+
+/// An error with a one-line message that names what is wrong, and the exit code it maps to.
+class Error : public std::runtime_error {
+ public:
+  /// @param message one line naming the problem (e.g. "mesh: no Γ1 (clamped) facets")
+  /// @param code    exit code the CLI returns for it
+  explicit Error(const std::string& message, ExitCode code = EXIT_INPUT)
+      : std::runtime_error(message), m_code(code) {}
+  /// @return the exit code for this error.
+  ExitCode code() const { return m_code; }
+
+ private:
+  ExitCode m_code;
+};
+
+/// Input error (exit code 2). @param message names the offending key, element or value.
+[[noreturn]] inline void input_error(const std::string& message) { throw Error(message, EXIT_INPUT); }
+
+}  // namespace hemicontact

@@ -1,0 +1,28 @@
+#pragma once
+/// @file assembly.hpp  Global assembly of the P1 stiffness matrix and load vector (full dofs).
+///
+/// Full dof numbering: node a, component i ↦ d·a + i. Dirichlet elimination and the local
+/// (ν, τ) frames on Γ3 are applied afterwards by DofMap.
+
+#include <hemicontact/material/material.hpp>
+#include <hemicontact/mesh/mesh.hpp>
+
+namespace hemicontact {
+
+/// K = Σ_T |T| Bᵀ D B for a linear material (symmetric, full storage, N·d × N·d).
+/// @throws Error if the material is not linear (use the nonlinear internal-force assembly).
+SpMat assemble_stiffness(const Mesh& mesh, const Material& material);
+
+/// Body force: ∫Ω f0·φ_a = |T|/(d+1) f0 per cell node, exact for constant f0 and P1.
+Vec assemble_body_force(const Mesh& mesh, const Vec& f0);
+
+/// Tractions on Γ2 facets: ∫ f2·φ_a = |F|/d f2 per facet node, exact for piecewise-constant f2.
+Vec assemble_tractions(const Mesh& mesh);
+
+/// Cell-wise strains (Voigt, one row per cell) of the full displacement vector @p u.
+RowMat cell_strains(const Mesh& mesh, const Vec& u);
+
+/// Von Mises stress of a Voigt stress row (2D: plane components, σ33 taken as 0).
+double von_mises(const Eigen::Ref<const Eigen::RowVectorXd>& s, int dim);
+
+}  // namespace hemicontact

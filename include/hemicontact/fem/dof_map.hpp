@@ -1,0 +1,46 @@
+#pragma once
+/// @file dof_map.hpp  Full ↔ reduced unknowns: Dirichlet elimination and the Γ3 local frames.
+///
+/// The solver vector x holds the free dofs: first every free component of the non-contact nodes
+/// (node-major), then for each Γ3 node k its local components (x_ν, x_τ[, x_τ2]) — contact dofs
+/// last, which is the ordering static condensation wants. With R_k = [ν_k τ_k (ν_k×τ_k)] the map is
+/// u = T x (u_D = 0 on Γ1, eq. (3)); T has orthonormal columns, so x = Tᵀ u for any u that vanishes
+/// on Γ1, gradients map as g_x = Tᵀ g_u and Hessians as H_x = Tᵀ H_u T (MODEL.md §2). The bound
+/// u_ν,k ≤ g_k is then the variable bound x_ν,k ≤ g_k.
+
+#include <hemicontact/contact/contact_nodes.hpp>
+
+#include <vector>
+
+namespace hemicontact {
+
+/// Maps between full nodal displacements and the solver's reduced unknowns.
+class DofMap {
+ public:
+  DofMap() = default;
+  /// @param mesh the mesh; @param clamped per-node Γ1 flag; @param contact the Γ3 nodes (not clamped).
+  DofMap(const Mesh& mesh, const std::vector<bool>& clamped, const ContactNodes& contact);
+  /// @return the number of full dofs N·d.
+  Index n_full() const { return m_T.rows(); }
+  /// @return the number of reduced (free) unknowns.
+  Index n_free() const { return m_T.cols(); }
+  /// @return the number of free non-contact unknowns (they come first in x).
+  Index n_interior() const { return m_n_interior; }
+  /// @return the index in x of local component @p comp (0 = ν, 1.. = τ) of contact node @p k.
+  Index contact_dof(Index k, int comp) const { return m_n_interior + m_dim * k + comp; }
+  /// @return the sparse map T (n_full × n_free).
+  const SpMat& T() const { return m_T; }
+  /// @return u = T x.
+  Vec to_full(const Vec& x) const { return m_T * x; }
+  /// @return Tᵀ v (reduced gradient of a full gradient; or x of a u that vanishes on Γ1).
+  Vec to_reduced(const Vec& v) const { return m_T.transpose() * v; }
+  /// @return Tᵀ A T (reduced stiffness of a full one).
+  SpMat reduce(const SpMat& A) const;
+
+ private:
+  int m_dim = 2;
+  Index m_n_interior = 0;
+  SpMat m_T;
+};
+
+}  // namespace hemicontact

@@ -1,0 +1,38 @@
+#pragma once
+/// @file boundary.hpp  Assigning boundary facets to Γ1 (clamped), Γ2 (traction), Γ3 (contact).
+
+#include <hemicontact/mesh/mesh.hpp>
+
+#include <string>
+#include <vector>
+
+namespace hemicontact {
+
+/// Selects boundary facets: by a side of the bounding box or by a named (Gmsh physical) group,
+/// optionally restricted to facets whose midpoint coordinate along the side lies in [from, to).
+struct BoundarySelector {
+  std::string side;      ///< "left", "right" (x = min/max), "bottom", "top" (y = min/max); or empty
+  std::string physical;  ///< name of a group in Mesh::facet_groups; or empty
+  double from = -INF;    ///< lower end of the half-open interval along the side
+  double to = INF;       ///< upper end (excluded)
+  Vec traction;          ///< Γ2 only: the constant traction f2 on the selected facets
+  std::string context;   ///< where it came from, for messages (e.g. "boundary.gamma2[1]")
+};
+
+/// The selectors of the three parts.
+struct BoundarySpec {
+  std::vector<BoundarySelector> gamma1;  ///< clamped
+  std::vector<BoundarySelector> gamma2;  ///< tractions
+  std::vector<BoundarySelector> gamma3;  ///< contact
+};
+
+/// Tag mesh.facets with their parts and tractions.
+/// @throws Error naming the selector when one selects nothing, names an unknown side or group,
+/// or when two selectors claim the same facet; and when no Γ1 facet results (the problem would
+/// not be coercive: the paper requires meas(Γ1) > 0).
+void assign_boundary(Mesh& mesh, const BoundarySpec& spec);
+
+/// @return a flag per node: true if the node lies on a Γ1 facet (its displacement is zero).
+std::vector<bool> clamped_nodes(const Mesh& mesh);
+
+}  // namespace hemicontact

@@ -1,0 +1,69 @@
+#pragma once
+/// @file backend.hpp  Abstract NLP backend (polysolve-style: created by name, sees only NlpProblem).
+
+#include <hemicontact/nlp/nlp_problem.hpp>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hemicontact {
+
+/// Outcome of one backend run. Never a bare bool.
+enum class SolveStatus {
+  CONVERGED,       ///< the backend met its tolerance
+  ACCEPTABLE,      ///< met a looser "acceptable" tolerance (Ipopt's Solved_To_Acceptable_Level)
+  MAX_ITERATIONS,  ///< iteration cap hit
+  FAILED           ///< anything else (see message)
+};
+
+/// @return "converged", "acceptable", "max_iterations" or "failed".
+const char* to_string(SolveStatus s);
+
+/// Statistics and verdict of one backend run.
+struct SolveResult {
+  SolveStatus status = SolveStatus::FAILED;  ///< verdict
+  int iterations = 0;                        ///< backend iterations
+  int evaluations = 0;                       ///< objective evaluations
+  double f = 0.0;                            ///< final objective value
+  double kkt_norm = 0.0;                     ///< final (unscaled) KKT/first-order residual, inf-norm
+  double seconds = 0.0;                      ///< wall time
+  std::string message;                       ///< backend's own status text
+  /// @return true for CONVERGED or ACCEPTABLE.
+  bool ok() const { return status == SolveStatus::CONVERGED || status == SolveStatus::ACCEPTABLE; }
+};
+
+/// Options common to all backends. Defaults live in the scene schema (io/config), not here;
+/// these member initialisers only keep a default-constructed struct usable in unit tests.
+struct BackendOptions {
+  double tol = 1e-10;       ///< first-order tolerance, relative to the gradient scale at x0
+  int max_iter = 500;       ///< iteration cap
+  int print_level = 0;      ///< backend verbosity (0 = silent; our logger reports progress)
+  /// Backend-specific options passed through verbatim (e.g. Ipopt "mu_strategy" -> "adaptive").
+  /// Values are strings; numeric/integer Ipopt options are parsed from them.
+  std::map<std::string, std::string> extra;
+};
+
+/// An NLP solver for bound-constrained problems.
+class NlpBackend {
+ public:
+  virtual ~NlpBackend() = default;
+  /// @return the backend's name as given to make_backend() (e.g. "ipopt").
+  virtual std::string name() const = 0;
+  /// @return true if the backend uses the Hessian.
+  virtual bool uses_hessian() const = 0;
+  /// Minimize from the warm start @p x (projected onto the bounds first); x receives the result.
+  /// @param problem objective and bounds; @param x in: start, out: final iterate;
+  /// @param options tolerances and pass-through options.
+  virtual SolveResult minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) = 0;
+};
+
+/// Create a backend by name ("ipopt", "newton", "nlopt:LD_LBFGS", ...).
+/// @throws Error naming the backend if it is unknown or was not compiled in.
+std::unique_ptr<NlpBackend> make_backend(const std::string& name);
+
+/// One line per backend that was compiled in: {name, one-line description}.
+std::vector<std::pair<std::string, std::string>> available_backends();
+
+}  // namespace hemicontact

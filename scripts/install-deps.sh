@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Install the Debian packages hemicontact needs, and only those that are missing.
+# Idempotent: a second run installs nothing and does not call apt-get update.
+# Usage: scripts/install-deps.sh [--with-gmsh]
+set -euo pipefail
+
+pkgs=(
+  build-essential cmake pkg-config
+  libeigen3-dev          # Eigen 3.4: dense/sparse linear algebra
+  libsuitesparse-dev     # CHOLMOD (supernodal sparse Cholesky), METIS ordering
+  libopenblas0-pthread   # CHOLMOD's supernodes are BLAS-bound; reference BLAS is 2-5x slower
+  coinor-libipopt-dev    # Ipopt 3.11.9 with MUMPS: the design's NLP backend
+  libnlopt-cxx-dev       # NLopt 2.7: alternative local/global NLP backends
+  nlohmann-json3-dev     # scene files and report.json
+  libgtest-dev           # unit tests
+  libbenchmark-dev       # micro-benchmarks in bench/
+  python3-matplotlib     # pictures (work-precision, convergence, Fig. 2); Debian's /usr/bin/python3
+)
+if [[ "${1:-}" == "--with-gmsh" ]]; then pkgs+=(libgmsh-dev); fi
+
+missing=()
+for p in "${pkgs[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#pkgs[@]} packages present" >&2
+  exit 0
+fi
+
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+echo "install-deps: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done" >&2

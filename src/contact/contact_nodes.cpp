@@ -1,0 +1,93 @@
+#include <hemicontact/contact/contact_nodes.hpp>
+
+#include <hemicontact/core/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+namespace hemicontact {
+
+double Gap::at(const Eigen::Ref<const Eigen::RowVectorXd>& x) const {
+  if (points.empty()) return constant;
+  const double s = x[axis];
+  if (s <= points.front().first) return points.front().second;
+  if (s >= points.back().first) return points.back().second;
+  const auto it = std::upper_bound(points.begin(), points.end(), s,
+                                   [](double v, const std::pair<double, double>& p) { return v < p.first; });
+  const auto& [s1, g1] = *it;
+  const auto& [s0, g0] = *(it - 1);
+  return s1 > s0 ? g0 + (g1 - g0) * (s - s0) / (s1 - s0) : g1;
+}
+
+std::string Gap::describe() const {
+  std::ostringstream os;
+  if (points.empty()) {
+    if (constant == INF) os << "g = inf (no rigid obstacle)";
+    else os << "g = " << constant;
+  } else {
+    os << "g piecewise linear in " << "xyz"[axis] << " through " << points.size() << " points";
+  }
+  return os.str();
+}
+
+ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamped, const Gap& gap) {
+  const int d = mesh.dim;
+  const Index N = mesh.num_nodes();
+  Vec w = Vec::Zero(N);
+  RowMat nsum = RowMat::Zero(N, d);
+  for (Index f = 0; f < mesh.num_facets(); ++f) {
+    if (mesh.facet_part[f] != Part::GAMMA3) continue;
+    const double a = mesh.facet_measure(f);
+    const Vec n = mesh.facet_normal(f);
+    for (int k = 0; k < d; ++k) {
+      const int v = mesh.facets(f, k);
+      w[v] += a / d;
+      nsum.row(v) += (a / d) * n.transpose();
+    }
+  }
+  std::vector<int> nodes;
+  for (Index v = 0; v < N; ++v)
+    if (w[v] > 0 && !clamped[v]) nodes.push_back(static_cast<int>(v));
+  // Lexicographic order by coordinates: left to right along a bottom edge, as the reference data.
+  std::sort(nodes.begin(), nodes.end(), [&](int a, int b) {
+    for (int k = 0; k < d; ++k)
+      if (mesh.points(a, k) != mesh.points(b, k)) return mesh.points(a, k) < mesh.points(b, k);
+    return a < b;
+  });
+  ContactNodes c;
+  c.node = nodes;
+  const Index n = c.size();
+  c.w.resize(n);
+  c.normal.resize(n, d);
+  c.tangent.resize(n, d);
+  c.g.resize(n);
+  for (Index i = 0; i < n; ++i) {
+    const int v = nodes[i];
+    c.w[i] = w[v];
+    c.normal.row(i) = nsum.row(v) / nsum.row(v).norm();
+    if (d == 2) {
+      c.tangent(i, 0) = -c.normal(i, 1);
+      c.tangent(i, 1) = c.normal(i, 0);
+    } else {
+      // First tangent: the unit vector of the projection of the axis least aligned with ν.
+      Eigen::Vector3d nu = c.normal.row(i).transpose();
+      Eigen::Index k;
+      nu.cwiseAbs().minCoeff(&k);
+      Eigen::Vector3d e = Eigen::Vector3d::Unit(k);
+      Eigen::Vector3d t1 = (e - e.dot(nu) * nu).normalized();
+      c.tangent.row(i) = t1.transpose();
+    }
+    c.g[i] = gap.at(mesh.points.row(v));
+    if (!(c.g[i] >= 0)) {
+      std::ostringstream os;
+      os << "contact.gap: negative thickness g = " << c.g[i] << " at Γ3 node (" << mesh.points.row(v)
+         << "); eq. (14) requires g >= 0";
+      input_error(os.str());
+    }
+  }
+  return c;
+}
+
+}  // namespace hemicontact

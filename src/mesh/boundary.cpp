@@ -1,0 +1,98 @@
+#include <hemicontact/mesh/boundary.hpp>
+
+#include <hemicontact/core/error.hpp>
+
+#include <cmath>
+#include <sstream>
+
+namespace hemicontact {
+namespace {
+
+// Does facet f lie on the bounding-box side, with its midpoint in [from, to)?
+bool selects(const Mesh& m, Index f, const BoundarySelector& s, const RowMat& lo, const RowMat& hi,
+             double tol) {
+  int axis = -1;
+  bool at_max = false;
+  if (s.side == "left") axis = 0;
+  else if (s.side == "right") { axis = 0; at_max = true; }
+  else if (s.side == "bottom") axis = 1;
+  else if (s.side == "top") { axis = 1; at_max = true; }
+  else input_error(s.context + ".side: unknown side '" + s.side + "' (expected left, right, bottom, top)");
+  const double target = at_max ? hi(0, axis) : lo(0, axis);
+  for (int a = 0; a < m.dim; ++a)
+    if (std::abs(m.points(m.facets(f, a), axis) - target) > tol) return false;
+  // Coordinate along the side (2D: the other axis).
+  const int along = 1 - axis;
+  double mid = 0;
+  for (int a = 0; a < m.dim; ++a) mid += m.points(m.facets(f, a), along);
+  mid /= m.dim;
+  return mid >= s.from && mid < s.to;
+}
+
+void assign(Mesh& m, const std::vector<BoundarySelector>& sel, Part part, std::vector<std::string>& owner) {
+  const RowMat lo = m.points.colwise().minCoeff(), hi = m.points.colwise().maxCoeff();
+  const double tol = 1e-9 * (hi - lo).maxCoeff();
+  for (const auto& s : sel) {
+    if (s.side.empty() == s.physical.empty())
+      input_error(s.context + ": give exactly one of 'side' and 'physical'");
+    if (s.from >= s.to) input_error(s.context + ": empty interval [from, to)");
+    std::vector<Index> chosen;
+    if (!s.side.empty()) {
+      if (m.dim != 2) input_error(s.context + ": 'side' selectors are implemented for 2D meshes only");
+      for (Index f = 0; f < m.num_facets(); ++f)
+        if (selects(m, f, s, lo, hi, tol)) chosen.push_back(f);
+    } else {
+      auto it = m.facet_groups.find(s.physical);
+      if (it == m.facet_groups.end()) {
+        std::string names;
+        for (const auto& [k, v] : m.facet_groups) names += (names.empty() ? "" : ", ") + k;
+        input_error(s.context + ".physical: the mesh has no facet group '" + s.physical +
+                    "' (groups: " + (names.empty() ? "none" : names) + ")");
+      }
+      chosen = it->second;
+    }
+    if (chosen.empty()) input_error(s.context + " selects no boundary facet");
+    int load = -1;
+    if (part == Part::GAMMA2) {
+      if (s.traction.size() != m.dim)
+        input_error(s.context + ".traction: expected " + std::to_string(m.dim) + " components");
+      load = static_cast<int>(m.tractions.size());
+      m.tractions.push_back(s.traction);
+    }
+    for (Index f : chosen) {
+      if (!owner[f].empty()) {
+        std::ostringstream os;
+        os << s.context << " and " << owner[f] << " both select the boundary facet (" << m.facets(f, 0)
+           << ", " << m.facets(f, 1) << ")";
+        input_error(os.str());
+      }
+      owner[f] = s.context;
+      m.facet_part[f] = part;
+      m.facet_load[f] = load;
+    }
+  }
+}
+
+}  // namespace
+
+void assign_boundary(Mesh& mesh, const BoundarySpec& spec) {
+  std::vector<std::string> owner(mesh.num_facets());
+  mesh.tractions.clear();
+  assign(mesh, spec.gamma1, Part::GAMMA1, owner);
+  assign(mesh, spec.gamma2, Part::GAMMA2, owner);
+  assign(mesh, spec.gamma3, Part::GAMMA3, owner);
+  bool any_gamma1 = false;
+  for (Part p : mesh.facet_part) any_gamma1 |= (p == Part::GAMMA1);
+  if (!any_gamma1)
+    input_error("boundary: no Γ1 (clamped) facet: the problem is not coercive (the paper needs meas(Γ1) > 0)");
+}
+
+std::vector<bool> clamped_nodes(const Mesh& mesh) {
+  std::vector<bool> clamped(mesh.num_nodes(), false);
+  for (Index f = 0; f < mesh.num_facets(); ++f)
+    if (mesh.facet_part[f] == Part::GAMMA1)
+      for (int a = 0; a < mesh.dim; ++a) clamped[mesh.facets(f, a)] = true;
+  return clamped;
+}
+
+}  // namespace hemicontact

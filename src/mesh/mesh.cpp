@@ -1,0 +1,139 @@
+#include <hemicontact/mesh/mesh.hpp>
+
+#include <hemicontact/core/error.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace hemicontact {
+
+const char* to_string(Part p) {
+  switch (p) {
+    case Part::GAMMA1: return "gamma1";
+    case Part::GAMMA2: return "gamma2";
+    case Part::GAMMA3: return "gamma3";
+    default: return "none";
+  }
+}
+
+double Mesh::cell_measure(Index c) const {
+  if (dim == 2) {
+    const auto a = points.row(cells(c, 0)), b = points.row(cells(c, 1)), d = points.row(cells(c, 2));
+    return 0.5 * ((b[0] - a[0]) * (d[1] - a[1]) - (d[0] - a[0]) * (b[1] - a[1]));
+  }
+  Eigen::Matrix3d J;
+  for (int k = 0; k < 3; ++k) J.col(k) = (points.row(cells(c, k + 1)) - points.row(cells(c, 0))).transpose();
+  return J.determinant() / 6.0;
+}
+
+double Mesh::facet_measure(Index f) const {
+  if (dim == 2) return (points.row(facets(f, 1)) - points.row(facets(f, 0))).norm();
+  const Eigen::Vector3d e1 = (points.row(facets(f, 1)) - points.row(facets(f, 0))).transpose();
+  const Eigen::Vector3d e2 = (points.row(facets(f, 2)) - points.row(facets(f, 0))).transpose();
+  return 0.5 * e1.cross(e2).norm();
+}
+
+Vec Mesh::facet_normal(Index f) const {
+  // Facets are stored so that the body lies on the left of the edge a→b in 2D (counter-clockwise
+  // boundary traversal), i.e. the outward normal is the edge direction turned clockwise; in 3D the
+  // facet is ordered so that (b−a)×(c−a) points outward.
+  if (dim == 2) {
+    const Vec e = (points.row(facets(f, 1)) - points.row(facets(f, 0))).transpose();
+    Vec n(2);
+    n << e[1], -e[0];
+    return n / n.norm();
+  }
+  const Eigen::Vector3d e1 = (points.row(facets(f, 1)) - points.row(facets(f, 0))).transpose();
+  const Eigen::Vector3d e2 = (points.row(facets(f, 2)) - points.row(facets(f, 0))).transpose();
+  const Eigen::Vector3d n = e1.cross(e2);
+  return n / n.norm();
+}
+
+namespace {
+template <class F>
+void for_each_edge(const Mesh& m, F&& f) {
+  const int nv = m.dim + 1;
+  for (Index c = 0; c < m.num_cells(); ++c)
+    for (int a = 0; a < nv; ++a)
+      for (int b = a + 1; b < nv; ++b) f(m.cells(c, a), m.cells(c, b));
+}
+}  // namespace
+
+double Mesh::min_edge_length() const {
+  double h = INF;
+  for_each_edge(*this, [&](int a, int b) { h = std::min(h, (points.row(a) - points.row(b)).norm()); });
+  return h;
+}
+
+double Mesh::max_edge_length() const {
+  double h = 0;
+  for_each_edge(*this, [&](int a, int b) { h = std::max(h, (points.row(a) - points.row(b)).norm()); });
+  return h;
+}
+
+void extract_boundary_facets(Mesh& mesh) {
+  const int d = mesh.dim, nv = d + 1;
+  // Key: sorted node list of the facet; value: (count, oriented facet from the first cell).
+  std::map<std::array<int, 3>, std::pair<int, std::array<int, 3>>> seen;
+  for (Index c = 0; c < mesh.num_cells(); ++c) {
+    for (int skip = 0; skip < nv; ++skip) {
+      std::array<int, 3> f{-1, -1, -1};
+      int k = 0;
+      for (int a = 0; a < nv; ++a)
+        if (a != skip) f[k++] = mesh.cells(c, a);
+      // Orientation: in 2D, for a positively oriented triangle (v0,v1,v2) the boundary edges
+      // opposite vertex s, traversed counter-clockwise, are (v1,v2), (v2,v0), (v0,v1).
+      if (d == 2) {
+        if (skip == 1) std::swap(f[0], f[1]);  // (v0,v2) -> (v2,v0)
+      } else {
+        // For a positive tet, the outward faces are (1,2,3), (0,3,2), (0,1,3), (0,2,1).
+        static const int faces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+        for (int a = 0; a < 3; ++a) f[a] = mesh.cells(c, faces[skip][a]);
+      }
+      std::array<int, 3> key = f;
+      if (d == 2) {
+        if (key[0] > key[1]) std::swap(key[0], key[1]);
+      } else {
+        std::sort(key.begin(), key.end());
+      }
+      auto [it, inserted] = seen.try_emplace(key, 0, f);
+      ++it->second.first;
+      if (it->second.first > 2) {
+        std::ostringstream os;
+        os << "mesh: facet (" << key[0] << ", " << key[1] << (d == 3 ? ", " + std::to_string(key[2]) : "")
+           << ") is shared by more than two cells (non-manifold mesh)";
+        input_error(os.str());
+      }
+    }
+  }
+  std::vector<std::array<int, 3>> boundary;
+  for (const auto& [key, v] : seen)
+    if (v.first == 1) boundary.push_back(v.second);
+  mesh.facets.resize(static_cast<Index>(boundary.size()), d);
+  for (Index i = 0; i < mesh.facets.rows(); ++i)
+    for (int a = 0; a < d; ++a) mesh.facets(i, a) = boundary[i][a];
+  mesh.facet_part.assign(boundary.size(), Part::NONE);
+  mesh.facet_load.assign(boundary.size(), -1);
+}
+
+void check_cells(const Mesh& mesh) {
+  if (mesh.num_cells() == 0) input_error("mesh: no cells");
+  const double h = mesh.max_edge_length();
+  // A cell is degenerate when its measure is below round-off relative to h^d.
+  const double tiny = 1e-12 * std::pow(h, mesh.dim);
+  for (Index c = 0; c < mesh.num_cells(); ++c) {
+    const double m = mesh.cell_measure(c);
+    if (!(m > tiny)) {
+      std::ostringstream os;
+      os << "mesh: cell " << c << " (nodes";
+      for (int a = 0; a <= mesh.dim; ++a) os << ' ' << mesh.cells(c, a);
+      os << ") is " << (m < -tiny ? "inverted" : "degenerate (zero measure)") << ", measure " << m;
+      input_error(os.str());
+    }
+  }
+}
+
+}  // namespace hemicontact

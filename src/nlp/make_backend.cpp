@@ -1,0 +1,106 @@
+// The backend registry: make_backend(name) and available_backends() (polysolve's Solver::create).
+//
+// One table lists every backend hemicontact knows about, compiled in or not, so that a known name
+// whose library was missing at build time gets an actionable message ("install X and rebuild")
+// instead of "unknown backend".
+
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/nlp/backend.hpp>
+
+#include "nlp/backend_factories.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hemicontact {
+
+const char* to_string(SolveStatus s) {
+  switch (s) {
+    case SolveStatus::CONVERGED: return "converged";
+    case SolveStatus::ACCEPTABLE: return "acceptable";
+    case SolveStatus::MAX_ITERATIONS: return "max_iterations";
+    case SolveStatus::FAILED: return "failed";
+  }
+  return "failed";  // unreachable for valid enumerators; keeps -Wreturn-type quiet
+}
+
+namespace {
+
+/// A factory receives the full requested name, so a family ("nlopt:ALGO") can read its suffix.
+using Factory = std::unique_ptr<NlpBackend> (*)(const std::string& name);
+
+struct Entry {
+  const char* name;         // exact name, or a family prefix ending in ':' (e.g. "nlopt:")
+  const char* shown_name;   // how available_backends() and error messages print it
+  const char* description;  // one line
+  const char* missing;      // how to get it when it was not compiled in
+  Factory create;           // nullptr: not compiled in
+};
+
+std::vector<Entry> registry() {
+  std::vector<Entry> r;
+
+  // [newton] The Newton backend work adds its entry here, first, since it is the default:
+  //   r.push_back({"newton", "newton", "projected Newton / active set with CHOLMOD (exact Hessian, PSD-clamped)",
+  //                "", [](const std::string&) { return make_newton_backend(); }});
+
+  r.push_back({"ipopt", "ipopt",
+               "Ipopt interior point, exact Hessian, bound multipliers kept for warm starts",
+               "install coinor-libipopt-dev and rebuild",
+#if HEMICONTACT_HAS_IPOPT
+               [](const std::string&) { return make_ipopt_backend(); }
+#else
+               nullptr
+#endif
+  });
+
+  // [nlopt:ALGO] The NLopt backend work adds its family entry here:
+  //   r.push_back({"nlopt:", "nlopt:ALGO", "NLopt gradient algorithm ALGO with bounds (e.g. nlopt:LD_LBFGS, nlopt:LD_MMA)",
+  //                "install libnlopt-cxx-dev and rebuild",
+  //   #if HEMICONTACT_HAS_NLOPT
+  //                [](const std::string& n) { return make_nlopt_backend(n.substr(6)); }
+  //   #else
+  //                nullptr
+  //   #endif
+  //   });
+
+  return r;
+}
+
+bool matches(const Entry& e, const std::string& name) {
+  const std::string key = e.name;
+  if (!key.empty() && key.back() == ':')  // a family: the prefix plus a non-empty suffix
+    return name.size() > key.size() && name.compare(0, key.size(), key) == 0;
+  return name == key;
+}
+
+std::string list_available() {
+  std::string out;
+  for (const auto& [name, description] : available_backends()) {
+    (void)description;
+    out += (out.empty() ? "" : ", ") + name;
+  }
+  return out.empty() ? "(none compiled in)" : out;
+}
+
+}  // namespace
+
+std::unique_ptr<NlpBackend> make_backend(const std::string& name) {
+  for (const Entry& e : registry()) {
+    if (!matches(e, name)) continue;
+    if (e.create == nullptr)
+      throw Error("backend '" + name + "' was not compiled in (" + e.missing + ")", EXIT_INPUT);
+    return e.create(name);
+  }
+  throw Error("unknown backend '" + name + "'; available: " + list_available(), EXIT_INPUT);
+}
+
+std::vector<std::pair<std::string, std::string>> available_backends() {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const Entry& e : registry())
+    if (e.create != nullptr) out.emplace_back(e.shown_name, e.description);
+  return out;
+}
+
+}  // namespace hemicontact
