@@ -1,6 +1,51 @@
-// hemicontact command line (work in progress: the solve driver is being assembled).
+// hemicontact — static frictional contact of an elastic body with a foundation covered by a soft
+// layer, posed as a variational-hemivariational inequality (Sofonea, Han, Barboteu 2017).
+//
+// Sample runs:
+//   hemicontact solve problems/sofonea2017-fig2.json --out out/fig2
+//   hemicontact solve problems/sofonea2017-printed.json --set mesh.n=256 --out out/printed256
+//   hemicontact solve problems/sofonea2017-fig2.json --backend ipopt --set solver.tol=1e-12
+//   hemicontact backends
+//
+// The problem (paper eqs. (1)-(6)): find u with σ = F(ε(u)), Div σ + f0 = 0 in Ω, u = 0 on Γ1,
+// σν = f2 on Γ2, and on Γ3: u_ν ≤ g, σ_ν + ξ_ν ≤ 0, (u_ν − g)(σ_ν + ξ_ν) = 0, ξ_ν ∈ ∂j_ν(u_ν),
+// |σ_τ| ≤ F_b(u_ν), −σ_τ = F_b(u_ν) u_τ/|u_τ| where u_τ ≠ 0. Discretized with P1 elements (22) and
+// solved as min Π_λ(u) s.t. u_ν ≤ g with an outer fixed point on λ = F_b(u_ν) (MODEL.md §2).
+#include "cli.hpp"
+
+#include <hemicontact/core/error.hpp>
+
 #include <cstdio>
-int main() {
-  std::puts("hemicontact: usage: hemicontact solve SCENE.json [--out DIR] [--set path=value ...]");
-  return 1;
+#include <exception>
+#include <string>
+#include <vector>
+
+int main(int argc, char** argv) {
+  using namespace hemicontact;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  try {
+    if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+      std::fputs(cli::usage().c_str(), args.empty() ? stderr : stdout);
+      return args.empty() ? EXIT_USAGE : EXIT_OK;
+    }
+    const std::string cmd = args[0];
+    const std::vector<std::string> rest(args.begin() + 1, args.end());
+    if (cmd == "solve") return cli::cmd_solve(rest);
+    if (cmd == "backends") return cli::cmd_backends(rest);
+    if (cmd == "--version") {
+      std::puts(cli::version().c_str());
+      return EXIT_OK;
+    }
+    std::fprintf(stderr, "hemicontact: unknown command '%s' (see hemicontact --help)\n", cmd.c_str());
+    return EXIT_USAGE;
+  } catch (const cli::UsageError& e) {
+    std::fprintf(stderr, "hemicontact: %s (see hemicontact --help)\n", e.what());
+    return EXIT_USAGE;
+  } catch (const Error& e) {
+    std::fprintf(stderr, "hemicontact: error: %s\n", e.what());
+    return e.code();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hemicontact: internal error: %s\n", e.what());
+    return EXIT_INTERNAL;
+  }
 }

@@ -42,28 +42,28 @@ std::vector<Entry> registry() {
   std::vector<Entry> r;
 
   // [newton] The Newton backend work adds its entry here, first, since it is the default:
-  //   r.push_back({"newton", "newton", "projected Newton / active set with CHOLMOD (exact Hessian, PSD-clamped)",
-  //                "", [](const std::string&) { return make_newton_backend(); }});
+  //   r.push_back({"newton", "newton",
+  //                "projected Newton / active set with CHOLMOD (exact Hessian, PSD-clamped)", "",
+  //                [](const std::string&) { return make_newton_backend(); }});
 
+#if HEMICONTACT_HAS_IPOPT
+  const Factory ipopt = [](const std::string&) { return make_ipopt_backend(); };
+#else
+  const Factory ipopt = nullptr;
+#endif
   r.push_back({"ipopt", "ipopt",
                "Ipopt interior point, exact Hessian, bound multipliers kept for warm starts",
-               "install coinor-libipopt-dev and rebuild",
-#if HEMICONTACT_HAS_IPOPT
-               [](const std::string&) { return make_ipopt_backend(); }
-#else
-               nullptr
-#endif
-  });
+               "install coinor-libipopt-dev and rebuild", ipopt});
 
   // [nlopt:ALGO] The NLopt backend work adds its family entry here:
-  //   r.push_back({"nlopt:", "nlopt:ALGO", "NLopt gradient algorithm ALGO with bounds (e.g. nlopt:LD_LBFGS, nlopt:LD_MMA)",
-  //                "install libnlopt-cxx-dev and rebuild",
   //   #if HEMICONTACT_HAS_NLOPT
-  //                [](const std::string& n) { return make_nlopt_backend(n.substr(6)); }
+  //   const Factory nlopt = [](const std::string& n) { return make_nlopt_backend(n.substr(6)); };
   //   #else
-  //                nullptr
+  //   const Factory nlopt = nullptr;
   //   #endif
-  //   });
+  //   r.push_back({"nlopt:", "nlopt:ALGO",
+  //                "NLopt gradient algorithm ALGO with bounds (e.g. nlopt:LD_LBFGS, nlopt:LD_MMA)",
+  //                "install libnlopt-cxx-dev and rebuild", nlopt});
 
   return r;
 }

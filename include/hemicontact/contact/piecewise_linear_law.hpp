@@ -46,9 +46,9 @@ class PiecewiseLinearLaw : public NormalLaw {
 
   /// @brief The paper's law (32): p_ν = 0 for r ≤ 0, slope c1 on (0, r1], c2 on (r1, r2),
   /// c3 for r ≥ r2, continuous:
-  /// \f[ p_\nu(r) = \begin{cases} 0 & r \le 0 \\ c_1 r & 0 < r \le r_1 \\
-  ///     c_1 r_1 + c_2 (r - r_1) & r_1 < r < r_2 \\
-  ///     c_1 r_1 + c_2 (r_2 - r_1) + c_3 (r - r_2) & r \ge r_2 \end{cases} \qquad (32) \f]
+  /// \f[ p_\nu(r) = \begin{cases} 0 & r \le 0 \\ c_1 r & 0 < r \le r_1
+  ///     \\ c_1 r_1 + c_2 (r - r_1) & r_1 < r < r_2
+  ///     \\ c_1 r_1 + c_2 (r_2 - r_1) + c_3 (r - r_2) & r \ge r_2 \end{cases} \qquad (32) \f]
   /// i.e. the table (0,0), (r1, c1 r1), (r2, c1 r1 + c2 (r2 − r1)), slope_left 0, slope_right c3.
   /// @param c1 slope on (0, r1]   @param c2 slope on (r1, r2)   @param c3 slope on [r2, ∞)
   /// @param r1 first kink (> 0)   @param r2 second kink (> r1)

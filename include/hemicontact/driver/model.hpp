@@ -1,0 +1,59 @@
+#pragma once
+/// @file model.hpp  Everything a scene defines, assembled once: mesh and parts, material, loads,
+/// Γ3 data, laws, the reduced stiffness and load. Solvers, checks and writers read it; none mutate it.
+
+#include <hemicontact/contact/contact_nodes.hpp>
+#include <hemicontact/contact/friction_bound.hpp>
+#include <hemicontact/contact/piecewise_linear_law.hpp>
+#include <hemicontact/fem/dof_map.hpp>
+#include <hemicontact/material/material.hpp>
+#include <hemicontact/mesh/mesh.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <memory>
+#include <string>
+
+namespace hemicontact {
+
+/// The assembled discrete problem (P_V^h), eq. (22).
+struct Model {
+  nlohmann::json scene;                               ///< effective scene (defaults injected)
+  Mesh mesh;                                          ///< mesh with tagged boundary parts
+  std::shared_ptr<const Material> material;           ///< elasticity operator F
+  std::vector<bool> clamped;                          ///< Γ1 flag per node
+  Gap gap;                                            ///< layer thickness g
+  ContactNodes contact;                               ///< Γ3 nodes, weights, frames, g_i
+  DofMap dofs;                                        ///< full ↔ reduced unknowns
+  SpMat K;                                            ///< full stiffness (N·d)
+  Vec f;                                              ///< full load vector, eq. (17)
+  SpMat Kx;                                           ///< reduced stiffness Tᵀ K T
+  Vec fx;                                             ///< reduced load Tᵀ f
+  std::shared_ptr<const PiecewiseLinearLaw> normal_law;  ///< exact p_ν; null: no soft layer
+  std::shared_ptr<const FrictionBound> friction;         ///< F_b; null: frictionless
+  std::map<std::string, double> timings;              ///< seconds: mesh, assembly, ...
+
+  /// @return the spatial dimension d.
+  int dim() const { return mesh.dim; }
+  /// @return full displacement u_ν of contact node k.
+  double u_nu(const Vec& u, Index k) const;
+};
+
+/// Build the mesh of a scene (generator or Gmsh file) and tag its boundary parts.
+/// @param scene effective scene; @param scene_dir directory that relative paths are taken from.
+Mesh build_mesh(const nlohmann::json& scene, const std::string& scene_dir);
+
+/// Check the cells and tag the boundary parts of @p mesh from the scene's "boundary" selectors
+/// (and scale the tractions by loads.scale).
+void assign_scene_boundary(Mesh& mesh, const nlohmann::json& scene);
+
+/// Build the model from an effective scene and a mesh whose boundary parts are already assigned
+/// (assign_scene_boundary); the scene's "mesh" block is then not read. Used by tests and studies.
+Model build_model(const nlohmann::json& scene, Mesh mesh);
+
+/// Build the whole model from an effective (validated) scene.
+/// @throws Error naming the key for every semantic input problem (no Γ1, negative g, ν ≥ 0.5, ...).
+Model build_model(const nlohmann::json& scene, const std::string& scene_dir);
+
+}  // namespace hemicontact

@@ -1,0 +1,83 @@
+#pragma once
+/// @file solve.hpp  The design's solve: min Π_λ subject to u_ν ≤ g, smoothed, handed to an NLP
+/// backend, with ε-continuation and the outer fixed point λ_i = F_b(u_ν,i) (MODEL.md §2).
+///
+///   for ε in the continuation schedule (large → small, warm-started):
+///     repeat: freeze λ ← (1−θ)λ + θ F_b(u_ν); x ← argmin Π_λ,ε (backend, warm start)
+///     — once per coarse ε, until ‖Δx_Γ3‖/‖x_Γ3‖ ≤ tol_u and ‖Δλ‖/‖λ‖ ≤ tol_u at the final ε.
+/// Skipped when not needed (and said so in the report): no friction or F_b independent of u_ν →
+/// no outer loop; no soft layer → no j_ν term; g = ∞ → no bounds; nothing to smooth → no continuation.
+
+#include <hemicontact/check/certificate.hpp>
+#include <hemicontact/driver/model.hpp>
+#include <hemicontact/nlp/backend.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace hemicontact {
+
+/// Solver settings, read from the scene's "solver", "check" blocks (defaults live in the schema).
+struct SolveOptions {
+  std::string backend = "ipopt";   ///< NLP backend name
+  BackendOptions backend_options;  ///< tolerance, iteration cap, pass-through options
+  double eps_tau = 1e-10;          ///< final friction smoothing width, relative to U_s
+  double eps_nu = 1e-10;           ///< final mollification width of p_ν, relative to U_s
+  double eps_start = 1e-2;         ///< first continuation width, relative to U_s
+  double eps_factor = 1e-2;        ///< ε multiplied by this per continuation step
+  double tol_u = 1e-12;            ///< fixed point: relative change of x on Γ3 and of λ
+  int max_outer = 50;              ///< fixed point: iteration cap
+  double relaxation = 1.0;         ///< θ in λ ← (1−θ)λ + θ F_b(u_ν)
+  bool allow_not_converged = false;  ///< exit 0 even if the fixed point did not converge
+  double certificate_tol = 1e-8;   ///< acceptance tolerance of the certificate
+  double status_tol = 1e-8;        ///< status decisions, relative to U
+};
+
+/// @return the options of an effective scene.
+SolveOptions solve_options_from_scene(const nlohmann::json& scene);
+
+/// One minimization inside the continuation / fixed point.
+struct OuterIteration {
+  int k = 0;                 ///< running index
+  int stage = 0;             ///< continuation stage
+  double eps_tau = 0;        ///< absolute ε_τ used
+  double eps_nu = 0;         ///< absolute ε_ν used
+  double change_u = 0;       ///< ‖Δx_Γ3‖∞/‖x_Γ3‖∞ against the previous minimization
+  double change_lambda = 0;  ///< ‖Δλ‖∞/‖λ‖∞ of the update after this minimization
+  double grad_norm = 0;      ///< first-order residual max_i min(|∇Π̃_i|, room to the bound) in scaled units
+  SolveResult backend;       ///< what the backend said
+};
+
+/// Everything a solve produces; writers take it read-only.
+struct Solution {
+  Vec x;                             ///< reduced unknowns (unscaled)
+  Vec u;                             ///< full displacement
+  ContactState state;                ///< Γ3 quantities
+  std::vector<NodeStatus> status;    ///< per Γ3 node
+  CertificateReport certificate;     ///< MODEL.md §4
+  double energy = 0;                 ///< Π = ½a(u,u) − f(u) + Σ w j_ν(u_ν) + Σ w F_b(u_ν)|u_τ| (unsmoothed)
+  double energy_norm = 0;            ///< sqrt(a(u,u))
+  double a_uu = 0, f_u = 0, j_term = 0, friction_term = 0;  ///< the parts of energy
+  double max_u_nu = 0;               ///< max_i u_ν,i
+  std::vector<OuterIteration> history;  ///< every minimization
+  bool fixed_point_converged = true; ///< false if the outer loop hit its cap or stalled
+  bool backend_ok = true;            ///< false if the last minimization failed
+  std::string message;               ///< human-readable verdict
+  std::string backend;               ///< backend name
+  std::vector<std::string> skipped;  ///< what was not needed and not done
+  double x_scale = 1, f_scale = 1;   ///< the nondimensionalization used
+  std::map<std::string, double> timings;  ///< seconds
+  /// @return status counts keyed separated, compliance, contact, stick, slip+, slip- (and slip in 3D).
+  std::map<std::string, int> status_counts() const;
+};
+
+/// Solve the model. Never throws for non-convergence: the verdict is in the Solution.
+/// @throws Error for bad options (unknown backend, ...).
+Solution solve(const Model& model, const SolveOptions& options);
+
+/// Unsmoothed energy parts and certificate of a given full displacement (fills the Solution's
+/// state, status, certificate and energies).
+void evaluate_solution(const Model& model, const SolveOptions& options, Solution& sol);
+
+}  // namespace hemicontact

@@ -1,0 +1,39 @@
+#pragma once
+/// @file elastic_energy.hpp  ½ a(u,u) − f(u) = ½ xᵀ K_x x − f_xᵀ x for a linear material.
+
+#include <hemicontact/energy/energy_term.hpp>
+
+namespace hemicontact {
+
+/// The elastic energy ½ xᵀ K x (K = Tᵀ K_u T, reduced); its Hessian K is constant.
+class ElasticEnergy : public EnergyTerm {
+ public:
+  /// @param K reduced stiffness (full symmetric storage); its lower triangle defines the pattern.
+  explicit ElasticEnergy(const SpMat& K);
+  std::string name() const override { return "elastic"; }
+  double value(const Vec& x) const override { return 0.5 * x.dot(m_K * x); }
+  void add_gradient(const Vec& x, Vec& g) const override { g += m_K * x; }
+  /// Adds K's lower triangle; @p H must have exactly lower_pattern()'s pattern.
+  void add_hessian(const Vec& x, SpMat& H, Psd psd) const override;
+  /// @return the lower triangle of K (the composite's Hessian pattern).
+  const SpMat& lower() const { return m_lower; }
+
+ private:
+  SpMat m_K, m_lower;
+};
+
+/// The work of the loads: −f(u) = −f_xᵀ x (eq. (17)); linear, no Hessian.
+class LoadEnergy : public EnergyTerm {
+ public:
+  /// @param f reduced load vector Tᵀ f_u.
+  explicit LoadEnergy(Vec f) : m_f(std::move(f)) {}
+  std::string name() const override { return "load"; }
+  double value(const Vec& x) const override { return -m_f.dot(x); }
+  void add_gradient(const Vec& x, Vec& g) const override { g -= m_f; }
+  void add_hessian(const Vec&, SpMat&, Psd) const override {}
+
+ private:
+  Vec m_f;
+};
+
+}  // namespace hemicontact

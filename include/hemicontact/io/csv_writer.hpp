@@ -1,0 +1,27 @@
+#pragma once
+/// @file csv_writer.hpp  The Γ3 quantities as CSV: one row per contact node, in the order of
+/// ContactNodes (left to right on a bottom edge), for plotting against the paper's figures.
+///
+/// Header (2D; 3D adds z after y):
+/// @code
+///   index,node,x,y,w,g,u_nu,u_tau,sigma_nu,sigma_tau,xi,lambda,status
+/// @endcode
+/// index is the contact-node index k, node the mesh node, w the nodal weight w_k, g the gap g_k
+/// (written "inf" when there is no rigid obstacle), status e.g. "compliance/slip-". Numbers are
+/// written in the shortest form that reads back to the same double (full precision).
+
+#include <hemicontact/driver/solve.hpp>
+
+#include <string>
+
+namespace hemicontact {
+
+/// @brief Write one CSV row per Γ3 node. Never solves.
+/// @param path the .csv file to write (its directory must exist)
+/// @param md   the model the solution belongs to
+/// @param sol  the solution; sol.state and sol.status must be filled (evaluate_solution())
+/// @throws Error (EXIT_INPUT) if the file cannot be written;
+///         Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
+void write_gamma3_csv(const std::string& path, const Model& md, const Solution& sol);
+
+}  // namespace hemicontact

@@ -1,0 +1,64 @@
+#pragma once
+/// @file report.hpp  The JSON report of a run (report.json) and a short summary for stdout.
+///
+/// The report's keys are an interface (the CLI, the regression tests and the plotting scripts
+/// read them); their names do not change:
+///  - "scene": the effective scene (every default injected); "version": HEMICONTACT_VERSION
+///  - "mesh": {origin, dim, nodes, cells, gamma3_nodes, h (max edge length)}; "dofs": free unknowns
+///  - "material": {description, m_F, L_F}
+///  - "laws": {normal_law, friction (describe() or null when absent), gap}
+///  - "backend": {name, iterations, evaluations, seconds} (sums over every minimization)
+///  - "energy", "energy_norm", "a_uu", "f_u", "j_term", "friction_term", "max_u_nu"
+///  - "status_counts": {separated, compliance, contact, stick, slip+, slip-[, slip]}
+///  - "nodes": one object per Γ3 node, in ContactNodes order: {node, x, y[, z], w, g, u_nu,
+///    u_tau, sigma_nu, sigma_tau, xi, lambda, status} with status e.g. "contact/stick"
+///  - "certificate": {passed, tol, max_residual, length_scale, force_scale, traction_scale,
+///    residuals: {name: {value, worst}}}
+///  - "fixed_point": {converged, iterations, history: [{k, stage, eps_tau, eps_nu, change_u,
+///    change_lambda, grad_norm, backend_status, backend_iterations, backend_evaluations,
+///    backend_seconds, backend_message}]}
+///  - "options": the SolveOptions used (backend, tolerances, continuation, fixed point)
+///  - "skipped": what was not needed and not done; "scales": {x_scale, f_scale}
+///  - "timings": seconds, the model's and the solve's merged (the solve's wins on a shared key)
+///  - "message": the verdict; "ok": backend_ok && fixed_point_converged && certificate.passed
+///
+/// Non-finite numbers: JSON has no inf or nan, and nlohmann-json writes them as null. So a null
+/// where a number is expected means "not finite": g = null is g = +∞ (no rigid obstacle), a null
+/// residual or scale is inf/nan. The file is always valid JSON. Finite doubles are written in
+/// the shortest form that reads back exactly.
+
+#include <hemicontact/driver/solve.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace hemicontact {
+
+/// @brief Collect everything about a run into one JSON object. Never solves.
+/// @param md  the model
+/// @param sol the solution (after solve() or evaluate_solution())
+/// @param opt the options the solution was computed with
+/// @return the report (keys listed in the file comment)
+/// @throws Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
+nlohmann::json make_report(const Model& md, const Solution& sol, const SolveOptions& opt);
+
+/// @brief Write a report, pretty-printed with a 2-space indent and a final newline.
+/// @param path   the file to write (its directory must exist)
+/// @param report the report (make_report())
+/// @throws Error (EXIT_INPUT) if the file cannot be written
+void write_report(const std::string& path, const nlohmann::json& report);
+
+/// @brief A short human-readable summary for stdout: mesh and dofs, backend, energies, the status
+/// counts as a small table, the per-node statuses (run-length compressed beyond 33 Γ3 nodes),
+/// the certificate and the timings.
+/// @param md the model @param sol the solution
+/// @return several lines, each ending in '\n'
+std::string summary_table(const Model& md, const Solution& sol);
+
+/// @brief The per-node statuses in Γ3 order, run-length compressed: consecutive equal statuses
+/// become "status xN", e.g. "compliance/slip- x2, contact/slip- x28, contact/stick x1".
+/// @param sol the solution @return the list ("" when there is no Γ3 node)
+std::string status_runs(const Solution& sol);
+
+}  // namespace hemicontact

@@ -1,0 +1,44 @@
+#pragma once
+/// @file vtk_writer.hpp  The solution as a VTK XML UnstructuredGrid (.vtu) for ParaView.
+///
+/// The file is ASCII on purpose: it needs no VTK library to write, it diffs, and a test can read
+/// it back. Numbers are written in the shortest form that reads back to the same double (full
+/// precision). Points always have 3 components (z = 0 in 2D); cells are VTK_TRIANGLE (5) in 2D
+/// and VTK_TETRA (10) in 3D.
+///
+/// PointData
+///  - "displacement" (3 components)
+///  - "gamma3" (Int32 0/1): the node is a (non-clamped) Γ3 node
+///  - on Γ3 nodes, 0 elsewhere: "u_nu", "u_tau", "sigma_nu", "sigma_tau", "xi", "lambda"
+///    (2D: u_tau, sigma_tau signed along τ; 3D: magnitudes — see ContactState), and
+///    "u_tau_vec", "sigma_tau_vec" (3 components, the tangential vectors)
+///  - "status_normal" (Int32): −1 not on Γ3, 0 separated, 1 compliance, 2 contact
+///  - "status_tangential" (Int32): −1 not on Γ3, 0 stick, 1 slip+, 2 slip−, 3 slip (3D)
+///
+/// CellData
+///  - "strain" (Voigt: ε11, ε22, 2ε12 in 2D; ε11, ε22, ε33, 2ε23, 2ε13, 2ε12 in 3D)
+///  - "stress" (Voigt, md.material->stress(strain)), "von_mises"
+
+#include <hemicontact/driver/solve.hpp>
+
+#include <string>
+
+namespace hemicontact {
+
+/// @brief Write the solution as an ASCII VTK XML UnstructuredGrid. Never solves.
+/// @param path the .vtu file to write (its directory must exist)
+/// @param md   the model the solution belongs to
+/// @param sol  the solution; sol.u, sol.state and sol.status must be filled (evaluate_solution())
+/// @throws Error (EXIT_INPUT) if the file cannot be written;
+///         Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
+void write_vtu(const std::string& path, const Model& md, const Solution& sol);
+
+/// @brief Integer code of a normal status as written to "status_normal".
+/// @param s the status @return 0 separated, 1 compliance, 2 contact
+int status_code(NormalStatus s);
+
+/// @brief Integer code of a tangential status as written to "status_tangential".
+/// @param s the status @return 0 stick, 1 slip+, 2 slip−, 3 slip
+int status_code(TangentialStatus s);
+
+}  // namespace hemicontact

@@ -1,0 +1,98 @@
+#include "cli.hpp"
+
+#include <hemicontact/config.hpp>
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/model.hpp>
+#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/io/config.hpp>
+#include <hemicontact/io/csv_writer.hpp>
+#include <hemicontact/io/output_dir.hpp>
+#include <hemicontact/io/report.hpp>
+#include <hemicontact/io/vtk_writer.hpp>
+#include <hemicontact/nlp/backend.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+namespace hemicontact::cli {
+
+std::string version() { return std::string("hemicontact ") + HEMICONTACT_VERSION; }
+
+std::string usage() {
+  return "usage:\n"
+         "  hemicontact solve SCENE.json [--out DIR] [--set path=value]... [--backend NAME] [--force] [--quiet]\n"
+         "      solve a scene; writes DIR/report.json, DIR/solution.vtu, DIR/gamma3.csv (DIR defaults to\n"
+         "      out/<scene name>); --set overrides any scene entry (e.g. --set mesh.n=128);\n"
+         "      --backend NAME is --set solver.backend=NAME; --force overwrites existing results\n"
+         "  hemicontact backends        list the NLP backends compiled in\n"
+         "  hemicontact --help | --version\n"
+         "exit codes: 0 solved and certified, 1 usage, 2 bad input, 3 not converged, 4 certificate failed,\n"
+         "            5 internal error\n";
+}
+
+SceneArgs parse_scene_args(const std::vector<std::string>& args, const std::vector<std::string>& extra_keys) {
+  SceneArgs a;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& s = args[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= args.size()) throw UsageError("option " + s + " needs a value");
+      return args[++i];
+    };
+    if (s == "--out") a.out = value();
+    else if (s == "--set") a.overrides.push_back(value());
+    else if (s == "--backend") a.overrides.push_back("solver.backend=" + value());
+    else if (s == "--force") a.force = true;
+    else if (s == "--quiet") a.quiet = true;
+    else if (s == "--plot") a.plot = true;
+    else if (s.rfind("--", 0) == 0 && std::find(extra_keys.begin(), extra_keys.end(), s) != extra_keys.end())
+      a.extra.emplace_back(s, value());
+    else if (s.rfind("--", 0) == 0) throw UsageError("unknown option " + s);
+    else if (a.scene.empty()) a.scene = s;
+    else throw UsageError("unexpected argument '" + s + "'");
+  }
+  if (a.scene.empty()) throw UsageError("missing SCENE.json");
+  if (a.out.empty()) a.out = "out/" + std::filesystem::path(a.scene).stem().string();
+  return a;
+}
+
+int cmd_solve(const std::vector<std::string>& args) {
+  const SceneArgs a = parse_scene_args(args);
+  if (a.quiet) set_log_level(LogLevel::WARN);
+  const auto t0 = std::chrono::steady_clock::now();
+  const nlohmann::json scene = load_scene(a.scene, a.overrides);
+  prepare_output_dir(a.out, a.force);
+  const Model md = build_model(scene, scene_directory(a.scene));
+  const SolveOptions opt = solve_options_from_scene(scene);
+  Solution sol = solve(md, opt);
+  sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  const std::filesystem::path out(a.out);
+  const nlohmann::json report = make_report(md, sol, opt);
+  write_report((out / "report.json").string(), report);
+  if (scene.at("output").at("vtu").get<bool>()) write_vtu((out / "solution.vtu").string(), md, sol);
+  if (scene.at("output").at("csv").get<bool>()) write_gamma3_csv((out / "gamma3.csv").string(), md, sol);
+  std::fputs(summary_table(md, sol).c_str(), stdout);
+  std::printf("results in %s\n", a.out.c_str());
+
+  if (!sol.backend_ok || !sol.fixed_point_converged) {
+    log_warn() << sol.message;
+    return opt.allow_not_converged ? EXIT_OK : EXIT_NOT_CONVERGED;
+  }
+  if (!sol.certificate.passed) {
+    log_warn() << "certificate failed: max residual " << sol.certificate.max_residual << " > "
+               << sol.certificate.tol;
+    return EXIT_CERTIFICATE;
+  }
+  return EXIT_OK;
+}
+
+int cmd_backends(const std::vector<std::string>& args) {
+  if (!args.empty()) throw UsageError("'backends' takes no arguments");
+  for (const auto& [name, doc] : available_backends()) std::printf("%-20s %s\n", name.c_str(), doc.c_str());
+  return EXIT_OK;
+}
+
+}  // namespace hemicontact::cli

@@ -1,0 +1,158 @@
+#include <hemicontact/driver/model.hpp>
+
+#include <hemicontact/contact/law_factory.hpp>
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/fem/assembly.hpp>
+#include <hemicontact/io/config.hpp>
+#include <hemicontact/material/linear_elastic.hpp>
+#include <hemicontact/mesh/boundary.hpp>
+#include <hemicontact/mesh/generators.hpp>
+#include <hemicontact/mesh/gmsh_import.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+namespace hemicontact {
+namespace {
+
+using json = nlohmann::json;
+using clk = std::chrono::steady_clock;
+double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
+
+double number_or(const json& v, double fallback) { return v.is_null() ? fallback : v.get<double>(); }
+
+std::vector<BoundarySelector> selectors(const json& list, const std::string& name, double scale) {
+  std::vector<BoundarySelector> out;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const json& s = list[i];
+    BoundarySelector b;
+    b.context = "boundary." + name + "[" + std::to_string(i) + "]";
+    if (!s["side"].is_null()) b.side = s["side"].get<std::string>();
+    if (!s["physical"].is_null()) b.physical = s["physical"].get<std::string>();
+    b.from = number_or(s["from"], -INF);
+    b.to = number_or(s["to"], INF);
+    if (s.contains("traction")) {
+      const auto t = s["traction"].get<std::vector<double>>();
+      b.traction = scale * Eigen::Map<const Vec>(t.data(), static_cast<Index>(t.size()));
+    }
+    out.push_back(std::move(b));
+  }
+  return out;
+}
+
+Gap make_gap(const json& g) {
+  Gap gap;
+  if (g.is_null() || (g.is_string() && g.get<std::string>() == "inf")) return gap;
+  if (g.is_number()) {
+    gap.constant = g.get<double>();
+    if (!(gap.constant >= 0)) input_error("contact.gap: negative thickness g = " + std::to_string(gap.constant));
+    return gap;
+  }
+  const std::string along = g.at("along").get<std::string>();
+  gap.axis = along == "x" ? 0 : along == "y" ? 1 : 2;
+  for (const auto& p : g.at("points")) {
+    if (p.size() != 2) input_error("contact.gap.points: each point is [coordinate, g]");
+    gap.points.emplace_back(p[0].get<double>(), p[1].get<double>());
+  }
+  if (gap.points.empty()) input_error("contact.gap.points: empty table");
+  for (size_t i = 0; i < gap.points.size(); ++i) {
+    if (!(gap.points[i].second >= 0))
+      input_error("contact.gap.points[" + std::to_string(i) + "]: negative thickness g = " +
+                  std::to_string(gap.points[i].second));
+    if (i > 0 && !(gap.points[i].first > gap.points[i - 1].first))
+      input_error("contact.gap.points[" + std::to_string(i) + "]: coordinates must increase");
+  }
+  return gap;
+}
+
+}  // namespace
+
+double Model::u_nu(const Vec& u, Index k) const {
+  return u.segment(dim() * contact.node[k], dim()).dot(contact.normal.row(k).transpose());
+}
+
+Mesh build_mesh(const json& scene, const std::string& scene_dir) {
+  const json& m = scene.at("mesh");
+  Mesh mesh;
+  auto t0 = clk::now();
+  if (m.at("type") == "gmsh") {
+    if (m.at("file").is_null()) input_error("mesh.file: required when mesh.type is 'gmsh'");
+    std::filesystem::path p = m.at("file").get<std::string>();
+    if (p.is_relative()) p = std::filesystem::path(scene_dir) / p;
+    mesh = read_gmsh(p.string());
+  } else {
+    RectangleSpec s;
+    const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>();
+    if (x.size() != 2 || y.size() != 2) input_error("mesh.x, mesh.y: each is an interval [a, b]");
+    s.x0 = x[0]; s.x1 = x[1]; s.y0 = y[0]; s.y1 = y[1];
+    s.nx = m.at("n").is_null() ? m.at("nx").get<int>() : m.at("n").get<int>();
+    s.ny = m.at("n").is_null() ? m.at("ny").get<int>() : m.at("n").get<int>();
+    s.diagonal = parse_diagonal(m.at("diagonal").get<std::string>());
+    s.perturb = m.at("perturb").get<double>();
+    s.seed = m.at("seed").get<unsigned>();
+    mesh = make_rectangle(s);
+  }
+  log_debug() << "mesh: " << mesh.origin << " (" << since(t0) << " s)";
+  assign_scene_boundary(mesh, scene);
+  return mesh;
+}
+
+void assign_scene_boundary(Mesh& mesh, const json& scene) {
+  check_cells(mesh);
+  const double scale = scene.at("loads").at("scale").get<double>();
+  BoundarySpec spec;
+  spec.gamma1 = selectors(scene.at("boundary").at("gamma1"), "gamma1", scale);
+  spec.gamma2 = selectors(scene.at("boundary").at("gamma2"), "gamma2", scale);
+  spec.gamma3 = selectors(scene.at("boundary").at("gamma3"), "gamma3", scale);
+  assign_boundary(mesh, spec);
+}
+
+Model build_model(const json& scene, const std::string& scene_dir) {
+  auto t0 = clk::now();
+  Mesh mesh = build_mesh(scene, scene_dir);
+  const double t_mesh = since(t0);
+  Model md = build_model(scene, std::move(mesh));
+  md.timings["mesh"] = t_mesh;
+  return md;
+}
+
+Model build_model(const json& scene, Mesh mesh) {
+  Model md;
+  md.scene = scene;
+  md.mesh = std::move(mesh);
+  const int d = md.mesh.dim;
+
+  const json& mat = scene.at("material");
+  const PlaneMode mode = d == 3 ? PlaneMode::NONE_3D
+                                : (mat.at("plane") == "strain" ? PlaneMode::STRAIN : PlaneMode::STRESS);
+  md.material = std::make_shared<LinearElastic>(mat.at("E").get<double>(), mat.at("nu").get<double>(), mode);
+
+  md.gap = make_gap(scene.at("contact").at("gap"));
+  md.normal_law = make_normal_law(scene.at("contact").at("normal_law"));
+  md.friction = make_friction_bound(scene.at("contact").at("friction"), md.normal_law);
+
+  md.clamped = clamped_nodes(md.mesh);
+  md.contact = make_contact_nodes(md.mesh, md.clamped, md.gap);
+  const bool has_contact_law = md.normal_law || md.friction || !md.gap.is_infinite();
+  if (md.contact.size() == 0 && has_contact_law)
+    input_error("boundary.gamma3: the scene defines a contact law but Γ3 has no free node");
+  md.dofs = DofMap(md.mesh, md.clamped, md.contact);
+
+  const auto t0 = clk::now();
+  md.K = assemble_stiffness(md.mesh, *md.material);
+  const auto f0v = scene.at("loads").at("body_force").get<std::vector<double>>();
+  if (static_cast<int>(f0v.size()) != d) input_error("loads.body_force: expected " + std::to_string(d) + " components");
+  const Vec f0 = scene.at("loads").at("scale").get<double>() * Eigen::Map<const Vec>(f0v.data(), d);
+  md.f = assemble_body_force(md.mesh, f0) + assemble_tractions(md.mesh);
+  md.Kx = md.dofs.reduce(md.K);
+  md.fx = md.dofs.to_reduced(md.f);
+  md.timings["assembly"] = since(t0);
+  log_info() << "model: " << md.mesh.origin << ", " << md.mesh.num_nodes() << " nodes, " << md.mesh.num_cells()
+             << " cells, " << md.dofs.n_free() << " dofs, " << md.contact.size() << " Γ3 nodes ("
+             << md.timings["assembly"] << " s assembly)";
+  return md;
+}
+
+}  // namespace hemicontact

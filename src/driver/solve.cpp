@@ -1,0 +1,258 @@
+#include <hemicontact/driver/solve.hpp>
+
+#include <hemicontact/contact/mollified_law.hpp>
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/energy/contact_energy.hpp>
+#include <hemicontact/energy/elastic_energy.hpp>
+#include <hemicontact/energy/total_energy.hpp>
+#include <hemicontact/fem/sparse_cholesky.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace hemicontact {
+namespace {
+
+using clk = std::chrono::steady_clock;
+double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
+
+double rel_change(const Vec& a, const Vec& b) {
+  if (a.size() == 0) return 0.0;
+  const double s = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
+  return s > 0 ? (a - b).cwiseAbs().maxCoeff() / s : 0.0;
+}
+
+// First-order optimality of min f s.t. l ≤ x ≤ u, measured in the scaled unknowns where x and ∇f
+// are both O(1): r_i = min(|g_i|, distance to the bound the gradient pushes towards), max over i.
+double first_order_residual(const NlpObjective& f, const Vec& x, const Vec& lower, const Vec& upper) {
+  Vec g;
+  f.gradient(x, g);
+  double r = 0;
+  for (Index i = 0; i < x.size(); ++i) {
+    const double room = g[i] < 0 ? upper[i] - x[i] : x[i] - lower[i];
+    r = std::max(r, std::min(std::abs(g[i]), std::max(0.0, room)));
+  }
+  return r;
+}
+
+}  // namespace
+
+std::map<std::string, int> Solution::status_counts() const {
+  std::map<std::string, int> c{{"separated", 0}, {"compliance", 0}, {"contact", 0},
+                               {"stick", 0},     {"slip+", 0},      {"slip-", 0}};
+  for (const auto& s : status) {
+    ++c[to_string(s.normal)];
+    ++c[to_string(s.tangential)];
+  }
+  return c;
+}
+
+SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
+  const auto& s = scene.at("solver");
+  SolveOptions o;
+  o.backend = s.at("backend").get<std::string>();
+  o.backend_options.tol = s.at("tol").get<double>();
+  o.backend_options.max_iter = s.at("max_iter").get<int>();
+  o.backend_options.print_level = s.at("print_level").get<int>();
+  for (const auto& [k, v] : s.at("options").items())
+    o.backend_options.extra[k] = v.is_string() ? v.get<std::string>() : v.dump();
+  o.eps_tau = s.at("eps_tau").get<double>();
+  o.eps_nu = s.at("eps_nu").get<double>();
+  o.eps_start = s.at("continuation").at("eps_start").get<double>();
+  o.eps_factor = s.at("continuation").at("factor").get<double>();
+  o.tol_u = s.at("fixed_point").at("tol_u").get<double>();
+  o.max_outer = s.at("fixed_point").at("max_iters").get<int>();
+  o.relaxation = s.at("fixed_point").at("relaxation").get<double>();
+  o.allow_not_converged = s.at("fixed_point").at("allow_not_converged").get<bool>();
+  o.certificate_tol = scene.at("check").at("certificate_tol").get<double>();
+  o.status_tol = scene.at("check").at("status_tol").get<double>();
+  return o;
+}
+
+void evaluate_solution(const Model& md, const SolveOptions& opt, Solution& sol) {
+  sol.state = contact_state(md, sol.u);
+  const double U = displacement_scale(md, sol.u);
+  sol.status = classify(md, sol.state, U, opt.status_tol);
+  sol.certificate = certify(md, sol.u, sol.state, opt.certificate_tol, opt.status_tol);
+  sol.a_uu = sol.u.dot(md.K * sol.u);
+  sol.f_u = md.f.dot(sol.u);
+  sol.j_term = sol.friction_term = 0;
+  for (Index k = 0; k < md.contact.size(); ++k) {
+    if (md.normal_law) sol.j_term += md.contact.w[k] * md.normal_law->j(sol.state.u_nu[k]);
+    sol.friction_term += md.contact.w[k] * sol.state.lambda[k] * sol.state.u_tau_vec.row(k).norm();
+  }
+  sol.energy = 0.5 * sol.a_uu - sol.f_u + sol.j_term + sol.friction_term;
+  sol.energy_norm = std::sqrt(std::max(0.0, sol.a_uu));
+  sol.max_u_nu = md.contact.size() ? sol.state.u_nu.maxCoeff() : 0.0;
+}
+
+Solution solve(const Model& md, const SolveOptions& opt) {
+  const auto t_start = clk::now();
+  Solution sol;
+  auto backend = make_backend(opt.backend);
+  sol.backend = backend->name();
+  const Index n = md.dofs.n_free(), nc = md.contact.size();
+
+  // Scales from the linear elastic solve without contact (one CHOLMOD factorization): the
+  // displacement scale U_s sets the smoothing widths and, with F_s = ‖f‖∞, nondimensionalizes the
+  // NLP so that tolerances mean the same for the printed (u ~ 1e-7) and the scaled (u ~ 1e-1) scene.
+  auto t0 = clk::now();
+  SparseCholesky chol;
+  chol.compute(md.Kx);
+  const Vec x_free = chol.solve(md.fx);
+  sol.timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
+  sol.timings["linear_elastic_total"] = since(t0);
+  const double U_s = x_free.size() && x_free.cwiseAbs().maxCoeff() > 0 ? x_free.cwiseAbs().maxCoeff() : 1.0;
+  const double F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
+  sol.x_scale = U_s;
+  sol.f_scale = F_s * U_s;
+
+  // Energy terms: elastic + load, and only the contact terms the scene needs.
+  auto elastic = std::make_shared<ElasticEnergy>(md.Kx);
+  TotalEnergy energy(n, elastic->lower());
+  energy.add(elastic);
+  energy.add(std::make_shared<LoadEnergy>(md.fx));
+  NodalDofs nd;
+  nd.dim = md.dim();
+  nd.w = md.contact.w;
+  for (Index k = 0; k < nc; ++k) nd.first.push_back(md.dofs.contact_dof(k, 0));
+  std::shared_ptr<NormalComplianceEnergy> normal;
+  std::shared_ptr<FrictionEnergy> friction;
+  if (md.normal_law) {
+    normal = std::make_shared<NormalComplianceEnergy>(nd, nullptr);
+    energy.add(normal);
+  } else {
+    sol.skipped.push_back("normal_compliance: no soft layer (contact.normal_law.type = none)");
+  }
+  if (md.friction) {
+    friction = std::make_shared<FrictionEnergy>(nd, 1.0);
+    energy.add(friction);
+  } else {
+    sol.skipped.push_back("friction: frictionless (contact.friction.type = none)");
+  }
+  const bool lagged = md.friction && md.friction->depends_on_u_nu();
+  if (md.friction && !lagged) sol.skipped.push_back("fixed_point: F_b does not depend on u_nu");
+  if (!md.friction) sol.skipped.push_back("fixed_point: no friction");
+
+  NlpProblem prob;
+  ScaledObjective scaled(energy, U_s, sol.f_scale);
+  prob.f = &scaled;
+  prob.lower = Vec::Constant(n, -INF);
+  prob.upper = Vec::Constant(n, INF);
+  for (Index k = 0; k < nc; ++k)
+    if (std::isfinite(md.contact.g[k])) prob.upper[md.dofs.contact_dof(k, 0)] = md.contact.g[k] / U_s;
+  if (md.gap.is_infinite()) sol.skipped.push_back("bounds: no rigid obstacle (g = inf)");
+
+  // Continuation schedule: ε_s = max(ε_final, ε_start·factor^s), until both widths are final.
+  std::vector<std::pair<double, double>> schedule;  // (eps_tau, eps_nu), relative
+  if (md.normal_law || md.friction) {
+    // A width within 1e-9 (relative) of the final one counts as final: 1e-2·(1e-2)⁴ is not 1e-10
+    // in floating point, and a stage that repeats the final width would only cost time.
+    const auto at_final = [](double e, double fin) { return e <= fin * (1 + 1e-9); };
+    for (double e = opt.eps_start;; e *= opt.eps_factor) {
+      const double et = at_final(e, opt.eps_tau) ? opt.eps_tau : e;
+      const double en = at_final(e, opt.eps_nu) ? opt.eps_nu : e;
+      schedule.emplace_back(et, en);
+      if (et == opt.eps_tau && en == opt.eps_nu) break;
+    }
+  } else {
+    schedule.emplace_back(0.0, 0.0);
+    sol.skipped.push_back("continuation: nothing is smoothed");
+  }
+
+  Vec xs = Vec::Zero(n);  // scaled unknowns
+  const auto gamma3 = [&](const Vec& x) {
+    Vec c(nc * md.dim());
+    for (Index k = 0; k < nc; ++k) c.segment(md.dim() * k, md.dim()) = x.segment(md.dofs.contact_dof(k, 0), md.dim());
+    return c;
+  };
+  const auto bounds_of = [&](const Vec& x) {
+    Vec l(nc);
+    for (Index k = 0; k < nc; ++k) l[k] = md.friction->F(U_s * x[md.dofs.contact_dof(k, 0)]);
+    return l;
+  };
+  if (friction) friction->set_lambda(bounds_of(xs));
+
+  Vec prev_c = gamma3(xs);
+  int k_total = 0;
+  sol.fixed_point_converged = true;
+  for (size_t stage = 0; stage < schedule.size() && sol.backend_ok; ++stage) {
+    const auto [et, en] = schedule[stage];
+    if (normal) normal->set_law(std::make_shared<MollifiedLaw>(md.normal_law, en * U_s, "solver.eps_nu"));
+    if (friction) friction->set_eps(et * U_s);
+    const bool final_stage = stage + 1 == schedule.size();
+    double prev_change = INF;
+    int slow = 0;
+    for (int it = 0;; ++it) {
+      OuterIteration rec;
+      rec.k = k_total++;
+      rec.stage = static_cast<int>(stage);
+      rec.eps_tau = et * U_s;
+      rec.eps_nu = en * U_s;
+      rec.backend = backend->minimize(prob, xs, opt.backend_options);
+      const Vec c = gamma3(xs);
+      rec.change_u = rel_change(c, prev_c);
+      prev_c = c;
+      rec.grad_norm = first_order_residual(scaled, xs, prob.lower, prob.upper);
+      if (lagged) {
+        const Vec lam_old = friction->lambda();
+        const Vec lam = (1 - opt.relaxation) * lam_old + opt.relaxation * bounds_of(xs);
+        rec.change_lambda = rel_change(lam, lam_old);
+        friction->set_lambda(lam);
+      }
+      sol.history.push_back(rec);
+      std::ostringstream os;
+      os << "outer " << rec.k << " (stage " << stage << ", eps_tau " << std::setprecision(2) << rec.eps_tau
+         << ", eps_nu " << rec.eps_nu << "): " << backend->name() << " " << to_string(rec.backend.status) << " in "
+         << rec.backend.iterations << " it, " << std::setprecision(3) << rec.backend.seconds
+         << " s; |dx_G3|/|x_G3| = " << std::setprecision(2) << rec.change_u << ", |dlambda|/|lambda| = "
+         << rec.change_lambda << ", first-order residual " << rec.grad_norm;
+      log_info() << os.str();
+      if (!rec.backend.ok()) {
+        sol.backend_ok = false;
+        sol.message = "backend " + backend->name() + " failed at outer iteration " + std::to_string(rec.k) +
+                      ": " + to_string(rec.backend.status) + " (" + rec.backend.message + ")";
+        break;
+      }
+      if (!lagged || !final_stage) break;  // coarse stages: one lagged update each
+      const double change = std::max(rec.change_u, rec.change_lambda);
+      if (it > 0 && change <= opt.tol_u) break;
+      if (it + 1 >= opt.max_outer) {
+        sol.fixed_point_converged = false;
+        sol.message = "fixed point did not converge in " + std::to_string(opt.max_outer) +
+                      " iterations (last change " + std::to_string(change) + ")";
+        break;
+      }
+      // Stagnation: the change has not shrunk by 1% for 5 iterations in a row (no contraction).
+      slow = (change > 0.99 * prev_change) ? slow + 1 : 0;
+      prev_change = change;
+      if (slow >= 5) {
+        sol.fixed_point_converged = false;
+        sol.message = "fixed point stalled: the change (" + std::to_string(change) +
+                      ") stopped decreasing; try solver.fixed_point.relaxation < 1";
+        break;
+      }
+    }
+  }
+
+  sol.x = U_s * xs;
+  sol.u = md.dofs.to_full(sol.x);
+  auto t1 = clk::now();
+  evaluate_solution(md, opt, sol);
+  sol.timings["certificate"] = since(t1);
+  double nlp = 0;
+  for (const auto& h : sol.history) nlp += h.backend.seconds;
+  sol.timings["backend"] = nlp;
+  sol.timings["solve_total"] = since(t_start);
+  if (sol.message.empty())
+    sol.message = sol.certificate.passed ? "converged; certificate passed"
+                                         : "converged, but the certificate failed (max residual " +
+                                               std::to_string(sol.certificate.max_residual) + ")";
+  if (!sol.fixed_point_converged) log_warn() << sol.message;
+  return sol;
+}
+
+}  // namespace hemicontact

@@ -1,0 +1,621 @@
+#include <hemicontact/io/config.hpp>
+
+#include <hemicontact/core/error.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+
+namespace hemicontact {
+namespace {
+
+using nlohmann::json;
+
+// ============================================================== names and paths
+// Schema rows are addressed by JSON pointers (with "*" for array elements); users see dotted
+// paths with [i] for array elements, the form that error messages print and --set accepts.
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : s) {
+    if (c == sep) {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+std::string join(const std::vector<std::string>& parts, const std::string& sep) {
+  std::string out;
+  for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? sep : "") + parts[i];
+  return out;
+}
+
+// RFC 6901 escaping, so that a user key such as "continuation/eps_start" cannot address a row.
+std::string escape_segment(const std::string& key) {
+  std::string out;
+  for (char c : key) out += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+  return out;
+}
+
+std::string parent_pointer(const std::string& pointer) { return pointer.substr(0, pointer.rfind('/')); }
+std::string last_segment(const std::string& pointer) { return pointer.substr(pointer.rfind('/') + 1); }
+
+std::string child_path(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+std::string element_path(const std::string& path, std::size_t i) {
+  return path + "[" + std::to_string(i) + "]";
+}
+
+/// "/boundary/gamma2/*/traction" → "boundary.gamma2[*].traction".
+std::string dotted_from_pointer(const std::string& pointer) {
+  std::string path;
+  for (const std::string& seg : split(pointer.substr(1), '/'))
+    path = seg == "*" ? path + "[*]" : child_path(path, seg);
+  return path;
+}
+
+/// "boundary.gamma2[0].traction" or "boundary.gamma2.0.traction" → {boundary, gamma2, 0, traction};
+/// empty when a segment is empty (malformed).
+std::vector<std::string> split_dotted(const std::string& dotted) {
+  std::string flat;
+  for (char c : dotted) {
+    if (c == '[') flat += '.';
+    else if (c != ']') flat += c;
+  }
+  std::vector<std::string> segs = split(flat, '.');
+  for (const std::string& s : segs)
+    if (s.empty()) return {};
+  return segs;
+}
+
+bool is_index(const std::string& s) {
+  return !s.empty() && s.size() < 10 && std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+/// Optimal-string-alignment distance: Levenshtein plus adjacent transpositions ("alnog" →
+/// "along" is 1), the commonest typo in a key.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+// ============================================================== values and messages
+
+std::string kind(const json& v) {
+  if (v.is_null()) return "null";
+  if (v.is_boolean()) return "boolean";
+  if (v.is_number_integer()) return "integer";
+  if (v.is_number()) return "number";
+  if (v.is_string()) return "string";
+  if (v.is_array()) return "array";
+  return "object";
+}
+
+/// "string \"abc\"", "number 2.5", "null": the kind and a bounded excerpt of the value.
+std::string show(const json& v) {
+  if (v.is_null()) return "null";
+  std::string text = v.dump();
+  if (text.size() > 60) text = text.substr(0, 57) + "...";
+  return kind(v) + " " + text;
+}
+
+std::string format_number(double x) {
+  std::ostringstream os;
+  os.precision(15);
+  os << x;
+  return os.str();
+}
+
+[[noreturn]] void key_error(const std::string& path, const std::string& message) {
+  input_error(path.empty() ? "scene: " + message : "scene key '" + path + "': " + message);
+}
+
+/// "> 0", ">= 1", "> 0 and <= 1"; empty without bounds. Shared by messages and the docs.
+std::string range_text(const SchemaEntry& e) {
+  std::vector<std::string> parts;
+  if (e.min) parts.push_back((e.min_exclusive ? "> " : ">= ") + format_number(*e.min));
+  if (e.max) parts.push_back((e.max_exclusive ? "< " : "<= ") + format_number(*e.max));
+  return join(parts, " and ");
+}
+
+// ============================================================== types
+
+const std::set<std::string>& type_tokens() {
+  static const std::set<std::string> tokens = {"number", "integer", "string", "boolean", "null",
+                                               "object", "object*", "array", "number[]", "number[][]"};
+  return tokens;
+}
+
+bool is_number_array(const json& v) {
+  return v.is_array() && std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); });
+}
+
+// 32-bit because the consumers store counts and seeds in int; an integral float (8.0) counts.
+bool is_int32(const json& v) {
+  if (v.is_number_unsigned()) return v.get<std::uint64_t>() <= static_cast<std::uint64_t>(INT_MAX);
+  if (v.is_number_integer()) {
+    const auto i = v.get<std::int64_t>();
+    return i >= INT_MIN && i <= INT_MAX;
+  }
+  if (!v.is_number_float()) return false;
+  const double x = v.get<double>();
+  return std::isfinite(x) && x == std::floor(x) && x >= INT_MIN && x <= INT_MAX;
+}
+
+bool matches(const json& v, const std::string& token) {
+  if (token == "number") return v.is_number();
+  if (token == "integer") return is_int32(v);
+  if (token == "string") return v.is_string();
+  if (token == "boolean") return v.is_boolean();
+  if (token == "null") return v.is_null();
+  if (token == "object" || token == "object*") return v.is_object();
+  if (token == "array") return v.is_array();
+  if (token == "number[]") return is_number_array(v);
+  if (token == "number[][]")
+    return v.is_array() && std::all_of(v.begin(), v.end(), [](const json& r) { return is_number_array(r); });
+  return false;
+}
+
+// ============================================================== the indexed table
+
+struct SchemaIndex {
+  std::unordered_map<std::string, const SchemaEntry*> by_pointer;
+  /// Named children of each object row ("" = the top level), in table order.
+  std::unordered_map<std::string, std::vector<const SchemaEntry*>> children;
+};
+
+const SchemaIndex& schema_index();
+
+void validate_object(json& obj, const std::string& pointer, const std::string& path, const SchemaIndex& idx);
+
+/// Check @p v against row @p e; with @p recurse, also its keys / elements (injecting defaults).
+void check_value(json& v, const SchemaEntry& e, const std::string& path, const SchemaIndex& idx,
+                 bool recurse) {
+  const std::vector<std::string> alternatives = split(e.type, '|');
+  const auto hit = std::find_if(alternatives.begin(), alternatives.end(),
+                                [&](const std::string& t) { return matches(v, t); });
+  if (hit == alternatives.end()) {
+    std::vector<std::string> shown;
+    for (const std::string& t : alternatives) shown.push_back(t == "object*" ? "object" : t);
+    key_error(path, "expected " + join(shown, " or ") + ", got " + show(v));
+  }
+  // Store 8.0 as 8 so that readers and the echoed report see an integer.
+  if (*hit == "integer" && v.is_number_float()) v = static_cast<std::int64_t>(v.get<double>());
+
+  if (v.is_number()) {
+    const double x = v.get<double>();
+    const bool low = e.min && (e.min_exclusive ? !(x > *e.min) : !(x >= *e.min));
+    const bool high = e.max && (e.max_exclusive ? !(x < *e.max) : !(x <= *e.max));
+    if (low || high) input_error("scene key '" + path + "' must be " + range_text(e) + ", got " + v.dump());
+  }
+  if (v.is_string() && !e.options.empty() &&
+      std::find(e.options.begin(), e.options.end(), v.get<std::string>()) == e.options.end())
+    key_error(path, v.dump() + " is not one of: " + join(e.options, ", "));
+
+  if (!recurse) return;
+  if (*hit == "object") {
+    validate_object(v, e.pointer, path, idx);
+  } else if (v.is_array()) {
+    const auto element = idx.by_pointer.find(e.pointer + "/*");
+    if (element != idx.by_pointer.end())
+      for (std::size_t i = 0; i < v.size(); ++i) check_value(v[i], *element->second, element_path(path, i), idx, true);
+  }
+}
+
+/// " (did you mean 'mesh.n'?)": a near sibling first, else the same name elsewhere in the
+/// table (e.g. "solver.mu" → "contact.friction.mu"), else the list of allowed keys.
+std::string unknown_key_hint(const std::string& key, const std::string& pointer, const std::string& path,
+                             const SchemaIndex& idx) {
+  const auto it = idx.children.find(pointer);
+  const std::vector<const SchemaEntry*> none;
+  const auto& siblings = it == idx.children.end() ? none : it->second;
+  const std::size_t threshold = std::max<std::size_t>(1, key.size() / 3);
+  std::string best;
+  std::size_t best_distance = threshold + 1;
+  for (const SchemaEntry* s : siblings) {
+    const std::string name = last_segment(s->pointer);
+    const std::size_t d = edit_distance(lower(key), lower(name));
+    if (d < best_distance) best = name, best_distance = d;
+  }
+  if (!best.empty()) return " (did you mean '" + child_path(path, best) + "'?)";
+  for (const SchemaEntry& e : scene_schema())
+    if (lower(last_segment(e.pointer)) == lower(key))
+      return " (did you mean '" + dotted_from_pointer(e.pointer) + "'?)";
+  std::vector<std::string> names;
+  for (const SchemaEntry* s : siblings) names.push_back(last_segment(s->pointer));
+  return " (allowed here: " + join(names, ", ") + ")";
+}
+
+void validate_object(json& obj, const std::string& pointer, const std::string& path, const SchemaIndex& idx) {
+  for (auto& item : obj.items()) {
+    const std::string& k = item.key();
+    const auto row = k == "*" ? idx.by_pointer.end() : idx.by_pointer.find(pointer + "/" + escape_segment(k));
+    if (row == idx.by_pointer.end())
+      input_error("scene: unknown key '" + child_path(path, k) + "'" + unknown_key_hint(k, pointer, path, idx));
+    check_value(item.value(), *row->second, child_path(path, k), idx, true);
+  }
+  const auto it = idx.children.find(pointer);
+  if (it == idx.children.end()) return;
+  for (const SchemaEntry* c : it->second) {
+    const std::string name = last_segment(c->pointer);
+    if (obj.contains(name)) continue;
+    if (c->required) input_error("scene: missing required key '" + child_path(path, name) + "' (" + c->doc + ")");
+    obj[name] = c->default_value;
+    check_value(obj[name], *c, child_path(path, name), idx, true);  // a section's own defaults
+  }
+}
+
+// A malformed table is a bug: report it as internal on first use, and in every test run.
+SchemaIndex build_index(const std::vector<SchemaEntry>& table) {
+  SchemaIndex idx;
+  const auto bug = [](const SchemaEntry& e, const std::string& what) {
+    throw Error("scene schema row '" + e.pointer + "': " + what, EXIT_INTERNAL);
+  };
+  for (const SchemaEntry& e : table) {
+    if (e.pointer.size() < 2 || e.pointer[0] != '/') bug(e, "not a JSON pointer");
+    if (!idx.by_pointer.emplace(e.pointer, &e).second) bug(e, "duplicate row");
+    for (const std::string& t : split(e.type, '|'))
+      if (!type_tokens().count(t)) bug(e, "unknown type '" + t + "'");
+    const std::string parent = parent_pointer(e.pointer);
+    const std::string name = last_segment(e.pointer);
+    if (!parent.empty()) {
+      const auto p = idx.by_pointer.find(parent);
+      if (p == idx.by_pointer.end()) bug(e, "parent row missing or listed after it");
+      const auto ptypes = split(p->second->type, '|');
+      const char* needed = name == "*" ? "array" : "object";
+      if (std::find(ptypes.begin(), ptypes.end(), needed) == ptypes.end()) bug(e, std::string("parent is not an ") + needed);
+    }
+    if (name != "*") idx.children[parent].push_back(&e);
+    if (e.required && !e.default_value.is_null()) bug(e, "a required row has a default");
+    if (!e.required) {
+      json d = e.default_value;
+      try {
+        check_value(d, e, dotted_from_pointer(e.pointer), idx, false);
+      } catch (const Error& err) {
+        bug(e, std::string("default does not satisfy the row: ") + err.what());
+      }
+    }
+  }
+  return idx;
+}
+
+const SchemaIndex& schema_index() {
+  static const SchemaIndex idx = build_index(scene_schema());
+  return idx;
+}
+
+// ============================================================== checks beyond single rows
+
+// JSON text cannot hold NaN or inf, but a scene assembled in code can, and nlohmann would
+// silently dump it as null in the report.
+void check_finite(const json& v, const std::string& path) {
+  if (v.is_number_float() && !std::isfinite(v.get<double>()))
+    key_error(path, std::string("number is not finite (") + (std::isnan(v.get<double>()) ? "nan" : "inf") + ")");
+  if (v.is_object())
+    for (const auto& item : v.items()) check_finite(item.value(), child_path(path, item.key()));
+  if (v.is_array())
+    for (std::size_t i = 0; i < v.size(); ++i) check_finite(v[i], element_path(path, i));
+}
+
+void check_selectors(const json& boundary) {
+  for (const char* gamma : {"gamma1", "gamma2", "gamma3"}) {
+    const json& list = boundary.at(gamma);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const json& s = list[i];
+      const std::string path = element_path(std::string("boundary.") + gamma, i);
+      const bool side = !s.at("side").is_null(), physical = !s.at("physical").is_null();
+      if (side && physical) key_error(path, "set exactly one of 'side' and 'physical', not both");
+      if (!side && !physical)
+        key_error(path, "set exactly one of 'side' (a side of the bounding box) and 'physical' (a Gmsh group)");
+      const json &from = s.at("from"), &to = s.at("to");
+      if (from.is_number() && to.is_number() && !(from.get<double>() < to.get<double>()))
+        key_error(path, "empty range [from, to) = [" + from.dump() + ", " + to.dump() + ")");
+    }
+  }
+}
+
+/// A piecewise-linear table [[x, y], ...]: pairs, x strictly increasing, optionally y ≥ 0.
+void check_points(const json& points, const std::string& path, bool nonnegative, const std::string& y_name) {
+  if (points.is_null()) return;
+  if (points.empty()) key_error(path, "needs at least one point [x, " + y_name + "]");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const json& p = points[i];
+    if (p.size() != 2) key_error(element_path(path, i), "expected a pair [x, " + y_name + "], got " + p.dump());
+    if (nonnegative && p[1].get<double>() < 0)
+      key_error(element_path(path, i), "negative thickness " + y_name + " = " + p[1].dump());
+    if (i > 0 && !(p[0].get<double>() > points[i - 1][0].get<double>()))
+      key_error(element_path(path, i), "x must be strictly increasing, got " + p[0].dump() + " after " +
+                                           points[i - 1][0].dump());
+  }
+}
+
+void check_gap(const json& gap) {
+  if (gap.is_number() && gap.get<double>() < 0) input_error("contact.gap: negative thickness g = " + gap.dump());
+  if (gap.is_string() && gap.get<std::string>() != "inf")
+    input_error("contact.gap: the only string allowed is \"inf\" (no rigid obstacle), got " + gap.dump());
+  if (gap.is_object()) check_points(gap.at("points"), "contact.gap.points", true, "g");
+}
+
+// ============================================================== reading files
+
+/// "parse error at line L, column C: <nlohmann's description>". nlohmann's byte is the
+/// 1-based position of the last character read; nlohmann's own line count is off by one after
+/// a newline, hence computed here.
+std::string describe_parse_error(const std::string& text, const json::parse_error& e) {
+  const std::size_t offset = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
+  const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + offset, '\n'));
+  const std::size_t line_start = offset == 0 ? 0 : text.rfind('\n', offset - 1);
+  const std::size_t column = line_start == std::string::npos || offset == 0 ? offset + 1 : offset - line_start;
+  std::string what = e.what();
+  const std::size_t colon = what.find(": ", what.find("parse error"));
+  if (colon != std::string::npos) what = what.substr(colon + 2);
+  return "parse error at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + what;
+}
+
+/// nlohmann keeps the last of duplicate keys silently; in a scene that hides an edit.
+json parse_rejecting_duplicates(const std::string& text, const std::string& file) {
+  struct Frame {
+    bool is_array;
+    std::size_t index;
+    std::string key;
+    std::set<std::string> keys;
+  };
+  std::vector<Frame> stack;
+  const auto callback = [&](int, json::parse_event_t event, json& parsed) {
+    using E = json::parse_event_t;
+    const bool element = event == E::object_start || event == E::array_start || event == E::value;
+    if (element && !stack.empty() && stack.back().is_array) ++stack.back().index;
+    if (event == E::object_start || event == E::array_start) stack.push_back({event == E::array_start, 0, {}, {}});
+    if (event == E::object_end || event == E::array_end) stack.pop_back();
+    if (event == E::key) {
+      const std::string k = parsed.get<std::string>();
+      if (!stack.back().keys.insert(k).second) {
+        std::string path;
+        for (std::size_t i = 0; i + 1 < stack.size(); ++i)
+          path = stack[i].is_array ? element_path(path, stack[i].index - 1) : child_path(path, stack[i].key);
+        input_error("scene file '" + file + "': duplicate key '" + child_path(path, k) + "'");
+      }
+      stack.back().key = k;
+    }
+    return true;
+  };
+  return json::parse(text, callback);
+}
+
+json value_from_text(const std::string& text, const std::string& assignment) {
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error&) {
+    return text;  // not JSON: a plain string such as gmsh or monotone
+  } catch (const json::exception& e) {
+    input_error("--set '" + assignment + "': " + e.what());  // e.g. number overflow in 1e999
+  }
+}
+
+}  // namespace
+
+// ============================================================== public API
+
+json validate_scene(json scene) {
+  const SchemaIndex& idx = schema_index();
+  if (!scene.is_object()) key_error("", "the top level must be a JSON object, got " + show(scene));
+  check_finite(scene, "");
+  validate_object(scene, "", "", idx);
+  check_selectors(scene["boundary"]);
+  check_gap(scene["contact"]["gap"]);
+  check_points(scene["contact"]["normal_law"]["points"], "contact.normal_law.points", false, "p");
+  check_points(scene["contact"]["friction"]["points"], "contact.friction.points", false, "F_b");
+  json& mesh = scene["mesh"];
+  if (!mesh["n"].is_null()) mesh["nx"] = mesh["ny"] = mesh["n"];
+  return scene;
+}
+
+void apply_override(json& scene, const std::string& assignment) {
+  const std::size_t eq = assignment.find('=');
+  if (eq == std::string::npos) input_error("--set '" + assignment + "': expected path=value, e.g. mesh.n=64");
+  const std::vector<std::string> segs = split_dotted(assignment.substr(0, eq));
+  if (segs.empty()) input_error("--set '" + assignment + "': malformed path (empty key)");
+  json value = value_from_text(assignment.substr(eq + 1), assignment);
+
+  json* cur = &scene;
+  std::string path;
+  for (const std::string& seg : segs) {
+    if (cur->is_null() && seg == "0") *cur = json::array();  // "gamma3.0.side=bottom" starts a list
+    if (cur->is_array()) {
+      if (!is_index(seg)) input_error("--set '" + assignment + "': '" + path + "' is an array; '" + seg + "' is not an index");
+      const std::size_t i = std::stoul(seg);
+      if (i > cur->size())
+        input_error("--set '" + assignment + "': index " + seg + " out of range ('" + path + "' has " +
+                    std::to_string(cur->size()) + " elements)");
+      if (i == cur->size()) cur->push_back(nullptr);  // appending one element is allowed
+      cur = &(*cur)[i];
+      path = element_path(path, i);
+    } else if (cur->is_object() || cur->is_null()) {
+      cur = &(*cur)[seg];  // creates the intermediate object
+      path = child_path(path, seg);
+    } else {
+      input_error("--set '" + assignment + "': cannot set a key inside '" + path + "', which is " + show(*cur));
+    }
+  }
+  *cur = std::move(value);
+}
+
+json load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) input_error("scene file '" + path + "' not found");
+  if (fs::is_directory(path, ec)) input_error("scene file '" + path + "' is a directory");
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (!in) input_error("scene file '" + path + "' cannot be read");
+  const std::string text = buffer.str();
+
+  json scene;
+  try {
+    scene = parse_rejecting_duplicates(text, path);
+  } catch (const json::parse_error& e) {
+    input_error("scene file '" + path + "': " + describe_parse_error(text, e));
+  } catch (const json::exception& e) {
+    input_error("scene file '" + path + "': " + e.what());  // number overflow (1e999)
+  }
+  for (const std::string& o : overrides) apply_override(scene, o);
+  return validate_scene(std::move(scene));
+}
+
+std::string scene_directory(const std::string& scene_path) {
+  const std::string dir = std::filesystem::path(scene_path).parent_path().string();
+  return dir.empty() ? "." : dir;
+}
+
+const json& scene_at(const json& scene, const std::string& dotted) {
+  const json* cur = &scene;
+  for (const std::string& seg : split_dotted(dotted)) {
+    if (cur->is_array() && is_index(seg) && std::stoul(seg) < cur->size()) {
+      cur = &(*cur)[std::stoul(seg)];
+    } else if (cur->is_object() && cur->contains(seg)) {
+      cur = &(*cur)[seg];
+    } else {
+      throw Error("config: key '" + dotted + "' is not in the effective scene (not in the schema, or "
+                  "the scene was not validated)", EXIT_INTERNAL);
+    }
+  }
+  return *cur;
+}
+
+namespace {
+template <class T>
+T get_as(const json& scene, const std::string& dotted, bool ok(const json&), const char* what) {
+  const json& v = scene_at(scene, dotted);
+  if (!ok(v)) throw Error("config: key '" + dotted + "' is " + show(v) + ", not " + what, EXIT_INTERNAL);
+  return v.get<T>();
+}
+}  // namespace
+
+double get_number(const json& s, const std::string& dotted) {
+  return get_as<double>(s, dotted, [](const json& v) { return v.is_number(); }, "a number");
+}
+int get_int(const json& s, const std::string& dotted) {
+  return get_as<int>(s, dotted, [](const json& v) { return v.is_number_integer() && is_int32(v); }, "an integer");
+}
+std::string get_string(const json& s, const std::string& dotted) {
+  return get_as<std::string>(s, dotted, [](const json& v) { return v.is_string(); }, "a string");
+}
+bool get_bool(const json& s, const std::string& dotted) {
+  return get_as<bool>(s, dotted, [](const json& v) { return v.is_boolean(); }, "a boolean");
+}
+
+// ============================================================== documentation
+
+namespace {
+
+std::string cell(const std::string& s) {
+  std::string out;
+  for (char c : s) out += c == '|' ? "\\|" : c == '\n' ? " " : std::string(1, c);
+  return out;
+}
+
+std::string code(const std::string& s) { return "`" + s + "`"; }
+
+std::string table(const std::vector<const SchemaEntry*>& rows) {
+  std::string t = "| key | type | default | allowed | description |\n|---|---|---|---|---|\n";
+  for (const SchemaEntry* e : rows) {
+    const std::string def = e->required                        ? "**required**"
+                            : last_segment(e->pointer) == "*" ? "—"
+                                                               : code(e->default_value.dump());
+    std::vector<std::string> allowed;
+    for (const std::string& o : e->options) allowed.push_back(code(o));
+    if (e->min || e->max) allowed.push_back(code(range_text(*e)));
+    t += "| " + cell(code(dotted_from_pointer(e->pointer))) + " | " + cell(code(e->type)) + " | " + cell(def) +
+         " | " + cell(join(allowed, ", ")) + " | " + cell(e->doc) + " |\n";
+  }
+  return t;
+}
+
+const char* const MARKDOWN_HEADER = R"(# Scene file format
+
+<!-- Generated from src/io/scene_schema.cpp by hemicontact::schema_markdown(); do not edit by hand.
+     Regenerate: HEMICONTACT_REGENERATE_DOCS=1 build-config/tests/hemicontact_tests --gtest_filter=SceneSchema.MarkdownMatchesDoc -->
+
+A scene is one JSON object. `hemicontact solve scene.json` reads it, applies the `--set`
+overrides, checks it against the tables below and fills in every default. The report echoes this
+*effective* scene, so a run can be repeated from its report alone.
+
+## Rules
+
+- **Keys** are written as dotted paths; `[*]` means every element of an array
+  (`boundary.gamma2[*].traction` is the traction of each Γ2 selector). A key that is not in the
+  tables is an error, with a suggestion for the closest known key. Open objects (`object*`) are
+  passed through unchecked.
+- **Types.** `number` accepts integers; `integer` must be integral and fit in 32 bits (`8.0` is
+  read as `8`); `a|b` allows either; `number[]` is an array of numbers and `number[][]` an array
+  of such arrays. Numbers must be finite. Strings with listed values must be one of them, and
+  numbers must lie in the listed range.
+- **Defaults.** An absent key gets its default, inside every element of an array of objects too.
+  Keys marked **required** have none. Checks that involve several keys (κ < 0.5 in plane strain,
+  the parameters a `normal_law.type` needs, ...) are made by the component that uses them.
+- **Selectors.** `boundary.gamma1`, `gamma2` and `gamma3` are lists of selectors. Each sets
+  exactly one of `side` (a side of the mesh's bounding box) and `physical` (a Gmsh physical
+  group) and may keep only the facets whose midpoint coordinate along the side lies in the
+  half-open interval [from, to), with from < to.
+- **Gap.** `contact.gap` is a number ≥ 0 (constant thickness), `null` or `"inf"` (no rigid
+  obstacle), or `{"along": "x", "points": [[x, g], ...]}`: piecewise linear in one coordinate,
+  coordinates strictly increasing, g ≥ 0. The `points` of the tabulated laws are pairs with
+  strictly increasing first entries as well.
+- **`mesh.n`**, if set, overrides `mesh.nx` and `mesh.ny`: the effective scene has nx = ny = n.
+- **Paths** such as `mesh.file` are relative to the directory of the scene file.
+- **Overrides.** `--set path=value` is applied before validation, so a misspelt key is reported
+  as unknown. The path is dotted (`mesh.n=64`, `solver.options.mu_strategy=monotone`); an array
+  element is a number segment or brackets (`boundary.gamma2.0.traction=[1,0]` or
+  `boundary.gamma2[0].traction=[1,0]`; the index equal to the length appends). The value is
+  JSON when it parses (numbers, `true`, `null`, arrays, objects, `"quoted"` strings) and a plain
+  string otherwise. Missing intermediate objects are created (a missing list by index `0`).
+)";
+
+}  // namespace
+
+std::string schema_markdown() {
+  const auto& rows = scene_schema();
+  std::vector<const SchemaEntry*> top;
+  for (const SchemaEntry& e : rows)
+    if (parent_pointer(e.pointer).empty()) top.push_back(&e);
+
+  std::string md = MARKDOWN_HEADER;
+  md += "\n## Top level\n\n" + table(top);
+  for (const SchemaEntry* section : top) {
+    if (section->type != "object") continue;
+    std::vector<const SchemaEntry*> below;
+    for (const SchemaEntry& e : rows)
+      if (e.pointer.rfind(section->pointer + "/", 0) == 0) below.push_back(&e);
+    md += "\n## " + code(last_segment(section->pointer)) + "\n\n" + section->doc + "\n\n" + table(below);
+  }
+  return md;
+}
+
+}  // namespace hemicontact

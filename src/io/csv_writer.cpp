@@ -1,0 +1,52 @@
+#include <hemicontact/io/csv_writer.hpp>
+
+#include <hemicontact/core/error.hpp>
+
+#include <charconv>
+#include <fstream>
+#include <string>
+
+namespace hemicontact {
+namespace {
+
+// Shortest text that reads back to the same double ("inf" for g = +∞).
+void put(std::string& out, double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, r.ptr);
+}
+
+}  // namespace
+
+void write_gamma3_csv(const std::string& path, const Model& md, const Solution& sol) {
+  const ContactNodes& cn = md.contact;
+  const ContactState& s = sol.state;
+  const Index nc = cn.size();
+  const int d = md.dim();
+  if (s.u_nu.size() != nc || static_cast<Index>(sol.status.size()) != nc)
+    throw Error("write_gamma3_csv: the solution does not match the model (was evaluate_solution() called?)",
+                EXIT_INTERNAL);
+
+  std::string out = d == 2 ? "index,node,x,y," : "index,node,x,y,z,";
+  out += "w,g,u_nu,u_tau,sigma_nu,sigma_tau,xi,lambda,status\n";
+  for (Index k = 0; k < nc; ++k) {
+    out += std::to_string(k) + ',' + std::to_string(cn.node[k]);
+    for (int c = 0; c < d; ++c) {
+      out += ',';
+      put(out, md.mesh.points(cn.node[k], c));
+    }
+    for (double v : {cn.w[k], cn.g[k], s.u_nu[k], s.u_tau[k], s.sigma_nu[k], s.sigma_tau[k], s.xi[k],
+                     s.lambda[k]}) {
+      out += ',';
+      put(out, v);
+    }
+    out += ',' + sol.status[k].str() + '\n';
+  }
+
+  std::ofstream f(path, std::ios::binary);
+  if (!f) input_error("cannot write '" + path + "'");
+  f << out;
+  if (!f.flush()) input_error("cannot write '" + path + "' (disk full?)");
+}
+
+}  // namespace hemicontact

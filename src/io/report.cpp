@@ -1,0 +1,257 @@
+#include <hemicontact/io/report.hpp>
+
+#include <hemicontact/config.hpp>
+#include <hemicontact/core/error.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace hemicontact {
+namespace {
+
+using json = nlohmann::json;
+
+std::string fmt(double v, int prec = 6) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+  return buf;
+}
+
+struct BackendTotals {
+  long long iterations = 0, evaluations = 0;
+  double seconds = 0;
+};
+
+BackendTotals backend_totals(const Solution& sol) {
+  BackendTotals t;
+  for (const auto& h : sol.history) {
+    t.iterations += h.backend.iterations;
+    t.evaluations += h.backend.evaluations;
+    t.seconds += h.backend.seconds;
+  }
+  return t;
+}
+
+std::map<std::string, double> merged_timings(const Model& md, const Solution& sol) {
+  std::map<std::string, double> t = md.timings;
+  for (const auto& [k, v] : sol.timings) t[k] = v;
+  return t;
+}
+
+bool report_ok(const Solution& sol) {
+  return sol.backend_ok && sol.fixed_point_converged && sol.certificate.passed;
+}
+
+// "  " + words joined by ", ", wrapped before @p width columns; continuation lines indented.
+std::string wrap(const std::vector<std::string>& words, size_t indent, size_t width) {
+  std::string out, line;
+  for (size_t i = 0; i < words.size(); ++i) {
+    const std::string w = words[i] + (i + 1 < words.size() ? "," : "");
+    if (!line.empty() && indent + line.size() + 1 + w.size() > width) {
+      out += line + "\n" + std::string(indent, ' ');
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + w;
+  }
+  return out + line;
+}
+
+}  // namespace
+
+json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) {
+  const ContactNodes& cn = md.contact;
+  const ContactState& s = sol.state;
+  const Index nc = cn.size();
+  const int d = md.dim();
+  if (s.u_nu.size() != nc || static_cast<Index>(sol.status.size()) != nc)
+    throw Error("make_report: the solution does not match the model (was evaluate_solution() called?)",
+                EXIT_INTERNAL);
+
+  json r;
+  r["scene"] = md.scene;
+  r["version"] = HEMICONTACT_VERSION;
+  r["mesh"] = {{"origin", md.mesh.origin},        {"dim", d},
+               {"nodes", md.mesh.num_nodes()},    {"cells", md.mesh.num_cells()},
+               {"gamma3_nodes", nc},              {"h", md.mesh.max_edge_length()}};
+  r["dofs"] = md.dofs.n_free();
+  r["material"] = {{"description", md.material->describe()},
+                   {"m_F", md.material->m_F()},
+                   {"L_F", md.material->L_F()}};
+  r["laws"] = {{"normal_law", md.normal_law ? json(md.normal_law->describe()) : json(nullptr)},
+               {"friction", md.friction ? json(md.friction->describe()) : json(nullptr)},
+               {"gap", md.gap.describe()}};
+  const BackendTotals bt = backend_totals(sol);
+  r["backend"] = {{"name", sol.backend},
+                  {"iterations", bt.iterations},
+                  {"evaluations", bt.evaluations},
+                  {"seconds", bt.seconds}};
+  r["energy"] = sol.energy;
+  r["energy_norm"] = sol.energy_norm;
+  r["a_uu"] = sol.a_uu;
+  r["f_u"] = sol.f_u;
+  r["j_term"] = sol.j_term;
+  r["friction_term"] = sol.friction_term;
+  r["max_u_nu"] = sol.max_u_nu;
+  r["status_counts"] = sol.status_counts();
+
+  json nodes = json::array();
+  static const char* axes[] = {"x", "y", "z"};
+  for (Index k = 0; k < nc; ++k) {
+    json n;
+    n["node"] = cn.node[k];
+    for (int c = 0; c < d; ++c) n[axes[c]] = md.mesh.points(cn.node[k], c);
+    n["w"] = cn.w[k];
+    n["g"] = cn.g[k];
+    n["u_nu"] = s.u_nu[k];
+    n["u_tau"] = s.u_tau[k];
+    n["sigma_nu"] = s.sigma_nu[k];
+    n["sigma_tau"] = s.sigma_tau[k];
+    n["xi"] = s.xi[k];
+    n["lambda"] = s.lambda[k];
+    n["status"] = sol.status[k].str();
+    nodes.push_back(std::move(n));
+  }
+  r["nodes"] = std::move(nodes);
+
+  const CertificateReport& c = sol.certificate;
+  json residuals = json::object();
+  for (const auto& e : c.residuals) residuals[e.name] = {{"value", e.value}, {"worst", e.worst}};
+  r["certificate"] = {{"passed", c.passed},
+                      {"tol", c.tol},
+                      {"max_residual", c.max_residual},
+                      {"length_scale", c.length_scale},
+                      {"force_scale", c.force_scale},
+                      {"traction_scale", c.traction_scale},
+                      {"residuals", std::move(residuals)}};
+
+  json history = json::array();
+  for (const auto& h : sol.history)
+    history.push_back({{"k", h.k},
+                       {"stage", h.stage},
+                       {"eps_tau", h.eps_tau},
+                       {"eps_nu", h.eps_nu},
+                       {"change_u", h.change_u},
+                       {"change_lambda", h.change_lambda},
+                       {"grad_norm", h.grad_norm},
+                       {"backend_status", to_string(h.backend.status)},
+                       {"backend_iterations", h.backend.iterations},
+                       {"backend_evaluations", h.backend.evaluations},
+                       {"backend_seconds", h.backend.seconds},
+                       {"backend_message", h.backend.message}});
+  r["fixed_point"] = {{"converged", sol.fixed_point_converged},
+                      {"iterations", sol.history.size()},
+                      {"history", std::move(history)}};
+
+  r["options"] = {{"backend", opt.backend},
+                  {"tol", opt.backend_options.tol},
+                  {"max_iter", opt.backend_options.max_iter},
+                  {"backend_options", opt.backend_options.extra},
+                  {"eps_tau", opt.eps_tau},
+                  {"eps_nu", opt.eps_nu},
+                  {"eps_start", opt.eps_start},
+                  {"eps_factor", opt.eps_factor},
+                  {"tol_u", opt.tol_u},
+                  {"max_outer", opt.max_outer},
+                  {"relaxation", opt.relaxation},
+                  {"allow_not_converged", opt.allow_not_converged},
+                  {"certificate_tol", opt.certificate_tol},
+                  {"status_tol", opt.status_tol}};
+  r["skipped"] = sol.skipped;
+  r["scales"] = {{"x_scale", sol.x_scale}, {"f_scale", sol.f_scale}};
+  r["timings"] = merged_timings(md, sol);
+  r["message"] = sol.message;
+  r["ok"] = report_ok(sol);
+  return r;
+}
+
+void write_report(const std::string& path, const json& report) {
+  std::ofstream f(path, std::ios::binary);
+  if (!f) input_error("cannot write '" + path + "'");
+  // Non-finite doubles become null here (nlohmann's serializer), so the file is always valid JSON.
+  f << report.dump(2) << '\n';
+  if (!f.flush()) input_error("cannot write '" + path + "' (disk full?)");
+}
+
+std::string status_runs(const Solution& sol) {
+  std::string out;
+  for (size_t i = 0; i < sol.status.size();) {
+    const std::string st = sol.status[i].str();
+    size_t j = i + 1;
+    while (j < sol.status.size() && sol.status[j].str() == st) ++j;
+    if (!out.empty()) out += ", ";
+    out += st + " x" + std::to_string(j - i);
+    i = j;
+  }
+  return out;
+}
+
+std::string summary_table(const Model& md, const Solution& sol) {
+  const size_t indent = 14;
+  const auto row = [&](const std::string& label, const std::string& text) {
+    return label + std::string(indent > label.size() ? indent - label.size() : 1, ' ') + text + "\n";
+  };
+  std::string out;
+  const Index nc = md.contact.size();
+  out += row("mesh", (md.mesh.origin.empty() ? std::string() : md.mesh.origin + ": ") +
+                         std::to_string(md.mesh.num_nodes()) + " nodes, " +
+                         std::to_string(md.mesh.num_cells()) + " cells, " + std::to_string(nc) +
+                         " gamma3 nodes, h = " + fmt(md.mesh.max_edge_length()));
+  out += row("dofs", std::to_string(md.dofs.n_free()));
+  const BackendTotals bt = backend_totals(sol);
+  out += row("backend", (sol.backend.empty() ? std::string("(none)") : sol.backend) + ": " +
+                            std::to_string(sol.history.size()) + " minimizations, " +
+                            std::to_string(bt.iterations) + " iterations, " +
+                            std::to_string(bt.evaluations) + " evaluations, " + fmt(bt.seconds, 3) + " s");
+  out += row("energy", fmt(sol.energy, 10) + "  (a(u,u)/2 = " + fmt(0.5 * sol.a_uu) + ", f(u) = " +
+                           fmt(sol.f_u) + ", j = " + fmt(sol.j_term) + ", friction = " +
+                           fmt(sol.friction_term) + ")");
+  out += row("energy_norm", fmt(sol.energy_norm, 10));
+  out += row("max_u_nu", fmt(sol.max_u_nu, 10));
+
+  // Status counts: normal | tangential, one column each, counts under their names.
+  const auto counts = sol.status_counts();
+  std::vector<std::string> names = {"separated", "compliance", "contact", "|", "stick", "slip+", "slip-"};
+  if (md.dim() == 3 || (counts.count("slip") && counts.at("slip") > 0)) names.push_back("slip");
+  std::string head, vals;
+  for (const auto& n : names) {
+    const std::string v = n == "|" ? "|" : std::to_string(counts.count(n) ? counts.at(n) : 0);
+    const size_t w = std::max(n.size(), v.size()) + 2;
+    head += n + std::string(w - n.size(), ' ');
+    vals += v + std::string(w - v.size(), ' ');
+  }
+  while (!head.empty() && head.back() == ' ') head.pop_back();
+  while (!vals.empty() && vals.back() == ' ') vals.pop_back();
+  out += row("status", head);
+  out += row("", vals);
+  if (nc > 0) {
+    if (nc <= 33) {
+      std::vector<std::string> each;
+      for (const auto& s : sol.status) each.push_back(s.str());
+      out += row("gamma3 nodes", wrap(each, indent, 100));
+    } else {
+      out += row("gamma3 runs", status_runs(sol));
+    }
+  }
+
+  const CertificateReport& c = sol.certificate;
+  std::string worst;
+  double worst_value = -1;
+  for (const auto& e : c.residuals)
+    if (e.value > worst_value) worst_value = e.value, worst = e.name;
+  out += row("certificate", std::string(c.passed ? "passed" : "FAILED") + ": max residual " +
+                                fmt(c.max_residual, 3) + (c.passed ? " <= " : " > ") + "tol " + fmt(c.tol, 3) +
+                                (worst.empty() ? std::string() : " (" + worst + ")"));
+  out += row("fixed point", std::string(sol.fixed_point_converged ? "converged" : "NOT converged") +
+                                (sol.backend_ok ? "" : "; last minimization FAILED"));
+  std::vector<std::string> times;
+  for (const auto& [k, v] : merged_timings(md, sol)) times.push_back(k + " " + fmt(v, 3) + " s");
+  if (!times.empty()) out += row("times", wrap(times, indent, 100));
+  if (!sol.message.empty()) out += row("message", sol.message);
+  return out;
+}
+
+}  // namespace hemicontact

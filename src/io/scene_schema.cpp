@@ -1,0 +1,269 @@
+// The scene schema: the one place where a scene key, its type, its default and its documentation
+// are written (polyfem json-specs). validate_scene() and schema_markdown() in config.cpp only
+// interpret this table, and docs/scene-format.md is generated from it.
+//
+// Rows appear in documentation order. A parent row must come before its children; config.cpp
+// checks that, and that every default satisfies its own row, when it first indexes the table.
+
+#include <hemicontact/io/config.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hemicontact {
+namespace {
+
+using nlohmann::json;
+
+/// An optional key.
+SchemaEntry key(std::string pointer, std::string type, json default_value, std::string doc,
+                std::vector<std::string> options = {}) {
+  SchemaEntry e;
+  e.pointer = std::move(pointer);
+  e.type = std::move(type);
+  e.default_value = std::move(default_value);
+  e.doc = std::move(doc);
+  e.options = std::move(options);
+  return e;
+}
+
+/// A key that must be present whenever its parent is (no default).
+SchemaEntry required(std::string pointer, std::string type, std::string doc,
+                     std::vector<std::string> options = {}) {
+  SchemaEntry e = key(std::move(pointer), std::move(type), json(), std::move(doc), std::move(options));
+  e.required = true;
+  return e;
+}
+
+/// A closed object whose keys are the rows below it; absent → {} plus the children's defaults.
+SchemaEntry section(std::string pointer, std::string doc) {
+  return key(std::move(pointer), "object", json::object(), std::move(doc));
+}
+
+SchemaEntry above(SchemaEntry e, double lo) {
+  e.min = lo;
+  e.min_exclusive = true;
+  return e;
+}
+SchemaEntry at_least(SchemaEntry e, double lo) {
+  e.min = lo;
+  e.min_exclusive = false;
+  return e;
+}
+SchemaEntry below(SchemaEntry e, double hi) {
+  e.max = hi;
+  e.max_exclusive = true;
+  return e;
+}
+SchemaEntry at_most(SchemaEntry e, double hi) {
+  e.max = hi;
+  e.max_exclusive = false;
+  return e;
+}
+
+// The three boundary parts share one selector shape; generating their rows keeps the three
+// copies identical instead of writing (and later editing) them three times.
+void add_selector(std::vector<SchemaEntry>& t, const std::string& gamma, const std::string& doc,
+                  bool with_traction) {
+  const std::string p = "/boundary/" + gamma;
+  // Without a clamped part the elastic problem is not coercive, so Γ1 has no default.
+  t.push_back(gamma == "gamma1" ? required(p, "array", doc) : key(p, "array", json::array(), doc));
+  t.push_back(key(p + "/*", "object", json::object(),
+                  "A selector: the facets it matches belong to this boundary part. Set exactly "
+                  "one of `side` and `physical`."));
+  t.push_back(key(p + "/*/side", "string|null", nullptr,
+                  "Side of the mesh's bounding box.", {"left", "right", "bottom", "top"}));
+  t.push_back(key(p + "/*/physical", "string|null", nullptr,
+                  "Gmsh physical group name (mesh.type = gmsh)."));
+  t.push_back(key(p + "/*/from", "number|null", nullptr,
+                  "The facet midpoint's coordinate along the side (y on left/right, x on "
+                  "bottom/top) must lie in [from, to); null = −∞. Half-open, so [0.5,1) and "
+                  "[0,0.5) split a side without overlap."));
+  t.push_back(key(p + "/*/to", "number|null", nullptr,
+                  "Upper end of [from, to), excluded; null = +∞."));
+  if (with_traction)
+    t.push_back(key(p + "/*/traction", "number[]", json{0, 0}, "Traction f2 on these facets."));
+}
+
+std::vector<SchemaEntry> build_scene_schema() {
+  std::vector<SchemaEntry> t;
+
+  t.push_back(key("/description", "string", "", "Free text; echoed in the report."));
+
+  // ------------------------------------------------------------------ mesh
+  t.push_back(section("/mesh", "The triangulation of Ω."));
+  t.push_back(key("/mesh/type", "string", "rectangle",
+                  "rectangle: structured triangulation of x × y; gmsh: read `file`.",
+                  {"rectangle", "gmsh"}));
+  t.push_back(key("/mesh/x", "number[]", json{0, 1}, "Interval [x0, x1] of the rectangle."));
+  t.push_back(key("/mesh/y", "number[]", json{0, 1}, "Interval [y0, y1] of the rectangle."));
+  t.push_back(at_least(key("/mesh/n", "integer|null", nullptr,
+                           "If set, nx = ny = n: validation copies it into nx and ny (overriding "
+                           "them), so `--set mesh.n=64` refines a scene in both directions."),
+                       1));
+  t.push_back(at_least(key("/mesh/nx", "integer", 8, "Cells along x (rectangle)."), 1));
+  t.push_back(at_least(key("/mesh/ny", "integer", 8, "Cells along y (rectangle)."), 1));
+  t.push_back(key("/mesh/diagonal", "string", "right",
+                  "right: each cell split by the diagonal from (x_i,y_j) to (x_{i+1},y_{j+1}); "
+                  "left: the other one; symmetric: right on the left half, mirrored on the right "
+                  "half; crossed: four triangles around the cell centre.",
+                  {"right", "left", "symmetric", "crossed"}));
+  t.push_back(key("/mesh/file", "string|null", nullptr,
+                  "Gmsh .msh 4.1 file (mesh.type = gmsh), relative to the scene file's directory."));
+  // Below 0.5 h two neighbouring nodes cannot meet or swap places (thin elements remain possible).
+  t.push_back(below(at_least(key("/mesh/perturb", "number", 0,
+                                 "Interior nodes are moved randomly by up to this fraction of h "
+                                 "(robustness tests on irregular meshes)."),
+                             0),
+                    0.5));
+  t.push_back(at_least(
+      key("/mesh/seed", "integer", 1, "Seed of the random perturbation (same seed, same mesh)."), 0));
+
+  // ------------------------------------------------------------------ material
+  t.push_back(section("/material", "Constitutive law F (paper eq. (12); MODEL.md §1)."));
+  t.push_back(key("/material/model", "string", "linear_elastic", "Linear isotropic elasticity.",
+                  {"linear_elastic"}));
+  t.push_back(above(required("/material/E", "number", "Young's modulus E."), 0));
+  // (−1, 1) keeps both E/(1+κ) and the plane-stress factor 1/(1−κ²) finite and positive; the
+  // stricter κ < 0.5 of plane strain depends on `plane`, so the material checks it.
+  t.push_back(below(above(required("/material/nu", "number",
+                                   "Poisson's ratio κ. Plane strain also needs κ < 0.5 (checked by "
+                                   "the material)."),
+                          -1),
+                    1));
+  t.push_back(key("/material/plane", "string", "stress",
+                  "2-D reduction: plane stress (the paper's example) or plane strain.",
+                  {"stress", "strain"}));
+
+  // ------------------------------------------------------------------ boundary
+  t.push_back(section("/boundary",
+                      "The split of ∂Ω into Γ1, Γ2, Γ3 (MODEL.md §1), as lists of facet selectors."));
+  add_selector(t, "gamma1", "Γ1, clamped (u = 0): list of selectors.", false);
+  add_selector(t, "gamma2", "Γ2, traction f2: list of selectors, each with its traction.", true);
+  add_selector(t, "gamma3", "Γ3, contact with the foundation: list of selectors.", false);
+
+  // ------------------------------------------------------------------ loads
+  t.push_back(section("/loads", "Volume and surface loads."));
+  t.push_back(key("/loads/body_force", "number[]", json{0, 0}, "Body force f0."));
+  t.push_back(key("/loads/scale", "number", 1, "Multiplies f0 and every f2 (load-scaled scenes)."));
+
+  // ------------------------------------------------------------------ contact
+  t.push_back(section("/contact", "Contact on Γ3: soft layer of thickness g on a rigid foundation."));
+  // The object form's keys are ordinary rows below: they are checked whenever gap is an object.
+  t.push_back(key("/contact/gap", "number|string|object|null", nullptr,
+                  "Thickness g ≥ 0 of the soft layer (eq. (5)): a number (constant); null or "
+                  "\"inf\" (no rigid obstacle); or {\"along\": \"x\", \"points\": [[x, g], ...]}, "
+                  "piecewise linear in one coordinate."));
+  t.push_back(required("/contact/gap/along", "string",
+                       "Object form of gap: the coordinate g is a function of.", {"x", "y", "z"}));
+  t.push_back(required("/contact/gap/points", "number[][]",
+                       "Object form of gap: [[coordinate, g], ...], coordinates strictly "
+                       "increasing, g ≥ 0."));
+
+  t.push_back(section("/contact/normal_law", "Normal compliance of the soft layer, p_ν = j_ν′."));
+  t.push_back(key("/contact/normal_law/type", "string", "none",
+                  "none: no soft layer; paper: piecewise linear (32) with c1, c2, c3, r1, r2; "
+                  "table: piecewise linear through `points`.",
+                  {"none", "paper", "table"}));
+  t.push_back(key("/contact/normal_law/c1", "number|null", nullptr, "Slope of p_ν on (0, r1] (32)."));
+  t.push_back(key("/contact/normal_law/c2", "number|null", nullptr,
+                  "Slope on (r1, r2) (32); negative = softening."));
+  t.push_back(key("/contact/normal_law/c3", "number|null", nullptr, "Slope for r ≥ r2 (32)."));
+  t.push_back(key("/contact/normal_law/r1", "number|null", nullptr, "First kink of p_ν (32)."));
+  t.push_back(key("/contact/normal_law/r2", "number|null", nullptr, "Second kink of p_ν (32)."));
+  t.push_back(key("/contact/normal_law/points", "number[][]|null", nullptr,
+                  "type table: [[r, p_ν(r)], ...], r strictly increasing."));
+  t.push_back(key("/contact/normal_law/slope_left", "number|null", nullptr,
+                  "type table: slope of p_ν before the first point."));
+  t.push_back(key("/contact/normal_law/slope_right", "number|null", nullptr,
+                  "type table: slope of p_ν after the last point."));
+
+  t.push_back(section("/contact/friction", "Friction bound F_b (eqs. (6), (34))."));
+  t.push_back(key("/contact/friction/type", "string", "none",
+                  "none: frictionless; coulomb_layer: F_b = μ p_ν(u_ν) (34); tresca: F_b = "
+                  "bound; table: piecewise linear F_b(u_ν) through `points`.",
+                  {"none", "coulomb_layer", "tresca", "table"}));
+  t.push_back(at_least(key("/contact/friction/mu", "number|null", nullptr,
+                           "Friction coefficient μ in F_b = μ p_ν (34)."),
+                       0));
+  t.push_back(at_least(
+      key("/contact/friction/bound", "number|null", nullptr, "type tresca: the constant F_b."), 0));
+  t.push_back(key("/contact/friction/points", "number[][]|null", nullptr,
+                  "type table: [[u_ν, F_b(u_ν)], ...], u_ν strictly increasing."));
+  t.push_back(key("/contact/friction/slope_left", "number|null", nullptr,
+                  "type table: slope of F_b before the first point."));
+  t.push_back(key("/contact/friction/slope_right", "number|null", nullptr,
+                  "type table: slope of F_b after the last point."));
+
+  // ------------------------------------------------------------------ solver
+  // ε's and tolerances are relative to the displacement scale U so that one scene works at any
+  // load level (STYLE.md §4).
+  t.push_back(section("/solver", "NLP backend, smoothing and the outer loops (MODEL.md §2)."));
+  t.push_back(key("/solver/backend", "string", "ipopt",
+                  "NLP backend by name: \"ipopt\", \"newton\", \"nlopt:LD_LBFGS\", ... (only those "
+                  "compiled in)."));
+  t.push_back(key("/solver/formulation", "string", "auto",
+                  "Unknowns the NLP sees: full = all free dofs; condensed = interior dofs "
+                  "eliminated onto Γ3; auto = the driver chooses.",
+                  {"auto", "full", "condensed"}));
+  t.push_back(above(key("/solver/tol", "number", 1e-10, "Backend first-order tolerance."), 0));
+  t.push_back(at_least(key("/solver/max_iter", "integer", 3000, "Backend iterations per solve."), 1));
+  t.push_back(at_least(key("/solver/print_level", "integer", 0, "Backend verbosity (0 = silent)."), 0));
+  t.push_back(key("/solver/options", "object*", json::object(),
+                  "Passed verbatim to the backend (e.g. Ipopt's mu_strategy); not checked here."));
+  t.push_back(above(key("/solver/eps_tau", "number", 1e-10,
+                        "Final friction smoothing width ε_τ, relative to the displacement scale U."),
+                    0));
+  t.push_back(above(key("/solver/eps_nu", "number", 1e-10,
+                        "Final width ε_ν of the mollified p_ν, relative to U."),
+                    0));
+  t.push_back(section("/solver/continuation", "Continuation in ε_τ, ε_ν with warm starts."));
+  t.push_back(above(key("/solver/continuation/eps_start", "number", 1e-2,
+                        "First ε, relative to U."),
+                    0));
+  t.push_back(below(above(key("/solver/continuation/factor", "number", 1e-2,
+                              "ε is multiplied by it each step until eps_tau / eps_nu."),
+                          0),
+                    1));
+  t.push_back(section("/solver/fixed_point", "Outer loop λ_i = F_b(u_ν,i) (MODEL.md §2)."));
+  t.push_back(above(key("/solver/fixed_point/tol_u", "number", 1e-12,
+                        "Converged when the relative change of u on Γ3 and of λ is ≤ tol_u."),
+                    0));
+  t.push_back(at_least(key("/solver/fixed_point/max_iters", "integer", 50, "Outer iteration limit."), 1));
+  t.push_back(at_most(above(key("/solver/fixed_point/relaxation", "number", 1,
+                                "θ in λ ← (1−θ)λ + θ F_b(u_ν)."),
+                            0),
+                      1));
+  t.push_back(key("/solver/fixed_point/allow_not_converged", "boolean", false,
+                  "true: reaching max_iters is a warning instead of an error."));
+
+  // ------------------------------------------------------------------ check
+  t.push_back(section("/check", "Acceptance of the computed solution (MODEL.md §3, §4)."));
+  t.push_back(above(key("/check/certificate_tol", "number", 1e-8,
+                        "Largest normalized certificate residual accepted."),
+                    0));
+  t.push_back(above(key("/check/status_tol", "number", 1e-8,
+                        "Relative to U: decides stick / contact / separated."),
+                    0));
+
+  // ------------------------------------------------------------------ output
+  t.push_back(section("/output", "Files written next to report.json."));
+  t.push_back(key("/output/vtu", "boolean", true, "VTK file: u, status, σ_ν, σ_τ, λ."));
+  t.push_back(key("/output/csv", "boolean", true, "One CSV row per Γ3 node."));
+  t.push_back(key("/output/plot", "boolean", false, "Pictures (needs python3-matplotlib)."));
+
+  // ------------------------------------------------------------------ expected
+  t.push_back(key("/expected", "object*", json::object(),
+                  "Regression expectations read by tests/regression; ignored by the solver."));
+  return t;
+}
+
+}  // namespace
+
+const std::vector<SchemaEntry>& scene_schema() {
+  static const std::vector<SchemaEntry> table = build_scene_schema();
+  return table;
+}
+
+}  // namespace hemicontact
