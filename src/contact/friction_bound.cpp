@@ -42,7 +42,8 @@ double max_abs_slope(const PiecewiseLinearLaw& f) {
 
 }  // namespace
 
-void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale, const std::string& context) {
+void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale,
+                              const std::string& context) {
   if (scale == 0.0) return;  // F_b ≡ 0 satisfies (15c) whatever f is.
   const std::string zero_rule = " but (15c) requires F_b(r) = 0 for r <= 0";
   const std::string sign_rule = " but (15c) requires F_b(r) >= 0 for r >= 0";
@@ -53,8 +54,8 @@ void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale, const s
   // r ≤ 0. With slope_left = 0 and zero values at every breakpoint ≤ 0 and at 0 itself, the
   // piecewise-linear F_b vanishes on all of (−∞, 0].
   if (f.slope_left() != 0.0)
-    input_error(context + ": F_b has slope " + num(scale * f.slope_left()) + " left of r = " +
-                num(rk.front()) + " (slope_left)" + zero_rule);
+    input_error(context + ": F_b has slope " + num(scale * f.slope_left()) +
+                " left of r = " + num(rk.front()) + " (slope_left)" + zero_rule);
   for (std::size_t k = 0; k < rk.size() && rk[k] <= 0.0; ++k) {
     if (left[k] != 0.0)
       input_error(context + ": F_b(" + num(rk[k]) + (left[k] != right[k] ? "^-" : "") +
@@ -111,8 +112,8 @@ bool CoulombLayerBound::depends_on_u_nu() const { return m_mu > 0.0; }
 
 std::string CoulombLayerBound::describe() const {
   const double L = lipschitz();
-  return "coulomb_layer F_b = " + num(m_mu) + " p_nu(u_nu) (34), L_Fb = " +
-         (std::isinf(L) ? std::string("inf") : num(L));
+  return "coulomb_layer F_b = " + num(m_mu) +
+         " p_nu(u_nu) (34), L_Fb = " + (std::isinf(L) ? std::string("inf") : num(L));
 }
 
 // ---------------------------------------------------------------- TrescaBound

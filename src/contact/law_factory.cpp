@@ -102,9 +102,9 @@ std::shared_ptr<const PiecewiseLinearLaw> make_normal_law(const json& obj) {
         required_number(obj, ctx, "r2", type), ctx));
   }
   check_unused(obj, ctx, type, {"c1", "c2", "c3", "r1", "r2"});
-  return std::make_shared<const PiecewiseLinearLaw>(
-      read_points(obj, ctx, type), optional_number(obj, ctx, "slope_left"),
-      optional_number(obj, ctx, "slope_right"), ctx);
+  return std::make_shared<const PiecewiseLinearLaw>(read_points(obj, ctx, type),
+                                                    optional_number(obj, ctx, "slope_left"),
+                                                    optional_number(obj, ctx, "slope_right"), ctx);
 }
 
 std::shared_ptr<const FrictionBound> make_friction_bound(
@@ -120,8 +120,9 @@ std::shared_ptr<const FrictionBound> make_friction_bound(
     check_unused(obj, ctx, type, {"bound", "points", "slope_left", "slope_right"});
     const double mu = required_number(obj, ctx, "mu", type);
     if (!normal_law)
-      input_error(ctx + ".type: 'coulomb_layer' (F_b = mu p_nu, eq. (34)) needs a normal law, "
-                        "but contact.normal_law.type is 'none'");
+      input_error(ctx +
+                  ".type: 'coulomb_layer' (F_b = mu p_nu, eq. (34)) needs a normal law, "
+                  "but contact.normal_law.type is 'none'");
     return std::make_shared<const CoulombLayerBound>(mu, std::move(normal_law), ctx);
   }
   if (type == "tresca") {

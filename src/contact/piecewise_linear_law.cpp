@@ -74,8 +74,8 @@ PiecewiseLinearLaw::PiecewiseLinearLaw(std::vector<Point> points, std::optional<
     // Two distinct but nearly equal r with different p give an overflowing slope: a jump
     // must be written as two equal r, not as a steep segment.
     if (!std::isfinite(s))
-      input_error(key + "[" + std::to_string(k + 1) + "]: slope of the segment from r = " +
-                  num(m_r[k]) + " to r = " + num(m_r[k + 1]) +
+      input_error(key + "[" + std::to_string(k + 1) +
+                  "]: slope of the segment from r = " + num(m_r[k]) + " to r = " + num(m_r[k + 1]) +
                   " is not finite (write a jump as two points with equal r)");
     segment.push_back(s);
   }
@@ -83,7 +83,8 @@ PiecewiseLinearLaw::PiecewiseLinearLaw(std::vector<Point> points, std::optional<
   // and then p is constant on each side of it.
   const double sl = slope_left.value_or(segment.empty() ? 0.0 : segment.front());
   const double sr = slope_right.value_or(segment.empty() ? 0.0 : segment.back());
-  if (!std::isfinite(sl)) input_error(context + ".slope_left: must be finite (got " + num(sl) + ")");
+  if (!std::isfinite(sl))
+    input_error(context + ".slope_left: must be finite (got " + num(sl) + ")");
   if (!std::isfinite(sr))
     input_error(context + ".slope_right: must be finite (got " + num(sr) + ")");
 
@@ -104,8 +105,10 @@ PiecewiseLinearLaw PiecewiseLinearLaw::paper(double c1, double c2, double c3, do
   const std::pair<const char*, double> values[] = {
       {"c1", c1}, {"c2", c2}, {"c3", c3}, {"r1", r1}, {"r2", r2}};
   for (const auto& [name, v] : values)
-    if (!std::isfinite(v)) input_error(context + "." + name + ": must be finite (got " + num(v) + ")");
-  if (!(r1 > 0.0)) input_error(context + ".r1: (32) requires 0 < r1 < r2 (got r1 = " + num(r1) + ")");
+    if (!std::isfinite(v))
+      input_error(context + "." + name + ": must be finite (got " + num(v) + ")");
+  if (!(r1 > 0.0))
+    input_error(context + ".r1: (32) requires 0 < r1 < r2 (got r1 = " + num(r1) + ")");
   if (!(r2 > r1))
     input_error(context + ".r2: (32) requires 0 < r1 < r2 (got r1 = " + num(r1) +
                 ", r2 = " + num(r2) + ")");

@@ -6,6 +6,8 @@
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/energy/elastic_energy.hpp>
 #include <hemicontact/energy/total_energy.hpp>
+#include <hemicontact/driver/polish.hpp>
+#include <hemicontact/fem/condensation.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
 
 #include <chrono>
@@ -54,6 +56,8 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   const auto& s = scene.at("solver");
   SolveOptions o;
   o.backend = s.at("backend").get<std::string>();
+  o.formulation = s.at("formulation").get<std::string>();
+  o.polish = s.at("polish").get<bool>();
   o.backend_options.tol = s.at("tol").get<double>();
   o.backend_options.max_iter = s.at("max_iter").get<int>();
   o.backend_options.print_level = s.at("print_level").get<int>();
@@ -89,62 +93,123 @@ void evaluate_solution(const Model& md, const SolveOptions& opt, Solution& sol) 
   sol.max_u_nu = md.contact.size() ? sol.state.u_nu.maxCoeff() : 0.0;
 }
 
+namespace {
+
+// What the continuation / fixed-point loop works on: an energy in the solver's unknowns z, the
+// bounds, where each Γ3 node's (ν, τ) unknowns are in z, and the map back to the reduced x.
+struct Formulation {
+  std::string name;                          // "full" or "condensed"
+  std::unique_ptr<TotalEnergy> energy;       // Π_λ(z), unscaled
+  NodalDofs nd;                              // Γ3 node k: z[nd.first[k] + c]
+  Vec lower, upper;                          // bounds on z
+  Vec z_free;                                // the unconstrained elastic solution, in z
+  std::unique_ptr<Condensation> cond;        // condensed only
+  std::shared_ptr<NormalComplianceEnergy> normal;
+  std::shared_ptr<FrictionEnergy> friction;
+  Vec to_x(const Vec& z) const { return cond ? cond->recover(z) : z; }
+};
+
+std::string choose_formulation(const Model& md, const SolveOptions& opt) {
+  if (opt.formulation != "auto") return opt.formulation;
+  // Condensation is exact for a linear material and pays whenever Γ3 is a small part of the mesh.
+  return md.material->is_linear() && md.contact.size() > 0 ? "condensed" : "full";
+}
+
+Formulation make_formulation(const Model& md, const SolveOptions& opt, Solution& sol) {
+  Formulation F;
+  F.name = choose_formulation(md, opt);
+  const Index nc = md.contact.size();
+  const int d = md.dim();
+  F.nd.dim = d;
+  F.nd.w = md.contact.w;
+  auto t0 = clk::now();
+  if (F.name == "condensed") {
+    if (!md.material->is_linear()) throw Error("solver.formulation: 'condensed' needs a linear material");
+    F.cond = std::make_unique<Condensation>(md.Kx, md.fx, d * nc);
+    sol.timings["condensation_analyze"] = F.cond->analyze_seconds();
+    sol.timings["condensation_factorize"] = F.cond->factorize_seconds();
+    sol.timings["condensation_schur"] = F.cond->schur_seconds();
+    F.energy = std::make_unique<TotalEnergy>(d * nc, dense_lower_pattern(d * nc));
+    F.energy->add(std::make_shared<CondensedElasticEnergy>(F.cond->S(), F.cond->y_C(), F.cond->constant()));
+    for (Index k = 0; k < nc; ++k) F.nd.first.push_back(d * k);
+    F.z_free = F.cond->y_C();
+  } else {
+    SparseCholesky chol;
+    chol.compute(md.Kx);
+    F.z_free = chol.solve(md.fx);
+    sol.timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
+    auto elastic = std::make_shared<ElasticEnergy>(md.Kx);
+    F.energy = std::make_unique<TotalEnergy>(md.dofs.n_free(), elastic->lower());
+    F.energy->add(elastic);
+    F.energy->add(std::make_shared<LoadEnergy>(md.fx));
+    for (Index k = 0; k < nc; ++k) F.nd.first.push_back(md.dofs.contact_dof(k, 0));
+  }
+  sol.timings["factorization_total"] = since(t0);
+  const Index n = F.energy->size();
+  F.lower = Vec::Constant(n, -INF);
+  F.upper = Vec::Constant(n, INF);
+  for (Index k = 0; k < nc; ++k)
+    if (std::isfinite(md.contact.g[k])) F.upper[F.nd.first[k]] = md.contact.g[k];
+  if (md.normal_law) {
+    F.normal = std::make_shared<NormalComplianceEnergy>(F.nd, nullptr);
+    F.energy->add(F.normal);
+  }
+  if (md.friction) {
+    F.friction = std::make_shared<FrictionEnergy>(F.nd, 1.0);
+    F.energy->add(F.friction);
+  }
+  return F;
+}
+
+}  // namespace
+
 Solution solve(const Model& md, const SolveOptions& opt) {
   const auto t_start = clk::now();
   Solution sol;
   auto backend = make_backend(opt.backend);
   sol.backend = backend->name();
-  const Index n = md.dofs.n_free(), nc = md.contact.size();
+  const Index nc = md.contact.size();
+  const int d = md.dim();
 
-  // Scales from the linear elastic solve without contact (one CHOLMOD factorization): the
-  // displacement scale U_s sets the smoothing widths and, with F_s = ‖f‖∞, nondimensionalizes the
-  // NLP so that tolerances mean the same for the printed (u ~ 1e-7) and the scaled (u ~ 1e-1) scene.
-  auto t0 = clk::now();
-  SparseCholesky chol;
-  chol.compute(md.Kx);
-  const Vec x_free = chol.solve(md.fx);
-  sol.timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
-  sol.timings["linear_elastic_total"] = since(t0);
-  const double U_s = x_free.size() && x_free.cwiseAbs().maxCoeff() > 0 ? x_free.cwiseAbs().maxCoeff() : 1.0;
-  const double F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
-  sol.x_scale = U_s;
-  sol.f_scale = F_s * U_s;
+  // Nothing nonlinear and no obstacle: one sparse Cholesky solve is the answer (no backend at all).
+  if (!md.normal_law && !md.friction && md.gap.is_infinite()) {
+    SparseCholesky chol;
+    chol.compute(md.Kx);
+    sol.x = chol.solve(md.fx);
+    sol.timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
+    sol.skipped.push_back("backend: linear elasticity, solved by one sparse Cholesky factorization");
+    sol.backend = "none (CHOLMOD linear solve)";
+    sol.u = md.dofs.to_full(sol.x);
+    evaluate_solution(md, opt, sol);
+    sol.timings["solve_total"] = since(t_start);
+    sol.message = sol.certificate.passed ? "linear solve; certificate passed" : "linear solve; certificate failed";
+    return sol;
+  }
 
-  // Energy terms: elastic + load, and only the contact terms the scene needs.
-  auto elastic = std::make_shared<ElasticEnergy>(md.Kx);
-  TotalEnergy energy(n, elastic->lower());
-  energy.add(elastic);
-  energy.add(std::make_shared<LoadEnergy>(md.fx));
-  NodalDofs nd;
-  nd.dim = md.dim();
-  nd.w = md.contact.w;
-  for (Index k = 0; k < nc; ++k) nd.first.push_back(md.dofs.contact_dof(k, 0));
-  std::shared_ptr<NormalComplianceEnergy> normal;
-  std::shared_ptr<FrictionEnergy> friction;
-  if (md.normal_law) {
-    normal = std::make_shared<NormalComplianceEnergy>(nd, nullptr);
-    energy.add(normal);
-  } else {
-    sol.skipped.push_back("normal_compliance: no soft layer (contact.normal_law.type = none)");
-  }
-  if (md.friction) {
-    friction = std::make_shared<FrictionEnergy>(nd, 1.0);
-    energy.add(friction);
-  } else {
-    sol.skipped.push_back("friction: frictionless (contact.friction.type = none)");
-  }
+  Formulation F = make_formulation(md, opt, sol);
+  sol.formulation = F.name;
+  log_info() << "formulation " << F.name << ": " << F.energy->size() << " unknowns ("
+             << sol.timings["factorization_total"] << " s to factor"
+             << (F.cond ? " and condense" : "") << ")";
+  if (!md.normal_law) sol.skipped.push_back("normal_compliance: no soft layer (contact.normal_law.type = none)");
+  if (!md.friction) sol.skipped.push_back("friction: frictionless (contact.friction.type = none)");
   const bool lagged = md.friction && md.friction->depends_on_u_nu();
   if (md.friction && !lagged) sol.skipped.push_back("fixed_point: F_b does not depend on u_nu");
   if (!md.friction) sol.skipped.push_back("fixed_point: no friction");
-
-  NlpProblem prob;
-  ScaledObjective scaled(energy, U_s, sol.f_scale);
-  prob.f = &scaled;
-  prob.lower = Vec::Constant(n, -INF);
-  prob.upper = Vec::Constant(n, INF);
-  for (Index k = 0; k < nc; ++k)
-    if (std::isfinite(md.contact.g[k])) prob.upper[md.dofs.contact_dof(k, 0)] = md.contact.g[k] / U_s;
   if (md.gap.is_infinite()) sol.skipped.push_back("bounds: no rigid obstacle (g = inf)");
+
+  // Scales from the unconstrained elastic solution: U_s sets the smoothing widths and, with
+  // F_s = ‖f‖∞, nondimensionalizes the NLP so that tolerances mean the same for the printed
+  // (u ~ 1e-7) and the scaled (u ~ 1e-1) scene.
+  const double U_s = F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0 ? F.z_free.cwiseAbs().maxCoeff() : 1.0;
+  const double F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
+  sol.x_scale = U_s;
+  sol.f_scale = F_s * U_s;
+  NlpProblem prob;
+  ScaledObjective scaled(*F.energy, U_s, sol.f_scale);
+  prob.f = &scaled;
+  prob.lower = F.lower / U_s;
+  prob.upper = F.upper / U_s;
 
   // Continuation schedule: ε_s = max(ε_final, ε_start·factor^s), until both widths are final.
   std::vector<std::pair<double, double>> schedule;  // (eps_tau, eps_nu), relative
@@ -163,26 +228,26 @@ Solution solve(const Model& md, const SolveOptions& opt) {
     sol.skipped.push_back("continuation: nothing is smoothed");
   }
 
-  Vec xs = Vec::Zero(n);  // scaled unknowns
-  const auto gamma3 = [&](const Vec& x) {
-    Vec c(nc * md.dim());
-    for (Index k = 0; k < nc; ++k) c.segment(md.dim() * k, md.dim()) = x.segment(md.dofs.contact_dof(k, 0), md.dim());
+  Vec zs = Vec::Zero(F.energy->size());  // scaled unknowns
+  const auto gamma3 = [&](const Vec& z) {
+    Vec c(nc * d);
+    for (Index k = 0; k < nc; ++k) c.segment(d * k, d) = z.segment(F.nd.first[k], d);
     return c;
   };
-  const auto bounds_of = [&](const Vec& x) {
+  const auto bounds_of = [&](const Vec& z) {
     Vec l(nc);
-    for (Index k = 0; k < nc; ++k) l[k] = md.friction->F(U_s * x[md.dofs.contact_dof(k, 0)]);
+    for (Index k = 0; k < nc; ++k) l[k] = md.friction->F(U_s * z[F.nd.first[k]]);
     return l;
   };
-  if (friction) friction->set_lambda(bounds_of(xs));
+  if (F.friction) F.friction->set_lambda(bounds_of(zs));
 
-  Vec prev_c = gamma3(xs);
+  Vec prev_c = gamma3(zs);
   int k_total = 0;
   sol.fixed_point_converged = true;
   for (size_t stage = 0; stage < schedule.size() && sol.backend_ok; ++stage) {
     const auto [et, en] = schedule[stage];
-    if (normal) normal->set_law(std::make_shared<MollifiedLaw>(md.normal_law, en * U_s, "solver.eps_nu"));
-    if (friction) friction->set_eps(et * U_s);
+    if (F.normal) F.normal->set_law(std::make_shared<MollifiedLaw>(md.normal_law, en * U_s, "solver.eps_nu"));
+    if (F.friction) F.friction->set_eps(et * U_s);
     const bool final_stage = stage + 1 == schedule.size();
     double prev_change = INF;
     int slow = 0;
@@ -192,16 +257,16 @@ Solution solve(const Model& md, const SolveOptions& opt) {
       rec.stage = static_cast<int>(stage);
       rec.eps_tau = et * U_s;
       rec.eps_nu = en * U_s;
-      rec.backend = backend->minimize(prob, xs, opt.backend_options);
-      const Vec c = gamma3(xs);
+      rec.backend = backend->minimize(prob, zs, opt.backend_options);
+      const Vec c = gamma3(zs);
       rec.change_u = rel_change(c, prev_c);
       prev_c = c;
-      rec.grad_norm = first_order_residual(scaled, xs, prob.lower, prob.upper);
+      rec.grad_norm = first_order_residual(scaled, zs, prob.lower, prob.upper);
       if (lagged) {
-        const Vec lam_old = friction->lambda();
-        const Vec lam = (1 - opt.relaxation) * lam_old + opt.relaxation * bounds_of(xs);
+        const Vec lam_old = F.friction->lambda();
+        const Vec lam = (1 - opt.relaxation) * lam_old + opt.relaxation * bounds_of(zs);
         rec.change_lambda = rel_change(lam, lam_old);
-        friction->set_lambda(lam);
+        F.friction->set_lambda(lam);
       }
       sol.history.push_back(rec);
       std::ostringstream os;
@@ -238,7 +303,18 @@ Solution solve(const Model& md, const SolveOptions& opt) {
     }
   }
 
-  sol.x = U_s * xs;
+  Vec z = U_s * zs;
+  if (F.cond && opt.polish && sol.backend_ok && sol.fixed_point_converged) {
+    const auto t1 = clk::now();
+    sol.polish = polish_condensed(md, *F.cond, opt, z);
+    sol.timings["polish"] = since(t1);
+    log_info() << "polish: " << (sol.polish.accepted ? "accepted" : "rejected") << ", certificate "
+               << sol.polish.before << " -> " << sol.polish.after << " in " << sol.polish.iterations
+               << " lambda iterations" << (sol.polish.note.empty() ? "" : " (" + sol.polish.note + ")");
+  } else if (!F.cond) {
+    sol.skipped.push_back("polish: needs the condensed formulation");
+  }
+  sol.x = F.to_x(z);
   sol.u = md.dofs.to_full(sol.x);
   auto t1 = clk::now();
   evaluate_solution(md, opt, sol);

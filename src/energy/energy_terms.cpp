@@ -32,6 +32,28 @@ void ElasticEnergy::add_hessian(const Vec&, SpMat& H, Psd) const {
   Eigen::Map<Vec>(H.valuePtr(), H.nonZeros()) += Eigen::Map<const Vec>(m_lower.valuePtr(), m_lower.nonZeros());
 }
 
+double CondensedElasticEnergy::value(const Vec& x) const {
+  const Vec d = x - m_y;
+  return 0.5 * d.dot(m_S * d) + m_c;
+}
+
+void CondensedElasticEnergy::add_hessian(const Vec&, SpMat& H, Psd) const {
+  // dense_lower_pattern stores column j as rows j..m−1, so the values are S's lower columns in order.
+  const Index m = m_S.rows();
+  double* v = H.valuePtr();
+  for (Index j = 0; j < m; ++j)
+    for (Index i = j; i < m; ++i) *v++ += m_S(i, j);
+}
+
+SpMat dense_lower_pattern(Index m) {
+  SpMat H(m, m);
+  H.reserve(Eigen::VectorXi::LinSpaced(m, static_cast<int>(m), 1));
+  for (Index j = 0; j < m; ++j)
+    for (Index i = j; i < m; ++i) H.insert(i, j) = 0.0;
+  H.makeCompressed();
+  return H;
+}
+
 // ------------------------------------------------------------------ normal compliance
 NormalComplianceEnergy::NormalComplianceEnergy(NodalDofs dofs, std::shared_ptr<const NormalLaw> law)
     : m_dofs(std::move(dofs)), m_law(std::move(law)) {}

@@ -1,7 +1,3 @@
-#include <hemicontact/io/config.hpp>
-
-#include <hemicontact/core/error.hpp>
-
 #include <algorithm>
 #include <cctype>
 #include <climits>
@@ -9,6 +5,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/io/config.hpp>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -73,8 +71,10 @@ std::string dotted_from_pointer(const std::string& pointer) {
 std::vector<std::string> split_dotted(const std::string& dotted) {
   std::string flat;
   for (char c : dotted) {
-    if (c == '[') flat += '.';
-    else if (c != ']') flat += c;
+    if (c == '[')
+      flat += '.';
+    else if (c != ']')
+      flat += c;
   }
   std::vector<std::string> segs = split(flat, '.');
   for (const std::string& s : segs)
@@ -83,7 +83,8 @@ std::vector<std::string> split_dotted(const std::string& dotted) {
 }
 
 bool is_index(const std::string& s) {
-  return !s.empty() && s.size() < 10 && std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
+  return !s.empty() && s.size() < 10 &&
+         std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
 }
 
 std::string lower(std::string s) {
@@ -99,8 +100,10 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i)
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      d[i][j] =
+          std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
   return d[a.size()][b.size()];
 }
@@ -147,8 +150,8 @@ std::string range_text(const SchemaEntry& e) {
 // ============================================================== types
 
 const std::set<std::string>& type_tokens() {
-  static const std::set<std::string> tokens = {"number", "integer", "string", "boolean", "null",
-                                               "object", "object*", "array", "number[]", "number[][]"};
+  static const std::set<std::string> tokens = {"number", "integer", "string", "boolean",  "null",
+                                               "object", "object*", "array",  "number[]", "number[][]"};
   return tokens;
 }
 
@@ -224,7 +227,8 @@ void check_value(json& v, const SchemaEntry& e, const std::string& path, const S
   } else if (v.is_array()) {
     const auto element = idx.by_pointer.find(e.pointer + "/*");
     if (element != idx.by_pointer.end())
-      for (std::size_t i = 0; i < v.size(); ++i) check_value(v[i], *element->second, element_path(path, i), idx, true);
+      for (std::size_t i = 0; i < v.size(); ++i)
+        check_value(v[i], *element->second, element_path(path, i), idx, true);
   }
 }
 
@@ -257,7 +261,8 @@ void validate_object(json& obj, const std::string& pointer, const std::string& p
     const std::string& k = item.key();
     const auto row = k == "*" ? idx.by_pointer.end() : idx.by_pointer.find(pointer + "/" + escape_segment(k));
     if (row == idx.by_pointer.end())
-      input_error("scene: unknown key '" + child_path(path, k) + "'" + unknown_key_hint(k, pointer, path, idx));
+      input_error("scene: unknown key '" + child_path(path, k) + "'" +
+                  unknown_key_hint(k, pointer, path, idx));
     check_value(item.value(), *row->second, child_path(path, k), idx, true);
   }
   const auto it = idx.children.find(pointer);
@@ -265,7 +270,8 @@ void validate_object(json& obj, const std::string& pointer, const std::string& p
   for (const SchemaEntry* c : it->second) {
     const std::string name = last_segment(c->pointer);
     if (obj.contains(name)) continue;
-    if (c->required) input_error("scene: missing required key '" + child_path(path, name) + "' (" + c->doc + ")");
+    if (c->required)
+      input_error("scene: missing required key '" + child_path(path, name) + "' (" + c->doc + ")");
     obj[name] = c->default_value;
     check_value(obj[name], *c, child_path(path, name), idx, true);  // a section's own defaults
   }
@@ -289,7 +295,8 @@ SchemaIndex build_index(const std::vector<SchemaEntry>& table) {
       if (p == idx.by_pointer.end()) bug(e, "parent row missing or listed after it");
       const auto ptypes = split(p->second->type, '|');
       const char* needed = name == "*" ? "array" : "object";
-      if (std::find(ptypes.begin(), ptypes.end(), needed) == ptypes.end()) bug(e, std::string("parent is not an ") + needed);
+      if (std::find(ptypes.begin(), ptypes.end(), needed) == ptypes.end())
+        bug(e, std::string("parent is not an ") + needed);
     }
     if (name != "*") idx.children[parent].push_back(&e);
     if (e.required && !e.default_value.is_null()) bug(e, "a required row has a default");
@@ -316,7 +323,8 @@ const SchemaIndex& schema_index() {
 // silently dump it as null in the report.
 void check_finite(const json& v, const std::string& path) {
   if (v.is_number_float() && !std::isfinite(v.get<double>()))
-    key_error(path, std::string("number is not finite (") + (std::isnan(v.get<double>()) ? "nan" : "inf") + ")");
+    key_error(path,
+              std::string("number is not finite (") + (std::isnan(v.get<double>()) ? "nan" : "inf") + ")");
   if (v.is_object())
     for (const auto& item : v.items()) check_finite(item.value(), child_path(path, item.key()));
   if (v.is_array())
@@ -332,7 +340,8 @@ void check_selectors(const json& boundary) {
       const bool side = !s.at("side").is_null(), physical = !s.at("physical").is_null();
       if (side && physical) key_error(path, "set exactly one of 'side' and 'physical', not both");
       if (!side && !physical)
-        key_error(path, "set exactly one of 'side' (a side of the bounding box) and 'physical' (a Gmsh group)");
+        key_error(path,
+                  "set exactly one of 'side' (a side of the bounding box) and 'physical' (a Gmsh group)");
       const json &from = s.at("from"), &to = s.at("to");
       if (from.is_number() && to.is_number() && !(from.get<double>() < to.get<double>()))
         key_error(path, "empty range [from, to) = [" + from.dump() + ", " + to.dump() + ")");
@@ -340,23 +349,30 @@ void check_selectors(const json& boundary) {
   }
 }
 
-/// A piecewise-linear table [[x, y], ...]: pairs, x strictly increasing, optionally y ≥ 0.
-void check_points(const json& points, const std::string& path, bool nonnegative, const std::string& y_name) {
+/// A piecewise-linear table [[x, y], ...]: pairs, x increasing, optionally y ≥ 0. With
+/// @p allow_jumps (the p_ν and F_b tables) an x may repeat once: a jump of the law at x
+/// (the law's own validation then checks the rest, e.g. no x three times).
+void check_points(const json& points, const std::string& path, bool nonnegative, const std::string& y_name,
+                  bool allow_jumps = false) {
   if (points.is_null()) return;
   if (points.empty()) key_error(path, "needs at least one point [x, " + y_name + "]");
   for (std::size_t i = 0; i < points.size(); ++i) {
     const json& p = points[i];
-    if (p.size() != 2) key_error(element_path(path, i), "expected a pair [x, " + y_name + "], got " + p.dump());
+    if (p.size() != 2)
+      key_error(element_path(path, i), "expected a pair [x, " + y_name + "], got " + p.dump());
     if (nonnegative && p[1].get<double>() < 0)
       key_error(element_path(path, i), "negative thickness " + y_name + " = " + p[1].dump());
-    if (i > 0 && !(p[0].get<double>() > points[i - 1][0].get<double>()))
-      key_error(element_path(path, i), "x must be strictly increasing, got " + p[0].dump() + " after " +
-                                           points[i - 1][0].dump());
+    if (i == 0) continue;
+    const double x = p[0].get<double>(), x_prev = points[i - 1][0].get<double>();
+    if (allow_jumps ? x < x_prev : !(x > x_prev))
+      key_error(element_path(path, i), std::string("x must be ") + (allow_jumps ? "non-decreasing" : "strictly increasing") +
+                                           ", got " + p[0].dump() + " after " + points[i - 1][0].dump());
   }
 }
 
 void check_gap(const json& gap) {
-  if (gap.is_number() && gap.get<double>() < 0) input_error("contact.gap: negative thickness g = " + gap.dump());
+  if (gap.is_number() && gap.get<double>() < 0)
+    input_error("contact.gap: negative thickness g = " + gap.dump());
   if (gap.is_string() && gap.get<std::string>() != "inf")
     input_error("contact.gap: the only string allowed is \"inf\" (no rigid obstacle), got " + gap.dump());
   if (gap.is_object()) check_points(gap.at("points"), "contact.gap.points", true, "g");
@@ -369,9 +385,11 @@ void check_gap(const json& gap) {
 /// a newline, hence computed here.
 std::string describe_parse_error(const std::string& text, const json::parse_error& e) {
   const std::size_t offset = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
-  const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + offset, '\n'));
+  const std::size_t line =
+      1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + offset, '\n'));
   const std::size_t line_start = offset == 0 ? 0 : text.rfind('\n', offset - 1);
-  const std::size_t column = line_start == std::string::npos || offset == 0 ? offset + 1 : offset - line_start;
+  const std::size_t column =
+      line_start == std::string::npos || offset == 0 ? offset + 1 : offset - line_start;
   std::string what = e.what();
   const std::size_t colon = what.find(": ", what.find("parse error"));
   if (colon != std::string::npos) what = what.substr(colon + 2);
@@ -391,7 +409,8 @@ json parse_rejecting_duplicates(const std::string& text, const std::string& file
     using E = json::parse_event_t;
     const bool element = event == E::object_start || event == E::array_start || event == E::value;
     if (element && !stack.empty() && stack.back().is_array) ++stack.back().index;
-    if (event == E::object_start || event == E::array_start) stack.push_back({event == E::array_start, 0, {}, {}});
+    if (event == E::object_start || event == E::array_start)
+      stack.push_back({event == E::array_start, 0, {}, {}});
     if (event == E::object_end || event == E::array_end) stack.pop_back();
     if (event == E::key) {
       const std::string k = parsed.get<std::string>();
@@ -429,8 +448,8 @@ json validate_scene(json scene) {
   validate_object(scene, "", "", idx);
   check_selectors(scene["boundary"]);
   check_gap(scene["contact"]["gap"]);
-  check_points(scene["contact"]["normal_law"]["points"], "contact.normal_law.points", false, "p");
-  check_points(scene["contact"]["friction"]["points"], "contact.friction.points", false, "F_b");
+  check_points(scene["contact"]["normal_law"]["points"], "contact.normal_law.points", false, "p", true);
+  check_points(scene["contact"]["friction"]["points"], "contact.friction.points", false, "F_b", true);
   json& mesh = scene["mesh"];
   if (!mesh["n"].is_null()) mesh["nx"] = mesh["ny"] = mesh["n"];
   return scene;
@@ -448,7 +467,8 @@ void apply_override(json& scene, const std::string& assignment) {
   for (const std::string& seg : segs) {
     if (cur->is_null() && seg == "0") *cur = json::array();  // "gamma3.0.side=bottom" starts a list
     if (cur->is_array()) {
-      if (!is_index(seg)) input_error("--set '" + assignment + "': '" + path + "' is an array; '" + seg + "' is not an index");
+      if (!is_index(seg))
+        input_error("--set '" + assignment + "': '" + path + "' is an array; '" + seg + "' is not an index");
       const std::size_t i = std::stoul(seg);
       if (i > cur->size())
         input_error("--set '" + assignment + "': index " + seg + " out of range ('" + path + "' has " +
@@ -460,7 +480,8 @@ void apply_override(json& scene, const std::string& assignment) {
       cur = &(*cur)[seg];  // creates the intermediate object
       path = child_path(path, seg);
     } else {
-      input_error("--set '" + assignment + "': cannot set a key inside '" + path + "', which is " + show(*cur));
+      input_error("--set '" + assignment + "': cannot set a key inside '" + path + "', which is " +
+                  show(*cur));
     }
   }
   *cur = std::move(value);
@@ -502,8 +523,10 @@ const json& scene_at(const json& scene, const std::string& dotted) {
     } else if (cur->is_object() && cur->contains(seg)) {
       cur = &(*cur)[seg];
     } else {
-      throw Error("config: key '" + dotted + "' is not in the effective scene (not in the schema, or "
-                  "the scene was not validated)", EXIT_INTERNAL);
+      throw Error("config: key '" + dotted +
+                      "' is not in the effective scene (not in the schema, or "
+                      "the scene was not validated)",
+                  EXIT_INTERNAL);
     }
   }
   return *cur;
@@ -519,16 +542,20 @@ T get_as(const json& scene, const std::string& dotted, bool ok(const json&), con
 }  // namespace
 
 double get_number(const json& s, const std::string& dotted) {
-  return get_as<double>(s, dotted, [](const json& v) { return v.is_number(); }, "a number");
+  return get_as<double>(
+      s, dotted, [](const json& v) { return v.is_number(); }, "a number");
 }
 int get_int(const json& s, const std::string& dotted) {
-  return get_as<int>(s, dotted, [](const json& v) { return v.is_number_integer() && is_int32(v); }, "an integer");
+  return get_as<int>(
+      s, dotted, [](const json& v) { return v.is_number_integer() && is_int32(v); }, "an integer");
 }
 std::string get_string(const json& s, const std::string& dotted) {
-  return get_as<std::string>(s, dotted, [](const json& v) { return v.is_string(); }, "a string");
+  return get_as<std::string>(
+      s, dotted, [](const json& v) { return v.is_string(); }, "a string");
 }
 bool get_bool(const json& s, const std::string& dotted) {
-  return get_as<bool>(s, dotted, [](const json& v) { return v.is_boolean(); }, "a boolean");
+  return get_as<bool>(
+      s, dotted, [](const json& v) { return v.is_boolean(); }, "a boolean");
 }
 
 // ============================================================== documentation
@@ -546,14 +573,14 @@ std::string code(const std::string& s) { return "`" + s + "`"; }
 std::string table(const std::vector<const SchemaEntry*>& rows) {
   std::string t = "| key | type | default | allowed | description |\n|---|---|---|---|---|\n";
   for (const SchemaEntry* e : rows) {
-    const std::string def = e->required                        ? "**required**"
+    const std::string def = e->required                       ? "**required**"
                             : last_segment(e->pointer) == "*" ? "—"
-                                                               : code(e->default_value.dump());
+                                                              : code(e->default_value.dump());
     std::vector<std::string> allowed;
     for (const std::string& o : e->options) allowed.push_back(code(o));
     if (e->min || e->max) allowed.push_back(code(range_text(*e)));
-    t += "| " + cell(code(dotted_from_pointer(e->pointer))) + " | " + cell(code(e->type)) + " | " + cell(def) +
-         " | " + cell(join(allowed, ", ")) + " | " + cell(e->doc) + " |\n";
+    t += "| " + cell(code(dotted_from_pointer(e->pointer))) + " | " + cell(code(e->type)) + " | " +
+         cell(def) + " | " + cell(join(allowed, ", ")) + " | " + cell(e->doc) + " |\n";
   }
   return t;
 }
@@ -587,7 +614,7 @@ overrides, checks it against the tables below and fills in every default. The re
 - **Gap.** `contact.gap` is a number ≥ 0 (constant thickness), `null` or `"inf"` (no rigid
   obstacle), or `{"along": "x", "points": [[x, g], ...]}`: piecewise linear in one coordinate,
   coordinates strictly increasing, g ≥ 0. The `points` of the tabulated laws are pairs with
-  strictly increasing first entries as well.
+  non-decreasing first entries: a repeated r is a jump of p_ν (or F_b) at r.
 - **`mesh.n`**, if set, overrides `mesh.nx` and `mesh.ny`: the effective scene has nx = ny = n.
 - **Paths** such as `mesh.file` are relative to the directory of the scene file.
 - **Overrides.** `--set path=value` is applied before validation, so a misspelt key is reported

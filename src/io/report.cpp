@@ -161,6 +161,10 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
                   {"certificate_tol", opt.certificate_tol},
                   {"status_tol", opt.status_tol}};
   r["skipped"] = sol.skipped;
+  r["formulation"] = sol.formulation;
+  r["polish"] = {{"attempted", sol.polish.attempted}, {"accepted", sol.polish.accepted},
+                 {"iterations", sol.polish.iterations}, {"certificate_before", sol.polish.before},
+                 {"certificate_after", sol.polish.after}, {"note", sol.polish.note}};
   r["scales"] = {{"x_scale", sol.x_scale}, {"f_scale", sol.f_scale}};
   r["timings"] = merged_timings(md, sol);
   r["message"] = sol.message;

@@ -6,7 +6,6 @@
 // checks that, and that every default satisfies its own row, when it first indexes the table.
 
 #include <hemicontact/io/config.hpp>
-
 #include <string>
 #include <utility>
 #include <vector>
@@ -72,16 +71,14 @@ void add_selector(std::vector<SchemaEntry>& t, const std::string& gamma, const s
   t.push_back(key(p + "/*", "object", json::object(),
                   "A selector: the facets it matches belong to this boundary part. Set exactly "
                   "one of `side` and `physical`."));
-  t.push_back(key(p + "/*/side", "string|null", nullptr,
-                  "Side of the mesh's bounding box.", {"left", "right", "bottom", "top"}));
-  t.push_back(key(p + "/*/physical", "string|null", nullptr,
-                  "Gmsh physical group name (mesh.type = gmsh)."));
+  t.push_back(key(p + "/*/side", "string|null", nullptr, "Side of the mesh's bounding box.",
+                  {"left", "right", "bottom", "top"}));
+  t.push_back(key(p + "/*/physical", "string|null", nullptr, "Gmsh physical group name (mesh.type = gmsh)."));
   t.push_back(key(p + "/*/from", "number|null", nullptr,
                   "The facet midpoint's coordinate along the side (y on left/right, x on "
                   "bottom/top) must lie in [from, to); null = −∞. Half-open, so [0.5,1) and "
                   "[0,0.5) split a side without overlap."));
-  t.push_back(key(p + "/*/to", "number|null", nullptr,
-                  "Upper end of [from, to), excluded; null = +∞."));
+  t.push_back(key(p + "/*/to", "number|null", nullptr, "Upper end of [from, to), excluded; null = +∞."));
   if (with_traction)
     t.push_back(key(p + "/*/traction", "number[]", json{0, 0}, "Traction f2 on these facets."));
 }
@@ -94,8 +91,7 @@ std::vector<SchemaEntry> build_scene_schema() {
   // ------------------------------------------------------------------ mesh
   t.push_back(section("/mesh", "The triangulation of Ω."));
   t.push_back(key("/mesh/type", "string", "rectangle",
-                  "rectangle: structured triangulation of x × y; gmsh: read `file`.",
-                  {"rectangle", "gmsh"}));
+                  "rectangle: structured triangulation of x × y; gmsh: read `file`.", {"rectangle", "gmsh"}));
   t.push_back(key("/mesh/x", "number[]", json{0, 1}, "Interval [x0, x1] of the rectangle."));
   t.push_back(key("/mesh/y", "number[]", json{0, 1}, "Interval [y0, y1] of the rectangle."));
   t.push_back(at_least(key("/mesh/n", "integer|null", nullptr,
@@ -122,8 +118,8 @@ std::vector<SchemaEntry> build_scene_schema() {
 
   // ------------------------------------------------------------------ material
   t.push_back(section("/material", "Constitutive law F (paper eq. (12); MODEL.md §1)."));
-  t.push_back(key("/material/model", "string", "linear_elastic", "Linear isotropic elasticity.",
-                  {"linear_elastic"}));
+  t.push_back(
+      key("/material/model", "string", "linear_elastic", "Linear isotropic elasticity.", {"linear_elastic"}));
   t.push_back(above(required("/material/E", "number", "Young's modulus E."), 0));
   // (−1, 1) keeps both E/(1+κ) and the plane-stress factor 1/(1−κ²) finite and positive; the
   // stricter κ < 0.5 of plane strain depends on `plane`, so the material checks it.
@@ -137,8 +133,8 @@ std::vector<SchemaEntry> build_scene_schema() {
                   {"stress", "strain"}));
 
   // ------------------------------------------------------------------ boundary
-  t.push_back(section("/boundary",
-                      "The split of ∂Ω into Γ1, Γ2, Γ3 (MODEL.md §1), as lists of facet selectors."));
+  t.push_back(
+      section("/boundary", "The split of ∂Ω into Γ1, Γ2, Γ3 (MODEL.md §1), as lists of facet selectors."));
   add_selector(t, "gamma1", "Γ1, clamped (u = 0): list of selectors.", false);
   add_selector(t, "gamma2", "Γ2, traction f2: list of selectors, each with its traction.", true);
   add_selector(t, "gamma3", "Γ3, contact with the foundation: list of selectors.", false);
@@ -167,13 +163,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "table: piecewise linear through `points`.",
                   {"none", "paper", "table"}));
   t.push_back(key("/contact/normal_law/c1", "number|null", nullptr, "Slope of p_ν on (0, r1] (32)."));
-  t.push_back(key("/contact/normal_law/c2", "number|null", nullptr,
-                  "Slope on (r1, r2) (32); negative = softening."));
+  t.push_back(
+      key("/contact/normal_law/c2", "number|null", nullptr, "Slope on (r1, r2) (32); negative = softening."));
   t.push_back(key("/contact/normal_law/c3", "number|null", nullptr, "Slope for r ≥ r2 (32)."));
   t.push_back(key("/contact/normal_law/r1", "number|null", nullptr, "First kink of p_ν (32)."));
   t.push_back(key("/contact/normal_law/r2", "number|null", nullptr, "Second kink of p_ν (32)."));
   t.push_back(key("/contact/normal_law/points", "number[][]|null", nullptr,
-                  "type table: [[r, p_ν(r)], ...], r strictly increasing."));
+                  "type table: [[r, p_ν(r)], ...], r non-decreasing; a repeated r is a jump of p_ν at r (∂j_ν is then the interval between the one-sided limits). Null slopes continue the first/last segment."));
   t.push_back(key("/contact/normal_law/slope_left", "number|null", nullptr,
                   "type table: slope of p_ν before the first point."));
   t.push_back(key("/contact/normal_law/slope_right", "number|null", nullptr,
@@ -184,13 +180,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "none: frictionless; coulomb_layer: F_b = μ p_ν(u_ν) (34); tresca: F_b = "
                   "bound; table: piecewise linear F_b(u_ν) through `points`.",
                   {"none", "coulomb_layer", "tresca", "table"}));
-  t.push_back(at_least(key("/contact/friction/mu", "number|null", nullptr,
-                           "Friction coefficient μ in F_b = μ p_ν (34)."),
-                       0));
   t.push_back(at_least(
-      key("/contact/friction/bound", "number|null", nullptr, "type tresca: the constant F_b."), 0));
+      key("/contact/friction/mu", "number|null", nullptr, "Friction coefficient μ in F_b = μ p_ν (34)."), 0));
+  t.push_back(
+      at_least(key("/contact/friction/bound", "number|null", nullptr, "type tresca: the constant F_b."), 0));
   t.push_back(key("/contact/friction/points", "number[][]|null", nullptr,
-                  "type table: [[u_ν, F_b(u_ν)], ...], u_ν strictly increasing."));
+                  "type table: [[u_ν, F_b(u_ν)], ...], u_ν non-decreasing (a repeated u_ν is a jump). Null slope_left means 0, as (15c) requires."));
   t.push_back(key("/contact/friction/slope_left", "number|null", nullptr,
                   "type table: slope of F_b before the first point."));
   t.push_back(key("/contact/friction/slope_right", "number|null", nullptr,
@@ -205,9 +200,18 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "compiled in)."));
   t.push_back(key("/solver/formulation", "string", "auto",
                   "Unknowns the NLP sees: full = all free dofs; condensed = interior dofs "
-                  "eliminated onto Γ3; auto = the driver chooses.",
+                  "eliminated onto Γ3 by static condensation (one sparse factorization, a dense "
+                  "problem on the Γ3 unknowns; exact for linear materials); auto = condensed for "
+                  "a linear material with a Γ3, full otherwise.",
                   {"auto", "full", "condensed"}));
-  t.push_back(above(key("/solver/tol", "number", 1e-10, "Backend first-order tolerance."), 0));
+  t.push_back(key("/solver/polish", "boolean", true,
+                  "After the smoothed solve, solve the unsmoothed conditions of (22) exactly on the "
+                  "identified statuses (condensed formulation, 2D); kept only if the statuses stay "
+                  "and the certificate improves."));
+  t.push_back(above(key("/solver/tol", "number", 1e-12,
+                        "Backend first-order tolerance, on the nondimensionalized problem "
+                        "(unknowns / U_s, energy / (‖f‖∞ U_s))."),
+                    0));
   t.push_back(at_least(key("/solver/max_iter", "integer", 3000, "Backend iterations per solve."), 1));
   t.push_back(at_least(key("/solver/print_level", "integer", 0, "Backend verbosity (0 = silent)."), 0));
   t.push_back(key("/solver/options", "object*", json::object(),
@@ -215,13 +219,10 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(above(key("/solver/eps_tau", "number", 1e-10,
                         "Final friction smoothing width ε_τ, relative to the displacement scale U."),
                     0));
-  t.push_back(above(key("/solver/eps_nu", "number", 1e-10,
-                        "Final width ε_ν of the mollified p_ν, relative to U."),
-                    0));
+  t.push_back(above(
+      key("/solver/eps_nu", "number", 1e-10, "Final width ε_ν of the mollified p_ν, relative to U."), 0));
   t.push_back(section("/solver/continuation", "Continuation in ε_τ, ε_ν with warm starts."));
-  t.push_back(above(key("/solver/continuation/eps_start", "number", 1e-2,
-                        "First ε, relative to U."),
-                    0));
+  t.push_back(above(key("/solver/continuation/eps_start", "number", 1e-2, "First ε, relative to U."), 0));
   t.push_back(below(above(key("/solver/continuation/factor", "number", 1e-2,
                               "ε is multiplied by it each step until eps_tau / eps_nu."),
                           0),
@@ -231,21 +232,17 @@ std::vector<SchemaEntry> build_scene_schema() {
                         "Converged when the relative change of u on Γ3 and of λ is ≤ tol_u."),
                     0));
   t.push_back(at_least(key("/solver/fixed_point/max_iters", "integer", 50, "Outer iteration limit."), 1));
-  t.push_back(at_most(above(key("/solver/fixed_point/relaxation", "number", 1,
-                                "θ in λ ← (1−θ)λ + θ F_b(u_ν)."),
-                            0),
-                      1));
+  t.push_back(at_most(
+      above(key("/solver/fixed_point/relaxation", "number", 1, "θ in λ ← (1−θ)λ + θ F_b(u_ν)."), 0), 1));
   t.push_back(key("/solver/fixed_point/allow_not_converged", "boolean", false,
                   "true: reaching max_iters is a warning instead of an error."));
 
   // ------------------------------------------------------------------ check
   t.push_back(section("/check", "Acceptance of the computed solution (MODEL.md §3, §4)."));
-  t.push_back(above(key("/check/certificate_tol", "number", 1e-8,
-                        "Largest normalized certificate residual accepted."),
-                    0));
-  t.push_back(above(key("/check/status_tol", "number", 1e-8,
-                        "Relative to U: decides stick / contact / separated."),
-                    0));
+  t.push_back(above(
+      key("/check/certificate_tol", "number", 1e-8, "Largest normalized certificate residual accepted."), 0));
+  t.push_back(above(
+      key("/check/status_tol", "number", 1e-8, "Relative to U: decides stick / contact / separated."), 0));
 
   // ------------------------------------------------------------------ output
   t.push_back(section("/output", "Files written next to report.json."));

@@ -29,8 +29,9 @@ class IpoptTnlp final : public Ipopt::TNLP {
   /// What finalize_solution() and the callbacks recorded.
   struct Result {
     bool finalized = false;  ///< finalize_solution() was called (x, z, f below are valid)
-    Ipopt::SolverReturn status = Ipopt::INTERNAL_ERROR;  ///< Ipopt's algorithm-level verdict
-    Vec x;                                               ///< final iterate
+    /// Ipopt's algorithm-level verdict (the backend maps the application-level one instead).
+    Ipopt::SolverReturn status = Ipopt::INTERNAL_ERROR;
+    Vec x;                  ///< final iterate
     Vec z_L;                ///< final lower-bound multipliers (0 where the bound is infinite)
     Vec z_U;                ///< final upper-bound multipliers (0 where the bound is infinite)
     double f = 0.0;         ///< final objective (unscaled)

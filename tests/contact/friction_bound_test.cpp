@@ -64,7 +64,8 @@ TEST(FrictionCoulomb, JumpingLawIsNotLipschitz) {
 TEST(FrictionCoulomb, RejectsBadMuAndNullLaw) {
   expect_input_error([] { CoulombLayerBound(-0.1, paper_ptr()); }, {"contact.friction.mu"});
   expect_input_error([] { CoulombLayerBound(NAN, paper_ptr()); }, {"contact.friction.mu"});
-  expect_input_error([] { CoulombLayerBound(0.2, nullptr); }, {"contact.friction.type", "normal law"});
+  expect_input_error([] { CoulombLayerBound(0.2, nullptr); },
+                     {"contact.friction.type", "normal law"});
 }
 
 TEST(FrictionCoulomb, RejectsNormalLawViolating15c) {
@@ -116,8 +117,9 @@ TEST_P(FrictionTableValidation, Rejects15cViolations) {
   SCOPED_TRACE(bad.name);
   expect_input_error(
       [&] {
-        TableBound(PiecewiseLinearLaw(bad.points, bad.slope_left, bad.slope_right, "contact.friction"),
-                   "contact.friction");
+        TableBound(
+            PiecewiseLinearLaw(bad.points, bad.slope_left, bad.slope_right, "contact.friction"),
+            "contact.friction");
       },
       bad.message_parts);
 }
@@ -127,24 +129,56 @@ const std::string SIGN_RULE = "but (15c) requires F_b(r) >= 0 for r >= 0";
 
 INSTANTIATE_TEST_SUITE_P(
     FrictionTables, FrictionTableValidation,
-    ::testing::Values(
-        Bad15c{"value_at_negative_r", {{-0.1, 0.3}, {0.0, 0.0}, {0.1, 1.0}}, 0.0, 0.0,
-               {"contact.friction: F_b(-0.1) = 0.3 " + ZERO_RULE}},
-        Bad15c{"slope_left", {{0.0, 0.0}, {0.1, 1.0}}, 2.0, 0.0, {"contact.friction", "slope_left", ZERO_RULE}},
-        Bad15c{"value_at_zero", {{0.0, 0.5}, {0.1, 1.0}}, 0.0, 0.0, {"contact.friction: F_b(0) = 0.5 " + ZERO_RULE}},
-        Bad15c{"jump_at_zero", {{0.0, 0.0}, {0.0, 1.0}, {0.1, 1.0}}, 0.0, 0.0,
-               {"contact.friction: F_b(0) = 1 " + ZERO_RULE}},
-        Bad15c{"zero_inside_segment", {{-0.1, 0.0}, {0.1, 1.0}}, 0.0, 0.0,
-               {"contact.friction: F_b(0) = 0.5 " + ZERO_RULE}},
-        Bad15c{"all_negative_rising", {{-0.2, 0.0}, {-0.1, 0.0}}, 0.0, 1.0,
-               {"contact.friction: F_b(0) = 0.1 " + ZERO_RULE}},
-        Bad15c{"first_point_positive", {{0.1, 0.2}, {0.2, 1.0}}, 0.0, 0.0,
-               {"contact.friction: F_b(0) = 0.2 " + ZERO_RULE}},
-        Bad15c{"negative_value", {{0.0, 0.0}, {0.1, -1.0}, {0.2, 1.0}}, 0.0, 0.0,
-               {"contact.friction: F_b(0.1) = -1 " + SIGN_RULE}},
-        Bad15c{"negative_after_drop", {{0.0, 0.0}, {0.1, 1.0}, {0.1, -0.5}, {0.2, 1.0}}, 0.0, 0.0,
-               {"contact.friction: F_b(0.1) = -0.5 " + SIGN_RULE}},
-        Bad15c{"slope_right", {{0.0, 0.0}, {0.1, 1.0}}, 0.0, -20.0, {"contact.friction", "slope_right", SIGN_RULE}}),
+    ::testing::Values(Bad15c{"value_at_negative_r",
+                             {{-0.1, 0.3}, {0.0, 0.0}, {0.1, 1.0}},
+                             0.0,
+                             0.0,
+                             {"contact.friction: F_b(-0.1) = 0.3 " + ZERO_RULE}},
+                      Bad15c{"slope_left",
+                             {{0.0, 0.0}, {0.1, 1.0}},
+                             2.0,
+                             0.0,
+                             {"contact.friction", "slope_left", ZERO_RULE}},
+                      Bad15c{"value_at_zero",
+                             {{0.0, 0.5}, {0.1, 1.0}},
+                             0.0,
+                             0.0,
+                             {"contact.friction: F_b(0) = 0.5 " + ZERO_RULE}},
+                      Bad15c{"jump_at_zero",
+                             {{0.0, 0.0}, {0.0, 1.0}, {0.1, 1.0}},
+                             0.0,
+                             0.0,
+                             {"contact.friction: F_b(0) = 1 " + ZERO_RULE}},
+                      Bad15c{"zero_inside_segment",
+                             {{-0.1, 0.0}, {0.1, 1.0}},
+                             0.0,
+                             0.0,
+                             {"contact.friction: F_b(0) = 0.5 " + ZERO_RULE}},
+                      Bad15c{"all_negative_rising",
+                             {{-0.2, 0.0}, {-0.1, 0.0}},
+                             0.0,
+                             1.0,
+                             {"contact.friction: F_b(0) = 0.1 " + ZERO_RULE}},
+                      Bad15c{"first_point_positive",
+                             {{0.1, 0.2}, {0.2, 1.0}},
+                             0.0,
+                             0.0,
+                             {"contact.friction: F_b(0) = 0.2 " + ZERO_RULE}},
+                      Bad15c{"negative_value",
+                             {{0.0, 0.0}, {0.1, -1.0}, {0.2, 1.0}},
+                             0.0,
+                             0.0,
+                             {"contact.friction: F_b(0.1) = -1 " + SIGN_RULE}},
+                      Bad15c{"negative_after_drop",
+                             {{0.0, 0.0}, {0.1, 1.0}, {0.1, -0.5}, {0.2, 1.0}},
+                             0.0,
+                             0.0,
+                             {"contact.friction: F_b(0.1) = -0.5 " + SIGN_RULE}},
+                      Bad15c{"slope_right",
+                             {{0.0, 0.0}, {0.1, 1.0}},
+                             0.0,
+                             -20.0,
+                             {"contact.friction", "slope_right", SIGN_RULE}}),
     [](const ::testing::TestParamInfo<Bad15c>& info) { return info.param.name; });
 
 TEST(FrictionTable, AcceptsBoundaryCases) {

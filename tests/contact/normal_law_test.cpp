@@ -53,18 +53,24 @@ enum class LawKind { Paper, Dropping, Monotone };
 
 PiecewiseLinearLaw make_law(LawKind kind) {
   switch (kind) {
-    case LawKind::Paper: return paper_law();
-    case LawKind::Dropping: return dropping_law();
-    case LawKind::Monotone: return monotone_law();
+    case LawKind::Paper:
+      return paper_law();
+    case LawKind::Dropping:
+      return dropping_law();
+    case LawKind::Monotone:
+      return monotone_law();
   }
   return paper_law();
 }
 
 std::string kind_name(LawKind kind) {
   switch (kind) {
-    case LawKind::Paper: return "paper";
-    case LawKind::Dropping: return "dropping";
-    case LawKind::Monotone: return "monotone";
+    case LawKind::Paper:
+      return "paper";
+    case LawKind::Dropping:
+      return "dropping";
+    case LawKind::Monotone:
+      return "monotone";
   }
   return "?";
 }
@@ -76,8 +82,8 @@ void expect_input_error(const std::function<void()>& fn, const std::vector<std::
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), EXIT_INPUT);
     const std::string msg = e.what();
-    for (const auto& part : parts) EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg
-                                                                                << "\nmissing: " << part;
+    for (const auto& part : parts)
+      EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
     return;
   }
   ADD_FAILURE() << "no hemicontact::Error thrown";
@@ -203,7 +209,9 @@ TEST_P(LawTableValidation, RejectsWithKeyInMessage) {
   const BadTable& bad = GetParam();
   SCOPED_TRACE(bad.name);
   expect_input_error(
-      [&] { PiecewiseLinearLaw(bad.points, bad.slope_left, bad.slope_right, "contact.normal_law"); },
+      [&] {
+        PiecewiseLinearLaw(bad.points, bad.slope_left, bad.slope_right, "contact.normal_law");
+      },
       bad.message_parts);
 }
 
@@ -211,18 +219,41 @@ INSTANTIATE_TEST_SUITE_P(
     LawTables, LawTableValidation,
     ::testing::Values(
         BadTable{"empty", {}, 0.0, 0.0, {"contact.normal_law.points", "at least one point"}},
-        BadTable{"nan_p", {{0.0, 0.0}, {0.1, NAN}}, 0.0, 0.0, {"contact.normal_law.points[1]", "finite"}},
-        BadTable{"inf_r", {{-INF, 0.0}, {0.1, 1.0}}, 0.0, 0.0, {"contact.normal_law.points[0]", "finite"}},
+        BadTable{"nan_p",
+                 {{0.0, 0.0}, {0.1, NAN}},
+                 0.0,
+                 0.0,
+                 {"contact.normal_law.points[1]", "finite"}},
+        BadTable{"inf_r",
+                 {{-INF, 0.0}, {0.1, 1.0}},
+                 0.0,
+                 0.0,
+                 {"contact.normal_law.points[0]", "finite"}},
         BadTable{"decreasing",
                  {{0.0, 0.0}, {0.1, 1.0}, {0.2, 2.0}, {0.1, 3.0}},
                  0.0,
                  0.0,
-                 {"contact.normal_law.points[3]: r decreases (0.1 after 0.2): p_nu must be a function of r"}},
-        BadTable{"triple", {{0.0, 0.0}, {0.1, 1.0}, {0.1, 2.0}, {0.1, 3.0}}, 0.0, 0.0,
+                 {"contact.normal_law.points[3]: r decreases (0.1 after 0.2): p_nu must be a "
+                  "function of r"}},
+        BadTable{"triple",
+                 {{0.0, 0.0}, {0.1, 1.0}, {0.1, 2.0}, {0.1, 3.0}},
+                 0.0,
+                 0.0,
                  {"contact.normal_law.points[3]", "three times"}},
-        BadTable{"slope_left_inf", {{0.0, 0.0}, {0.1, 1.0}}, INF, 0.0, {"contact.normal_law.slope_left"}},
-        BadTable{"slope_right_nan", {{0.0, 0.0}, {0.1, 1.0}}, 0.0, NAN, {"contact.normal_law.slope_right"}},
-        BadTable{"overflowing_segment", {{0.0, 0.0}, {1e-320, 1e300}}, 0.0, 0.0,
+        BadTable{"slope_left_inf",
+                 {{0.0, 0.0}, {0.1, 1.0}},
+                 INF,
+                 0.0,
+                 {"contact.normal_law.slope_left"}},
+        BadTable{"slope_right_nan",
+                 {{0.0, 0.0}, {0.1, 1.0}},
+                 0.0,
+                 NAN,
+                 {"contact.normal_law.slope_right"}},
+        BadTable{"overflowing_segment",
+                 {{0.0, 0.0}, {1e-320, 1e300}},
+                 0.0,
+                 0.0,
                  {"contact.normal_law.points[1]", "not finite"}}),
     [](const ::testing::TestParamInfo<BadTable>& info) { return info.param.name; });
 
@@ -298,8 +329,9 @@ double j_summands(const PiecewiseLinearLaw& exact, double eps, double r) {
 
 /// Composite Simpson of p over [a, b] split at @p cuts; each piece gets left value
 /// p_plus(a_i) and right value p_minus(b_i), so jumps at the cuts are integrated correctly.
-double simpson(const std::function<double(double)>& p_right, const std::function<double(double)>& p_left,
-               double a, double b, std::vector<double> cuts, int n = 8) {
+double simpson(const std::function<double(double)>& p_right,
+               const std::function<double(double)>& p_left, double a, double b,
+               std::vector<double> cuts, int n = 8) {
   if (a == b) return 0.0;
   const double sign = a < b ? 1.0 : -1.0;
   const double lo = std::min(a, b), hi = std::max(a, b);
@@ -368,7 +400,7 @@ TEST_P(LawQuadratureAndFd, DerivativesMatchFiniteDifferences) {
   const std::vector<double> offsets =
       eps == 0.0 ? std::vector<double>{-1e-3, -1e-6, 1e-6, 1e-3}
                  : std::vector<double>{-2.0 * eps, -1.05 * eps, -0.95 * eps, -0.5 * eps, -0.1 * eps,
-                                       0.3 * eps, 0.95 * eps, 1.05 * eps, 2.0 * eps};
+                                       0.3 * eps,  0.95 * eps,  1.05 * eps,  2.0 * eps};
   for (double rk : exact.breakpoints())
     for (double d : offsets) points.push_back(rk + d);
 
@@ -521,9 +553,8 @@ TEST(LawMollifiedBounds, MollifierPrimitivesMatchExactOutsideWindow) {
     EXPECT_EQ(smooth_step(x, eps), x > 0 ? 1.0 : 0.0);
     EXPECT_EQ(smooth_step_integral(x, eps), std::max(0.0, x));
     // The ramp's antiderivative carries the documented excess ε²/6 beyond the window.
-    EXPECT_NEAR(smooth_ramp_integral(x, eps), 0.5 * std::max(0.0, x) * std::max(0.0, x) +
-                                                  (x > 0 ? eps * eps / 6 : 0.0),
-                1e-16);
+    EXPECT_NEAR(smooth_ramp_integral(x, eps),
+                0.5 * std::max(0.0, x) * std::max(0.0, x) + (x > 0 ? eps * eps / 6 : 0.0), 1e-16);
   }
   EXPECT_DOUBLE_EQ(smooth_ramp(0.0, eps), eps / 4);
   EXPECT_DOUBLE_EQ(smooth_step(0.0, eps), 0.5);

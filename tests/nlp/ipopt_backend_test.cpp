@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <ostream>
 #include <sstream>
@@ -68,6 +69,12 @@ NlpProblem make_problem(const NlpObjective& f, const Vec& lower, const Vec& uppe
   p.lower = lower;
   p.upper = upper;
   return p;
+}
+
+/// A per-process file name in the test temp directory: other build trees run this same test
+/// program at the same time. Ipopt lower-cases "output_file" names, so keep it lower case.
+std::string temp_path(const std::string& stem) {
+  return ::testing::TempDir() + "hemicontact_" + stem + "_" + std::to_string(::getpid()) + ".log";
 }
 
 std::string read_file(const std::string& path) {
@@ -212,6 +219,26 @@ TEST(IpoptBackend, StartOutsideBoundsIsProjected) {
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9);
 }
 
+TEST(IpoptBackend, FixedVariableAndWarmStartWithIt) {
+  HEMICONTACT_REQUIRE_IPOPT();
+  // lower == upper: Ipopt removes the unknown (fixed_variable_treatment make_parameter) while
+  // the Hessian structure still lists it; the answer is the QP with that unknown eliminated.
+  BoxQp q = make_box_qp();
+  q.lower[2] = q.upper[2] = 0.3;
+  const QuadraticObjective f(q.A, q.b);
+  const Vec exact = solve_box_qp_by_enumeration(q.A, q.b, q.lower, q.upper);
+  const auto backend = make_backend("ipopt");
+  Vec x = Vec::Zero(6);
+  const SolveResult r = backend->minimize(make_problem(f, q.lower, q.upper), x, accurate());
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_EQ(x[2], 0.3);
+  EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9);
+  const SolveResult warm = backend->minimize(make_problem(f, q.lower, q.upper), x, accurate());
+  ASSERT_TRUE(warm.ok()) << warm.message;
+  EXPECT_LE(warm.iterations, 5);
+  EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 struct DoubleWellCase {
   const char* name;
   double x0, y0;  // start
@@ -290,7 +317,7 @@ TEST(IpoptBackend, IpoptDerivativeTestPasses) {
   const DoubleWellObjective well;
   const RosenbrockObjective rosen(5);
   const std::vector<const NlpObjective*> objectives = {&well, &rosen};
-  const std::string log = ::testing::TempDir() + "hemicontact_ipopt_derivative_test.log";
+  const std::string log = temp_path("ipopt_derivative_test");
   for (const NlpObjective* f : objectives) {
     const Index n = f->size();
     BackendOptions opt;
@@ -314,7 +341,7 @@ TEST(IpoptBackend, IpoptDerivativeTestCatchesWrongGradient) {
   HEMICONTACT_REQUIRE_IPOPT();
   const DoubleWellObjective well;
   const WrongGradientObjective wrong(well, 0.1);
-  const std::string log = ::testing::TempDir() + "hemicontact_ipopt_derivative_test_bad.log";
+  const std::string log = temp_path("ipopt_derivative_test_bad");
   BackendOptions opt;
   opt.extra["derivative_test"] = "first-order";
   opt.extra["output_file"] = log;
@@ -424,7 +451,8 @@ TEST(IpoptBackend, IgnoresIpoptOptFileInWorkingDirectory) {
   // Initialize() without a file name would read ./ipopt.opt; ours passes "" so it must not.
   char old_dir[4096];
   ASSERT_NE(::getcwd(old_dir, sizeof old_dir), nullptr);
-  const std::string dir = ::testing::TempDir();
+  std::string dir = ::testing::TempDir() + "hemicontact_ipopt_opt_XXXXXX";
+  ASSERT_NE(::mkdtemp(dir.data()), nullptr);  // private directory: no clash with parallel runs
   ASSERT_EQ(::chdir(dir.c_str()), 0);
   {
     std::ofstream opt_file("ipopt.opt");
@@ -439,10 +467,12 @@ TEST(IpoptBackend, IgnoresIpoptOptFileInWorkingDirectory) {
   } catch (...) {
     std::remove("ipopt.opt");
     EXPECT_EQ(::chdir(old_dir), 0);
+    ::rmdir(dir.c_str());
     throw;
   }
   std::remove("ipopt.opt");
   ASSERT_EQ(::chdir(old_dir), 0);
+  ::rmdir(dir.c_str());
   EXPECT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_GT(r.iterations, 0);
 }

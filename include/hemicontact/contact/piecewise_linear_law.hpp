@@ -107,16 +107,16 @@ class PiecewiseLinearLaw : public NormalLaw {
   /// Sum form of p_ν with Heaviside H(0) = @p h_at_zero (1: right limit, 0: left limit).
   double evaluate(double r, double h_at_zero) const;
 
-  std::vector<Point> m_points;   ///< validated table
-  std::vector<double> m_r;       ///< distinct breakpoints r_k
-  std::vector<double> m_p_left;  ///< p_ν(r_k⁻) from the table
-  std::vector<double> m_p_right; ///< p_ν(r_k⁺) from the table
-  std::vector<double> m_slopes;  ///< slope_left, segment slopes, slope_right
-  std::vector<double> m_dslope;  ///< Δs_k
-  std::vector<double> m_jump;    ///< J_k
-  double m_a = 0.0;              ///< intercept of the leftmost affine piece
-  double m_P0 = 0.0;             ///< P(0), so that j(0) = 0
-  std::string m_origin;          ///< "" or a note such as "paper (32) c1=… "
+  std::vector<Point> m_points;    ///< validated table
+  std::vector<double> m_r;        ///< distinct breakpoints r_k
+  std::vector<double> m_p_left;   ///< p_ν(r_k⁻) from the table
+  std::vector<double> m_p_right;  ///< p_ν(r_k⁺) from the table
+  std::vector<double> m_slopes;   ///< slope_left, segment slopes, slope_right
+  std::vector<double> m_dslope;   ///< Δs_k
+  std::vector<double> m_jump;     ///< J_k
+  double m_a = 0.0;               ///< intercept of the leftmost affine piece
+  double m_P0 = 0.0;              ///< P(0), so that j(0) = 0
+  std::string m_origin;           ///< "" or a note such as "paper (32) c1=… "
 };
 
 }  // namespace hemicontact

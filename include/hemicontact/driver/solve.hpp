@@ -12,6 +12,20 @@
 #include <hemicontact/driver/model.hpp>
 #include <hemicontact/nlp/backend.hpp>
 
+#include <string>
+
+namespace hemicontact {
+/// What the exact polish (driver/polish.hpp) did.
+struct PolishResult {
+  bool attempted = false;  ///< false in 3D, without a condensation, or with nothing to polish
+  bool accepted = false;   ///< statuses kept and certificate not worse
+  int iterations = 0;      ///< λ fixed-point iterations on the linear status system
+  double before = 0;       ///< certificate max residual before
+  double after = 0;        ///< after (of the candidate)
+  std::string note;        ///< why not accepted, if not
+};
+}  // namespace hemicontact
+
 #include <map>
 #include <string>
 #include <vector>
@@ -21,6 +35,8 @@ namespace hemicontact {
 /// Solver settings, read from the scene's "solver", "check" blocks (defaults live in the schema).
 struct SolveOptions {
   std::string backend = "ipopt";   ///< NLP backend name
+  std::string formulation = "auto";  ///< "full", "condensed" or "auto" (condensed for linear materials)
+  bool polish = true;              ///< exact polish on identified statuses (condensed, 2D)
   BackendOptions backend_options;  ///< tolerance, iteration cap, pass-through options
   double eps_tau = 1e-10;          ///< final friction smoothing width, relative to U_s
   double eps_nu = 1e-10;           ///< final mollification width of p_ν, relative to U_s
@@ -66,6 +82,8 @@ struct Solution {
   std::string message;               ///< human-readable verdict
   std::string backend;               ///< backend name
   std::vector<std::string> skipped;  ///< what was not needed and not done
+  std::string formulation;           ///< "full" or "condensed" (empty for a linear solve)
+  PolishResult polish;               ///< what the exact polish did
   double x_scale = 1, f_scale = 1;   ///< the nondimensionalization used
   std::map<std::string, double> timings;  ///< seconds
   /// @return status counts keyed separated, compliance, contact, stick, slip+, slip- (and slip in 3D).

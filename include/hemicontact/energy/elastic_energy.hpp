@@ -22,6 +22,28 @@ class ElasticEnergy : public EnergyTerm {
   SpMat m_K, m_lower;
 };
 
+/// The condensed elastic energy ½ (x_C − y_C)ᵀ S (x_C − y_C) + c (fem/condensation.hpp): the
+/// elastic energy minus the work of the loads, minimized over the interior for given Γ3 unknowns.
+class CondensedElasticEnergy : public EnergyTerm {
+ public:
+  /// @param S Schur complement (dense SPD); @param y_C Γ3 part of K⁻¹f; @param c constant −½fᵀy.
+  CondensedElasticEnergy(const Mat& S, Vec y_C, double c) : m_S(S), m_y(std::move(y_C)), m_c(c) {}
+  std::string name() const override { return "condensed_elastic"; }
+  double value(const Vec& x) const override;
+  void add_gradient(const Vec& x, Vec& g) const override { g += m_S * (x - m_y); }
+  /// Adds S's lower triangle; @p H must have the pattern dense_lower_pattern(m).
+  void add_hessian(const Vec& x, SpMat& H, Psd psd) const override;
+
+ private:
+  const Mat& m_S;
+  Vec m_y;
+  double m_c;
+};
+
+/// @return an m×m sparse matrix holding every lower-triangular entry (explicit zeros): the Hessian
+/// pattern of a condensed problem.
+SpMat dense_lower_pattern(Index m);
+
 /// The work of the loads: −f(u) = −f_xᵀ x (eq. (17)); linear, no Hessian.
 class LoadEnergy : public EnergyTerm {
  public:

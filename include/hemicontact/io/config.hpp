@@ -15,7 +15,6 @@
 /// @endcode
 
 #include <nlohmann/json.hpp>
-
 #include <optional>
 #include <string>
 #include <vector>
@@ -82,10 +81,11 @@ nlohmann::json validate_scene(nlohmann::json scene);
 /// The path is dotted (`mesh.n`, `solver.options.mu_strategy`); array elements are selected by a
 /// number segment (`boundary.gamma2.0.traction`) or by brackets as printed in error messages
 /// (`boundary.gamma2[0].traction`); an index equal to the array size appends. Missing
-/// intermediate objects are created, and a missing array when the segment is `0`. The value is parsed as JSON when it parses (numbers,
-/// true/false, null, arrays, objects, quoted strings) and is otherwise taken as a plain string,
-/// so `--set mesh.type=gmsh` needs no shell quoting. Overrides are applied before validation,
-/// so a misspelt key is reported as unknown by validate_scene().
+/// intermediate objects are created, and a missing array when the segment is `0`. The value is
+/// parsed as JSON when it parses (numbers, true/false, null, arrays, objects, quoted strings)
+/// and is otherwise taken as a plain string, so `--set mesh.type=gmsh` needs no shell quoting.
+/// Overrides are applied before validation, so a misspelt key is reported as unknown by
+/// validate_scene().
 /// @param scene      the scene to modify
 /// @param assignment "path=value" (split at the first '=')
 /// @throws Error (EXIT_INPUT) for a missing '=', an empty path segment, an array index out of

@@ -1,0 +1,24 @@
+#pragma once
+/// @file polish.hpp  Exact polish of a smoothed solution (2D, condensed formulation).
+///
+/// The smoothed minimizer identifies the statuses; on fixed statuses the *unsmoothed* conditions of
+/// (22) are linear in the condensed unknowns x_C (p_ν and F_b are piecewise linear):
+///   contact:          x_ν = g                         (the rigid part takes the rest, eq. (5))
+///   compliance/sep.:  σ_ν + p(x_ν) = 0,  p affine on the node's branch  (eq. (32))
+///   stick:            x_τ = 0
+///   slip s = ±1:      σ_τ + s λ = 0,  λ = F_b(x_ν)     (eq. (6))
+/// with w σ = S (x_C − y_C) (the condensed nodal force). The matrix is fixed by the statuses, so it
+/// is factored once; λ is iterated to its fixed point on the right-hand side. The result is kept
+/// only if it keeps the statuses and lowers the certificate's residual; it then carries no
+/// smoothing error (the certificate drops to round-off).
+
+#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/fem/condensation.hpp>
+
+namespace hemicontact {
+
+
+/// Polish the condensed unknowns @p x_C in place (kept unchanged if rejected).
+PolishResult polish_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C);
+
+}  // namespace hemicontact

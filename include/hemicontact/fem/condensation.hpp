@@ -1,0 +1,60 @@
+#pragma once
+/// @file condensation.hpp  Static condensation of a linear elastic problem onto its trailing
+/// (Γ3) unknowns: the nonlinearity lives only on Γ3, so after one sparse factorization the contact
+/// problem is a small dense one.
+///
+/// With K = [K_II K_IC; K_CI K_CC] (the last m unknowns are C) and y = K⁻¹ f,
+///   min_{x_I} ½ xᵀK x − fᵀx  =  ½ (x_C − y_C)ᵀ S (x_C − y_C) − ½ fᵀy,
+///   S = K_CC − K_CI K_II⁻¹ K_IC = ((K⁻¹)_CC)⁻¹,
+/// and the minimizing interior is x = y + K⁻¹ E_C S (x_C − y_C) (one solve). S is taken from the
+/// factor itself: with the C unknowns ordered last, L = [L_II 0; L_CI L_CC] and S = L_CC L_CCᵀ,
+/// i.e. the trailing block of the supernodal factor — no m right-hand sides are solved.
+/// S (x_C − y_C) is also the nodal force (K x − f)_C of the recovered x.
+
+#include <hemicontact/core/types.hpp>
+
+#include <memory>
+
+namespace hemicontact {
+
+/// Factor once, condense onto the last m unknowns, recover the interior on demand.
+class Condensation {
+ public:
+  /// @param K SPD matrix (full symmetric storage) whose last @p m unknowns are condensed;
+  /// @param f right-hand side. @throws Error if K is not positive definite.
+  Condensation(const SpMat& K, const Vec& f, Index m);
+  ~Condensation();
+  Condensation(const Condensation&) = delete;
+  Condensation& operator=(const Condensation&) = delete;
+  /// @return the number of condensed unknowns m.
+  Index m() const { return m_S.rows(); }
+  /// @return the Schur complement S (dense, symmetric positive definite).
+  const Mat& S() const { return m_S; }
+  /// @return y = K⁻¹ f, the unconstrained solution.
+  const Vec& y() const { return m_y; }
+  /// @return the trailing part y_C.
+  Vec y_C() const { return m_y.tail(m()); }
+  /// @return the constant −½ fᵀ y of the condensed energy.
+  double constant() const { return m_const; }
+  /// @return the full vector whose trailing part is @p x_C and whose interior minimizes the energy.
+  Vec recover(const Vec& x_C) const;
+  /// @return K⁻¹ b with the stored factor.
+  Vec solve(const Vec& b) const;
+  /// @return seconds spent in: ordering+symbolic analysis, numeric factorization, extracting S.
+  double analyze_seconds() const { return m_t_analyze; }
+  /// @copydoc analyze_seconds
+  double factorize_seconds() const { return m_t_factor; }
+  /// @copydoc analyze_seconds
+  double schur_seconds() const { return m_t_schur; }
+  /// @return nonzeros of the factor L.
+  double factor_nnz() const { return m_nnz; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m_impl;
+  Mat m_S;
+  Vec m_y;
+  double m_const = 0, m_t_analyze = 0, m_t_factor = 0, m_t_schur = 0, m_nnz = 0;
+};
+
+}  // namespace hemicontact
