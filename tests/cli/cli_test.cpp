@@ -1,0 +1,196 @@
+// The command-line program end to end: every bad input of the Foundation issue gets a one-line
+// message naming the problem and a non-zero exit code; good runs write their files.
+#include <hemicontact/config.hpp>
+#include <hemicontact/core/error.hpp>
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+struct CliRun {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Runs the CLI with stdout/stderr captured in files of a per-test scratch directory.
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir = fs::temp_directory_path() / ("hemicontact_cli_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  CliRun run(const std::string& args) const {
+    const std::string cmd = std::string(HEMICONTACT_CLI_PATH) + " " + args + " >" + (dir / "out.txt").string() +
+                            " 2>" + (dir / "err.txt").string();
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(dir / "out.txt");
+    r.err = slurp(dir / "err.txt");
+    return r;
+  }
+
+  // A small valid scene (the paper's, n = 4), as JSON to be modified by each test.
+  static json scene() {
+    std::ifstream in(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json");
+    json s = json::parse(in);
+    s["mesh"]["n"] = 4;
+    return s;
+  }
+
+  std::string write(const json& s, const std::string& name = "scene.json") const {
+    const fs::path p = dir / name;
+    std::ofstream(p) << s.dump(2);
+    return p.string();
+  }
+
+  fs::path dir;
+};
+
+// The error is one line on stderr ("hemicontact: error: ..."), containing @p what.
+void expect_error(const CliRun& r, int code, const std::string& what) {
+  EXPECT_EQ(r.code, code) << r.err;
+  EXPECT_NE(r.err.find("hemicontact: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(what), std::string::npos) << "stderr: " << r.err;
+  EXPECT_EQ(r.err.find("terminate"), std::string::npos) << "crashed: " << r.err;
+}
+
+}  // namespace
+
+TEST_F(Cli, HelpBackendsAndUsage) {
+  const CliRun h = run("--help");
+  EXPECT_EQ(h.code, 0);
+  EXPECT_NE(h.out.find("hemicontact solve SCENE.json"), std::string::npos);
+  const CliRun b = run("backends");
+  EXPECT_EQ(b.code, 0);
+#if HEMICONTACT_HAS_IPOPT
+  EXPECT_NE(b.out.find("ipopt"), std::string::npos);
+#endif
+  expect_error(run("frobnicate"), hemicontact::EXIT_USAGE, "unknown command 'frobnicate'");
+  expect_error(run("solve"), hemicontact::EXIT_USAGE, "missing SCENE.json");
+  expect_error(run("solve x.json --bogus"), hemicontact::EXIT_USAGE, "unknown option --bogus");
+}
+
+TEST_F(Cli, SolveWritesResults) {
+  const std::string out = (dir / "res").string();
+  const CliRun r = run("solve " + write(scene()) + " --out " + out + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("certificate"), std::string::npos);
+  for (const char* f : {"report.json", "solution.vtu", "gamma3.csv"}) EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
+  const json rep = json::parse(slurp(fs::path(out) / "report.json"));
+  for (const char* k : {"energy", "energy_norm", "status_counts", "nodes", "certificate", "timings", "scene"})
+    EXPECT_TRUE(rep.contains(k)) << k;
+  EXPECT_EQ(rep["scene"]["mesh"]["nx"], 4);  // the effective scene is echoed
+  EXPECT_TRUE(rep["ok"].get<bool>());
+  // Results are not overwritten without asking...
+  const CliRun again = run("solve " + write(scene()) + " --out " + out + " --quiet");
+  expect_error(again, hemicontact::EXIT_INPUT, "--force");
+  // ...and are with --force; --set and --backend reach the scene.
+  const CliRun forced = run("solve " + write(scene()) + " --out " + out + " --quiet --force --set mesh.n=6");
+  ASSERT_EQ(forced.code, 0) << forced.err;
+  EXPECT_EQ(json::parse(slurp(fs::path(out) / "report.json"))["scene"]["mesh"]["nx"], 6);
+}
+
+TEST_F(Cli, MissingAndMalformedSceneFiles) {
+  expect_error(run("solve " + (dir / "nope.json").string()), hemicontact::EXIT_INPUT, "not found");
+  std::ofstream(dir / "bad.json") << "{ \"mesh\": { \"n\": 4, }\n";
+  expect_error(run("solve " + (dir / "bad.json").string()), hemicontact::EXIT_INPUT, "line 1");
+}
+
+TEST_F(Cli, UnknownKeyWrongTypeAndBadOverride) {
+  json s = scene();
+  s["mesh"]["nn"] = 4;
+  expect_error(run("solve " + write(s)), hemicontact::EXIT_INPUT, "mesh.nn");
+  s = scene();
+  s["mesh"]["n"] = "four";
+  expect_error(run("solve " + write(s)), hemicontact::EXIT_INPUT, "mesh.n");
+  expect_error(run("solve " + write(scene()) + " --set mesh.nope=3"), hemicontact::EXIT_INPUT, "mesh.nope");
+  expect_error(run("solve " + write(scene()) + " --set meshn"), hemicontact::EXIT_INPUT, "meshn");
+}
+
+TEST_F(Cli, MeshWithoutGamma1) {
+  json s = scene();
+  s["boundary"]["gamma1"] = json::array();
+  expect_error(run("solve " + write(s)), hemicontact::EXIT_INPUT, "Γ1");
+}
+
+TEST_F(Cli, Gamma3ThatIsNotABoundary) {
+#if HEMICONTACT_HAS_GMSH
+  json s = scene();
+  s["mesh"] = {{"type", "gmsh"}, {"file", HEMICONTACT_SOURCE_DIR "/tests/data/unit_square_3x3_interior_contact.msh"}};
+  s["boundary"] = {{"gamma1", {{{"physical", "clamped"}}}}, {"gamma3", {{{"physical", "contact"}}}}};
+  expect_error(run("solve " + write(s)), hemicontact::EXIT_INPUT, "not on the boundary");
+  // The same file's good sibling solves.
+  s["mesh"]["file"] = HEMICONTACT_SOURCE_DIR "/tests/data/unit_square_3x3.msh";
+  const CliRun ok = run("solve " + write(s) + " --out " + (dir / "g").string() + " --quiet");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+#else
+  GTEST_SKIP() << "built without Gmsh";
+#endif
+}
+
+TEST_F(Cli, SelectorThatSelectsNothing) {
+  json s = scene();
+  s["boundary"]["gamma3"] = {{{"side", "bottom"}, {"from", 2.0}, {"to", 3.0}}};
+  expect_error(run("solve " + write(s)), hemicontact::EXIT_INPUT, "boundary.gamma3[0]");
+}
+
+TEST_F(Cli, NegativeThickness) {
+  json s = scene();
+  s["contact"]["gap"] = -0.1;
+  expect_error(run("solve " + write(s)), hemicontact::EXIT_INPUT, "negative thickness");
+  s["contact"]["gap"] = {{"along", "x"}, {"points", {{0.0, 0.1}, {1.0, -0.2}}}};
+  expect_error(run("solve " + write(s)), hemicontact::EXIT_INPUT, "negative thickness");
+}
+
+TEST_F(Cli, PoissonRatioInPlaneStrain) {
+  json s = scene();
+  s["material"]["plane"] = "strain";
+  s["material"]["nu"] = 0.5;
+  expect_error(run("solve " + write(s)), hemicontact::EXIT_INPUT, "material.nu");
+}
+
+TEST_F(Cli, OutputDirThatIsAFile) {
+  std::ofstream(dir / "afile") << "x";
+  expect_error(run("solve " + write(scene()) + " --out " + (dir / "afile").string()), hemicontact::EXIT_INPUT,
+               "not a directory");
+}
+
+TEST_F(Cli, UnknownBackend) {
+  expect_error(run("solve " + write(scene()) + " --backend nope"), hemicontact::EXIT_INPUT, "nope");
+}
+
+TEST_F(Cli, NonConvergenceIsLoud) {
+  // One Ipopt iteration cannot solve the contact problem: exit 3 and a warning, unless allowed.
+  json s = scene();
+  s["solver"] = {{"max_iter", 1}};
+  const CliRun r = run("solve " + write(s) + " --out " + (dir / "nc").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
+  EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
+  const json rep = json::parse(slurp(dir / "nc" / "report.json"));
+  EXPECT_FALSE(rep["ok"].get<bool>());
+}
