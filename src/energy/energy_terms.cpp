@@ -21,6 +21,15 @@ Index pattern_position(const SpMat& H, Index row, Index col) {
   return it - H.innerIndexPtr();
 }
 
+namespace {
+// A cached position is valid for H if it still addresses entry (row, col) of H's pattern; checking
+// costs O(1) per entry and catches a different pattern in the same buffer (which an address key misses).
+bool position_valid(const SpMat& H, Index pos, Index row, Index col) {
+  if (row < col) std::swap(row, col);
+  return pos >= H.outerIndexPtr()[col] && pos < H.outerIndexPtr()[col + 1] && H.innerIndexPtr()[pos] == row;
+}
+}  // namespace
+
 // ------------------------------------------------------------------ elastic and load
 ElasticEnergy::ElasticEnergy(const SpMat& K) : m_K(K) {
   m_lower = m_K.triangularView<Eigen::Lower>();
@@ -69,7 +78,9 @@ void NormalComplianceEnergy::add_gradient(const Vec& x, Vec& g) const {
 }
 
 void NormalComplianceEnergy::add_hessian(const Vec& x, SpMat& H, Psd psd) const {
-  if (m_pos_for != H.innerIndexPtr()) {
+  bool valid = m_pos_for == H.innerIndexPtr() && static_cast<Index>(m_pos.size()) == m_dofs.size();
+  for (Index k = 0; valid && k < m_dofs.size(); ++k) valid = position_valid(H, m_pos[k], m_dofs.first[k], m_dofs.first[k]);
+  if (!valid) {
     m_pos.resize(m_dofs.size());
     for (Index k = 0; k < m_dofs.size(); ++k) m_pos[k] = pattern_position(H, m_dofs.first[k], m_dofs.first[k]);
     m_pos_for = H.innerIndexPtr();
@@ -109,7 +120,14 @@ void FrictionEnergy::add_gradient(const Vec& x, Vec& g) const {
 void FrictionEnergy::add_hessian(const Vec& x, SpMat& H, Psd) const {
   const int nt = m_dofs.dim - 1;
   const int nb = nt * (nt + 1) / 2;  // lower entries of the τ-block
-  if (m_pos_for != H.innerIndexPtr()) {
+  bool valid = m_pos_for == H.innerIndexPtr() && static_cast<Index>(m_pos.size()) == m_dofs.size() * nb;
+  for (Index k = 0; valid && k < m_dofs.size(); ++k) {
+    int q = 0;
+    for (int a = 0; valid && a < nt; ++a)
+      for (int b = 0; valid && b <= a; ++b)
+        valid = position_valid(H, m_pos[k * nb + q++], m_dofs.first[k] + 1 + a, m_dofs.first[k] + 1 + b);
+  }
+  if (!valid) {
     m_pos.resize(m_dofs.size() * nb);
     for (Index k = 0; k < m_dofs.size(); ++k) {
       int q = 0;
@@ -156,7 +174,11 @@ void TotalEnergy::gradient(const Vec& x, Vec& g) const {
 }
 
 void TotalEnergy::hessian(const Vec& x, SpMat& H, Psd psd) const {
-  if (H.nonZeros() != m_pattern.nonZeros() || H.rows() != m_n) H = m_pattern;
+  // H must carry exactly the fixed pattern (ElasticEnergy adds K's values by position).
+  const bool same = H.rows() == m_n && H.cols() == m_n && H.isCompressed() && H.nonZeros() == m_pattern.nonZeros() &&
+                    std::equal(m_pattern.outerIndexPtr(), m_pattern.outerIndexPtr() + m_n + 1, H.outerIndexPtr()) &&
+                    std::equal(m_pattern.innerIndexPtr(), m_pattern.innerIndexPtr() + m_pattern.nonZeros(), H.innerIndexPtr());
+  if (!same) H = m_pattern;
   std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
   for (const auto& t : m_terms) t->add_hessian(x, H, psd);
 }

@@ -30,13 +30,15 @@
 // displacements at ≥ 20% of a branch width from the kinks, so the statuses are unambiguous.
 // Tolerance: 1e-8 relative to the displacement scale U (the certificate tolerance); the smoothing
 // is exact off its windows (|u_τ| ≥ ε_τ, u_ν off the kinks) and ε_final = 1e-10·U_s, so only the
-// Ipopt tolerance (1e-10, scaled) separates the numerical from the hand solution.
+// backend tolerance (solver.tol, on the scaled problem) separates the numerical from the hand
+// solution. Each case runs through three pipelines (SingleNode param, see solver_block).
 
 #include <hemicontact/driver/model.hpp>
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/io/config.hpp>
 #include <hemicontact/mesh/mesh.hpp>
 
+#include <Eigen/LU>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -173,7 +175,9 @@ void check_case(const Case& c, const Expected& e, const Solved& r) {
   ASSERT_TRUE(sol.fixed_point_converged) << sol.message;
   EXPECT_EQ(sol.backend, "ipopt");
   EXPECT_EQ(sol.formulation, r.pipeline == "full" ? "full" : "condensed");
-  if (r.pipeline != "default") EXPECT_FALSE(sol.polish.accepted);  // the raw backend answer
+  if (r.pipeline != "default") {
+    EXPECT_FALSE(sol.polish.accepted);  // the raw backend answer
+  }
   EXPECT_TRUE(sol.certificate.passed) << "max residual " << sol.certificate.max_residual;
   EXPECT_LE(sol.certificate.max_residual, TOL);
   ASSERT_EQ(sol.status.size(), 1u);
@@ -224,6 +228,12 @@ TEST(SingleNodeModel, MatchesHandDerivation) {
     const Vec centroid = m.points.colwise().mean().transpose();
     EXPECT_GT(n.dot(mid - centroid), 0.0);
   }
+  // ∇φ_C from the coordinates: φ = a + b·x solves φ(A) = φ(B) = 0, φ(C) = 1.
+  Eigen::Matrix3d V;
+  for (int i = 0; i < 3; ++i) V.row(i) << 1.0, m.points(i, 0), m.points(i, 1);
+  const Eigen::Vector3d coef = V.fullPivLu().solve(Eigen::Vector3d(0, 0, 1));
+  EXPECT_NEAR(coef[1], 0.0, 1e-15);
+  EXPECT_NEAR(coef[2], -1.0, 1e-15);
   const Case c{32.0, -3.0};
   const json scene = make_scene(c);
   assign_scene_boundary(m, scene);
