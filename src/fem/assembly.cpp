@@ -3,32 +3,68 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/fem/p1.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace hemicontact {
 namespace {
 
+// Node adjacency (each node's sorted neighbours, itself included) from the cells: the sparsity of
+// K is this graph with every entry expanded to a d×d block.
+std::vector<std::vector<int>> node_adjacency(const Mesh& m) {
+  const int nv = m.dim + 1;
+  std::vector<std::vector<int>> adj(m.num_nodes());
+  for (Index c = 0; c < m.num_cells(); ++c)
+    for (int a = 0; a < nv; ++a)
+      for (int b = 0; b < nv; ++b) adj[m.cells(c, a)].push_back(m.cells(c, b));
+  for (auto& v : adj) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+  }
+  return adj;
+}
+
+// Direct assembly into a precomputed compressed pattern: no triplet list (which at 2M cells would
+// hold 75M entries, 1.2 GB, and cost a sort), each element block lands at a looked-up position.
 template <int D>
 SpMat stiffness(const Mesh& m, const Mat& Ddyn) {
   using E = P1<D>;
   const Eigen::Matrix<double, E::NVOIGT, E::NVOIGT> Dm = Ddyn;
-  Triplets t;
-  t.reserve(static_cast<size_t>(m.num_cells()) * E::NDOF * E::NDOF);
+  const auto adj = node_adjacency(m);
+  const Index N = m.num_nodes(), n = N * D;
+  // Column d·a+i holds rows d·b+j for b ∈ adj(a), j < d: already sorted.
+  std::vector<int> outer(n + 1, 0);
+  for (Index a = 0; a < N; ++a)
+    for (int i = 0; i < D; ++i) outer[D * a + i + 1] = static_cast<int>(adj[a].size() * D);
+  for (Index c = 0; c < n; ++c) outer[c + 1] += outer[c];
+  std::vector<int> inner(outer[n]);
+  for (Index a = 0; a < N; ++a)
+    for (int i = 0; i < D; ++i) {
+      int* dst = inner.data() + outer[D * a + i];
+      for (int b : adj[a])
+        for (int j = 0; j < D; ++j) *dst++ = D * b + j;
+    }
+  std::vector<double> values(inner.size(), 0.0);
   for (Index c = 0; c < m.num_cells(); ++c) {
     double vol;
     const auto G = E::gradients(m, c, vol);
     const auto B = E::strain_matrix(G);
     const typename E::KMat Ke = vol * B.transpose() * Dm * B;
-    for (int a = 0; a < E::NV; ++a)
-      for (int i = 0; i < D; ++i)
-        for (int b = 0; b < E::NV; ++b)
-          for (int j = 0; j < D; ++j)
-            t.emplace_back(D * m.cells(c, a) + i, D * m.cells(c, b) + j, Ke(D * a + i, D * b + j));
+    for (int a = 0; a < E::NV; ++a) {
+      const int na = m.cells(c, a);
+      const auto& nb_a = adj[na];
+      for (int b = 0; b < E::NV; ++b) {
+        const int nb = m.cells(c, b);
+        const int slot = static_cast<int>(std::lower_bound(nb_a.begin(), nb_a.end(), nb) - nb_a.begin());
+        for (int i = 0; i < D; ++i) {
+          double* col = values.data() + outer[D * na + i] + D * slot;
+          for (int j = 0; j < D; ++j) col[j] += Ke(D * b + j, D * a + i);
+        }
+      }
+    }
   }
-  const Index n = m.num_nodes() * D;
-  SpMat K(n, n);
-  K.setFromTriplets(t.begin(), t.end());
-  return K;
+  return Eigen::Map<const SpMat>(n, n, static_cast<Index>(inner.size()), outer.data(), inner.data(), values.data());
 }
 
 template <int D>

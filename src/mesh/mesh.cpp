@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <sstream>
 
 namespace hemicontact {
@@ -76,18 +75,23 @@ double Mesh::max_edge_length() const {
 
 void extract_boundary_facets(Mesh& mesh) {
   const int d = mesh.dim, nv = d + 1;
-  // Key: sorted node list of the facet; value: (count, oriented facet from the first cell).
-  std::map<std::array<int, 3>, std::pair<int, std::array<int, 3>>> seen;
+  // Every cell facet once, keyed by its sorted nodes; sorting the list brings the two copies of an
+  // interior facet together (O(F log F), no node-based map: 6M facets at 2M cells).
+  struct Entry {
+    std::array<int, 3> key;  // sorted nodes (unused third entry −1 in 2D)
+    std::array<int, 3> oriented;
+  };
+  std::vector<Entry> all;
+  all.reserve(static_cast<size_t>(mesh.num_cells()) * nv);
   for (Index c = 0; c < mesh.num_cells(); ++c) {
     for (int skip = 0; skip < nv; ++skip) {
       std::array<int, 3> f{-1, -1, -1};
-      int k = 0;
-      for (int a = 0; a < nv; ++a)
-        if (a != skip) f[k++] = mesh.cells(c, a);
-      // Orientation: in 2D, for a positively oriented triangle (v0,v1,v2) the boundary edges
-      // opposite vertex s, traversed counter-clockwise, are (v1,v2), (v2,v0), (v0,v1).
       if (d == 2) {
-        if (skip == 1) std::swap(f[0], f[1]);  // (v0,v2) -> (v2,v0)
+        // For a positively oriented triangle (v0,v1,v2) the boundary edges opposite vertex s,
+        // traversed counter-clockwise, are (v1,v2), (v2,v0), (v0,v1).
+        static const int edges[3][2] = {{1, 2}, {2, 0}, {0, 1}};
+        f[0] = mesh.cells(c, edges[skip][0]);
+        f[1] = mesh.cells(c, edges[skip][1]);
       } else {
         // For a positive tet, the outward faces are (1,2,3), (0,3,2), (0,1,3), (0,2,1).
         static const int faces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
@@ -99,19 +103,24 @@ void extract_boundary_facets(Mesh& mesh) {
       } else {
         std::sort(key.begin(), key.end());
       }
-      auto [it, inserted] = seen.try_emplace(key, 0, f);
-      ++it->second.first;
-      if (it->second.first > 2) {
-        std::ostringstream os;
-        os << "mesh: facet (" << key[0] << ", " << key[1] << (d == 3 ? ", " + std::to_string(key[2]) : "")
-           << ") is shared by more than two cells (non-manifold mesh)";
-        input_error(os.str());
-      }
+      all.push_back({key, f});
     }
   }
+  std::sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
   std::vector<std::array<int, 3>> boundary;
-  for (const auto& [key, v] : seen)
-    if (v.first == 1) boundary.push_back(v.second);
+  for (size_t i = 0; i < all.size();) {
+    size_t j = i + 1;
+    while (j < all.size() && all[j].key == all[i].key) ++j;
+    if (j - i > 2) {
+      const auto& key = all[i].key;
+      std::ostringstream os;
+      os << "mesh: facet (" << key[0] << ", " << key[1] << (d == 3 ? ", " + std::to_string(key[2]) : "")
+         << ") is shared by more than two cells (non-manifold mesh)";
+      input_error(os.str());
+    }
+    if (j - i == 1) boundary.push_back(all[i].oriented);
+    i = j;
+  }
   mesh.facets.resize(static_cast<Index>(boundary.size()), d);
   for (Index i = 0; i < mesh.facets.rows(); ++i)
     for (int a = 0; a < d; ++a) mesh.facets(i, a) = boundary[i][a];
