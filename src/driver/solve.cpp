@@ -73,6 +73,7 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.allow_not_converged = s.at("fixed_point").at("allow_not_converged").get<bool>();
   o.certificate_tol = scene.at("check").at("certificate_tol").get<double>();
   o.status_tol = scene.at("check").at("status_tol").get<double>();
+  o.smallness = scene.at("check").at("smallness").get<bool>();
   return o;
 }
 
@@ -184,6 +185,15 @@ Solution solve(const Model& md, const SolveOptions& opt) {
     sol.timings["solve_total"] = since(t_start);
     sol.message = sol.certificate.passed ? "linear solve; certificate passed" : "linear solve; certificate failed";
     return sol;
+  }
+
+  if (opt.smallness) {
+    sol.smallness = evaluate_smallness(md);
+    const SmallnessReport& r = sol.smallness;
+    if (r.computed)
+      log_info() << "smallness (21): L_Fb/lambda_1 + alpha_j/lambda_1nu = " << r.L_Fb << "/" << r.lambda_1 << " + "
+                 << r.alpha_j << "/" << r.lambda_1nu << " = " << r.lhs << (r.holds ? " < " : " >= ") << "m_F = " << r.m_F
+                 << ": uniqueness guaranteed: " << (r.holds ? "yes" : "no");
   }
 
   Formulation F = make_formulation(md, opt, sol);

@@ -90,6 +90,12 @@ SpMat assemble_stiffness(const Mesh& mesh, const Material& material) {
   return mesh.dim == 2 ? stiffness<2>(mesh, material.tangent(zero)) : stiffness<3>(mesh, material.tangent(zero));
 }
 
+SpMat assemble_stiffness(const Mesh& mesh, const Mat& D) {
+  if (D.rows() != voigt_size(mesh.dim) || D.cols() != D.rows())
+    throw Error("assemble_stiffness: Voigt matrix of the wrong size", EXIT_INTERNAL);
+  return mesh.dim == 2 ? stiffness<2>(mesh, D) : stiffness<3>(mesh, D);
+}
+
 Vec assemble_body_force(const Mesh& mesh, const Vec& f0) {
   const int d = mesh.dim;
   Vec f = Vec::Zero(mesh.num_nodes() * d);

@@ -162,6 +162,12 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
                   {"status_tol", opt.status_tol}};
   r["skipped"] = sol.skipped;
   r["formulation"] = sol.formulation;
+  {
+    const SmallnessReport& q = sol.smallness;
+    r["smallness"] = {{"computed", q.computed}, {"m_F", q.m_F}, {"L_Fb", q.L_Fb}, {"alpha_j", q.alpha_j},
+                      {"lambda_1", q.lambda_1}, {"lambda_1nu", q.lambda_1nu}, {"lhs", q.lhs},
+                      {"uniqueness_guaranteed", q.computed && q.holds}, {"seconds", q.seconds}};
+  }
   r["polish"] = {{"attempted", sol.polish.attempted}, {"accepted", sol.polish.accepted},
                  {"iterations", sol.polish.iterations}, {"certificate_before", sol.polish.before},
                  {"certificate_after", sol.polish.after}, {"note", sol.polish.note}};
@@ -249,6 +255,10 @@ std::string summary_table(const Model& md, const Solution& sol) {
   out += row("certificate", std::string(c.passed ? "passed" : "FAILED") + ": max residual " +
                                 fmt(c.max_residual, 3) + (c.passed ? " <= " : " > ") + "tol " + fmt(c.tol, 3) +
                                 (worst.empty() ? std::string() : " (" + worst + ")"));
+  if (sol.smallness.computed)
+    out += row("(21)", "L_Fb/lambda_1 + alpha/lambda_1nu = " + fmt(sol.smallness.lhs, 4) +
+                           (sol.smallness.holds ? " < " : " >= ") + "m_F = " + fmt(sol.smallness.m_F, 4) +
+                           ": uniqueness guaranteed: " + (sol.smallness.holds ? "yes" : "no"));
   out += row("fixed point", std::string(sol.fixed_point_converged ? "converged" : "NOT converged") +
                                 (sol.backend_ok ? "" : "; last minimization FAILED"));
   std::vector<std::string> times;

@@ -243,6 +243,9 @@ std::vector<SchemaEntry> build_scene_schema() {
       key("/check/certificate_tol", "number", 1e-8, "Largest normalized certificate residual accepted."), 0));
   t.push_back(above(
       key("/check/status_tol", "number", 1e-8, "Relative to U: decides stick / contact / separated."), 0));
+  t.push_back(key("/check/smallness", "boolean", true,
+                  "Evaluate the smallness condition (21) (uniqueness guaranteed: yes/no); costs one "
+                  "extra sparse factorization of the ε:ε Gram matrix."));
 
   // ------------------------------------------------------------------ output
   t.push_back(section("/output", "Files written next to report.json."));

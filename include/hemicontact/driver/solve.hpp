@@ -9,6 +9,7 @@
 /// no outer loop; no soft layer → no j_ν term; g = ∞ → no bounds; nothing to smooth → no continuation.
 
 #include <hemicontact/check/certificate.hpp>
+#include <hemicontact/check/smallness.hpp>
 #include <hemicontact/driver/model.hpp>
 #include <hemicontact/nlp/backend.hpp>
 
@@ -48,6 +49,7 @@ struct SolveOptions {
   bool allow_not_converged = false;  ///< exit 0 even if the fixed point did not converge
   double certificate_tol = 1e-8;   ///< acceptance tolerance of the certificate
   double status_tol = 1e-8;        ///< status decisions, relative to U
+  bool smallness = true;           ///< evaluate the smallness condition (21)
 };
 
 /// @return the options of an effective scene.
@@ -84,6 +86,7 @@ struct Solution {
   std::vector<std::string> skipped;  ///< what was not needed and not done
   std::string formulation;           ///< "full" or "condensed" (empty for a linear solve)
   PolishResult polish;               ///< what the exact polish did
+  SmallnessReport smallness;         ///< the smallness condition (21)
   double x_scale = 1, f_scale = 1;   ///< the nondimensionalization used
   std::map<std::string, double> timings;  ///< seconds
   /// @return status counts keyed separated, compliance, contact, stick, slip+, slip- (and slip in 3D).

@@ -13,6 +13,10 @@ namespace hemicontact {
 /// @throws Error if the material is not linear (use the nonlinear internal-force assembly).
 SpMat assemble_stiffness(const Mesh& mesh, const Material& material);
 
+/// K = Σ_T |T| Bᵀ D B for a constant Voigt matrix @p D (e.g. the Gram matrix of ∫ε(u):ε(v), whose
+/// Voigt form with engineering shears is diag(1, 1, ½) in 2D).
+SpMat assemble_stiffness(const Mesh& mesh, const Mat& D);
+
 /// Body force: ∫Ω f0·φ_a = |T|/(d+1) f0 per cell node, exact for constant f0 and P1.
 Vec assemble_body_force(const Mesh& mesh, const Vec& f0);
 

@@ -1,0 +1,80 @@
+// The smallness condition (21): its discrete eigenvalues against an independent dense computation,
+// their convergence under refinement, and the verdict on the paper's scene and a softened one.
+#include <hemicontact/check/smallness.hpp>
+#include <hemicontact/fem/assembly.hpp>
+#include <hemicontact/io/config.hpp>
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+using namespace hemicontact;
+using json = nlohmann::json;
+
+namespace {
+Model paper_model(int n, const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> o{"mesh.n=" + std::to_string(n)};
+  o.insert(o.end(), extra.begin(), extra.end());
+  const json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-printed.json", o);
+  return build_model(s, ".");
+}
+}  // namespace
+
+// Independent check on a small mesh: the full generalized problem M v = μ K_ε v (K_ε SPD, M the
+// singular Γ3 mass) has λ_1 = 1/μ_max; no condensation involved.
+TEST(Smallness, EigenvaluesMatchDenseFullProblem) {
+  const Model md = paper_model(4);
+  const SmallnessReport r = evaluate_smallness(md);
+  ASSERT_TRUE(r.computed);
+  Mat G = Mat::Identity(3, 3);
+  G(2, 2) = 0.5;
+  const Mat K = Mat(md.dofs.reduce(assemble_stiffness(md.mesh, G)));
+  const Index n = K.rows();
+  Mat M = Mat::Zero(n, n), Mn = Mat::Zero(n, n);
+  for (Index k = 0; k < md.contact.size(); ++k)
+    for (int c = 0; c < 2; ++c) {
+      const Index i = md.dofs.contact_dof(k, c);
+      M(i, i) = md.contact.w[k];
+      if (c == 0) Mn(i, i) = md.contact.w[k];
+    }
+  Eigen::GeneralizedSelfAdjointEigenSolver<Mat> e1(M, K), e2(Mn, K);
+  const double l1 = 1.0 / e1.eigenvalues().maxCoeff(), l2 = 1.0 / e2.eigenvalues().maxCoeff();
+  EXPECT_NEAR(r.lambda_1, l1, 1e-10 * l1);
+  EXPECT_NEAR(r.lambda_1nu, l2, 1e-10 * l2);
+  // Only normal components carry mass in the second: it can only be larger.
+  EXPECT_GE(r.lambda_1nu, r.lambda_1);
+}
+
+// P1 eigenvalues converge from above (Rayleigh quotients over nested spaces) with non-growing steps.
+// λ_{1ν,ν} = 1 exactly on the clamped unit square: along each vertical line u_y(x,0)² =
+// (∫ ∂_y u_y dy)² ≤ ∫ (∂_y u_y)² dy ≤ ∫ ε:ε dy, with equality for u = (0, y − 1), which P1 contains.
+TEST(Smallness, EigenvaluesConvergeUnderRefinement) {
+  std::vector<double> l1, l2;
+  for (int n : {4, 8, 16, 32}) {
+    const SmallnessReport r = evaluate_smallness(paper_model(n));
+    l1.push_back(r.lambda_1);
+    l2.push_back(r.lambda_1nu);
+  }
+  for (size_t i = 1; i < l1.size(); ++i) {
+    EXPECT_LE(l1[i], l1[i - 1] * (1 + 1e-12));
+    EXPECT_LE(l2[i], l2[i - 1] * (1 + 1e-12));
+  }
+  for (size_t i = 2; i < l1.size(); ++i) EXPECT_LT(l1[i - 1] - l1[i], l1[i - 2] - l1[i - 1]);
+  for (double l : l2) EXPECT_NEAR(l, 1.0, 1e-12);
+}
+
+// The paper's data satisfy (21): α = 100 (c2 = −100), L_Fb = μ·400 = 80, m_F = E/(1+κ).
+TEST(Smallness, PaperSceneIsUniqueSteepSofteningIsNot) {
+  const SmallnessReport r = evaluate_smallness(paper_model(16));
+  EXPECT_DOUBLE_EQ(r.alpha_j, 100.0);
+  EXPECT_DOUBLE_EQ(r.L_Fb, 0.2 * 400.0);
+  EXPECT_NEAR(r.m_F, 2000.0 / 1.4, 1e-9);
+  EXPECT_NEAR(r.lhs, 80.0 / r.lambda_1 + 100.0 / r.lambda_1nu, 1e-12 * r.lhs);
+  EXPECT_TRUE(r.holds);
+  // A layer whose resistance drops from 10 to 0 over 1e-4 past r1: α = 1e5 ≫ m_F λ_{1ν,ν}.
+  const SmallnessReport soft = evaluate_smallness(paper_model(
+      16, {"contact.normal_law={\"type\":\"table\",\"points\":[[0,0],[0.1,10],[0.1001,0]],\"slope_left\":0,\"slope_right\":0}",
+           "contact.friction={\"type\":\"none\"}"}));
+  EXPECT_NEAR(soft.alpha_j, 1e5, 1e-6);
+  EXPECT_EQ(soft.L_Fb, 0.0);
+  EXPECT_FALSE(soft.holds);
+}
