@@ -116,7 +116,7 @@ std::string choose_formulation(const Model& md, const SolveOptions& opt) {
   return md.material->is_linear() && md.contact.size() > 0 ? "condensed" : "full";
 }
 
-Formulation make_formulation(const Model& md, const SolveOptions& opt, Solution& sol) {
+Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<std::string, double>& timings) {
   Formulation F;
   F.name = choose_formulation(md, opt);
   const Index nc = md.contact.size();
@@ -127,9 +127,9 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, Solution&
   if (F.name == "condensed") {
     if (!md.material->is_linear()) throw Error("solver.formulation: 'condensed' needs a linear material");
     F.cond = std::make_unique<Condensation>(md.Kx, md.fx, d * nc);
-    sol.timings["condensation_analyze"] = F.cond->analyze_seconds();
-    sol.timings["condensation_factorize"] = F.cond->factorize_seconds();
-    sol.timings["condensation_schur"] = F.cond->schur_seconds();
+    timings["condensation_analyze"] = F.cond->analyze_seconds();
+    timings["condensation_factorize"] = F.cond->factorize_seconds();
+    timings["condensation_schur"] = F.cond->schur_seconds();
     F.energy = std::make_unique<TotalEnergy>(d * nc, dense_lower_pattern(d * nc));
     F.energy->add(std::make_shared<CondensedElasticEnergy>(F.cond->S(), F.cond->y_C(), F.cond->constant()));
     for (Index k = 0; k < nc; ++k) F.nd.first.push_back(d * k);
@@ -138,14 +138,14 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, Solution&
     SparseCholesky chol;
     chol.compute(md.Kx);
     F.z_free = chol.solve(md.fx);
-    sol.timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
+    timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
     auto elastic = std::make_shared<ElasticEnergy>(md.Kx);
     F.energy = std::make_unique<TotalEnergy>(md.dofs.n_free(), elastic->lower());
     F.energy->add(elastic);
     F.energy->add(std::make_shared<LoadEnergy>(md.fx));
     for (Index k = 0; k < nc; ++k) F.nd.first.push_back(md.dofs.contact_dof(k, 0));
   }
-  sol.timings["factorization_total"] = since(t0);
+  timings["factorization_total"] = since(t0);
   const Index n = F.energy->size();
   F.lower = Vec::Constant(n, -INF);
   F.upper = Vec::Constant(n, INF);
@@ -164,65 +164,71 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, Solution&
 
 }  // namespace
 
-Solution solve(const Model& md, const SolveOptions& opt) {
+struct ContactSolver::Impl {
+  const Model& md;
+  SolveOptions opt;
+  std::unique_ptr<NlpBackend> backend;
+  bool linear = false;                    // no contact law and no obstacle: one linear solve
+  Vec x_linear;                           // its answer
+  Formulation F;
+  SmallnessReport smallness;
+  std::map<std::string, double> setup_timings;
+  std::vector<std::string> skipped;
+  double U_s = 1, F_s = 1;
+  std::unique_ptr<ScaledObjective> scaled;
+  NlpProblem prob;
+  std::vector<std::pair<double, double>> schedule;  // (eps_tau, eps_nu), relative
+  Impl(const Model& m, const SolveOptions& o) : md(m), opt(o) {}
+};
+
+ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::make_unique<Impl>(md, opt)) {
   const auto t_start = clk::now();
-  Solution sol;
-  auto backend = make_backend(opt.backend);
-  sol.backend = backend->name();
-  const Index nc = md.contact.size();
-  const int d = md.dim();
+  Impl& I = *m;
+  I.backend = make_backend(opt.backend);
 
   // Nothing nonlinear and no obstacle: one sparse Cholesky solve is the answer (no backend at all).
   if (!md.normal_law && !md.friction && md.gap.is_infinite()) {
+    I.linear = true;
     SparseCholesky chol;
     chol.compute(md.Kx);
-    sol.x = chol.solve(md.fx);
-    sol.timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
-    sol.skipped.push_back("backend: linear elasticity, solved by one sparse Cholesky factorization");
-    sol.backend = "none (CHOLMOD linear solve)";
-    sol.u = md.dofs.to_full(sol.x);
-    evaluate_solution(md, opt, sol);
-    sol.timings["solve_total"] = since(t_start);
-    sol.message = sol.certificate.passed ? "linear solve; certificate passed" : "linear solve; certificate failed";
-    return sol;
+    I.x_linear = chol.solve(md.fx);
+    I.setup_timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
+    I.skipped.push_back("backend: linear elasticity, solved by one sparse Cholesky factorization");
+    I.setup_timings["setup_total"] = since(t_start);
+    return;
   }
 
   if (opt.smallness) {
-    sol.smallness = evaluate_smallness(md);
-    const SmallnessReport& r = sol.smallness;
+    I.smallness = evaluate_smallness(md);
+    const SmallnessReport& r = I.smallness;
     if (r.computed)
       log_info() << "smallness (21): L_Fb/lambda_1 + alpha_j/lambda_1nu = " << r.L_Fb << "/" << r.lambda_1 << " + "
                  << r.alpha_j << "/" << r.lambda_1nu << " = " << r.lhs << (r.holds ? " < " : " >= ") << "m_F = " << r.m_F
                  << ": uniqueness guaranteed: " << (r.holds ? "yes" : "no");
   }
 
-  Formulation F = make_formulation(md, opt, sol);
-  sol.formulation = F.name;
+  I.F = make_formulation(md, opt, I.setup_timings);
+  Formulation& F = I.F;
   log_info() << "formulation " << F.name << ": " << F.energy->size() << " unknowns ("
-             << sol.timings["factorization_total"] << " s to factor"
+             << I.setup_timings["factorization_total"] << " s to factor"
              << (F.cond ? " and condense" : "") << ")";
-  if (!md.normal_law) sol.skipped.push_back("normal_compliance: no soft layer (contact.normal_law.type = none)");
-  if (!md.friction) sol.skipped.push_back("friction: frictionless (contact.friction.type = none)");
-  const bool lagged = md.friction && md.friction->depends_on_u_nu();
-  if (md.friction && !lagged) sol.skipped.push_back("fixed_point: F_b does not depend on u_nu");
-  if (!md.friction) sol.skipped.push_back("fixed_point: no friction");
-  if (md.gap.is_infinite()) sol.skipped.push_back("bounds: no rigid obstacle (g = inf)");
+  if (!md.normal_law) I.skipped.push_back("normal_compliance: no soft layer (contact.normal_law.type = none)");
+  if (!md.friction) I.skipped.push_back("friction: frictionless (contact.friction.type = none)");
+  if (md.friction && !md.friction->depends_on_u_nu()) I.skipped.push_back("fixed_point: F_b does not depend on u_nu");
+  if (!md.friction) I.skipped.push_back("fixed_point: no friction");
+  if (md.gap.is_infinite()) I.skipped.push_back("bounds: no rigid obstacle (g = inf)");
 
   // Scales from the unconstrained elastic solution: U_s sets the smoothing widths and, with
   // F_s = ‖f‖∞, nondimensionalizes the NLP so that tolerances mean the same for the printed
   // (u ~ 1e-7) and the scaled (u ~ 1e-1) scene.
-  const double U_s = F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0 ? F.z_free.cwiseAbs().maxCoeff() : 1.0;
-  const double F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
-  sol.x_scale = U_s;
-  sol.f_scale = F_s * U_s;
-  NlpProblem prob;
-  ScaledObjective scaled(*F.energy, U_s, sol.f_scale);
-  prob.f = &scaled;
-  prob.lower = F.lower / U_s;
-  prob.upper = F.upper / U_s;
+  I.U_s = F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0 ? F.z_free.cwiseAbs().maxCoeff() : 1.0;
+  I.F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
+  I.scaled = std::make_unique<ScaledObjective>(*F.energy, I.U_s, I.F_s * I.U_s);
+  I.prob.f = I.scaled.get();
+  I.prob.lower = F.lower / I.U_s;
+  I.prob.upper = F.upper / I.U_s;
 
   // Continuation schedule: ε_s = max(ε_final, ε_start·factor^s), until both widths are final.
-  std::vector<std::pair<double, double>> schedule;  // (eps_tau, eps_nu), relative
   if (md.normal_law || md.friction) {
     // A width within 1e-9 (relative) of the final one counts as final: 1e-2·(1e-2)⁴ is not 1e-10
     // in floating point, and a stage that repeats the final width would only cost time.
@@ -230,15 +236,82 @@ Solution solve(const Model& md, const SolveOptions& opt) {
     for (double e = opt.eps_start;; e *= opt.eps_factor) {
       const double et = at_final(e, opt.eps_tau) ? opt.eps_tau : e;
       const double en = at_final(e, opt.eps_nu) ? opt.eps_nu : e;
-      schedule.emplace_back(et, en);
+      I.schedule.emplace_back(et, en);
       if (et == opt.eps_tau && en == opt.eps_nu) break;
     }
   } else {
-    schedule.emplace_back(0.0, 0.0);
-    sol.skipped.push_back("continuation: nothing is smoothed");
+    I.schedule.emplace_back(0.0, 0.0);
+    I.skipped.push_back("continuation: nothing is smoothed");
   }
+  I.setup_timings["setup_total"] = since(t_start);
+}
 
-  Vec zs = Vec::Zero(F.energy->size());  // scaled unknowns
+ContactSolver::~ContactSolver() = default;
+
+Index ContactSolver::size() const { return m->linear ? m->md.dofs.n_free() : m->F.energy->size(); }
+
+const std::string& ContactSolver::formulation() const { return m->F.name; }
+
+Vec ContactSolver::to_unknowns(const Vec& x) const {
+  if (m->linear || !m->F.cond) return x;
+  return x.tail(m->F.cond->m());
+}
+
+const NlpObjective& ContactSolver::energy() const { return *m->F.energy; }
+
+const NodalDofs& ContactSolver::contact_dofs() const { return m->F.nd; }
+
+const Vec& ContactSolver::upper_bounds() const { return m->F.upper; }
+
+void ContactSolver::set_eps(double eps_tau, double eps_nu) {
+  Impl& I = *m;
+  if (I.F.normal) I.F.normal->set_law(std::make_shared<MollifiedLaw>(I.md.normal_law, eps_nu * I.U_s, "solver.eps_nu"));
+  if (I.F.friction) I.F.friction->set_eps(eps_tau * I.U_s);
+}
+
+void ContactSolver::freeze_friction(const Vec& z) {
+  Impl& I = *m;
+  if (!I.F.friction) return;
+  Vec l(I.md.contact.size());
+  for (Index k = 0; k < I.md.contact.size(); ++k) l[k] = I.md.friction->F(z[I.F.nd.first[k]]);
+  I.F.friction->set_lambda(l);
+}
+
+Solution ContactSolver::solve(const Vec* z0) {
+  const auto t_start = clk::now();
+  Impl& I = *m;
+  const Model& md = I.md;
+  const SolveOptions& opt = I.opt;
+  Solution sol;
+  sol.backend = I.backend->name();
+  sol.skipped = I.skipped;
+  sol.smallness = I.smallness;
+  sol.timings = I.setup_timings;
+  if (I.linear) {
+    sol.backend = "none (CHOLMOD linear solve)";
+    sol.x = I.x_linear;
+    sol.u = md.dofs.to_full(sol.x);
+    evaluate_solution(md, opt, sol);
+    sol.timings["solve_total"] = since(t_start) + I.setup_timings["setup_total"];
+    sol.message = sol.certificate.passed ? "linear solve; certificate passed" : "linear solve; certificate failed";
+    return sol;
+  }
+  Formulation& F = I.F;
+  NlpBackend* backend = I.backend.get();
+  const NlpProblem& prob = I.prob;
+  const ScaledObjective& scaled = *I.scaled;
+  const auto& schedule = I.schedule;
+  const double U_s = I.U_s;
+  const Index nc = md.contact.size();
+  const int d = md.dim();
+  sol.formulation = F.name;
+  sol.x_scale = U_s;
+  sol.f_scale = I.F_s * U_s;
+  const bool lagged = md.friction && md.friction->depends_on_u_nu();
+
+  Vec zs = z0 ? Vec(*z0 / U_s) : Vec::Zero(F.energy->size());  // scaled unknowns
+  if (zs.size() != F.energy->size()) throw Error("solve: start vector of the wrong size", EXIT_INTERNAL);
+  zs = zs.cwiseMax(prob.lower).cwiseMin(prob.upper);
   const auto gamma3 = [&](const Vec& z) {
     Vec c(nc * d);
     for (Index k = 0; k < nc; ++k) c.segment(d * k, d) = z.segment(F.nd.first[k], d);
@@ -258,6 +331,7 @@ Solution solve(const Model& md, const SolveOptions& opt) {
     const auto [et, en] = schedule[stage];
     if (F.normal) F.normal->set_law(std::make_shared<MollifiedLaw>(md.normal_law, en * U_s, "solver.eps_nu"));
     if (F.friction) F.friction->set_eps(et * U_s);
+    if (stage == 0) sol.start_energy = F.energy->value(U_s * zs);
     const bool final_stage = stage + 1 == schedule.size();
     double prev_change = INF;
     int slow = 0;
@@ -332,13 +406,18 @@ Solution solve(const Model& md, const SolveOptions& opt) {
   double nlp = 0;
   for (const auto& h : sol.history) nlp += h.backend.seconds;
   sol.timings["backend"] = nlp;
-  sol.timings["solve_total"] = since(t_start);
+  sol.timings["solve_total"] = since(t_start) + I.setup_timings["setup_total"];
   if (sol.message.empty())
     sol.message = sol.certificate.passed ? "converged; certificate passed"
                                          : "converged, but the certificate failed (max residual " +
                                                std::to_string(sol.certificate.max_residual) + ")";
   if (!sol.fixed_point_converged) log_warn() << sol.message;
   return sol;
+}
+
+Solution solve(const Model& md, const SolveOptions& opt) {
+  ContactSolver solver(md, opt);
+  return solver.solve();
 }
 
 }  // namespace hemicontact

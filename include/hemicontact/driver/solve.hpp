@@ -28,6 +28,7 @@ struct PolishResult {
 }  // namespace hemicontact
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -87,10 +88,48 @@ struct Solution {
   std::string formulation;           ///< "full" or "condensed" (empty for a linear solve)
   PolishResult polish;               ///< what the exact polish did
   SmallnessReport smallness;         ///< the smallness condition (21)
+  double start_energy = 0;           ///< smoothed energy at the start (first ε, λ frozen there)
   double x_scale = 1, f_scale = 1;   ///< the nondimensionalization used
   std::map<std::string, double> timings;  ///< seconds
   /// @return status counts keyed separated, compliance, contact, stick, slip+, slip- (and slip in 3D).
   std::map<std::string, int> status_counts() const;
+};
+
+struct NodalDofs;
+
+/// The solver, set up once per model (backend, formulation: factorization and condensation,
+/// smallness condition, continuation schedule) and run from any number of starting points —
+/// the factorization is reused across outer iterations, ε-steps and starts.
+class ContactSolver {
+ public:
+  /// @throws Error for bad options (unknown backend, condensed formulation with a nonlinear material).
+  ContactSolver(const Model& model, const SolveOptions& options);
+  ~ContactSolver();
+  ContactSolver(const ContactSolver&) = delete;
+  ContactSolver& operator=(const ContactSolver&) = delete;
+  /// Solve from @p z0 (solver unknowns; nullptr: zero), projected onto the bounds first.
+  Solution solve(const Vec* z0 = nullptr);
+  /// @return the number of solver unknowns (condensed: d per Γ3 node; full: all free dofs).
+  Index size() const;
+  /// @return "condensed", "full", or empty for a linear solve.
+  const std::string& formulation() const;
+  /// @return the solver unknowns of a reduced vector x (its Γ3 tail when condensed).
+  Vec to_unknowns(const Vec& x) const;
+  /// @return the smoothed energy Π_λ,ε in solver unknowns (unscaled); its λ and ε are whatever the
+  /// last solve or set_eps()/freeze_friction() left.
+  const NlpObjective& energy() const;
+  /// @return where each Γ3 node's (ν, τ) unknowns are in the solver unknowns.
+  const NodalDofs& contact_dofs() const;
+  /// @return the upper bounds (g_i on the ν unknowns, +inf elsewhere).
+  const Vec& upper_bounds() const;
+  /// Set the smoothing widths (relative to the displacement scale) of energy().
+  void set_eps(double eps_tau, double eps_nu);
+  /// Freeze λ_i = F_b(u_ν,i) at solver unknowns @p z in energy().
+  void freeze_friction(const Vec& z);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m;
 };
 
 /// Solve the model. Never throws for non-convergence: the verdict is in the Solution.
