@@ -393,7 +393,8 @@ Solution ContactSolver::solve(const Vec* z0) {
   }
 
   Vec z = U_s * zs;
-  if (F.cond && opt.polish && sol.backend_ok && sol.fixed_point_converged) {
+  // Polished even after a backend failure: the certificate, not the backend's word, decides.
+  if (F.cond && opt.polish && sol.fixed_point_converged) {
     const auto t1 = clk::now();
     sol.polish = polish_condensed(md, *F.cond, opt, z);
     sol.timings["polish"] = since(t1);
@@ -412,6 +413,9 @@ Solution ContactSolver::solve(const Vec* z0) {
   for (const auto& h : sol.history) nlp += h.backend.seconds;
   sol.timings["backend"] = nlp;
   sol.timings["solve_total"] = since(t_start) + I.setup_timings["setup_total"];
+  if (!sol.backend_ok && sol.certificate.passed)
+    sol.message += "; the certificate passed all the same (max residual " +
+                   std::to_string(sol.certificate.max_residual) + "), so the answer is accepted";
   if (sol.message.empty())
     sol.message = sol.certificate.passed ? "converged; certificate passed"
                                          : "converged, but the certificate failed (max residual " +

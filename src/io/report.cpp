@@ -43,7 +43,7 @@ std::map<std::string, double> merged_timings(const Model& md, const Solution& so
 }
 
 bool report_ok(const Solution& sol) {
-  return sol.backend_ok && sol.fixed_point_converged && sol.certificate.passed;
+  return sol.ok();
 }
 
 // "  " + words joined by ", ", wrapped before @p width columns; continuation lines indented.

@@ -11,6 +11,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace hemicontact {
 
@@ -21,14 +22,25 @@ namespace hemicontact {
 std::unique_ptr<NlpBackend> make_ipopt_backend();
 #endif
 
-// [newton] Declared here by the Newton backend work (always compiled: it needs only CHOLMOD):
-//   /// @brief Create the projected/active-set Newton backend (src/nlp/newton_backend.cpp).
-//   std::unique_ptr<NlpBackend> make_newton_backend();
+/// @brief Create the projected Newton / active-set backend (src/nlp/newton_backend.cpp); always
+///        compiled, it needs only CHOLMOD.
+/// @return a backend named "newton"; it keeps CHOLMOD's symbolic analysis while the Hessian
+///         pattern is unchanged, so reuse one object across a continuation.
+std::unique_ptr<NlpBackend> make_newton_backend();
 
-// [nlopt:ALGO] Declared here by the NLopt backend work:
-//   #if HEMICONTACT_HAS_NLOPT
-//   /// @brief Create an NLopt backend; @param algorithm the part after "nlopt:", e.g. "LD_LBFGS".
-//   std::unique_ptr<NlpBackend> make_nlopt_backend(const std::string& algorithm);
-//   #endif
+#if HEMICONTACT_HAS_NLOPT
+/// One NLopt algorithm offered as the backend "nlopt:<name>" (src/nlp/nlopt_backend.cpp).
+struct NloptAlgorithmInfo {
+  const char* backend_name;  ///< "nlopt:" + NLopt's name without NLOPT_, e.g. "nlopt:LD_LBFGS"
+  const char* description;   ///< one line: local/global, bound handling, cost notes
+};
+/// @return every supported NLopt algorithm, in the order `hemicontact backends` lists them.
+const std::vector<NloptAlgorithmInfo>& nlopt_backend_catalog();
+/// @brief Create an NLopt backend (src/nlp/nlopt_backend.cpp).
+/// @param algorithm the part after "nlopt:": a name from nlopt_backend_catalog(), or
+///        "G_MLSL_LDS+LD_MMA" (a global search with its local algorithm).
+/// @throws Error naming the algorithm if it is unknown or refused (no gradient, no bounds, ...).
+std::unique_ptr<NlpBackend> make_nlopt_backend(const std::string& algorithm);
+#endif
 
 }  // namespace hemicontact

@@ -41,10 +41,11 @@ struct Entry {
 std::vector<Entry> registry() {
   std::vector<Entry> r;
 
-  // [newton] The Newton backend work adds its entry here, first, since it is the default:
-  //   r.push_back({"newton", "newton",
-  //                "projected Newton / active set with CHOLMOD (exact Hessian, PSD-clamped)", "",
-  //                [](const std::string&) { return make_newton_backend(); }});
+  // Always compiled (needs only CHOLMOD).
+  r.push_back({"newton", "newton",
+               "projected Newton with active set, CHOLMOD (sparse) / dense Cholesky (condensed); "
+               "exact Hessian if positive definite, else Psd::CLAMP",
+               "", [](const std::string&) { return make_newton_backend(); }});
 
 #if HEMICONTACT_HAS_IPOPT
   const Factory ipopt = [](const std::string&) { return make_ipopt_backend(); };
@@ -55,15 +56,20 @@ std::vector<Entry> registry() {
                "Ipopt interior point, exact Hessian, bound multipliers kept for warm starts",
                "install coinor-libipopt-dev and rebuild", ipopt});
 
-  // [nlopt:ALGO] The NLopt backend work adds its family entry here:
-  //   #if HEMICONTACT_HAS_NLOPT
-  //   const Factory nlopt = [](const std::string& n) { return make_nlopt_backend(n.substr(6)); };
-  //   #else
-  //   const Factory nlopt = nullptr;
-  //   #endif
-  //   r.push_back({"nlopt:", "nlopt:ALGO",
-  //                "NLopt gradient algorithm ALGO with bounds (e.g. nlopt:LD_LBFGS, nlopt:LD_MMA)",
-  //                "install libnlopt-cxx-dev and rebuild", nlopt});
+  // NLopt: one entry (and one line in `hemicontact backends`) per supported algorithm, then the
+  // family, which takes "G_MLSL_LDS+LOCAL" and turns an unknown or refused algorithm into an
+  // Error that says why.
+#if HEMICONTACT_HAS_NLOPT
+  const Factory nlopt = [](const std::string& n) { return make_nlopt_backend(n.substr(6)); };
+  for (const NloptAlgorithmInfo& a : nlopt_backend_catalog())
+    r.push_back({a.backend_name, a.backend_name, a.description, "", nlopt});
+#else
+  const Factory nlopt = nullptr;
+#endif
+  r.push_back({"nlopt:", "nlopt:G_MLSL_LDS+LOCAL",
+               "NLopt MLSL global search with the local algorithm LOCAL named, e.g. "
+               "nlopt:G_MLSL_LDS+LD_MMA (also G_MLSL+LOCAL)",
+               "install libnlopt-cxx-dev and rebuild", nlopt});
 
   return r;
 }

@@ -91,6 +91,9 @@ struct Solution {
   double start_energy = 0;           ///< smoothed energy at the start (first ε, λ frozen there)
   double x_scale = 1, f_scale = 1;   ///< the nondimensionalization used
   std::map<std::string, double> timings;  ///< seconds
+  /// @return true when the answer is accepted: the outer fixed point converged and the certificate
+  /// passed. A backend's own failure status does not decide (issue: "the certificate decides").
+  bool ok() const { return fixed_point_converged && certificate.passed; }
   /// @return status counts keyed separated, compliance, contact, stick, slip+, slip- (and slip in 3D).
   std::map<std::string, int> status_counts() const;
 };
