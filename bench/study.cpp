@@ -417,10 +417,12 @@ Result run_case(const StudyOptions& o, const Case& c, const std::string& runs) {
   } else {
     r.message = r.stats.value("message", "");
     const double cert = r.stats["cert_max_residual"].is_number() ? r.stats["cert_max_residual"].get<double>() : NaN;
-    if (!r.stats.value("backend_ok", false)) r.status = "backend_failed";
-    else if (!r.stats.value("fixed_point_converged", false)) r.status = "not_converged";
-    else if (!(cert <= o.cert_tol)) r.status = "uncertified";
-    else r.status = "ok";
+    // The certificate decides (as in the CLI): a backend that reported failure but whose polished
+    // answer is certified is "ok (backend failed)"; an uncertified one keeps the backend's verdict.
+    const bool certified = cert <= o.cert_tol, backend_ok = r.stats.value("backend_ok", false);
+    if (!r.stats.value("fixed_point_converged", false)) r.status = "not_converged";
+    else if (!certified) r.status = backend_ok ? "uncertified" : "backend_failed";
+    else r.status = backend_ok ? "ok" : "ok(backend_failed)";
   }
   return r;
 }

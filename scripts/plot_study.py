@@ -23,7 +23,7 @@ import os
 import sys
 from collections import defaultdict
 
-SOLVED = {"ok", "uncertified", "not_converged"}
+SOLVED = {"ok", "ok(backend_failed)", "uncertified", "not_converged"}
 LINESTYLES = ["-", "--", ":", "-."]
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*", "<", ">", "h", "p"]
 
@@ -76,7 +76,7 @@ def plot_work_precision(plt, rows, scene, out_dir):
         ax.plot([number(r["solve_s"]) for r in rs], [number(r["rel_error"]) for r in rs], linestyle=style,
                 color=color, label=label)
         for r in rs:
-            certified = r["status"] == "ok"
+            certified = r["status"] in ("ok", "ok(backend_failed)")
             ax.plot(number(r["solve_s"]), number(r["rel_error"]), marker[int(r["level"])], color=color,
                     markerfacecolor=color if certified else "none", markersize=7)
     # Legend entries for the levels (marker shapes, grey).

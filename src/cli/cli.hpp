@@ -31,5 +31,16 @@ std::string usage();
 std::string version();
 int cmd_solve(const std::vector<std::string>& args);
 int cmd_backends(const std::vector<std::string>& args);
+/// `converge SCENE --levels L1,L2,... --reference R`: mesh-convergence study (src/cli/converge.cpp).
+int cmd_converge(const std::vector<std::string>& args);
+/// `minima SCENE [--starts N] [--seed S] [--backends a,b]`: distinct solutions from many starts (src/cli/minima.cpp).
+int cmd_minima(const std::vector<std::string>& args);
+
+/// @brief Run scripts/@p script with /usr/bin/python3 (or $HEMICONTACT_PYTHON) and @p args
+/// (src/cli/plot.cpp). The script is looked up in $HEMICONTACT_SCRIPTS, else in the scripts/
+/// directory of the first parent of the running executable that has one.
+/// @return the script's exit code (0: picture written); non-zero after a message on stderr when
+///         python3, the script or matplotlib is missing
+int run_plot_script(const std::string& script, const std::vector<std::string>& args);
 
 }  // namespace hemicontact::cli

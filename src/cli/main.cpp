@@ -5,6 +5,9 @@
 //   hemicontact solve problems/sofonea2017-fig2.json --out out/fig2
 //   hemicontact solve problems/sofonea2017-printed.json --set mesh.n=256 --out out/printed256
 //   hemicontact solve problems/sofonea2017-fig2.json --backend ipopt --set solver.tol=1e-12
+//   hemicontact solve problems/sofonea2017-fig2.json --out out/fig2 --plot     (+ out/fig2/fig2.png)
+//   hemicontact converge problems/sofonea2017-fig2.json --levels 4,8,...,64 --reference 128 --plot
+//   hemicontact minima problems/minima-softening.json --starts 16 --seed 3
 //   hemicontact backends
 //
 // The problem (paper eqs. (1)-(6)): find u with σ = F(ε(u)), Div σ + f0 = 0 in Ω, u = 0 on Γ1,
@@ -32,6 +35,8 @@ int main(int argc, char** argv) {
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (cmd == "solve") return cli::cmd_solve(rest);
     if (cmd == "backends") return cli::cmd_backends(rest);
+    if (cmd == "converge") return cli::cmd_converge(rest);
+    if (cmd == "minima") return cli::cmd_minima(rest);
     if (cmd == "--version") {
       std::puts(cli::version().c_str());
       return EXIT_OK;

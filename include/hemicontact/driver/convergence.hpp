@@ -1,0 +1,107 @@
+#pragma once
+/// @file convergence.hpp  Mesh-convergence study of a scene (paper §5, Fig. 3; MODEL.md §5).
+///
+/// The scene is solved on uniform meshes n = L for each level L and on a reference mesh n = R,
+/// every level by overriding `mesh.n` (so nx = ny = L). With u_ref the reference solution and P the
+/// P1 prolongation onto the reference mesh (fem/prolongation.hpp), each level's error is
+///   e_L = ‖u_ref − P u_L‖_E / ‖u_ref‖_E,   ‖v‖_E² = vᵀ K_R v = a(v, v),
+/// the energy norm of the *reference* mesh's stiffness K_R. When every level divides R the
+/// meshes are nested (for the right/left/crossed splits, and for symmetric ones with even n), P
+/// is the exact embedding V_L ⊂ V_R and e_L is the true error of u_L measured in V_R. Between
+/// consecutive levels the observed order is
+///   p_i = log(e_{i−1}/e_i) / log(h_{i−1}/h_i),
+/// which the paper's Theorem (optimal order, eq. (31)) predicts to be ≈ 1 for a regular solution.
+///
+/// Typical use (the `converge` command):
+/// @code
+///   const nlohmann::json scene = load_scene("problems/sofonea2017-fig2.json");
+///   const ConvergenceStudy st = run_convergence(scene, "problems", {4, 8, 16, 32, 64}, 128);
+///   write_convergence_csv("out/conv/convergence.csv", st);
+///   std::fputs(convergence_table(st).c_str(), stdout);
+/// @endcode
+
+#include <hemicontact/core/types.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace hemicontact {
+
+/// One mesh of a convergence study (a level or the reference).
+struct ConvergenceLevel {
+  int n = 0;                  ///< cells per side (mesh.n)
+  double h = 0;               ///< the paper's h: longest side of the rectangle / n (1/n on the unit square)
+  double h_max = 0;           ///< longest edge of the mesh (√2·h for the right/left splits)
+  Index dofs = 0;             ///< free unknowns
+  double energy_norm = 0;     ///< ‖u_L‖_E = sqrt(a(u_L, u_L)) on the level's own mesh
+  double error = 0;           ///< ‖u_ref − P u_L‖_E / ‖u_ref‖_E (0 for the reference)
+  double order = 0;           ///< observed order against the previous level; NaN for the first
+  double seconds = 0;         ///< wall time of solve() (model assembly excluded)
+  std::map<std::string, int> status_counts;  ///< Solution::status_counts()
+  double certificate_residual = 0;  ///< certificate max residual
+  bool converged = false;     ///< backend and outer fixed point converged
+  bool certified = false;     ///< certificate passed
+  bool ok = false;            ///< converged && certified
+  bool nested = true;         ///< P is the exact embedding of V_L into V_ref (checked numerically)
+  std::string message;        ///< the solve's verdict
+};
+
+/// The result of run_convergence().
+struct ConvergenceStudy {
+  ConvergenceLevel reference;          ///< the reference mesh (error 0, order NaN)
+  std::vector<ConvergenceLevel> levels;  ///< the levels, coarse to fine
+  std::string backend;                 ///< NLP backend used
+  nlohmann::json scene;                ///< the effective scene of the reference solve
+
+  /// @return true when the reference and every level converged and were certified.
+  bool ok() const;
+  /// @return the n of every mesh (reference included) that failed, e.g. {8, 128}.
+  std::vector<int> failed() const;
+};
+
+/// @brief Parse a list of levels: "4,8,16" or "4,8,...,128" ("..." continues the integer ratio of
+/// the two preceding levels up to the level after it). The result is sorted and without repeats.
+/// @param text the list @return the levels
+/// @throws Error (EXIT_USAGE) naming the bad entry: not a positive integer, or a "..." without two
+///         increasing levels with an integer ratio before it and one level after it
+std::vector<int> parse_levels(const std::string& text);
+
+/// @brief Solve @p scene on the reference mesh n = @p reference, then on each level n = L, and
+/// measure the errors against the reference (file comment). A level equal to the reference
+/// reuses the reference solution (its error is then 0 up to round-off).
+///
+/// Non-convergence of a solve does not throw: it is recorded in the level's flags (the errors
+/// are still computed) and ConvergenceStudy::ok() is false.
+/// @param scene      effective scene (load_scene()); its mesh.n / nx / ny are overridden
+/// @param scene_dir  directory that relative paths of the scene are taken from
+/// @param levels     mesh levels (any order; sorted ascending, repeats dropped)
+/// @param reference  the reference level R
+/// @return the study, levels coarse to fine
+/// @throws Error (EXIT_INPUT) if there is no level, a level or R is < 1, some levels do not divide
+///         R (all of them are named), or the scene's mesh is not a generated rectangle
+ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string& scene_dir, std::vector<int> levels,
+                                 int reference);
+
+/// @brief The study as JSON: {"reference": level, "levels": [level...], "backend", "ok", "failed",
+/// "scene"} with each level {n, h, h_max, dofs, energy_norm, error, order, seconds, status_counts,
+/// certificate_max_residual, converged, certified, ok, nested, message}; NaN orders are null.
+/// @param study the study @return the JSON object
+nlohmann::json convergence_json(const ConvergenceStudy& study);
+
+/// @brief Write one CSV row per level (the reference is not a row), header
+/// @code
+///   n,h,h_max,dofs,energy_norm,error,order,seconds,separated,compliance,contact,stick,slip+,slip-,slip,certificate_max_residual,converged,certified,ok
+/// @endcode
+/// Numbers are written in full precision; the first level's order is empty; booleans are 0/1.
+/// @param path the file to write (its directory must exist) @param study the study
+/// @throws Error (EXIT_INPUT) if the file cannot be written
+void write_convergence_csv(const std::string& path, const ConvergenceStudy& study);
+
+/// @brief A fixed-width table for stdout: one line per level, then the reference and a verdict.
+/// @param study the study @return several lines, each ending in '\n'
+std::string convergence_table(const ConvergenceStudy& study);
+
+}  // namespace hemicontact

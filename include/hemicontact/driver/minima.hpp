@@ -1,0 +1,175 @@
+#pragma once
+/// @file minima.hpp  Many starts, many solutions: a search for the distinct solutions of (22) when
+/// the smallness condition (21) fails (`hemicontact minima`).
+///
+/// When (21) fails, Π_λ(u) = ½a(u,u) − f(u) + Σ w_i j_ν(u_ν,i) + Σ w_i λ_i |u_τ,i| (MODEL.md §2) is
+/// nonconvex and (22) may have several solutions: local minima and saddles. A local method (every
+/// NLP backend here) finds the one whose basin holds its start. find_minima() therefore
+///
+///  1. solves from many starting points, each backend with one ContactSolver reused for all its
+///     starts (one factorization/condensation per backend):
+///     - "zero": u = 0;
+///     - "at-gap": every Γ3 ν unknown at g_i (at +U_s where g_i = ∞), τ = 0;
+///     - "separated": every ν at −U_s, τ = 0;
+///     - "random-k": every Γ3 unknown uniform in a box (ν ∈ [−B, min(B, g_i)], τ ∈ [−B, B],
+///       B = MinimaOptions::box · U_s), interior unknowns 0; std::mt19937 seeded with
+///       MinimaOptions::seed, so the same seed gives the same starts;
+///     - "load-up": a load path, loads × 1/N, 2/N, …, 1 (N = load_path_steps), each solve
+///       warm-started from the previous one; "load-down": continued to × 2 and back down to × 1
+///       in steps of 1/N (the hysteresis branch a softening layer leaves behind);
+///     - "user-k": what the caller gives (MinimaOptions::user_starts);
+///     where U_s = the solver's displacement scale (max |Γ3 unknown| of the unconstrained elastic
+///     solution, Solution::x_scale);
+///  2. verifies each result with the certificate (MODEL.md §4), the only judge: a result that
+///     passes it is a solution of (22) even if its backend stopped short of its own tolerance
+///     (MinimaRun::converged records that); uncertified results are listed but not grouped;
+///  3. groups the certified results into distinct solutions: a result joins the first group whose
+///     representative is within group_tol · max_k ‖u_k‖_E of it in the energy norm
+///     ‖v‖_E = sqrt(a(v, v));
+///  4. classifies each distinct solution by a second-order check of the smoothed energy on the
+///     free subspace (see SecondOrderCheck), and sorts them by energy.
+///
+/// Load path: the loads are scaled on a copy of the model (f and its reduced f_x multiplied by
+/// the factor). That is exact — u = 0 on Γ1, so f enters the discrete problem only through f and
+/// f_x — and needs neither the scene's directory nor a new mesh or stiffness.
+
+#include <hemicontact/driver/solve.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace hemicontact {
+
+/// What find_minima() does; defaults are the ones `hemicontact minima` documents.
+struct MinimaOptions {
+  int starts = 8;                     ///< random starts per backend (≥ 0)
+  unsigned seed = 1;                  ///< seed of the random starts (std::mt19937)
+  std::vector<std::string> backends;  ///< backends to use; empty: the scene's (SolveOptions::backend)
+  double group_tol = 1e-6;            ///< relative energy-norm distance under which two results are one solution
+  double box = 1.0;                   ///< random box half-width B in units of U_s
+  int load_path_steps = 10;           ///< N: load-path step 1/N; 0: no load path
+  /// Caller's starts. Each is a full displacement u (size N·d, i.e. md.dofs.n_full()), or the
+  /// Γ3 unknowns (u_ν, u_τ[, u_τ2]) node after node (size d·n_Γ3, ContactNodes order), or
+  /// the solver unknowns (size ContactSolver::size(), full formulation). Checked in that order.
+  std::vector<Vec> user_starts;
+  /// Second-order check: λ_min ≥ −second_order_tol · scale counts as a local minimum (see
+  /// SecondOrderCheck::scale).
+  double second_order_tol = 1e-8;
+  /// Largest number of kept unknowns for which the dense Hessian is formed (full formulation);
+  /// beyond it the check is skipped ("unchecked"). The condensed Hessian is dense anyway.
+  Index max_dense = 4000;
+};
+
+/// Second-order check of a certified solution.
+///
+/// At the solution's solver unknowns z: the final smoothing widths are set (set_eps), the friction
+/// bounds are frozen at z (freeze_friction: λ_i = F_b(u_ν,i), the lagged problem's energy), and the
+/// true Hessian H = ∇²Π_λ,ε(z) (Psd::NONE) is formed densely. Removed from it are
+///  - ν unknowns at the bound u_ν = g (contact): with a positive rigid reaction the critical cone
+///    has d_ν = 0 there; at a degenerate contact (zero reaction) removing them makes the test a
+///    necessary condition only (counted in `degenerate`);
+///  - τ unknowns of stick nodes with λ_i > 0: the exact |u_τ| has a kink there, and the smoothed
+///    curvature 2w_iλ_i/ε_τ (smooth_norm.hpp) is an artefact of ε — huge and positive, it would
+///    only inflate the scale. Strictly inside the cone (|σ_τ| < λ) the kink makes the energy grow
+///    at first order in d_τ, so d_τ = 0 in the critical cone.
+/// The smallest eigenvalue of what remains decides: λ_min ≥ −tol·scale → "local minimum", else
+/// "saddle". Off the law's ε-windows the smoothed Hessian is the exact one (MollifiedLaw is exact
+/// there); a node sitting on a downward jump of p_ν sees the mollified slope ≈ 3J/(4ε) < 0 — a
+/// saddle, as it should be (j_ν has a concave kink there). With the full formulation the
+/// interior unknowns are kept: by Sylvester's law the inertia is that of the condensed Hessian,
+/// so the verdict is the same (the value of λ_min is not).
+struct SecondOrderCheck {
+  std::string verdict = "unchecked";  ///< "local minimum", "saddle" or "unchecked"
+  double lambda_min = 0;              ///< smallest eigenvalue of the reduced Hessian (energy/length²)
+  double scale = 0;                   ///< max_i (K_x)_ii: the largest diagonal stiffness
+  Index kept = 0;                     ///< unknowns in the free subspace
+  Index removed_contact = 0;          ///< ν unknowns removed at u_ν = g
+  Index removed_stick = 0;            ///< τ unknowns removed at stick nodes (λ > 0)
+  Index degenerate = 0;               ///< of removed_contact: zero rigid reaction (weakly active)
+  std::string note;                   ///< why "unchecked", or other remarks
+};
+
+/// One run: a start, a backend, and what it gave.
+struct MinimaRun {
+  std::string start;        ///< "zero", "at-gap", "separated", "random-3", "load-up", "load-down", "user-1"
+  std::string backend;      ///< backend name
+  bool converged = false;   ///< backend_ok && fixed_point_converged
+  bool certified = false;   ///< certificate passed (whatever the backend said: the certificate is the judge)
+  double energy = 0;        ///< Π (unsmoothed) of the result
+  double certificate = 0;   ///< certificate max residual
+  double seconds = 0;       ///< wall time of this run (including its load path)
+  int group = -1;           ///< index into MinimaReport::solutions, −1 if not certified
+  std::string message;      ///< the solve's verdict
+};
+
+/// One distinct solution.
+struct DistinctSolution {
+  Solution solution;                      ///< representative: the member with the smallest certificate residual
+  SecondOrderCheck second_order;          ///< local minimum or saddle
+  std::vector<int> runs;                  ///< indices into MinimaReport::runs that reached it
+  std::vector<std::string> starts;        ///< their start labels (in run order)
+  std::map<std::string, int> backends;    ///< backend → how many of its starts reached it
+  double spread = 0;                      ///< max relative energy-norm distance of a member to the representative
+};
+
+/// Everything find_minima() found.
+struct MinimaReport {
+  std::vector<DistinctSolution> solutions;  ///< sorted by energy, lowest first
+  std::vector<MinimaRun> runs;              ///< every start, in the order run
+  SmallnessReport smallness;                ///< (21) of the scene (at load factor 1)
+  double x_scale = 1;                       ///< U_s
+  double norm_scale = 0;                    ///< max ‖u‖_E over certified results (group_tol is relative to it)
+  MinimaOptions options;                    ///< what was asked (backends filled in)
+  double seconds = 0;                       ///< total wall time
+  /// @return the number of distinct solutions judged local minima.
+  int local_minima() const;
+  /// @return the number of runs whose result was certified.
+  int certified_runs() const;
+};
+
+/// Solve from many starts, group, classify (see the file comment).
+/// @param md      the model; its loads are the ones at load factor 1
+/// @param opt     solver options (backend replaced by each of MinimaOptions::backends)
+/// @param mopt    the search
+/// @return the report (never throws for non-convergence; uncertified runs are listed)
+/// @throws Error (EXIT_INPUT) for a user start of a size that fits nothing, an unknown backend,
+///         or bad options (negative starts, group_tol ≤ 0)
+MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaOptions& mopt);
+
+/// Second-order check of a certified solution with @p solver (whose model the solution is of).
+/// @param solver the solver (its energy() is modified: final ε, friction frozen at the solution)
+/// @param md the model @param opt the options the solution was computed with
+/// @param sol the solution @param mopt tolerance and size limit
+/// @return the verdict (see SecondOrderCheck)
+SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, const SolveOptions& opt,
+                                    const Solution& sol, const MinimaOptions& mopt);
+
+/// Read caller starts from JSON: an array of [u_ν, u_τ] (3D: [u_ν, u_τ, u_τ2]) pairs, one per Γ3
+/// node in ContactNodes order; or an object with "nodes" (a report.json: each node's "u_nu",
+/// "u_tau"); or an array of such arrays/objects (several starts). 2D only for report.json input
+/// (its nodes carry the signed u_tau).
+/// @param js the parsed file @param md the model (number of Γ3 nodes, dimension)
+/// @param context name for error messages (the file name)
+/// @return one Vec of size d·n_Γ3 per start
+/// @throws Error (EXIT_INPUT) naming @p context for a malformed or wrongly sized start
+std::vector<Vec> read_gamma3_starts(const nlohmann::json& js, const Model& md, const std::string& context);
+
+/// The report as JSON (minima.json): options, smallness, runs, and per distinct solution its
+/// energies, status counts, certificate, second-order check, starts, backends and Γ3 nodes
+/// (x, y, u_nu, u_tau, sigma_nu, sigma_tau, xi, lambda, status).
+/// @param md the model @param r the report @return the JSON object
+nlohmann::json minima_json(const Model& md, const MinimaReport& r);
+
+/// One CSV row per distinct solution (minima.csv): k, energy, energy_norm, type, lambda_min,
+/// certificate, n_starts, backends, starts, then the status counts.
+/// @param path the file @param r the report @throws Error (EXIT_INPUT) if it cannot be written
+void write_minima_csv(const std::string& path, const MinimaReport& r);
+
+/// The table printed by `hemicontact minima`: one line per distinct solution, then the runs
+/// that were not certified. @param r the report @return lines ending in '\n'
+std::string minima_table(const MinimaReport& r);
+
+}  // namespace hemicontact

@@ -1,0 +1,92 @@
+// hemicontact converge — mesh-convergence study of a scene: the paper's Fig. 3 (Sofonea, Han,
+// Barboteu 2017, §5), numerical evidence of the optimal-order estimate of §4.
+//
+// Sample runs:
+//   hemicontact converge problems/sofonea2017-fig2.json --levels 4,8,16,32,64 --reference 128 --out out/conv --plot
+//   hemicontact converge problems/sofonea2017-printed.json --levels 4,8,...,128 --reference 256
+//
+// The problem (P_V^h), eq. (22), is solved on uniform meshes h = 1/L for each level L and on a
+// reference mesh h = 1/R (R = 256 in the paper). With P the P1 prolongation onto the reference
+// mesh, each level's relative error ‖u_ref − P u_h‖_E/‖u_ref‖_E in the energy norm ‖v‖_E² = a(v,v)
+// and the observed order log(e_{i−1}/e_i)/log(h_{i−1}/h_i) (≈ 1 in the paper) are written to
+// DIR/convergence.csv and DIR/convergence.json and printed; --plot draws DIR/convergence.png
+// (scripts/plot_convergence.py). Exit code 3 (4) when a solve did not converge (certify).
+#include "cli.hpp"
+
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/convergence.hpp>
+#include <hemicontact/io/config.hpp>
+#include <hemicontact/io/output_dir.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace hemicontact::cli {
+
+int cmd_converge(const std::vector<std::string>& args) {
+  SceneArgs a = parse_scene_args(args, {"--levels", "--reference"});
+  const std::string name = std::filesystem::path(a.scene).stem().string();
+  if (std::find(args.begin(), args.end(), "--out") == args.end()) a.out = "out/" + name + "-convergence";
+  std::string levels_text = "4,8,...,128", reference_text = "256";  // the paper's study
+  for (const auto& [key, value] : a.extra) (key == "--levels" ? levels_text : reference_text) = value;
+  const std::vector<int> levels = parse_levels(levels_text);
+  std::vector<int> reference;
+  try {
+    reference = parse_levels(reference_text);
+  } catch (const Error&) {
+  }
+  if (reference.size() != 1 || reference_text.find(',') != std::string::npos)
+    throw UsageError("--reference: expected one positive integer, got '" + reference_text + "'");
+  if (a.quiet) set_log_level(LogLevel::WARN);
+
+  const nlohmann::json scene = load_scene(a.scene, a.overrides);
+  prepare_output_dir(a.out, a.force);
+  const std::filesystem::path out(a.out);
+  for (const char* f : {"convergence.csv", "convergence.json"})
+    if (std::filesystem::exists(out / f) && !a.force)
+      input_error("--out '" + a.out + "' already holds results (" + f + "); pass --force to overwrite");
+
+  const ConvergenceStudy st = run_convergence(scene, scene_directory(a.scene), levels, reference[0]);
+
+  nlohmann::json js = convergence_json(st);
+  js["name"] = name;
+  js["scene_file"] = a.scene;
+  write_convergence_csv((out / "convergence.csv").string(), st);
+  std::ofstream((out / "convergence.json").string()) << js.dump(2) << '\n';
+  std::printf("%s: convergence against the reference n = %d\n", name.c_str(), reference[0]);
+  std::fputs(convergence_table(st).c_str(), stdout);
+  std::printf("results in %s\n", a.out.c_str());
+
+  const bool plot_failed = (a.plot || scene.at("output").at("plot").get<bool>()) &&
+                           run_plot_script("plot_convergence.py", {(out / "convergence.csv").string(), "--out",
+                                                                   (out / "convergence.png").string(), "--title",
+                                                                   name}) != 0;
+  if (!st.ok()) {
+    std::string not_converged, not_certified;
+    std::vector<ConvergenceLevel> all = st.levels;
+    if (std::none_of(all.begin(), all.end(), [&](const ConvergenceLevel& l) { return l.n == st.reference.n; }))
+      all.push_back(st.reference);
+    for (const auto& l : all) {
+      std::string& list = !l.converged ? not_converged : not_certified;
+      if (!l.ok) list += (list.empty() ? "n = " : ", ") + std::to_string(l.n);
+    }
+    if (!not_converged.empty())
+      std::fprintf(stderr, "hemicontact: converge: not converged at %s\n", not_converged.c_str());
+    if (!not_certified.empty())
+      std::fprintf(stderr, "hemicontact: converge: certificate failed at %s\n", not_certified.c_str());
+    return not_converged.empty() ? EXIT_CERTIFICATE : EXIT_NOT_CONVERGED;
+  }
+  if (plot_failed) {
+    std::fprintf(stderr, "hemicontact: converge: --plot: %s was not drawn (the CSV and JSON are written)\n",
+                 (out / "convergence.png").c_str());
+    return EXIT_INPUT;
+  }
+  return EXIT_OK;
+}
+
+}  // namespace hemicontact::cli

@@ -1,0 +1,132 @@
+// hemicontact minima — the distinct solutions of a scene where the smallness condition (21) fails.
+//
+// Sample runs:
+//   hemicontact minima problems/minima-softening.json --starts 16 --seed 3
+//   hemicontact minima problems/minima-laminate.json --backends ipopt,newton --out out/laminate
+//   hemicontact minima problems/minima-one-node.json --start my-start.json   (or a report.json)
+//
+// When (21) fails, the discrete problem (22) — min Π_λ(u) = ½a(u,u) − f(u) + Σ w j_ν(u_ν) +
+// Σ w λ |u_τ| subject to u_ν ≤ g, λ = F_b(u_ν) — may have several solutions, and a local solver
+// returns the one whose basin holds its start. This command solves from many starts (zero, all
+// at g, all separated, random in a box, a load path up and down, the user's), keeps the results
+// that pass the certificate (MODEL.md §4), groups them by energy-norm distance, and classifies
+// each distinct solution as a local minimum or a saddle by a second-order check on the free
+// subspace (driver/minima.hpp). Output: a table on stdout, DIR/minima.csv, DIR/minima.json,
+// DIR/solution_<k>.vtu per distinct solution (k as in the table, lowest energy first), and
+// DIR/minima.png (Γ3 profiles of u_ν and σ_ν per solution, scripts/plot_minima.py; without
+// matplotlib a warning, not a failure). Exit code 0 when at least one certified solution was
+// found, 3 when no run converged, 4 when runs converged but none certified.
+#include "cli.hpp"
+
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/minima.hpp>
+#include <hemicontact/driver/model.hpp>
+#include <hemicontact/io/config.hpp>
+#include <hemicontact/io/output_dir.hpp>
+#include <hemicontact/io/vtk_writer.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace hemicontact::cli {
+namespace {
+
+long parse_int(const std::string& key, const std::string& v, long lo) {
+  char* end = nullptr;
+  const long x = std::strtol(v.c_str(), &end, 10);
+  if (v.empty() || *end != '\0' || x < lo)
+    throw UsageError(key + ": expected an integer >= " + std::to_string(lo) + ", got '" + v + "'");
+  return x;
+}
+
+double parse_positive(const std::string& key, const std::string& v) {
+  char* end = nullptr;
+  const double x = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0' || !(x > 0) || !std::isfinite(x))
+    throw UsageError(key + ": expected a positive number, got '" + v + "'");
+  return x;
+}
+
+}  // namespace
+
+int cmd_minima(const std::vector<std::string>& args) {
+  SceneArgs a = parse_scene_args(
+      args, {"--starts", "--seed", "--backends", "--start", "--group-tol", "--load-path-steps", "--box"});
+  const std::string name = std::filesystem::path(a.scene).stem().string();
+  if (std::find(args.begin(), args.end(), "--out") == args.end()) a.out = "out/" + name + "-minima";
+  if (a.quiet) set_log_level(LogLevel::WARN);
+  MinimaOptions mo;
+  std::vector<std::string> start_files;
+  for (const auto& [key, value] : a.extra) {
+    if (key == "--starts") mo.starts = static_cast<int>(parse_int(key, value, 0));
+    else if (key == "--seed") mo.seed = static_cast<unsigned>(parse_int(key, value, 0));
+    else if (key == "--group-tol") mo.group_tol = parse_positive(key, value);
+    else if (key == "--box") mo.box = parse_positive(key, value);
+    else if (key == "--load-path-steps") mo.load_path_steps = static_cast<int>(parse_int(key, value, 0));
+    else if (key == "--start") start_files.push_back(value);
+    else if (key == "--backends") {
+      mo.backends.clear();
+      std::stringstream ss(value);
+      for (std::string b; std::getline(ss, b, ',');)
+        if (!b.empty()) mo.backends.push_back(b);
+      if (mo.backends.empty()) throw UsageError("--backends: expected a comma-separated list, got '" + value + "'");
+    }
+  }
+
+  const nlohmann::json scene = load_scene(a.scene, a.overrides);
+  const Model md = build_model(scene, scene_directory(a.scene));
+  for (const auto& f : start_files) {
+    std::ifstream in(f);
+    if (!in) input_error("--start '" + f + "': cannot read the file");
+    nlohmann::json js;
+    try {
+      js = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::parse_error& e) {
+      input_error("--start '" + f + "': " + e.what());
+    }
+    for (Vec& v : read_gamma3_starts(js, md, "--start '" + f + "'")) mo.user_starts.push_back(std::move(v));
+  }
+  prepare_output_dir(a.out, a.force);
+  const std::filesystem::path out(a.out);
+  for (const char* f : {"minima.csv", "minima.json"})
+    if (std::filesystem::exists(out / f) && !a.force)
+      input_error("--out '" + a.out + "' already holds results (" + f + "); pass --force to overwrite");
+
+  const SolveOptions opt = solve_options_from_scene(scene);
+  const MinimaReport r = find_minima(md, opt, mo);
+
+  nlohmann::json js = minima_json(md, r);
+  js["name"] = name;
+  js["scene_file"] = a.scene;
+  js["scene"] = scene;
+  std::ofstream((out / "minima.json").string()) << js.dump(2) << '\n';
+  write_minima_csv((out / "minima.csv").string(), r);
+  for (size_t k = 0; k < r.solutions.size(); ++k)
+    write_vtu((out / ("solution_" + std::to_string(k) + ".vtu")).string(), md, r.solutions[k].solution);
+  std::printf("%s: distinct solutions (lowest energy first)\n", name.c_str());
+  std::fputs(minima_table(r).c_str(), stdout);
+  std::printf("results in %s\n", a.out.c_str());
+  if (!r.solutions.empty() &&
+      run_plot_script("plot_minima.py", {(out / "minima.json").string(), "--out", (out / "minima.png").string(),
+                                         "--title", name}) != 0)
+    log_warn() << "minima: " << (out / "minima.png").string()
+               << " was not drawn (needs /usr/bin/python3 with matplotlib); the table, CSV, JSON and VTU files are written";
+
+  if (r.solutions.empty()) {
+    const bool any_converged =
+        std::any_of(r.runs.begin(), r.runs.end(), [](const MinimaRun& run) { return run.converged; });
+    std::fprintf(stderr, "hemicontact: minima: no run gave a certified solution\n");
+    return any_converged ? EXIT_CERTIFICATE : EXIT_NOT_CONVERGED;
+  }
+  return EXIT_OK;
+}
+
+}  // namespace hemicontact::cli

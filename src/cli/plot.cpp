@@ -1,0 +1,91 @@
+// Pictures: the CLI runs the Python scripts in scripts/ (Debian's /usr/bin/python3 with
+// python3-matplotlib) rather than linking a plotting library. The build passes no path, so the
+// scripts are found from the running executable: /proc/self/exe, then up its parent directories
+// to the first one holding scripts/<name> (build-*/hemicontact → the repository root), or in the
+// directory named by HEMICONTACT_SCRIPTS. HEMICONTACT_PYTHON replaces /usr/bin/python3 (tests use
+// it to exercise the "no matplotlib" path).
+#include "cli.hpp"
+
+#include <hemicontact/core/error.hpp>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+namespace hemicontact::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* const INSTALL_HINT = "Debian: apt-get install python3-matplotlib";
+
+// The script's path, or "" after printing why it was not found.
+std::string find_script(const std::string& script) {
+  if (const char* env = std::getenv("HEMICONTACT_SCRIPTS"); env && *env) {
+    const fs::path p = fs::path(env) / script;
+    if (fs::is_regular_file(p)) return p.string();
+    std::fprintf(stderr, "hemicontact: --plot: %s not found (HEMICONTACT_SCRIPTS=%s)\n", p.c_str(), env);
+    return "";
+  }
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec)
+    for (fs::path dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
+      const fs::path p = dir / "scripts" / script;
+      if (fs::is_regular_file(p)) return p.string();
+      if (dir == dir.root_path()) break;
+    }
+  std::fprintf(stderr,
+               "hemicontact: --plot: cannot find scripts/%s in any directory above the executable %s; set "
+               "HEMICONTACT_SCRIPTS to the repository's scripts/ directory\n",
+               script.c_str(), ec ? "(unknown)" : exe.c_str());
+  return "";
+}
+
+}  // namespace
+
+int run_plot_script(const std::string& script, const std::vector<std::string>& args) {
+  const char* env_python = std::getenv("HEMICONTACT_PYTHON");
+  const std::string python = env_python && *env_python ? env_python : "/usr/bin/python3";
+  if (::access(python.c_str(), X_OK) != 0) {
+    std::fprintf(stderr, "hemicontact: --plot needs %s with matplotlib (%s): %s not found\n", python.c_str(),
+                 INSTALL_HINT, python.c_str());
+    return EXIT_INPUT;
+  }
+  const std::string path = find_script(script);
+  if (path.empty()) return EXIT_INPUT;
+
+  std::vector<std::string> argv_s{python, path};
+  argv_s.insert(argv_s.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& s : argv_s) argv.push_back(s.data());
+  argv.push_back(nullptr);
+
+  std::fflush(nullptr);  // or the child would inherit (and print again) our buffered output
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    std::fprintf(stderr, "hemicontact: --plot: fork failed: %s\n", std::strerror(errno));
+    return EXIT_INTERNAL;
+  }
+  if (pid == 0) {
+    ::execv(python.c_str(), argv.data());
+    std::fprintf(stderr, "hemicontact: --plot: cannot run %s: %s\n", python.c_str(), std::strerror(errno));
+    ::_exit(127);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return EXIT_INTERNAL;
+  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  // The scripts exit with 2 when matplotlib is missing, after saying so themselves.
+  if (code != 0)
+    std::fprintf(stderr, "hemicontact: --plot: %s %s failed (exit code %d)\n", python.c_str(), path.c_str(), code);
+  return code;
+}
+
+}  // namespace hemicontact::cli

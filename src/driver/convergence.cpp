@@ -1,0 +1,287 @@
+#include <hemicontact/driver/convergence.hpp>
+
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/model.hpp>
+#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/fem/prolongation.hpp>
+#include <hemicontact/io/config.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <sstream>
+
+namespace hemicontact {
+namespace {
+
+const double NaN = std::numeric_limits<double>::quiet_NaN();
+const char* const STATUS_KEYS[] = {"separated", "compliance", "contact", "stick", "slip+", "slip-", "slip"};
+
+// Shortest text that reads back to the same double; empty when not finite (CSV "no value").
+std::string num(double v) {
+  if (!std::isfinite(v)) return "";
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+int parse_level(const std::string& s) {
+  try {
+    size_t pos = 0;
+    const long v = std::stol(s, &pos);
+    if (pos == s.size() && v > 0 && v <= 1 << 20) return static_cast<int>(v);
+  } catch (const std::exception&) {
+  }
+  throw Error("--levels: expected a positive integer, got '" + s + "'", EXIT_USAGE);
+}
+
+// A level's effective scene: validate_scene() copies mesh.n into nx and ny.
+nlohmann::json scene_at_level(const nlohmann::json& scene, int n) {
+  nlohmann::json s = scene;
+  s["mesh"]["n"] = n;
+  return validate_scene(std::move(s));
+}
+
+// Does P embed the coarse P1 space into the fine one exactly (nested meshes)? Then every fine
+// cell lies inside one coarse cell, and a coarse P1 field is affine on it: its value at the
+// fine cell's centroid equals the mean of its prolongated vertex values. A random coarse field
+// has a kink across every coarse edge, so a fine cell cut by a coarse edge shows up.
+bool is_nested(const Mesh& coarse, const Mesh& fine) {
+  const int d = coarse.dim;
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  Vec v(coarse.num_nodes() * d);
+  for (Index i = 0; i < v.size(); ++i) v[i] = uni(rng);
+  const Vec pv = prolongate(coarse, v, fine);
+  Mesh centroids;
+  centroids.dim = d;
+  centroids.points = RowMat::Zero(fine.num_cells(), d);
+  for (Index c = 0; c < fine.num_cells(); ++c)
+    for (int a = 0; a <= d; ++a) centroids.points.row(c) += fine.points.row(fine.cells(c, a)) / (d + 1);
+  const Vec pc = prolongate(coarse, v, centroids);
+  for (Index c = 0; c < fine.num_cells(); ++c)
+    for (int i = 0; i < d; ++i) {
+      double mean = 0;
+      for (int a = 0; a <= d; ++a) mean += pv[d * fine.cells(c, a) + i] / (d + 1);
+      if (std::abs(mean - pc[d * c + i]) > 1e-9) return false;
+    }
+  return true;
+}
+
+// One solve of the study; fills everything but error and order.
+ConvergenceLevel solve_level(const Model& md, const SolveOptions& opt, const nlohmann::json& scene, int n,
+                             Solution& sol) {
+  const auto t0 = std::chrono::steady_clock::now();
+  sol = solve(md, opt);
+  ConvergenceLevel r;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.n = n;
+  const auto& x = scene.at("mesh").at("x");
+  const auto& y = scene.at("mesh").at("y");
+  r.h = std::max(x[1].get<double>() - x[0].get<double>(), y[1].get<double>() - y[0].get<double>()) / n;
+  r.h_max = md.mesh.max_edge_length();
+  r.dofs = md.dofs.n_free();
+  r.energy_norm = sol.energy_norm;
+  r.order = NaN;
+  r.status_counts = sol.status_counts();
+  r.certificate_residual = sol.certificate.max_residual;
+  r.converged = sol.backend_ok && sol.fixed_point_converged;
+  r.certified = sol.certificate.passed;
+  r.ok = r.converged && r.certified;
+  r.message = sol.message;
+  if (!r.ok)
+    log_warn() << "convergence: n = " << n << ": "
+               << (r.converged ? "certificate failed (max residual " + num(r.certificate_residual) + ")"
+                               : "not converged: " + sol.message);
+  return r;
+}
+
+nlohmann::json level_json(const ConvergenceLevel& l) {
+  const auto finite_or_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  return {{"n", l.n},
+          {"h", l.h},
+          {"h_max", l.h_max},
+          {"dofs", l.dofs},
+          {"energy_norm", l.energy_norm},
+          {"error", finite_or_null(l.error)},
+          {"order", finite_or_null(l.order)},
+          {"seconds", l.seconds},
+          {"status_counts", l.status_counts},
+          {"certificate_max_residual", finite_or_null(l.certificate_residual)},
+          {"converged", l.converged},
+          {"certified", l.certified},
+          {"ok", l.ok},
+          {"nested", l.nested},
+          {"message", l.message}};
+}
+
+}  // namespace
+
+bool ConvergenceStudy::ok() const { return failed().empty(); }
+
+std::vector<int> ConvergenceStudy::failed() const {
+  std::vector<int> f;
+  for (const auto& l : levels)
+    if (!l.ok) f.push_back(l.n);
+  if (!reference.ok && std::find(f.begin(), f.end(), reference.n) == f.end()) f.push_back(reference.n);
+  return f;
+}
+
+std::vector<int> parse_levels(const std::string& text) {
+  std::vector<std::string> tok;
+  std::stringstream ss(text);
+  for (std::string t; std::getline(ss, t, ',');) tok.push_back(t);
+  std::vector<int> r;
+  for (size_t i = 0; i < tok.size(); ++i) {
+    if (tok[i] != "...") {
+      r.push_back(parse_level(tok[i]));
+      continue;
+    }
+    const size_t m = r.size();
+    if (m < 2 || i + 1 >= tok.size() || r[m - 1] <= r[m - 2] || r[m - 1] % r[m - 2] != 0)
+      throw Error("--levels '" + text + "': '...' needs two increasing levels with an integer ratio before it and "
+                  "one level after it, e.g. 4,8,...,128",
+                  EXIT_USAGE);
+    const long q = r[m - 1] / r[m - 2];
+    const int last = parse_level(tok[i + 1]);
+    for (long v = static_cast<long>(r.back()) * q; v < last; v *= q) r.push_back(static_cast<int>(v));
+  }
+  if (r.empty()) throw Error("--levels: no level given", EXIT_USAGE);
+  std::sort(r.begin(), r.end());
+  r.erase(std::unique(r.begin(), r.end()), r.end());
+  return r;
+}
+
+ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string& scene_dir, std::vector<int> levels,
+                                 int reference) {
+  // ---- check the request before any solve
+  if (levels.empty()) input_error("convergence: no mesh level given");
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  if (reference < 1 || levels.front() < 1)
+    input_error("convergence: mesh levels must be >= 1 (reference " + std::to_string(reference) + ", smallest level " +
+                std::to_string(levels.front()) + ")");
+  std::string bad;
+  for (const int L : levels)
+    if (reference % L != 0) bad += (bad.empty() ? "" : ", ") + std::to_string(L);
+  if (!bad.empty())
+    input_error("convergence: level(s) " + bad + " do not divide the reference level " + std::to_string(reference) +
+                " (the meshes must be nested)");
+  if (scene.at("mesh").at("type").get<std::string>() != "rectangle")
+    input_error("convergence: mesh.type is '" + scene.at("mesh").at("type").get<std::string>() +
+                "'; a study refines a generated rectangle (mesh.type = rectangle) through mesh.n");
+
+  // ---- the reference first: every level is measured against it
+  ConvergenceStudy st;
+  st.scene = scene_at_level(scene, reference);
+  log_info() << "convergence: reference n = " << reference;
+  const Model ref = build_model(st.scene, scene_dir);
+  const SolveOptions ref_opt = solve_options_from_scene(st.scene);
+  Solution ref_sol;
+  st.reference = solve_level(ref, ref_opt, st.scene, reference, ref_sol);
+  st.reference.error = 0;
+  st.backend = ref_sol.backend;
+  const double ref_norm = ref_sol.energy_norm;
+  if (!(ref_norm > 0)) input_error("convergence: the reference solution is zero (no load?): no relative error");
+
+  // ---- each level, prolongated onto the reference mesh
+  for (const int L : levels) {
+    ConvergenceLevel lvl;
+    Vec Pu;
+    if (L == reference) {
+      lvl = st.reference;
+      Pu = prolongate(ref.mesh, ref_sol.u, ref.mesh);
+    } else {
+      log_info() << "convergence: level n = " << L;
+      const nlohmann::json s = scene_at_level(scene, L);
+      const Model md = build_model(s, scene_dir);
+      Solution sol;
+      lvl = solve_level(md, solve_options_from_scene(s), s, L, sol);
+      Pu = prolongate(md.mesh, sol.u, ref.mesh);
+      lvl.nested = is_nested(md.mesh, ref.mesh);
+      if (!lvl.nested)
+        log_warn() << "convergence: the n = " << L << " mesh is not nested in the reference mesh (mesh.diagonal = "
+                   << get_string(scene, "mesh.diagonal") << ", mesh.perturb = " << get_number(scene, "mesh.perturb")
+                   << "): its error includes the interpolation onto the reference mesh";
+    }
+    lvl.error = energy_norm_difference(ref.K, ref_sol.u, Pu) / ref_norm;
+    lvl.order = NaN;
+    if (!st.levels.empty()) {
+      const ConvergenceLevel& prev = st.levels.back();
+      if (prev.error > 0 && lvl.error > 0) lvl.order = std::log(prev.error / lvl.error) / std::log(prev.h / lvl.h);
+    }
+    st.levels.push_back(lvl);
+  }
+  return st;
+}
+
+nlohmann::json convergence_json(const ConvergenceStudy& study) {
+  nlohmann::json levels = nlohmann::json::array();
+  for (const auto& l : study.levels) levels.push_back(level_json(l));
+  return {{"reference", level_json(study.reference)},
+          {"levels", levels},
+          {"backend", study.backend},
+          {"ok", study.ok()},
+          {"failed", study.failed()},
+          {"scene", study.scene}};
+}
+
+void write_convergence_csv(const std::string& path, const ConvergenceStudy& study) {
+  std::string out = "n,h,h_max,dofs,energy_norm,error,order,seconds";
+  for (const char* k : STATUS_KEYS) out += std::string(",") + k;
+  out += ",certificate_max_residual,converged,certified,ok\n";
+  for (const auto& l : study.levels) {
+    out += std::to_string(l.n);
+    for (double v : {l.h, l.h_max}) out += "," + num(v);
+    out += "," + std::to_string(l.dofs);
+    for (double v : {l.energy_norm, l.error, l.order, l.seconds}) out += "," + num(v);
+    for (const char* k : STATUS_KEYS) {
+      const auto it = l.status_counts.find(k);
+      out += "," + std::to_string(it == l.status_counts.end() ? 0 : it->second);
+    }
+    out += "," + num(l.certificate_residual);
+    for (bool b : {l.converged, l.certified, l.ok}) out += b ? ",1" : ",0";
+    out += '\n';
+  }
+  std::ofstream f(path, std::ios::binary);
+  if (!f || !(f << out) || !f.flush()) input_error("cannot write '" + path + "'");
+}
+
+std::string convergence_table(const ConvergenceStudy& study) {
+  std::string out;
+  char line[256];
+  const auto row = [&](const ConvergenceLevel& l, const char* role) {
+    const auto& c = l.status_counts;
+    const auto get = [&](const char* k) { return c.count(k) ? c.at(k) : 0; };
+    char counts[64], order[32] = "-";
+    std::snprintf(counts, sizeof counts, "%d/%d/%d", get("separated"), get("compliance"), get("contact"));
+    if (std::isfinite(l.order)) std::snprintf(order, sizeof order, "%.3f", l.order);
+    std::snprintf(line, sizeof line, "%6d %10.4g %8lld %12.6g %12.4e %7s %9.3f %13s %11.3e %s%s\n", l.n, l.h,
+                  static_cast<long long>(l.dofs), l.energy_norm, l.error, order, l.seconds, counts,
+                  l.certificate_residual, l.ok ? "ok" : (l.converged ? "NOT CERTIFIED" : "NOT CONVERGED"), role);
+    out += line;
+  };
+  std::snprintf(line, sizeof line, "%6s %10s %8s %12s %12s %7s %9s %13s %11s %s\n", "n", "h", "dofs", "|u_h|_E",
+                "rel.error", "order", "solve [s]", "sep/com/con", "certificate", "verdict");
+  out += line;
+  for (const auto& l : study.levels) row(l, "");
+  row(study.reference, "  (reference)");
+  const auto failed = study.failed();
+  if (failed.empty()) {
+    out += "all " + std::to_string(study.levels.size() + 1) + " solves converged and certified (backend " +
+           study.backend + ")\n";
+  } else {
+    out += "FAILED at n =";
+    for (size_t i = 0; i < failed.size(); ++i) out += (i ? ", " : " ") + std::to_string(failed[i]);
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace hemicontact

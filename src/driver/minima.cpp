@@ -1,0 +1,538 @@
+// Many starts → certified results → distinct solutions → local minimum or saddle (minima.hpp).
+//
+// Why a search at all: when (21) fails, Π_λ is nonconvex and every backend here is a local
+// method, so which solution a solve returns depends on where it starts. Nothing below changes the
+// solver: it only chooses starts, and checks and sorts what comes back.
+
+#include <hemicontact/driver/minima.hpp>
+
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/energy/energy_term.hpp>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <random>
+#include <set>
+#include <sstream>
+
+namespace hemicontact {
+namespace {
+
+using json = nlohmann::json;
+using clk = std::chrono::steady_clock;
+double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
+
+std::string fmt(double v, int prec = 6) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+  return buf;
+}
+
+// Shortest round-trip form for the CSV (as the other writers do).
+std::string exact(double v) {
+  if (!std::isfinite(v)) return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+// ‖a − b‖_E = sqrt((a − b)ᵀ K (a − b)) with the full stiffness K.
+double energy_distance(const Model& md, const Vec& a, const Vec& b) {
+  const Vec d = a - b;
+  return std::sqrt(std::max(0.0, d.dot(md.K * d)));
+}
+
+// A start in solver unknowns from Γ3 values (ν, τ[, τ2]) node after node; interior unknowns 0.
+Vec from_gamma3(const ContactSolver& s, const Vec& c) {
+  const NodalDofs& nd = s.contact_dofs();
+  Vec z = Vec::Zero(s.size());
+  for (Index k = 0; k < nd.size(); ++k) z.segment(nd.first[k], nd.dim) = c.segment(nd.dim * k, nd.dim);
+  return z;
+}
+
+// A caller's start in solver unknowns (sizes checked in the order documented in MinimaOptions).
+Vec user_start(const ContactSolver& s, const Model& md, const Vec& v, const std::string& label) {
+  const Index nc = md.contact.size(), d = md.dim();
+  if (v.size() == md.dofs.n_full()) return s.to_unknowns(md.dofs.to_reduced(v));
+  if (v.size() == d * nc) return from_gamma3(s, v);
+  if (v.size() == s.size()) return v;
+  input_error("minima: start '" + label + "' has " + std::to_string(v.size()) + " values; expected " +
+              std::to_string(md.dofs.n_full()) + " (full u), " + std::to_string(d * nc) +
+              " (u_nu, u_tau per Gamma3 node) or " + std::to_string(s.size()) + " (solver unknowns)");
+}
+
+// A model with every load multiplied by @p s (exact: u_D = 0, so the loads are f and f_x only).
+Model scaled_model(const Model& md, double s) {
+  Model m = md;
+  m.f *= s;
+  m.fx *= s;
+  return m;
+}
+
+struct Candidate {
+  int run = -1;
+  Solution sol;
+};
+
+}  // namespace
+
+int MinimaReport::local_minima() const {
+  return static_cast<int>(std::count_if(solutions.begin(), solutions.end(), [](const DistinctSolution& d) {
+    return d.second_order.verdict == "local minimum";
+  }));
+}
+
+int MinimaReport::certified_runs() const {
+  return static_cast<int>(std::count_if(runs.begin(), runs.end(), [](const MinimaRun& r) { return r.certified; }));
+}
+
+SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, const SolveOptions& opt,
+                                    const Solution& sol, const MinimaOptions& mopt) {
+  SecondOrderCheck c;
+  for (Index i = 0; i < md.Kx.outerSize(); ++i)
+    for (SpMat::InnerIterator it(md.Kx, i); it; ++it)
+      if (it.row() == it.col()) c.scale = std::max(c.scale, it.value());
+  if (solver.formulation().empty()) {
+    c.verdict = "local minimum";
+    c.note = "linear elasticity: the energy is a convex quadratic";
+    return c;
+  }
+  const Vec z = solver.to_unknowns(sol.x);
+  // The energy of the lagged problem at the solution: final widths, λ frozen there.
+  solver.set_eps(opt.eps_tau, opt.eps_nu);
+  solver.freeze_friction(z);
+  const NlpObjective& f = solver.energy();
+  const NodalDofs& nd = solver.contact_dofs();
+  const Index n = f.size();
+  std::vector<bool> keep(static_cast<size_t>(n), true);
+  Vec grad;
+  f.gradient(z, grad);
+  // A rigid reaction is a nodal force; below this it counts as zero (degenerate contact).
+  const double force_tol = opt.certificate_tol * std::max(sol.certificate.force_scale, 1e-300);
+  for (Index k = 0; k < nd.size(); ++k) {
+    const NodeStatus& st = sol.status[static_cast<size_t>(k)];
+    if (st.normal == NormalStatus::CONTACT) {
+      keep[static_cast<size_t>(nd.first[k])] = false;
+      ++c.removed_contact;
+      // KKT of min Π s.t. z_ν ≤ g: ∇_ν Π + R = 0 with the rigid reaction R ≥ 0.
+      if (-grad[nd.first[k]] <= force_tol) ++c.degenerate;
+    }
+    if (st.tangential == TangentialStatus::STICK && sol.state.lambda[k] > 0)
+      for (int a = 1; a < nd.dim; ++a) {
+        keep[static_cast<size_t>(nd.first[k] + a)] = false;
+        ++c.removed_stick;
+      }
+  }
+  std::vector<Index> idx;
+  for (Index i = 0; i < n; ++i)
+    if (keep[static_cast<size_t>(i)]) idx.push_back(i);
+  c.kept = static_cast<Index>(idx.size());
+  if (c.kept == 0) {
+    c.verdict = "local minimum";
+    c.note = "no free direction: every unknown is at the bound or sticking";
+    return c;
+  }
+  if (c.kept > mopt.max_dense) {
+    c.note = "free subspace of " + std::to_string(c.kept) + " unknowns exceeds max_dense = " +
+             std::to_string(mopt.max_dense) + " (use the condensed formulation)";
+    return c;
+  }
+  SpMat H = f.hessian_pattern();
+  f.hessian(z, H, Psd::NONE);
+  std::vector<Index> pos(static_cast<size_t>(n), -1);
+  for (Index i = 0; i < c.kept; ++i) pos[static_cast<size_t>(idx[static_cast<size_t>(i)])] = i;
+  Mat Hr = Mat::Zero(c.kept, c.kept);
+  for (Index j = 0; j < H.outerSize(); ++j)
+    for (SpMat::InnerIterator it(H, j); it; ++it) {
+      const Index a = pos[static_cast<size_t>(it.row())], b = pos[static_cast<size_t>(it.col())];
+      if (a < 0 || b < 0) continue;
+      Hr(a, b) = it.value();  // lower triangle stored: mirror it
+      Hr(b, a) = it.value();
+    }
+  Eigen::SelfAdjointEigenSolver<Mat> es(Hr, Eigen::EigenvaluesOnly);
+  if (es.info() != Eigen::Success) {
+    c.note = "eigenvalue solver failed";
+    return c;
+  }
+  c.lambda_min = es.eigenvalues().minCoeff();
+  c.verdict = c.lambda_min >= -mopt.second_order_tol * c.scale ? "local minimum" : "saddle";
+  if (std::abs(c.lambda_min) <= mopt.second_order_tol * c.scale)
+    c.note = "lambda_min ~ 0: second-order test inconclusive (degenerate)";
+  else if (c.degenerate > 0)
+    c.note = std::to_string(c.degenerate) + " contact node(s) with zero rigid reaction: necessary condition only";
+  return c;
+}
+
+MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaOptions& mopt_in) {
+  const auto t0 = clk::now();
+  MinimaReport R;
+  R.options = mopt_in;
+  MinimaOptions& mopt = R.options;
+  if (mopt.backends.empty()) mopt.backends = {opt.backend};
+  if (mopt.starts < 0) input_error("minima: --starts must be >= 0");
+  if (!(mopt.group_tol > 0)) input_error("minima: group_tol must be > 0");
+  if (!(mopt.box > 0)) input_error("minima: box must be > 0");
+  if (mopt.load_path_steps < 0) input_error("minima: load_path_steps must be >= 0");
+
+  const Index nc = md.contact.size();
+  const int d = md.dim();
+  std::vector<Candidate> cands;
+  std::vector<std::unique_ptr<ContactSolver>> solvers;  // one per backend (kept for the check)
+
+  const auto record = [&](const std::string& start, const std::string& backend, Solution sol, double secs) {
+    MinimaRun r;
+    r.start = start;
+    r.backend = backend;
+    r.converged = sol.backend_ok && sol.fixed_point_converged;
+    // The certificate is the judge (MODEL.md §4): a backend that stopped short of its own
+    // tolerance may still have delivered a solution of (22), and a converged one may not.
+    r.certified = sol.certificate.passed;
+    r.energy = sol.energy;
+    r.certificate = sol.certificate.max_residual;
+    r.seconds = secs;
+    r.message = sol.message;
+    log_info() << "minima: " << backend << " from " << start << ": energy " << fmt(sol.energy, 10)
+               << ", certificate " << fmt(sol.certificate.max_residual, 3) << (r.certified ? "" : " (NOT certified)");
+    R.runs.push_back(r);
+    if (r.certified) cands.push_back({static_cast<int>(R.runs.size()) - 1, std::move(sol)});
+  };
+
+  for (const std::string& name : mopt.backends) {
+    SolveOptions o = opt;
+    o.backend = name;
+    solvers.push_back(std::make_unique<ContactSolver>(md, o));
+    ContactSolver& S = *solvers.back();
+    auto t = clk::now();
+    Solution zero = S.solve(nullptr);
+    const double Us = zero.x_scale;
+    R.x_scale = Us;
+    if (solvers.size() == 1) R.smallness = zero.smallness;
+    record("zero", name, std::move(zero), since(t));
+    if (S.formulation().empty()) {  // linear: the solution is unique, one solve says it all
+      log_info() << "minima: linear problem, one solution; no further starts";
+      continue;
+    }
+    const auto run_from = [&](const std::string& label, const Vec& z0) {
+      const auto t1 = clk::now();
+      record(label, name, S.solve(&z0), since(t1));
+    };
+
+    // Γ3 starts: at the gap, separated, random in the box.
+    Vec c(d * nc);
+    c.setZero();
+    for (Index k = 0; k < nc; ++k) c[d * k] = std::isfinite(md.contact.g[k]) ? md.contact.g[k] : Us;
+    run_from("at-gap", from_gamma3(S, c));
+    c.setZero();
+    for (Index k = 0; k < nc; ++k) c[d * k] = -Us;
+    run_from("separated", from_gamma3(S, c));
+    std::mt19937 rng(mopt.seed);
+    const double B = mopt.box * Us;
+    for (int i = 0; i < mopt.starts; ++i) {
+      for (Index k = 0; k < nc; ++k) {
+        const double hi = std::min(B, md.contact.g[k]);
+        c[d * k] = std::uniform_real_distribution<double>(-B, std::max(-B, hi))(rng);
+        for (int a = 1; a < d; ++a) c[d * k + a] = std::uniform_real_distribution<double>(-B, B)(rng);
+      }
+      run_from("random-" + std::to_string(i + 1), from_gamma3(S, c));
+    }
+
+    // Load path up (1/N … 1), then on to 2 and back down to 1; warm starts all the way.
+    if (mopt.load_path_steps > 0) {
+      const int N = mopt.load_path_steps;
+      SolveOptions os = o;
+      os.smallness = false;  // once is enough (and it does not depend on the loads)
+      const auto t1 = clk::now();
+      Vec z = Vec::Zero(S.size());
+      bool ok = true;
+      const auto step = [&](int i) {  // solve at load factor i/N from z (i = N: the model itself)
+        if (i == N) {
+          Solution s = S.solve(&z);
+          z = S.to_unknowns(s.x);
+          return s;
+        }
+        const Model ms = scaled_model(md, static_cast<double>(i) / N);
+        ContactSolver Ss(ms, os);
+        Solution s = Ss.solve(&z);
+        z = Ss.to_unknowns(s.x);
+        if (!s.backend_ok || !s.fixed_point_converged) ok = false;
+        return s;
+      };
+      for (int i = 1; i < N; ++i) step(i);
+      Solution up = step(N);
+      if (!ok) up.message = "load path: an intermediate solve did not converge; " + up.message;
+      record("load-up", name, std::move(up), since(t1));
+      const auto t2 = clk::now();
+      ok = true;
+      for (int i = N + 1; i <= 2 * N; ++i) step(i);
+      for (int i = 2 * N - 1; i > N; --i) step(i);
+      Solution down = step(N);
+      if (!ok) down.message = "load path: an intermediate solve did not converge; " + down.message;
+      record("load-down", name, std::move(down), since(t2));
+    }
+
+    for (size_t i = 0; i < mopt.user_starts.size(); ++i) {
+      const std::string label = "user-" + std::to_string(i + 1);
+      run_from(label, user_start(S, md, mopt.user_starts[i], label));
+    }
+  }
+
+  // Group: greedy, against each group's first member (its anchor), in run order.
+  for (const auto& cd : cands) R.norm_scale = std::max(R.norm_scale, cd.sol.energy_norm);
+  const double thr = mopt.group_tol * R.norm_scale;
+  std::vector<std::vector<int>> groups;  // indices into cands
+  for (int i = 0; i < static_cast<int>(cands.size()); ++i) {
+    int g = -1;
+    for (int q = 0; q < static_cast<int>(groups.size()) && g < 0; ++q)
+      if (energy_distance(md, cands[static_cast<size_t>(i)].sol.u, cands[static_cast<size_t>(groups[q][0])].sol.u) <= thr)
+        g = q;
+    if (g < 0) groups.push_back({i});
+    else groups[static_cast<size_t>(g)].push_back(i);
+  }
+  for (const auto& members : groups) {
+    int best = members[0];
+    for (int i : members)
+      if (cands[static_cast<size_t>(i)].sol.certificate.max_residual <
+          cands[static_cast<size_t>(best)].sol.certificate.max_residual)
+        best = i;
+    DistinctSolution ds;
+    ds.solution = cands[static_cast<size_t>(best)].sol;
+    for (int i : members) {
+      const int run = cands[static_cast<size_t>(i)].run;
+      ds.runs.push_back(run);
+      ds.starts.push_back(R.runs[static_cast<size_t>(run)].start);
+      ++ds.backends[R.runs[static_cast<size_t>(run)].backend];
+      if (R.norm_scale > 0)
+        ds.spread = std::max(ds.spread, energy_distance(md, cands[static_cast<size_t>(i)].sol.u, ds.solution.u) /
+                                            R.norm_scale);
+    }
+    R.solutions.push_back(std::move(ds));
+  }
+  std::stable_sort(R.solutions.begin(), R.solutions.end(), [](const DistinctSolution& a, const DistinctSolution& b) {
+    return a.solution.energy < b.solution.energy;
+  });
+  for (size_t k = 0; k < R.solutions.size(); ++k) {
+    DistinctSolution& ds = R.solutions[k];
+    for (int run : ds.runs) R.runs[static_cast<size_t>(run)].group = static_cast<int>(k);
+    ds.second_order = second_order_check(*solvers.front(), md, opt, ds.solution, mopt);
+    log_info() << "minima: solution " << k << ": energy " << fmt(ds.solution.energy, 10) << ", "
+               << ds.second_order.verdict << " (lambda_min " << fmt(ds.second_order.lambda_min, 4) << "), "
+               << ds.runs.size() << " start(s)";
+  }
+  R.seconds = since(t0);
+  return R;
+}
+
+std::vector<Vec> read_gamma3_starts(const json& js, const Model& md, const std::string& context) {
+  const Index nc = md.contact.size();
+  const int d = md.dim();
+  const auto one = [&](const json& s, const std::string& where) -> Vec {
+    Vec v(d * nc);
+    if (s.is_object()) {
+      if (!s.contains("nodes") || !s.at("nodes").is_array())
+        input_error(context + where + ": expected an array of [u_nu, u_tau] or a report.json with \"nodes\"");
+      if (d != 2) input_error(context + where + ": report.json starts are 2D only (3D u_tau is a magnitude)");
+      const json& nodes = s.at("nodes");
+      if (static_cast<Index>(nodes.size()) != nc)
+        input_error(context + where + ": " + std::to_string(nodes.size()) + " nodes, the scene has " +
+                    std::to_string(nc) + " Gamma3 nodes");
+      for (Index k = 0; k < nc; ++k) {
+        const json& n = nodes[static_cast<size_t>(k)];
+        if (!n.contains("u_nu") || !n.contains("u_tau") || !n.at("u_nu").is_number() || !n.at("u_tau").is_number())
+          input_error(context + where + ".nodes[" + std::to_string(k) + "]: needs numbers u_nu and u_tau");
+        v[d * k] = n.at("u_nu").get<double>();
+        v[d * k + 1] = n.at("u_tau").get<double>();
+      }
+      return v;
+    }
+    if (!s.is_array() || static_cast<Index>(s.size()) != nc)
+      input_error(context + where + ": expected " + std::to_string(nc) + " entries [u_nu, u_tau] (one per Gamma3 node)");
+    for (Index k = 0; k < nc; ++k) {
+      const json& e = s[static_cast<size_t>(k)];
+      if (!e.is_array() || static_cast<int>(e.size()) != d)
+        input_error(context + where + "[" + std::to_string(k) + "]: expected " + std::to_string(d) + " numbers");
+      for (int a = 0; a < d; ++a) {
+        if (!e[static_cast<size_t>(a)].is_number())
+          input_error(context + where + "[" + std::to_string(k) + "]: expected numbers");
+        v[d * k + a] = e[static_cast<size_t>(a)].get<double>();
+      }
+    }
+    return v;
+  };
+  // Several starts: an array whose elements are starts themselves (objects, or arrays of arrays).
+  const bool several = js.is_array() && !js.empty() &&
+                       (js[0].is_object() || (js[0].is_array() && !js[0].empty() && js[0][0].is_array()));
+  std::vector<Vec> r;
+  if (several)
+    for (size_t i = 0; i < js.size(); ++i) r.push_back(one(js[i], "[" + std::to_string(i) + "]"));
+  else
+    r.push_back(one(js, ""));
+  return r;
+}
+
+json minima_json(const Model& md, const MinimaReport& r) {
+  json j;
+  const MinimaOptions& o = r.options;
+  j["options"] = {{"starts", o.starts},       {"seed", o.seed},
+                  {"backends", o.backends},   {"group_tol", o.group_tol},
+                  {"box", o.box},             {"load_path_steps", o.load_path_steps},
+                  {"user_starts", o.user_starts.size()}, {"second_order_tol", o.second_order_tol}};
+  const SmallnessReport& q = r.smallness;
+  j["smallness"] = {{"computed", q.computed}, {"m_F", q.m_F}, {"L_Fb", q.L_Fb}, {"alpha_j", q.alpha_j},
+                    {"lambda_1", q.lambda_1}, {"lambda_1nu", q.lambda_1nu}, {"lhs", q.lhs},
+                    {"uniqueness_guaranteed", q.computed && q.holds}};
+  j["x_scale"] = r.x_scale;
+  j["norm_scale"] = r.norm_scale;
+  j["seconds"] = r.seconds;
+  j["local_minima"] = r.local_minima();
+  j["certified_runs"] = r.certified_runs();
+  j["runs"] = json::array();
+  for (const auto& run : r.runs)
+    j["runs"].push_back({{"start", run.start},       {"backend", run.backend},     {"converged", run.converged},
+                         {"certified", run.certified}, {"energy", run.energy},     {"certificate", run.certificate},
+                         {"seconds", run.seconds},   {"solution", run.group},      {"message", run.message}});
+  j["solutions"] = json::array();
+  for (size_t k = 0; k < r.solutions.size(); ++k) {
+    const DistinctSolution& ds = r.solutions[k];
+    const Solution& s = ds.solution;
+    const SecondOrderCheck& c = ds.second_order;
+    json js = {{"index", k},
+               {"energy", s.energy},
+               {"energy_norm", s.energy_norm},
+               {"type", c.verdict},
+               {"second_order",
+                {{"verdict", c.verdict}, {"lambda_min", c.lambda_min}, {"scale", c.scale}, {"kept", c.kept},
+                 {"removed_contact", c.removed_contact}, {"removed_stick", c.removed_stick},
+                 {"degenerate", c.degenerate}, {"note", c.note}}},
+               {"status_counts", s.status_counts()},
+               {"certificate", {{"passed", s.certificate.passed}, {"max_residual", s.certificate.max_residual},
+                                {"tol", s.certificate.tol}}},
+               {"n_starts", ds.runs.size()},
+               {"starts", ds.starts},
+               {"backends", ds.backends},
+               {"spread", ds.spread},
+               {"max_u_nu", s.max_u_nu}};
+    json nodes = json::array();
+    for (Index i = 0; i < md.contact.size(); ++i) {
+      const auto p = md.mesh.points.row(md.contact.node[static_cast<size_t>(i)]);
+      json n = {{"node", md.contact.node[static_cast<size_t>(i)]},
+                {"x", p[0]},
+                {"y", p[1]},
+                {"g", md.contact.g[i]},
+                {"u_nu", s.state.u_nu[i]},
+                {"u_tau", s.state.u_tau[i]},
+                {"sigma_nu", s.state.sigma_nu[i]},
+                {"sigma_tau", s.state.sigma_tau[i]},
+                {"xi", s.state.xi[i]},
+                {"lambda", s.state.lambda[i]},
+                {"status", s.status[static_cast<size_t>(i)].str()}};
+      if (md.dim() == 3) n["z"] = p[2];
+      nodes.push_back(n);
+    }
+    js["nodes"] = nodes;
+    j["solutions"].push_back(js);
+  }
+  return j;
+}
+
+void write_minima_csv(const std::string& path, const MinimaReport& r) {
+  std::ofstream out(path);
+  if (!out) input_error("cannot write '" + path + "'");
+  const std::vector<std::string> counts{"separated", "compliance", "contact", "stick", "slip+", "slip-", "slip"};
+  out << "k,energy,energy_norm,type,lambda_min,certificate,n_starts,backends,starts";
+  for (const auto& c : counts) out << ',' << c;
+  out << '\n';
+  for (size_t k = 0; k < r.solutions.size(); ++k) {
+    const DistinctSolution& ds = r.solutions[k];
+    std::string backends, starts;
+    for (const auto& [b, n] : ds.backends) backends += (backends.empty() ? "" : " ") + b + ":" + std::to_string(n);
+    for (int run : ds.runs) {
+      const MinimaRun& m = r.runs[static_cast<size_t>(run)];
+      starts += (starts.empty() ? "" : " ") + (r.options.backends.size() > 1 ? m.backend + ":" : std::string()) + m.start;
+    }
+    out << k << ',' << exact(ds.solution.energy) << ',' << exact(ds.solution.energy_norm) << ','
+        << ds.second_order.verdict << ',' << exact(ds.second_order.lambda_min) << ','
+        << exact(ds.solution.certificate.max_residual) << ',' << ds.runs.size() << ",\"" << backends << "\",\"" << starts
+        << '"';
+    const auto sc = ds.solution.status_counts();
+    for (const auto& c : counts) out << ',' << (sc.count(c) ? sc.at(c) : 0);
+    out << '\n';
+  }
+  if (!out) input_error("cannot write '" + path + "'");
+}
+
+std::string minima_table(const MinimaReport& r) {
+  std::ostringstream os;
+  char line[512];
+  std::snprintf(line, sizeof line, "%3s  %-16s %-12s %-13s %-11s %-9s %6s  %s\n", "k", "energy", "|u|_E", "type",
+                "lambda_min", "cert", "starts", "statuses (normal | tangential)");
+  os << line;
+  const auto abbrev = [](const std::map<std::string, int>& sc) {
+    std::string a, b;
+    for (const char* k : {"separated", "compliance", "contact"})
+      if (sc.count(k) && sc.at(k)) a += (a.empty() ? "" : " ") + std::string(k).substr(0, 4) + " " + std::to_string(sc.at(k));
+    for (const char* k : {"stick", "slip+", "slip-", "slip"})
+      if (sc.count(k) && sc.at(k)) b += (b.empty() ? "" : " ") + std::string(k) + " " + std::to_string(sc.at(k));
+    return a + " | " + b;
+  };
+  for (size_t k = 0; k < r.solutions.size(); ++k) {
+    const DistinctSolution& ds = r.solutions[k];
+    std::snprintf(line, sizeof line, "%3zu  %-16s %-12s %-13s %-11s %-9s %6zu  %s\n", k,
+                  fmt(ds.solution.energy, 10).c_str(), fmt(ds.solution.energy_norm, 6).c_str(),
+                  ds.second_order.verdict.c_str(), fmt(ds.second_order.lambda_min, 3).c_str(),
+                  fmt(ds.solution.certificate.max_residual, 2).c_str(), ds.runs.size(),
+                  abbrev(ds.solution.status_counts()).c_str());
+    os << line;
+    std::string starts, backends;
+    const bool several = r.options.backends.size() > 1;
+    for (int run : ds.runs) {
+      const MinimaRun& m = r.runs[static_cast<size_t>(run)];
+      starts += (starts.empty() ? "" : " ") + (several ? m.backend + ":" : std::string()) + m.start;
+    }
+    for (const auto& [b, n] : ds.backends) backends += (backends.empty() ? "" : ", ") + b + " " + std::to_string(n);
+    os << "       reached by [" << backends << "] from: " << starts << '\n';
+    if (!ds.second_order.note.empty()) os << "       note: " << ds.second_order.note << '\n';
+  }
+  int failed = 0;
+  for (const auto& run : r.runs)
+    if (!run.certified) ++failed;
+  os << r.solutions.size() << " distinct solution(s), " << r.local_minima() << " local minim"
+     << (r.local_minima() == 1 ? "um" : "a") << "; " << r.certified_runs() << " of " << r.runs.size()
+     << " runs certified";
+  if (r.smallness.computed)
+    os << "; (21): " << fmt(r.smallness.lhs, 4) << (r.smallness.holds ? " < " : " >= ") << "m_F = "
+       << fmt(r.smallness.m_F, 4) << ", uniqueness guaranteed: " << (r.smallness.holds ? "yes" : "no");
+  os << '\n';
+  // Per backend: runs, converged (by the backend's own test), certified; then the uncertified
+  // starts and the first verdict among them (cut), or the backend failures the certificate passed.
+  for (const auto& b : r.options.backends) {
+    std::string bad, first, first_failed;
+    int n = 0, conv = 0, cert = 0;
+    for (const auto& run : r.runs) {
+      if (run.backend != b) continue;
+      ++n;
+      conv += run.converged;
+      cert += run.certified;
+      if (!run.certified) {
+        bad += (bad.empty() ? "" : " ") + run.start;
+        if (first.empty()) first = run.start + ": " + run.message;
+      } else if (!run.converged && first_failed.empty()) {
+        first_failed = run.start + ": " + run.message;
+      }
+    }
+    os << "  " << b << ": " << n << " runs, " << conv << " converged, " << cert << " certified\n";
+    const auto cut = [](std::string m) { return m.size() > 160 ? m.substr(0, 157) + "..." : m; };
+    if (!bad.empty()) os << "    not certified: " << bad << "\n    first: " << cut(first) << '\n';
+    if (!first_failed.empty()) os << "    backend failed but certified, e.g. " << cut(first_failed) << '\n';
+  }
+  return os.str();
+}
+
+}  // namespace hemicontact

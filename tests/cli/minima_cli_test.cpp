@@ -1,0 +1,167 @@
+// `hemicontact minima` end to end on the one-cell scene (c): the table, CSV, JSON, one VTU per
+// distinct solution and the picture; --start files (an array of [u_nu, u_tau] and a report-like
+// object with "nodes"); bad options; refusal to overwrite; a missing matplotlib is a warning only.
+#include <hemicontact/core/error.hpp>
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+struct MinimaOutcome {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> r;
+  std::stringstream ss(text);
+  for (std::string l; std::getline(ss, l);) r.push_back(l);
+  return r;
+}
+
+bool matplotlib_available() { return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0; }
+
+class MinimaCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir = fs::temp_directory_path() / ("hemicontact_minima_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    scene = std::string(HEMICONTACT_SOURCE_DIR) + "/problems/minima-one-node.json";
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  MinimaOutcome cli(const std::string& args, const std::string& env = "") const {
+    const std::string cmd = env + " " + std::string(HEMICONTACT_CLI_PATH) + " " + args + " >" +
+                            (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
+    const int status = std::system(cmd.c_str());
+    MinimaOutcome r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(dir / "out.txt");
+    r.err = slurp(dir / "err.txt");
+    return r;
+  }
+
+  fs::path dir;
+  std::string scene;
+};
+
+TEST_F(MinimaCli, WritesTableCsvJsonVtuAndPicture) {
+  const fs::path out = dir / "m";
+  const MinimaOutcome r = cli("minima " + scene + " --starts 8 --seed 1 --out " + out.string() + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("4 distinct solution(s), 4 local minima"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("uniqueness guaranteed: no"), std::string::npos) << r.out;
+  // CSV: header + one row per distinct solution, lowest energy first.
+  const auto rows = lines_of(slurp(out / "minima.csv"));
+  ASSERT_EQ(rows.size(), 5u) << slurp(out / "minima.csv");
+  EXPECT_EQ(rows[0].rfind("k,energy,energy_norm,type,lambda_min,certificate,n_starts,backends,starts", 0), 0u) << rows[0];
+  for (size_t k = 1; k < rows.size(); ++k) EXPECT_NE(rows[k].find(",local minimum,"), std::string::npos) << rows[k];
+  // JSON: the solutions with their Γ3 nodes, the runs, the smallness verdict.
+  const json js = json::parse(slurp(out / "minima.json"));
+  ASSERT_EQ(js["solutions"].size(), 4u);
+  EXPECT_FALSE(js["smallness"]["uniqueness_guaranteed"].get<bool>());
+  EXPECT_EQ(js["runs"].size(), 13u);  // zero, at-gap, separated, 8 random, load up, load down
+  double prev = -1e300;
+  for (const auto& s : js["solutions"]) {
+    EXPECT_GE(s["energy"].get<double>(), prev);
+    prev = s["energy"].get<double>();
+    EXPECT_EQ(s["nodes"].size(), 2u);
+    EXPECT_TRUE(s["certificate"]["passed"].get<bool>());
+    EXPECT_EQ(s["type"], "local minimum");
+  }
+  for (int k = 0; k < 4; ++k) EXPECT_TRUE(fs::exists(out / ("solution_" + std::to_string(k) + ".vtu"))) << k;
+  EXPECT_FALSE(fs::exists(out / "solution_4.vtu"));
+  if (matplotlib_available()) {
+    EXPECT_TRUE(fs::exists(out / "minima.png")) << r.err;
+  }
+  // No overwrite without --force; with it, fine.
+  const MinimaOutcome again = cli("minima " + scene + " --starts 0 --out " + out.string() + " --quiet");
+  EXPECT_EQ(again.code, hemicontact::EXIT_INPUT);
+  EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
+  EXPECT_EQ(cli("minima " + scene + " --starts 0 --out " + out.string() + " --quiet --force").code, 0);
+}
+
+TEST_F(MinimaCli, StartFilesAndReportNodes) {
+  // First run: no random starts, no load path; take its highest-energy solution's nodes as a start.
+  const fs::path out1 = dir / "a";
+  ASSERT_EQ(cli("minima " + scene + " --starts 0 --load-path-steps 0 --out " + out1.string() + " --quiet").code, 0);
+  const json first = json::parse(slurp(out1 / "minima.json"));
+  const json& last = first["solutions"].back();
+  json pairs = json::array();
+  for (const auto& n : last["nodes"]) pairs.push_back({n["u_nu"], n["u_tau"]});
+  std::ofstream(dir / "pairs.json") << pairs.dump();
+  std::ofstream(dir / "report.json") << json{{"nodes", last["nodes"]}}.dump();
+  const fs::path out2 = dir / "b";
+  const MinimaOutcome r = cli("minima " + scene + " --starts 0 --load-path-steps 0 --start " + (dir / "pairs.json").string() +
+                              " --start " + (dir / "report.json").string() + " --out " + out2.string() + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json js = json::parse(slurp(out2 / "minima.json"));
+  int users = 0;
+  for (const auto& run : js["runs"])
+    if (run["start"].get<std::string>().rfind("user-", 0) == 0) {
+      ++users;
+      ASSERT_TRUE(run["certified"].get<bool>());
+      EXPECT_NEAR(run["energy"].get<double>(), last["energy"].get<double>(), 1e-9 * std::abs(last["energy"].get<double>()));
+    }
+  EXPECT_EQ(users, 2);
+}
+
+TEST_F(MinimaCli, BadOptionsAndStarts) {
+  const std::string out = " --out " + (dir / "bad").string();
+  std::ofstream(dir / "short.json") << "[[0, 0]]";
+  struct Case {
+    std::string args;
+    int code;
+    std::string what;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"--starts -1", hemicontact::EXIT_USAGE, "--starts"},
+           {"--starts x", hemicontact::EXIT_USAGE, "--starts"},
+           {"--group-tol 0", hemicontact::EXIT_USAGE, "--group-tol"},
+           {"--backends ,", hemicontact::EXIT_USAGE, "--backends"},
+           {"--backends nosuch", hemicontact::EXIT_INPUT, "nosuch"},
+           {"--start " + (dir / "short.json").string(), hemicontact::EXIT_INPUT, "Gamma3"},
+           {"--start " + (dir / "missing.json").string(), hemicontact::EXIT_INPUT, "cannot read"},
+       }) {
+    SCOPED_TRACE(c.args);
+    const MinimaOutcome r = cli("minima " + scene + " " + c.args + out + " --quiet");
+    EXPECT_EQ(r.code, c.code) << r.err;
+    EXPECT_NE(r.err.find(c.what), std::string::npos) << r.err;
+  }
+}
+
+TEST_F(MinimaCli, MissingMatplotlibIsAWarningOnly) {
+  const fs::path out = dir / "np";
+  const MinimaOutcome r = cli("minima " + scene + " --starts 0 --load-path-steps 0 --out " + out.string() + " --quiet",
+                              "HEMICONTACT_PYTHON=" + (dir / "no-python3").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out / "minima.csv"));
+  EXPECT_TRUE(fs::exists(out / "solution_0.vtu"));
+  EXPECT_FALSE(fs::exists(out / "minima.png"));
+  EXPECT_NE(r.err.find("matplotlib"), std::string::npos) << r.err;
+}
+
+}  // namespace

@@ -1,0 +1,133 @@
+// The mesh-convergence study (driver/convergence.hpp) on the paper's two scenes: errors against a
+// finer reference decrease at a positive observed order (the paper reports ≈ 1, Fig. 3); the request is
+// checked before any solve; the reference measured against itself has no error.
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/driver/convergence.hpp>
+#include <hemicontact/io/config.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+
+using namespace hemicontact;
+using json = nlohmann::json;
+
+namespace {
+
+const std::string PROBLEMS = HEMICONTACT_SOURCE_DIR "/problems";
+
+json scene_of(const std::string& name) { return load_scene(PROBLEMS + "/sofonea2017-" + name + ".json"); }
+
+// Each scene's study (levels 4, 8, 16 against 32) is run once and shared by the tests.
+const ConvergenceStudy& study_of(const std::string& name) {
+  static std::map<std::string, ConvergenceStudy> cache;
+  auto it = cache.find(name);
+  if (it == cache.end()) it = cache.emplace(name, run_convergence(scene_of(name), PROBLEMS, {16, 4, 8}, 32)).first;
+  return it->second;
+}
+
+}  // namespace
+
+class ConvergenceStudyScenes : public ::testing::TestWithParam<std::string> {};
+
+// Measured (ipopt, Release), levels 4, 8, 16 against 32:
+//   printed: e = 0.552, 0.343, 0.185   orders 0.69, 0.89
+//   fig2:    e = 0.565, 0.364, 0.201   orders 0.64, 0.86
+// and levels 4..64 against 128 (`hemicontact converge`):
+//   printed: orders 0.62, 0.69, 0.77, 0.94;   fig2: orders 0.57, 0.65, 0.75, 0.93;
+//   the same body without contact (problems/elasticity-square.json): 0.62, 0.69, 0.77, 0.94.
+// So the contact does not limit the rate: the elastic solution does, through the corners where
+// the clamped top meets the loaded sides. Its true order is ≈ 0.7: with E_L = C h^α and Galerkin
+// orthogonality the measured e_L = (E_L² − E_R²)^{1/2} gives orders 0.71, 0.73, 0.77, 0.93 for
+// α = 0.7 — the last pair is inflated by the reference being only 2× finer, and the paper's "≈ 1"
+// is what the finest pairs show. Hence the band [0.5, 1.6] on the finest pair.
+TEST_P(ConvergenceStudyScenes, ErrorsDecreaseAtAnObservedOrderInBand) {
+  const ConvergenceStudy& st = study_of(GetParam());
+  ASSERT_EQ(st.levels.size(), 3u);
+  EXPECT_TRUE(st.ok()) << "failed levels: " << st.failed().size();
+  EXPECT_EQ(st.reference.n, 32);
+  EXPECT_EQ(st.reference.error, 0.0);
+  EXPECT_TRUE(std::isnan(st.levels[0].order));
+  for (size_t i = 0; i < st.levels.size(); ++i) {
+    const ConvergenceLevel& l = st.levels[i];
+    SCOPED_TRACE("n = " + std::to_string(l.n));
+    EXPECT_EQ(l.n, 4 << i);  // sorted coarse to fine
+    EXPECT_DOUBLE_EQ(l.h, 1.0 / l.n);
+    EXPECT_TRUE(l.ok) << l.message;
+    EXPECT_TRUE(l.nested);
+    EXPECT_GT(l.error, 0.0);
+    EXPECT_LT(l.error, 1.0);
+    EXPECT_GT(l.energy_norm, 0.0);
+    EXPECT_LT(l.dofs, st.reference.dofs);
+    if (i > 0) {
+      EXPECT_LT(l.error, st.levels[i - 1].error);
+      EXPECT_GT(l.order, 0.0);
+    }
+  }
+  const double finest = st.levels.back().order;
+  EXPECT_GE(finest, 0.5);
+  EXPECT_LE(finest, 1.6);
+  // The table and the CSV row count follow the study.
+  const std::string table = convergence_table(st);
+  EXPECT_NE(table.find("(reference)"), std::string::npos);
+  EXPECT_NE(table.find("converged and certified"), std::string::npos);
+  const json js = convergence_json(st);
+  EXPECT_EQ(js["levels"].size(), 3u);
+  EXPECT_TRUE(js["levels"][0]["order"].is_null());
+  EXPECT_TRUE(js["ok"].get<bool>());
+}
+
+INSTANTIATE_TEST_SUITE_P(PaperScenes, ConvergenceStudyScenes, ::testing::Values("printed", "fig2"));
+
+TEST(ConvergenceStudy, ReferenceAgainstItselfHasNoError) {
+  const ConvergenceStudy st = run_convergence(scene_of("fig2"), PROBLEMS, {4, 8}, 8);
+  ASSERT_EQ(st.levels.size(), 2u);
+  EXPECT_GT(st.levels[0].error, 0.0);
+  EXPECT_EQ(st.levels[1].n, 8);
+  EXPECT_EQ(st.levels[1].error, 0.0);
+  EXPECT_EQ(st.levels[1].dofs, st.reference.dofs);
+  EXPECT_TRUE(std::isnan(st.levels[1].order));  // log of e/0 is no order
+}
+
+TEST(ConvergenceStudy, LevelsMustDivideTheReference) {
+  try {
+    run_convergence(scene_of("fig2"), PROBLEMS, {4, 6, 12, 5}, 32);
+    FAIL() << "expected an Error";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(e.code(), EXIT_INPUT);
+    EXPECT_NE(msg.find("5, 6, 12"), std::string::npos) << msg;  // every offender, sorted
+    EXPECT_NE(msg.find("32"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find("4,"), std::string::npos) << msg;
+  }
+  EXPECT_THROW(run_convergence(scene_of("fig2"), PROBLEMS, {}, 32), Error);
+  EXPECT_THROW(run_convergence(scene_of("fig2"), PROBLEMS, {0, 4}, 32), Error);
+  EXPECT_THROW(run_convergence(scene_of("fig2"), PROBLEMS, {64}, 32), Error);  // finer than the reference
+}
+
+TEST(ConvergenceStudy, NonNestedMeshesAreFlagged) {
+  // A perturbed mesh is not a refinement of another: still measured, but flagged.
+  const json scene = load_scene(PROBLEMS + "/sofonea2017-printed.json", {"mesh.perturb=0.2"});
+  const ConvergenceStudy st = run_convergence(scene, PROBLEMS, {4}, 8);
+  ASSERT_EQ(st.levels.size(), 1u);
+  EXPECT_FALSE(st.levels[0].nested);
+  EXPECT_GT(st.levels[0].error, 0.0);
+}
+
+TEST(ConvergenceStudy, ParseLevels) {
+  EXPECT_EQ(parse_levels("4,8,...,64"), (std::vector<int>{4, 8, 16, 32, 64}));
+  EXPECT_EQ(parse_levels("3,9,...,81"), (std::vector<int>{3, 9, 27, 81}));
+  EXPECT_EQ(parse_levels("16,4,8,4"), (std::vector<int>{4, 8, 16}));
+  for (const char* bad : {"", "4,x", "4,-8", "4,0", "4,...,8", "4,8,...", "4,6,...,36", "8,4,...,64"}) {
+    SCOPED_TRACE(bad);
+    try {
+      parse_levels(bad);
+      FAIL() << "expected an Error";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), EXIT_USAGE);
+      EXPECT_NE(std::string(e.what()).find("--levels"), std::string::npos) << e.what();
+    }
+  }
+}
