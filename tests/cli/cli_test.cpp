@@ -3,6 +3,8 @@
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 
+#include "support/cli_runner.hpp"
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -20,17 +22,11 @@ using json = nlohmann::json;
 
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
+using CliRun = hemicontact::test::CliOutcome;
+using hemicontact::test::lines_of;
+using hemicontact::test::matplotlib_available;
+using hemicontact::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // Runs the CLI with stdout/stderr captured in files of a per-test scratch directory.
 class Cli : public ::testing::Test {
@@ -44,14 +40,7 @@ class Cli : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir); }
 
   CliRun run(const std::string& args) const {
-    const std::string cmd = std::string(HEMICONTACT_CLI_PATH) + " " + args + " >" + (dir / "out.txt").string() +
-                            " 2>" + (dir / "err.txt").string();
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir / "out.txt");
-    r.err = slurp(dir / "err.txt");
-    return r;
+    return hemicontact::test::run_cli(dir, args);
   }
 
   // A small valid scene (the paper's, n = 4), as JSON to be modified by each test.

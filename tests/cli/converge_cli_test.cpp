@@ -2,6 +2,8 @@
 // level lists, refusal to overwrite, and --plot without matplotlib (the CSV is still written).
 #include <hemicontact/core/error.hpp>
 
+#include "support/cli_runner.hpp"
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -20,24 +22,12 @@ using json = nlohmann::json;
 
 namespace {
 
-struct ConvergeOutcome {
-  int code = -1;
-  std::string out, err;
-};
+using ConvergeOutcome = hemicontact::test::CliOutcome;
+using hemicontact::test::lines_of;
+using hemicontact::test::matplotlib_available;
+using hemicontact::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> r;
-  std::stringstream ss(text);
-  for (std::string l; std::getline(ss, l);) r.push_back(l);
-  return r;
-}
 
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> r;
@@ -47,7 +37,6 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return r;
 }
 
-bool matplotlib_available() { return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0; }
 
 // Runs the CLI with stdout/stderr captured in files of a per-test scratch directory.
 class ConvergeCli : public ::testing::Test {
@@ -64,14 +53,7 @@ class ConvergeCli : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir); }
 
   ConvergeOutcome cli(const std::string& args, const std::string& env = "") const {
-    const std::string cmd = env + " " + std::string(HEMICONTACT_CLI_PATH) + " " + args + " >" +
-                            (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-    const int status = std::system(cmd.c_str());
-    ConvergeOutcome r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir / "out.txt");
-    r.err = slurp(dir / "err.txt");
-    return r;
+    return hemicontact::test::run_cli(dir, args, env);
   }
 
   fs::path dir;

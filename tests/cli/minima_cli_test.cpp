@@ -3,6 +3,8 @@
 // object with "nodes"); bad options; refusal to overwrite; a missing matplotlib is a warning only.
 #include <hemicontact/core/error.hpp>
 
+#include "support/cli_runner.hpp"
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -21,26 +23,13 @@ using json = nlohmann::json;
 
 namespace {
 
-struct MinimaOutcome {
-  int code = -1;
-  std::string out, err;
-};
+using MinimaOutcome = hemicontact::test::CliOutcome;
+using hemicontact::test::lines_of;
+using hemicontact::test::matplotlib_available;
+using hemicontact::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> r;
-  std::stringstream ss(text);
-  for (std::string l; std::getline(ss, l);) r.push_back(l);
-  return r;
-}
 
-bool matplotlib_available() { return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0; }
 
 class MinimaCli : public ::testing::Test {
  protected:
@@ -54,14 +43,7 @@ class MinimaCli : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir); }
 
   MinimaOutcome cli(const std::string& args, const std::string& env = "") const {
-    const std::string cmd = env + " " + std::string(HEMICONTACT_CLI_PATH) + " " + args + " >" +
-                            (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-    const int status = std::system(cmd.c_str());
-    MinimaOutcome r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir / "out.txt");
-    r.err = slurp(dir / "err.txt");
-    return r;
+    return hemicontact::test::run_cli(dir, args, env);
   }
 
   fs::path dir;

@@ -1,5 +1,7 @@
 // `hemicontact solve ... --plot`: the Fig. 2 picture (scripts/plot_fig2.py) is drawn next to the
 // results; without python3/matplotlib the solve still succeeds and warns.
+#include "support/cli_runner.hpp"
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -17,19 +19,12 @@ using json = nlohmann::json;
 
 namespace {
 
-struct PlotOutcome {
-  int code = -1;
-  std::string out, err;
-};
+using PlotOutcome = hemicontact::test::CliOutcome;
+using hemicontact::test::lines_of;
+using hemicontact::test::matplotlib_available;
+using hemicontact::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
-bool matplotlib_available() { return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0; }
 
 class PlotCli : public ::testing::Test {
  protected:
@@ -47,14 +42,7 @@ class PlotCli : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir); }
 
   PlotOutcome cli(const std::string& args, const std::string& env = "") const {
-    const std::string cmd = env + " " + std::string(HEMICONTACT_CLI_PATH) + " " + args + " >" +
-                            (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-    const int status = std::system(cmd.c_str());
-    PlotOutcome r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir / "out.txt");
-    r.err = slurp(dir / "err.txt");
-    return r;
+    return hemicontact::test::run_cli(dir, args, env);
   }
 
   fs::path dir;

@@ -1,0 +1,56 @@
+#pragma once
+/// @file cli_runner.hpp  Running the built `hemicontact` program from tests: stdout/stderr captured
+/// in files of a scratch directory, exit code decoded. Shared by the tests/cli/*_test.cpp files.
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+namespace hemicontact::test {
+
+/// What one run of the program did.
+struct CliOutcome {
+  int code = -1;    ///< exit code (-1 if killed by a signal)
+  std::string out;  ///< stdout
+  std::string err;  ///< stderr
+};
+
+/// @return the whole text of file @p p (empty if missing).
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// @return the lines of @p text.
+inline std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> r;
+  std::stringstream ss(text);
+  for (std::string l; std::getline(ss, l);) r.push_back(l);
+  return r;
+}
+
+/// @return true if Debian's python3 can import matplotlib (picture tests skip otherwise).
+inline bool matplotlib_available() {
+  return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0;
+}
+
+/// Run `hemicontact ARGS` (with optional leading environment assignments @p env), capturing its
+/// output in @p dir/out.txt and @p dir/err.txt.
+inline CliOutcome run_cli(const std::filesystem::path& dir, const std::string& args, const std::string& env = "") {
+  const std::string cmd = env + " " + std::string(HEMICONTACT_CLI_PATH) + " " + args + " >" +
+                          (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
+  const int status = std::system(cmd.c_str());
+  CliOutcome r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(dir / "out.txt");
+  r.err = slurp(dir / "err.txt");
+  return r;
+}
+
+}  // namespace hemicontact::test
