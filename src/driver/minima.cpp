@@ -185,7 +185,8 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   const Index nc = md.contact.size();
   const int d = md.dim();
   std::vector<Candidate> cands;
-  std::vector<std::unique_ptr<ContactSolver>> solvers;  // one per backend (kept for the check)
+  // One solver for every backend, start and load step: factored (and condensed) once.
+  std::unique_ptr<ContactSolver> solver;
 
   const auto record = [&](const std::string& start, const std::string& backend, Solution sol, double secs) {
     MinimaRun r;
@@ -208,13 +209,15 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   for (const std::string& name : mopt.backends) {
     SolveOptions o = opt;
     o.backend = name;
-    solvers.push_back(std::make_unique<ContactSolver>(md, o));
-    ContactSolver& S = *solvers.back();
+    const bool first = !solver;
+    if (first) solver = std::make_unique<ContactSolver>(md, o);
+    else solver->set_backend(name);
+    ContactSolver& S = *solver;
     auto t = clk::now();
     Solution zero = S.solve(nullptr);
     const double Us = zero.x_scale;
     R.x_scale = Us;
-    if (solvers.size() == 1) R.smallness = zero.smallness;
+    if (first) R.smallness = zero.smallness;
     record("zero", name, std::move(zero), since(t));
     if (S.formulation().empty()) {  // linear: the solution is unique, one solve says it all
       log_info() << "minima: linear problem, one solution; no further starts";
@@ -247,8 +250,6 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
     // Load path up (1/N … 1), then on to 2 and back down to 1; warm starts all the way.
     if (mopt.load_path_steps > 0) {
       const int N = mopt.load_path_steps;
-      SolveOptions os = o;
-      os.smallness = false;  // once is enough (and it does not depend on the loads)
       const auto t1 = clk::now();
       Vec z = Vec::Zero(S.size());
       bool ok = true;
@@ -258,10 +259,12 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
           z = S.to_unknowns(s.x);
           return s;
         }
-        const Model ms = scaled_model(md, static_cast<double>(i) / N);
-        ContactSolver Ss(ms, os);
-        Solution s = Ss.solve(&z);
-        z = Ss.to_unknowns(s.x);
+        const double scale = static_cast<double>(i) / N;
+        const Model ms = scaled_model(md, scale);
+        S.set_loads(ms, scale);  // same factorization, scaled loads
+        Solution s = S.solve(&z);
+        S.set_loads(md, 1.0);
+        z = S.to_unknowns(s.x);
         if (!s.backend_ok || !s.fixed_point_converged) ok = false;
         return s;
       };
@@ -321,7 +324,7 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   for (size_t k = 0; k < R.solutions.size(); ++k) {
     DistinctSolution& ds = R.solutions[k];
     for (int run : ds.runs) R.runs[static_cast<size_t>(run)].group = static_cast<int>(k);
-    ds.second_order = second_order_check(*solvers.front(), md, opt, ds.solution, mopt);
+    ds.second_order = second_order_check(*solver, md, opt, ds.solution, mopt);
     log_info() << "minima: solution " << k << ": energy " << fmt(ds.solution.energy, 10) << ", "
                << ds.second_order.verdict << " (lambda_min " << fmt(ds.second_order.lambda_min, 4) << "), "
                << ds.runs.size() << " start(s)";

@@ -9,9 +9,10 @@ namespace hemicontact {
 namespace {
 
 // Statuses, certificate and energies of condensed unknowns x_C.
-Solution evaluate_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, const Vec& x_C) {
+Solution evaluate_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, const Vec& x_C,
+                            double load_scale) {
   Solution s;
-  s.x = cond.recover(x_C);
+  s.x = cond.recover(x_C, load_scale);
   s.u = md.dofs.to_full(s.x);
   evaluate_solution(md, opt, s);
   return s;
@@ -19,7 +20,8 @@ Solution evaluate_condensed(const Model& md, const Condensation& cond, const Sol
 
 }  // namespace
 
-PolishResult polish_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C) {
+PolishResult polish_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
+                              double load_scale) {
   PolishResult r;
   const int d = md.dim();
   const Index nc = md.contact.size(), m = cond.m();
@@ -28,10 +30,10 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
     return r;
   }
   r.attempted = true;
-  const Solution s0 = evaluate_condensed(md, cond, opt, x_C);
+  const Solution s0 = evaluate_condensed(md, cond, opt, x_C, load_scale);
   r.before = s0.certificate.max_residual;
   const Mat& S = cond.S();
-  const Vec yC = cond.y_C();
+  const Vec yC = load_scale * cond.y_C();
 
   // Rows: one per unknown. Row ν_k / τ_k either pins the unknown or states the traction balance
   // (S (x − y))_row / w + [branch terms] = 0, multiplied by w to keep S's scale.
@@ -85,7 +87,7 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
     r.note = "singular status system";
     return r;
   }
-  const Solution s1 = evaluate_condensed(md, cond, opt, x);
+  const Solution s1 = evaluate_condensed(md, cond, opt, x, load_scale);
   r.after = s1.certificate.max_residual;
   for (Index k = 0; k < nc; ++k)
     if (s1.status[k].str() != s0.status[k].str()) {

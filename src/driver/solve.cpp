@@ -107,7 +107,11 @@ struct Formulation {
   std::unique_ptr<Condensation> cond;        // condensed only
   std::shared_ptr<NormalComplianceEnergy> normal;
   std::shared_ptr<FrictionEnergy> friction;
-  Vec to_x(const Vec& z) const { return cond ? cond->recover(z) : z; }
+  std::shared_ptr<CondensedElasticEnergy> condensed_elastic;  // condensed: holds y_C = (K⁻¹f)_C
+  std::shared_ptr<LoadEnergy> load;                           // full: holds f
+  double load_scale = 1;                                      // loads are load_scale × the model's
+  // x from z; with scaled loads the interior is recovered for the scaled f (y scales linearly).
+  Vec to_x(const Vec& z) const { return cond ? cond->recover(z, load_scale) : z; }
 };
 
 std::string choose_formulation(const Model& md, const SolveOptions& opt) {
@@ -131,7 +135,8 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
     timings["condensation_factorize"] = F.cond->factorize_seconds();
     timings["condensation_schur"] = F.cond->schur_seconds();
     F.energy = std::make_unique<TotalEnergy>(d * nc, dense_lower_pattern(d * nc));
-    F.energy->add(std::make_shared<CondensedElasticEnergy>(F.cond->S(), F.cond->y_C(), F.cond->constant()));
+    F.condensed_elastic = std::make_shared<CondensedElasticEnergy>(F.cond->S(), F.cond->y_C(), F.cond->constant());
+    F.energy->add(F.condensed_elastic);
     for (Index k = 0; k < nc; ++k) F.nd.first.push_back(d * k);
     F.z_free = F.cond->y_C();
   } else {
@@ -142,7 +147,8 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
     auto elastic = std::make_shared<ElasticEnergy>(md.Kx);
     F.energy = std::make_unique<TotalEnergy>(md.dofs.n_free(), elastic->lower());
     F.energy->add(elastic);
-    F.energy->add(std::make_shared<LoadEnergy>(md.fx));
+    F.load = std::make_shared<LoadEnergy>(md.fx);
+    F.energy->add(F.load);
     for (Index k = 0; k < nc; ++k) F.nd.first.push_back(md.dofs.contact_dof(k, 0));
   }
   timings["factorization_total"] = since(t0);
@@ -165,7 +171,7 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
 }  // namespace
 
 struct ContactSolver::Impl {
-  const Model& md;
+  const Model* model;  // the model the answers are evaluated on (a load-scaled copy: set_loads)
   SolveOptions opt;
   std::unique_ptr<NlpBackend> backend;
   bool linear = false;                    // no contact law and no obstacle: one linear solve
@@ -178,7 +184,7 @@ struct ContactSolver::Impl {
   std::unique_ptr<ScaledObjective> scaled;
   NlpProblem prob;
   std::vector<std::pair<double, double>> schedule;  // (eps_tau, eps_nu), relative
-  Impl(const Model& m, const SolveOptions& o) : md(m), opt(o) {}
+  Impl(const Model& m, const SolveOptions& o) : model(&m), opt(o) {}
 };
 
 ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::make_unique<Impl>(md, opt)) {
@@ -253,7 +259,28 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
 
 ContactSolver::~ContactSolver() = default;
 
-Index ContactSolver::size() const { return m->linear ? m->md.dofs.n_free() : m->F.energy->size(); }
+void ContactSolver::set_backend(const std::string& name) {
+  m->backend = make_backend(name);
+  m->opt.backend = name;
+}
+
+void ContactSolver::set_loads(const Model& scaled, double s) {
+  Impl& I = *m;
+  if (scaled.dofs.n_free() != I.model->dofs.n_free() || scaled.contact.size() != I.model->contact.size())
+    throw Error("ContactSolver::set_loads: the model differs in more than its loads", EXIT_INTERNAL);
+  I.model = &scaled;
+  if (I.linear) {
+    I.x_linear *= s / I.F.load_scale;
+  } else if (I.F.cond) {
+    // y = K⁻¹(s f) = s y and −½(s f)ᵀ(s y) = s² c: the factorization and S are untouched.
+    I.F.condensed_elastic->set_load(s * I.F.cond->y_C(), s * s * I.F.cond->constant());
+  } else {
+    I.F.load->set_load(scaled.fx);
+  }
+  I.F.load_scale = s;
+}
+
+Index ContactSolver::size() const { return m->linear ? m->model->dofs.n_free() : m->F.energy->size(); }
 
 const std::string& ContactSolver::formulation() const { return m->F.name; }
 
@@ -270,22 +297,22 @@ const Vec& ContactSolver::upper_bounds() const { return m->F.upper; }
 
 void ContactSolver::set_eps(double eps_tau, double eps_nu) {
   Impl& I = *m;
-  if (I.F.normal) I.F.normal->set_law(std::make_shared<MollifiedLaw>(I.md.normal_law, eps_nu * I.U_s, "solver.eps_nu"));
+  if (I.F.normal) I.F.normal->set_law(std::make_shared<MollifiedLaw>(I.model->normal_law, eps_nu * I.U_s, "solver.eps_nu"));
   if (I.F.friction) I.F.friction->set_eps(eps_tau * I.U_s);
 }
 
 void ContactSolver::freeze_friction(const Vec& z) {
   Impl& I = *m;
   if (!I.F.friction) return;
-  Vec l(I.md.contact.size());
-  for (Index k = 0; k < I.md.contact.size(); ++k) l[k] = I.md.friction->F(z[I.F.nd.first[k]]);
+  Vec l(I.model->contact.size());
+  for (Index k = 0; k < I.model->contact.size(); ++k) l[k] = I.model->friction->F(z[I.F.nd.first[k]]);
   I.F.friction->set_lambda(l);
 }
 
 Solution ContactSolver::solve(const Vec* z0) {
   const auto t_start = clk::now();
   Impl& I = *m;
-  const Model& md = I.md;
+  const Model& md = *I.model;
   const SolveOptions& opt = I.opt;
   Solution sol;
   sol.backend = I.backend->name();
@@ -396,7 +423,7 @@ Solution ContactSolver::solve(const Vec* z0) {
   // Polished even after a backend failure: the certificate, not the backend's word, decides.
   if (F.cond && opt.polish && sol.fixed_point_converged) {
     const auto t1 = clk::now();
-    sol.polish = polish_condensed(md, *F.cond, opt, z);
+    sol.polish = polish_condensed(md, *F.cond, opt, z, F.load_scale);
     sol.timings["polish"] = since(t1);
     log_info() << "polish: " << (sol.polish.accepted ? "accepted" : "rejected") << ", certificate "
                << sol.polish.before << " -> " << sol.polish.after << " in " << sol.polish.iterations

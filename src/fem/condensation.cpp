@@ -149,11 +149,11 @@ Condensation::~Condensation() = default;
 
 Vec Condensation::solve(const Vec& b) const { return m_impl->solve(b); }
 
-Vec Condensation::recover(const Vec& x_C) const {
+Vec Condensation::recover(const Vec& x_C, double load_scale) const {
   const Index n = m_y.size(), m = this->m();
   Vec rhs = Vec::Zero(n);
-  rhs.tail(m) = m_S * (x_C - m_y.tail(m));
-  Vec x = m_y + m_impl->solve(rhs);
+  rhs.tail(m) = m_S * (x_C - load_scale * m_y.tail(m));
+  Vec x = load_scale * m_y + m_impl->solve(rhs);
   x.tail(m) = x_C;  // exact, not up to the solve's round-off
   return x;
 }

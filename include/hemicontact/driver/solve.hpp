@@ -129,6 +129,12 @@ class ContactSolver {
   void set_eps(double eps_tau, double eps_nu);
   /// Freeze λ_i = F_b(u_ν,i) at solver unknowns @p z in energy().
   void freeze_friction(const Vec& z);
+  /// Switch the NLP backend, keeping the factorization and everything else (minima over backends).
+  void set_backend(const std::string& name);
+  /// Solve from now on for loads @p s × the original model's, keeping the factorization: only
+  /// y = K⁻¹f scales. @p scaled is the original model with f, fx scaled by s (the certificate is
+  /// evaluated on it); it must outlive the solves. Used by load paths.
+  void set_loads(const Model& scaled, double s);
 
  private:
   struct Impl;

@@ -33,6 +33,11 @@ class CondensedElasticEnergy : public EnergyTerm {
   void add_gradient(const Vec& x, Vec& g) const override { g += m_S * (x - m_y); }
   /// Adds S's lower triangle; @p H must have the pattern dense_lower_pattern(m).
   void add_hessian(const Vec& x, SpMat& H, Psd psd) const override;
+  /// Replace y_C and c (loads scaled: y_C → s y_C, c → s² c).
+  void set_load(Vec y_C, double c) {
+    m_y = std::move(y_C);
+    m_c = c;
+  }
 
  private:
   const Mat& m_S;
@@ -53,6 +58,8 @@ class LoadEnergy : public EnergyTerm {
   double value(const Vec& x) const override { return -m_f.dot(x); }
   void add_gradient(const Vec& x, Vec& g) const override { g -= m_f; }
   void add_hessian(const Vec&, SpMat&, Psd) const override {}
+  /// Replace the load vector.
+  void set_load(Vec f) { m_f = std::move(f); }
 
  private:
   Vec m_f;

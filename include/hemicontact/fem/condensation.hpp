@@ -36,8 +36,9 @@ class Condensation {
   Vec y_C() const { return m_y.tail(m()); }
   /// @return the constant −½ fᵀ y of the condensed energy.
   double constant() const { return m_const; }
-  /// @return the full vector whose trailing part is @p x_C and whose interior minimizes the energy.
-  Vec recover(const Vec& x_C) const;
+  /// @return the full vector whose trailing part is @p x_C and whose interior minimizes the energy
+  /// for the loads @p load_scale × f (y scales linearly with the loads).
+  Vec recover(const Vec& x_C, double load_scale = 1.0) const;
   /// @return K⁻¹ b with the stored factor.
   Vec solve(const Vec& b) const;
   /// @return seconds spent in: ordering+symbolic analysis, numeric factorization, extracting S.
