@@ -7,9 +7,10 @@ cd "$here"
 bash scripts/install-deps.sh
 build="${BUILD_DIR:-build}"
 jobs="${JOBS:-$(nproc)}"
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >"$build.configure.log" 2>&1 || {
-  cat "$build.configure.log" >&2
+mkdir -p "$build"
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >"$build/configure.log" 2>&1 || {
+  cat "$build/configure.log" >&2
   exit 1
 }
-grep "hemicontact:" "$build.configure.log" >&2 || true
+grep "hemicontact:" "$build/configure.log" >&2 || true
 cmake --build "$build" -j "$jobs"

@@ -6,6 +6,8 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/types.hpp>
 
+#include "support/expect_error.hpp"
+
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -17,18 +19,7 @@
 namespace hemicontact {
 namespace {
 
-void expect_input_error(const std::function<void()>& fn, const std::vector<std::string>& parts) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), EXIT_INPUT);
-    const std::string msg = e.what();
-    for (const auto& part : parts)
-      EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
-    return;
-  }
-  ADD_FAILURE() << "no hemicontact::Error thrown";
-}
+using hemicontact::test::expect_input_error;
 
 std::shared_ptr<const PiecewiseLinearLaw> paper_ptr() {
   return std::make_shared<const PiecewiseLinearLaw>(

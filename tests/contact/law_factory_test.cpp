@@ -4,6 +4,8 @@
 #include <hemicontact/contact/law_factory.hpp>
 #include <hemicontact/core/error.hpp>
 
+#include "support/expect_error.hpp"
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -17,18 +19,7 @@ namespace {
 
 using json = nlohmann::json;
 
-void expect_input_error(const std::function<void()>& fn, const std::vector<std::string>& parts) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), EXIT_INPUT);
-    const std::string msg = e.what();
-    for (const auto& part : parts)
-      EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
-    return;
-  }
-  ADD_FAILURE() << "no hemicontact::Error thrown";
-}
+using hemicontact::test::expect_input_error;
 
 /// contact.normal_law as io/config delivers it: every key present, unused ones null.
 json normal_law_obj(const json& set) {

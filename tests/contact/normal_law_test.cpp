@@ -15,6 +15,8 @@
 
 #include "support/fd_check.hpp"
 
+#include "support/expect_error.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -76,18 +78,7 @@ std::string kind_name(LawKind kind) {
 }
 
 /// Expect fn() to throw an input Error whose message contains every string in @p parts.
-void expect_input_error(const std::function<void()>& fn, const std::vector<std::string>& parts) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), EXIT_INPUT);
-    const std::string msg = e.what();
-    for (const auto& part : parts)
-      EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
-    return;
-  }
-  ADD_FAILURE() << "no hemicontact::Error thrown";
-}
+using hemicontact::test::expect_input_error;
 
 // ---------------------------------------------------------------- paper law, exact values
 

@@ -30,29 +30,6 @@ namespace {
   if (!HEMICONTACT_HAS_IPOPT)       \
   GTEST_SKIP() << "Ipopt backend not compiled in (install coinor-libipopt-dev and rebuild)"
 
-/// A 6-unknown SPD box QP whose solution has lower, upper and inactive bounds, and some
-/// infinite bounds (unknown 3 has no lower bound, unknown 5 none at all).
-struct BoxQp {
-  Mat A;
-  Vec b, lower, upper;
-};
-BoxQp make_box_qp() {
-  const Index n = 6;
-  BoxQp q;
-  q.A.resize(n, n);
-  for (Index i = 0; i < n; ++i)
-    for (Index j = 0; j < n; ++j)
-      q.A(i, j) = 1.0 / (1.0 + std::abs(double(i - j))) + (i == j ? 2.0 : 0.0);
-  Vec x_unconstrained(n);
-  x_unconstrained << 2.0, -2.0, 0.3, -3.0, 1.5, 0.1;
-  q.b = q.A * x_unconstrained;
-  q.lower = Vec::Constant(n, -1.0);
-  q.upper = Vec::Constant(n, 1.0);
-  q.lower[3] = -INF;
-  q.lower[5] = -INF;
-  q.upper[5] = INF;
-  return q;
-}
 
 /// Options for tests that compare with an exact answer to 1e-9. An interior point stops at a
 /// distance ≈ tol·G/z from an active bound (G = max(1, ‖∇f(x0)‖∞), z the multiplier), ~1e-9 for

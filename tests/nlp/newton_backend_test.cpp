@@ -27,27 +27,6 @@ namespace {
 #define HEMICONTACT_REQUIRE_IPOPT_HERE() \
   if (!HEMICONTACT_HAS_IPOPT) GTEST_SKIP() << "Ipopt backend not compiled in: the comparison needs it"
 
-/// The 6-unknown SPD box QP of the Ipopt tests (lower, upper and inactive bounds, some infinite).
-struct BoxQp {
-  Mat A;
-  Vec b, lower, upper;
-};
-BoxQp make_box_qp() {
-  const Index n = 6;
-  BoxQp q;
-  q.A.resize(n, n);
-  for (Index i = 0; i < n; ++i)
-    for (Index j = 0; j < n; ++j) q.A(i, j) = 1.0 / (1.0 + std::abs(double(i - j))) + (i == j ? 2.0 : 0.0);
-  Vec x_unconstrained(n);
-  x_unconstrained << 2.0, -2.0, 0.3, -3.0, 1.5, 0.1;
-  q.b = q.A * x_unconstrained;
-  q.lower = Vec::Constant(n, -1.0);
-  q.upper = Vec::Constant(n, 1.0);
-  q.lower[3] = -INF;
-  q.lower[5] = -INF;
-  q.upper[5] = INF;
-  return q;
-}
 
 NlpProblem make_problem(const NlpObjective& f, const Vec& lower, const Vec& upper) {
   NlpProblem p;

@@ -45,29 +45,6 @@ NlpProblem make_problem(const NlpObjective& f, const Vec& lower, const Vec& uppe
   return p;
 }
 
-/// The same 6-unknown box QP as tests/nlp/ipopt_backend_test.cpp: lower, upper and inactive
-/// bounds, some infinite.
-struct BoxQp {
-  Mat A;
-  Vec b, lower, upper;
-};
-BoxQp make_box_qp() {
-  const Index n = 6;
-  BoxQp q;
-  q.A.resize(n, n);
-  for (Index i = 0; i < n; ++i)
-    for (Index j = 0; j < n; ++j)
-      q.A(i, j) = 1.0 / (1.0 + std::abs(double(i - j))) + (i == j ? 2.0 : 0.0);
-  Vec x_unconstrained(n);
-  x_unconstrained << 2.0, -2.0, 0.3, -3.0, 1.5, 0.1;
-  q.b = q.A * x_unconstrained;
-  q.lower = Vec::Constant(n, -1.0);
-  q.upper = Vec::Constant(n, 1.0);
-  q.lower[3] = -INF;
-  q.lower[5] = -INF;
-  q.upper[5] = INF;
-  return q;
-}
 
 /// f(x) = ½‖x‖² − 1ᵀx on a diagonal pattern, any n (the SLSQP size limit needs n > 3000 without
 /// a dense test matrix).

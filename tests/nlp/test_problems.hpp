@@ -260,4 +260,28 @@ inline Mat full_hessian(const NlpObjective& f, const Vec& x) {
   return full;
 }
 
+
+/// A 6-unknown SPD box QP ½xᵀAx − bᵀx whose solution has lower, upper and inactive bounds, and some
+/// infinite bounds (unknown 3 has no lower bound, unknown 5 none at all). Shared by the backend tests.
+struct BoxQp {
+  Mat A;
+  Vec b, lower, upper;
+};
+inline BoxQp make_box_qp() {
+  const Index n = 6;
+  BoxQp q;
+  q.A.resize(n, n);
+  for (Index i = 0; i < n; ++i)
+    for (Index j = 0; j < n; ++j) q.A(i, j) = 1.0 / (1.0 + std::abs(double(i - j))) + (i == j ? 2.0 : 0.0);
+  Vec x_unconstrained(n);
+  x_unconstrained << 2.0, -2.0, 0.3, -3.0, 1.5, 0.1;
+  q.b = q.A * x_unconstrained;
+  q.lower = Vec::Constant(n, -1.0);
+  q.upper = Vec::Constant(n, 1.0);
+  q.lower[3] = -INF;
+  q.lower[5] = -INF;
+  q.upper[5] = INF;
+  return q;
+}
+
 }  // namespace hemicontact::test
