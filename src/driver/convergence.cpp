@@ -93,7 +93,7 @@ ConvergenceLevel solve_level(const Model& md, const SolveOptions& opt, const nlo
   r.certificate_residual = sol.certificate.max_residual;
   r.converged = sol.backend_ok && sol.fixed_point_converged;
   r.certified = sol.certificate.passed;
-  r.ok = r.converged && r.certified;
+  r.ok = sol.ok();  // the certificate decides, as in `solve` (a backend's own failure does not)
   r.message = sol.message;
   if (!r.ok)
     log_warn() << "convergence: n = " << n << ": "
