@@ -216,16 +216,6 @@ TEST(IpoptBackend, FixedVariableAndWarmStartWithIt) {
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9);
 }
 
-struct DoubleWellCase {
-  const char* name;
-  double x0, y0;  // start
-  double lower_x, upper_x;
-  double x_star, y_star;  // closed-form answer
-};
-void PrintTo(const DoubleWellCase& c, std::ostream* os) {
-  *os << c.name << ": start (" << c.x0 << ", " << c.y0 << "), " << c.lower_x
-      << " <= x <= " << c.upper_x << ", answer (" << c.x_star << ", " << c.y_star << ")";
-}
 
 class IpoptDoubleWell : public ::testing::TestWithParam<DoubleWellCase> {};
 
@@ -246,15 +236,7 @@ TEST_P(IpoptDoubleWell, ReachesClosedFormMinimizer) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, IpoptDoubleWell,
-    ::testing::Values(
-        // Start between the local maximum x = 0 and the bound: the bound x <= 1/2 is active,
-        // multiplier 3/2 (see DoubleWellObjective). The start has negative curvature (f_xx < 0),
-        // so Ipopt's inertia correction is exercised.
-        DoubleWellCase{"upper_bound_active", 0.3, 0.0, -INF, 0.5, 0.5, 0.25},
-        // Same bound, start in the left well: the interior minimizer (−1, −1/2).
-        DoubleWellCase{"left_well", -0.4, 0.0, -INF, 0.5, -1.0, -0.5},
-        // Lower bound x >= 1/2 inactive: the interior minimizer (1, 1/2).
-        DoubleWellCase{"lower_bound_inactive", 2.0, -3.0, 0.5, INF, 1.0, 0.5}),
+    ::testing::ValuesIn(double_well_cases()),
     [](const ::testing::TestParamInfo<DoubleWellCase>& info) {
       return std::string(info.param.name);
     });

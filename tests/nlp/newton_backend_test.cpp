@@ -64,15 +64,8 @@ int analyses_in(const std::string& message) {
 class RepatternedObjective : public NlpObjective {
  public:
   /// @param inner the objective (referenced); @param mask n×n, lower part ⊇ inner's pattern.
-  RepatternedObjective(const NlpObjective& inner, const Mat& mask) : m_inner(inner) {
-    Triplets t;
-    for (Index j = 0; j < mask.cols(); ++j)
-      for (Index i = j; i < mask.rows(); ++i)
-        if (mask(i, j) != 0.0) t.emplace_back(int(i), int(j), 0.0);
-    m_pattern.resize(int(mask.rows()), int(mask.cols()));
-    m_pattern.setFromTriplets(t.begin(), t.end());
-    m_pattern.makeCompressed();
-  }
+  RepatternedObjective(const NlpObjective& inner, const Mat& mask)
+      : m_inner(inner), m_pattern(lower_pattern_from_mask(mask)) {}
   Index size() const override { return m_inner.size(); }
   double value(const Vec& x) const override { return m_inner.value(x); }
   void gradient(const Vec& x, Vec& g) const override { m_inner.gradient(x, g); }
@@ -255,16 +248,6 @@ TEST(NewtonBackend, CholmodAnalysisIsKeptWhileThePatternIsUnchanged) {
 
 // ------------------------------------------------------------------ nonconvex and Rosenbrock
 
-struct DoubleWellCase {
-  const char* name;
-  double x0, y0;  // start
-  double lower_x, upper_x;
-  double x_star, y_star;  // closed-form answer
-};
-void PrintTo(const DoubleWellCase& c, std::ostream* os) {
-  *os << c.name << ": start (" << c.x0 << ", " << c.y0 << "), " << c.lower_x << " <= x <= " << c.upper_x
-      << ", answer (" << c.x_star << ", " << c.y_star << ")";
-}
 
 class NewtonDoubleWell : public ::testing::TestWithParam<DoubleWellCase> {};
 
@@ -333,11 +316,7 @@ TEST_P(NewtonDoubleWell, AgreesWithIpopt) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, NewtonDoubleWell,
-    ::testing::Values(
-        // The start has negative curvature f_xx = 12·0.09 − 3.5 < 0; the bound x <= 1/2 is active.
-        DoubleWellCase{"upper_bound_active", 0.3, 0.0, -INF, 0.5, 0.5, 0.25},
-        DoubleWellCase{"left_well", -0.4, 0.0, -INF, 0.5, -1.0, -0.5},
-        DoubleWellCase{"lower_bound_inactive", 2.0, -3.0, 0.5, INF, 1.0, 0.5}),
+    ::testing::ValuesIn(double_well_cases()),
     [](const ::testing::TestParamInfo<DoubleWellCase>& info) { return std::string(info.param.name); });
 
 TEST(NewtonBackend, RosenbrockWithActiveBound) {

@@ -12,26 +12,33 @@
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace hemicontact::test {
 
+/// @return the lower-triangular pattern (explicit zeros) of the entries (i, j), i >= j, where
+/// @p mask is nonzero: a structural Hessian pattern chosen once.
+inline SpMat lower_pattern_from_mask(const Mat& mask) {
+  Triplets t;
+  for (Index j = 0; j < mask.cols(); ++j)
+    for (Index i = j; i < mask.rows(); ++i)
+      if (mask(i, j) != 0.0) t.emplace_back(int(i), int(j), 0.0);
+  SpMat p(int(mask.rows()), int(mask.cols()));
+  p.setFromTriplets(t.begin(), t.end());
+  p.makeCompressed();
+  return p;
+}
+
+
 /// @brief Base for small test objectives: the Hessian is given densely and scattered onto a fixed
 /// lower-triangular pattern chosen once (a structural mask), as hessian_pattern() requires.
 class DenseObjective : public NlpObjective {
  public:
   /// @param mask n×n; entry (i, j), i >= j, is in the pattern when mask(i, j) != 0.
-  explicit DenseObjective(const Mat& mask) {
-    Triplets t;
-    for (Index j = 0; j < mask.cols(); ++j)
-      for (Index i = j; i < mask.rows(); ++i)
-        if (mask(i, j) != 0.0) t.emplace_back(int(i), int(j), 0.0);
-    m_pattern.resize(int(mask.rows()), int(mask.cols()));
-    m_pattern.setFromTriplets(t.begin(), t.end());
-    m_pattern.makeCompressed();
-  }
+  explicit DenseObjective(const Mat& mask) : m_pattern(lower_pattern_from_mask(mask)) {}
   Index size() const override { return m_pattern.rows(); }
   const SpMat& hessian_pattern() const override { return m_pattern; }
   /// Writes the lower triangle of dense_hessian(x) on the pattern, keeping explicit zeros.
@@ -282,6 +289,29 @@ inline BoxQp make_box_qp() {
   q.lower[5] = -INF;
   q.upper[5] = INF;
   return q;
+}
+
+
+/// A start, bounds on x and the closed-form answer of DoubleWellObjective (shared by the backends).
+struct DoubleWellCase {
+  const char* name;
+  double x0, y0;  // start
+  double lower_x, upper_x;
+  double x_star, y_star;  // closed-form answer
+};
+inline void PrintTo(const DoubleWellCase& c, std::ostream* os) {
+  *os << c.name << ": start (" << c.x0 << ", " << c.y0 << "), " << c.lower_x << " <= x <= " << c.upper_x
+      << ", answer (" << c.x_star << ", " << c.y_star << ")";
+}
+/// The three cases every backend is run on:
+/// - upper_bound_active: start between the local maximum x = 0 and the bound, which is active
+///   (multiplier 3/2); the start has negative curvature f_xx = 12·0.09 − 3.5 < 0;
+/// - left_well: same bound, start in the left well: the interior minimizer (−1, −1/2);
+/// - lower_bound_inactive: x >= 1/2 inactive: the interior minimizer (1, 1/2).
+inline std::vector<DoubleWellCase> double_well_cases() {
+  return {{"upper_bound_active", 0.3, 0.0, -INF, 0.5, 0.5, 0.25},
+          {"left_well", -0.4, 0.0, -INF, 0.5, -1.0, -0.5},
+          {"lower_bound_inactive", 2.0, -3.0, 0.5, INF, 1.0, 0.5}};
 }
 
 }  // namespace hemicontact::test
