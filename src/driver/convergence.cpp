@@ -221,15 +221,70 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
   return st;
 }
 
+RateFit fit_rate(const ConvergenceStudy& study, int max_levels) {
+  const double hR = study.reference.h;
+  std::vector<double> h, e;
+  for (const auto& l : study.levels)
+    if (l.error > 0 && l.h > hR) { h.push_back(l.h); e.push_back(l.error); }
+  const size_t m = std::min(h.size(), static_cast<size_t>(std::max(max_levels, 2)));
+  RateFit fit;
+  if (m < 2) return fit;
+  h.erase(h.begin(), h.end() - static_cast<std::ptrdiff_t>(m));
+  e.erase(e.begin(), e.end() - static_cast<std::ptrdiff_t>(m));
+  // For fixed α the optimal log C is the mean log residual; the remaining 1-D least-squares
+  // problem in α is scanned on a grid, then refined by golden-section search in the best cell.
+  const auto log_c = [&](double a) {
+    double s = 0;
+    for (size_t i = 0; i < m; ++i) s += std::log(e[i]) - 0.5 * std::log(std::pow(h[i], 2 * a) - std::pow(hR, 2 * a));
+    return s / m;
+  };
+  const auto sse = [&](double a) {
+    const double lc = log_c(a);
+    double s = 0;
+    for (size_t i = 0; i < m; ++i) {
+      const double r = std::log(e[i]) - lc - 0.5 * std::log(std::pow(h[i], 2 * a) - std::pow(hR, 2 * a));
+      s += r * r;
+    }
+    return s;
+  };
+  const double lo = 0.05, hi = 4.0, step = 0.01;
+  double best = lo;
+  for (double a = lo; a <= hi; a += step)
+    if (sse(a) < sse(best)) best = a;
+  double a = std::max(lo, best - step), b = std::min(hi, best + step);
+  const double phi = 0.5 * (std::sqrt(5.0) - 1);
+  for (int it = 0; it < 60; ++it) {
+    const double x1 = b - phi * (b - a), x2 = a + phi * (b - a);
+    if (sse(x1) < sse(x2)) b = x2;
+    else a = x1;
+  }
+  fit.alpha = 0.5 * (a + b);
+  fit.C = std::exp(log_c(fit.alpha));
+  fit.levels_used = static_cast<int>(m);
+  for (size_t i = 0; i < m; ++i) {
+    const double model = fit.C * std::sqrt(std::pow(h[i], 2 * fit.alpha) - std::pow(hR, 2 * fit.alpha));
+    fit.max_rel_residual = std::max(fit.max_rel_residual, std::abs(model / e[i] - 1));
+  }
+  fit.valid = true;
+  return fit;
+}
+
 nlohmann::json convergence_json(const ConvergenceStudy& study) {
   nlohmann::json levels = nlohmann::json::array();
   for (const auto& l : study.levels) levels.push_back(level_json(l));
+  const RateFit fit = fit_rate(study);
+  nlohmann::json rate = nullptr;
+  if (fit.valid)
+    rate = {{"alpha", fit.alpha}, {"C", fit.C}, {"levels_used", fit.levels_used},
+            {"max_rel_residual", fit.max_rel_residual},
+            {"model", "error = C * sqrt(h^(2 alpha) - h_ref^(2 alpha))"}};
   return {{"reference", level_json(study.reference)},
           {"levels", levels},
           {"backend", study.backend},
           {"ok", study.ok()},
           {"failed", study.failed()},
-          {"scene", study.scene}};
+          {"scene", study.scene},
+          {"rate_fit", rate}};
 }
 
 void write_convergence_csv(const std::string& path, const ConvergenceStudy& study) {
@@ -272,6 +327,14 @@ std::string convergence_table(const ConvergenceStudy& study) {
   out += line;
   for (const auto& l : study.levels) row(l, "");
   row(study.reference, "  (reference)");
+  const RateFit fit = fit_rate(study);
+  if (fit.valid) {
+    std::snprintf(line, sizeof line,
+                  "reference-corrected rate (finest %d levels, error = C sqrt(h^2a - h_ref^2a)): a = %.3f, "
+                  "C = %.3g, fit residual %.1f%%\n",
+                  fit.levels_used, fit.alpha, fit.C, 100 * fit.max_rel_residual);
+    out += line;
+  }
   const auto failed = study.failed();
   if (failed.empty()) {
     out += "all " + std::to_string(study.levels.size() + 1) + " solves converged and certified (backend " +

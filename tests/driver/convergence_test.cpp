@@ -131,3 +131,62 @@ TEST(ConvergenceStudy, ParseLevels) {
     }
   }
 }
+
+namespace {
+
+// A study whose errors follow e = C sqrt(h^{2α} − h_R^{2α}) exactly (nested levels 4..64, R = 256).
+ConvergenceStudy synthetic_study(double C, double alpha, double perturb = 0) {
+  ConvergenceStudy st;
+  st.reference.n = 256;
+  st.reference.h = 1.0 / 256;
+  int i = 0;
+  for (int n : {4, 8, 16, 32, 64}) {
+    ConvergenceLevel l;
+    l.n = n;
+    l.h = 1.0 / n;
+    l.error = C * std::sqrt(std::pow(l.h, 2 * alpha) - std::pow(st.reference.h, 2 * alpha)) *
+              (1 + perturb * ((i++ % 2) ? 1 : -1));
+    st.levels.push_back(l);
+  }
+  return st;
+}
+
+}  // namespace
+
+// The reference-corrected fit recovers α and C from data that follow its model exactly, although
+// the naive orders of the same data are biased upwards: for the finest pair (h = 1/32, 1/64 against
+// 1/256) by ½ log2((1 − 8^{−2α})/(1 − 4^{−2α})) = 0.068 at α = 0.72, and against a 2× reference by
+// ½ log2((1 − 4^{−2α})/(1 − 2^{−2α})) = 0.23: the reason the fit exists.
+TEST(ConvergenceRateFit, RecoversTheModelsRate) {
+  for (double alpha : {0.5, 0.72, 1.0, 2.0}) {
+    SCOPED_TRACE("alpha = " + std::to_string(alpha));
+    const ConvergenceStudy st = synthetic_study(1.7, alpha);
+    const RateFit f = fit_rate(st);
+    ASSERT_TRUE(f.valid);
+    EXPECT_EQ(f.levels_used, 4);
+    EXPECT_NEAR(f.alpha, alpha, 1e-6);
+    EXPECT_NEAR(f.C, 1.7, 1e-5);
+    EXPECT_LT(f.max_rel_residual, 1e-6);
+    const double naive = std::log2(st.levels[3].error / st.levels[4].error);
+    const double bias = 0.5 * std::log2((1 - std::pow(8.0, -2 * alpha)) / (1 - std::pow(4.0, -2 * alpha)));
+    EXPECT_GT(bias, 0.0);
+    EXPECT_NEAR(naive - alpha, bias, 1e-9);  // the bias the fit removes
+  }
+}
+
+// Alternating ±1 % noise moves α by at most O(noise / log(h range)) and is reported as residual.
+TEST(ConvergenceRateFit, NoiseShowsInTheResidual) {
+  const RateFit f = fit_rate(synthetic_study(1.0, 0.72, 0.01));
+  ASSERT_TRUE(f.valid);
+  EXPECT_NEAR(f.alpha, 0.72, 0.02);
+  EXPECT_GT(f.max_rel_residual, 0.005);
+  EXPECT_LT(f.max_rel_residual, 0.03);
+}
+
+TEST(ConvergenceRateFit, NeedsTwoLevelsCoarserThanTheReference) {
+  ConvergenceStudy st = synthetic_study(1.0, 1.0);
+  st.levels.erase(st.levels.begin(), st.levels.end() - 1);
+  EXPECT_FALSE(fit_rate(st).valid);
+  EXPECT_TRUE(convergence_json(st)["rate_fit"].is_null());
+  EXPECT_TRUE(convergence_json(synthetic_study(1.0, 1.0))["rate_fit"].is_object());
+}

@@ -62,6 +62,29 @@ struct ConvergenceStudy {
   std::vector<int> failed() const;
 };
 
+/// The observed orders against a finite reference are biased upwards near the reference: for nested
+/// spaces and a linear problem, Galerkin orthogonality in the energy norm gives
+///   ‖u − u_L‖²_E = ‖u − u_R‖²_E + ‖u_R − u_L‖²_E,
+/// so if ‖u − u_L‖_E ≈ C h_L^α then the measured e_L ≈ C sqrt(h_L^{2α} − h_R^{2α}) (relative
+/// errors: C absorbs ‖u_R‖_E). fit_rate() fits C and α to that model, which removes the bias
+/// and turns the errors into an estimate of the asymptotic rate (for the paper's scenes α ≈ 0.72,
+/// the corner exponent where the clamped side meets the free sides; README "Convergence").
+/// With contact the identity is approximate (the solution set is not a linear space); the
+/// reported max_rel_residual says how well the model fits.
+struct RateFit {
+  double alpha = 0;            ///< fitted rate α
+  double C = 0;                ///< fitted constant (relative error at h = 1)
+  int levels_used = 0;         ///< number of (finest) levels in the fit
+  double max_rel_residual = 0; ///< max_L |model_L / e_L − 1| over the fitted levels
+  bool valid = false;          ///< false when fewer than 2 usable levels (error > 0, h > h_R)
+};
+
+/// @brief Fit e_L = C sqrt(h_L^{2α} − h_R^{2α}) (least squares in log e) to the @p max_levels
+/// finest levels of @p study with error > 0 and h > h_R; α is searched in [0.05, 4].
+/// @param study a finished study @param max_levels how many of the finest levels to use (≥ 2)
+/// @return the fit; valid = false if fewer than 2 levels qualify
+RateFit fit_rate(const ConvergenceStudy& study, int max_levels = 4);
+
 /// @brief Parse a list of levels: "4,8,16" or "4,8,...,128" ("..." continues the integer ratio of
 /// the two preceding levels up to the level after it). The result is sorted and without repeats.
 /// @param text the list @return the levels
@@ -86,7 +109,7 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
                                  int reference);
 
 /// @brief The study as JSON: {"reference": level, "levels": [level...], "backend", "ok", "failed",
-/// "scene"} with each level {n, h, h_max, dofs, energy_norm, error, order, seconds, status_counts,
+/// "scene", "rate_fit": {alpha, C, levels_used, max_rel_residual} or null} with each level {n, h, h_max, dofs, energy_norm, error, order, seconds, status_counts,
 /// certificate_max_residual, converged, certified, ok, nested, message}; NaN orders are null.
 /// @param study the study @return the JSON object
 nlohmann::json convergence_json(const ConvergenceStudy& study);
