@@ -7,7 +7,8 @@ Usage:
 Draws the relative energy-norm error ||u_ref - u_h||_E / ||u_ref||_E against h on log-log axes,
 one marker per level (hollow: the solve did not converge or was not certified), the observed order
 between consecutive levels next to each segment, and an O(h) guide line through the finest level.
-The reference level is read from convergence.json next to the CSV when it is there.
+The reference level and the reference-corrected rate fit (error = C sqrt(h^2a - h_ref^2a), drawn
+dotted with its rate a) are read from convergence.json next to the CSV when it is there.
 --out defaults to convergence.png next to the CSV; --title (e.g. the scene name) heads the plot.
 
 Only the Python standard library and matplotlib (Debian: python3-matplotlib) are used.
@@ -43,13 +44,27 @@ def read_levels(path):
     return sorted(levels, key=lambda l: -l["h"])
 
 
-def reference_level(csv_path):
+def study_json(csv_path):
     path = os.path.join(os.path.dirname(os.path.abspath(csv_path)), "convergence.json")
     try:
         with open(path) as f:
-            return json.load(f)["reference"]["n"]
-    except (OSError, ValueError, KeyError, TypeError):
+            return json.load(f)
+    except (OSError, ValueError):
+        return {}
+
+
+def reference_level(study):
+    try:
+        return study["reference"]["n"]
+    except (KeyError, TypeError):
         return None
+
+
+def rate_fit(study):
+    fit = study.get("rate_fit") if isinstance(study, dict) else None
+    if not isinstance(fit, dict) or not all(k in fit for k in ("alpha", "C")):
+        return None
+    return fit
 
 
 def main():
@@ -95,6 +110,15 @@ def main():
     h_guide = [max(hs), min(hs)]
     ax.plot(h_guide, [e_last * h / h_last for h in h_guide], "--", color="0.35", linewidth=1.2, label=r"$O(h)$")
 
+    study = study_json(args.csv)
+    ref = reference_level(study)
+    fit = rate_fit(study)
+    if fit and ref:
+        a, c, h_ref = fit["alpha"], fit["C"], 1.0 / ref
+        grid = [max(hs) * (min(hs) / max(hs)) ** (k / 60) for k in range(61)]
+        ax.plot(grid, [c * math.sqrt(max(h ** (2 * a) - h_ref ** (2 * a), 0.0)) for h in grid], ":", color="C3",
+                linewidth=1.4, label=rf"fit $C\sqrt{{h^{{2a}} - h_{{ref}}^{{2a}}}}$, $a$ = {a:.2f}")
+
     # Observed order next to each segment.
     for a, b in zip(pts, pts[1:]):
         if math.isfinite(b["order"]):
@@ -108,7 +132,6 @@ def main():
     ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
     ax.set_xlabel(r"mesh size $h$")
     ax.set_ylabel(r"relative error $\Vert u_{ref} - u_h\Vert_E \,/\, \Vert u_{ref}\Vert_E$")
-    ref = reference_level(args.csv)
     head = f"{args.title}: " if args.title else ""
     sub = f"reference h = 1/{ref}" if ref else "reference solution"
     ax.set_title(f"{head}relative error in the energy norm\n({sub}; numbers: observed orders)", fontsize=11)
