@@ -1,9 +1,10 @@
 // Manufactured solution for the nonlinear (Hencky) law: u* of support/manufactured.hpp (zero on
 // the whole boundary, clamped there), f0 = −div F(ε(u*)), solved by the full-space path of the
 // contact solver (no contact: NonlinearElasticEnergy + LoadEnergy, newton backend) on nested
-// meshes. The P1 error in the energy norm must decrease at the a-priori rate O(h): for a strongly
-// monotone, Lipschitz F, Céa's lemma holds with constant L_F/m_F (Zeidler, Nonlinear Functional
-// Analysis II/B, Thm. 25.B), and the interpolation error of u* ∈ H² is O(h).
+// meshes. The P1 error in the energy norm must decrease at the a-priori rate O(h): Galerkin
+// orthogonality (F(ε(u)) − F(ε(u_h)), ε(w_h)) = 0 and (12) give, for every v_h,
+//   m_F‖ε(u − u_h)‖² ≤ (F(ε u) − F(ε u_h), ε(u − v_h)) ≤ L_F‖ε(u − u_h)‖ ‖ε(u − v_h)‖,
+// i.e. Céa's lemma with constant L_F/m_F, and the interpolation error of u* ∈ H² is O(h).
 
 #include <hemicontact/driver/model.hpp>
 #include <hemicontact/driver/solve.hpp>
