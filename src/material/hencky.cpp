@@ -66,12 +66,16 @@ Vec Hencky::dev_voigt(const Vec& strain, double& tr) const {
   return dv;
 }
 
-double Hencky::dev_norm2(const Vec& strain) const {
-  double tr;
-  const Vec dv = dev_voigt(strain, tr);
+double Hencky::norm2_of(const Vec& dv, double tr) const {
   double s = dv.head(m_dim).squaredNorm() + 2 * dv.tail(voigt_size(m_dim) - m_dim).squaredNorm();
   if (m_dim == 2) s += tr * tr / 9;  // (dev ε)_33 = −tr ε/3 in plane strain
   return s;
+}
+
+double Hencky::dev_norm2(const Vec& strain) const {
+  double tr;
+  const Vec dv = dev_voigt(strain, tr);
+  return norm2_of(dv, tr);
 }
 
 double Hencky::energy_density(const Vec& strain) const {
@@ -85,7 +89,7 @@ double Hencky::energy_density(const Vec& strain) const {
 Vec Hencky::stress(const Vec& strain) const {
   double tr;
   const Vec dv = dev_voigt(strain, tr);
-  const double s = dev_norm2(strain);
+  const double s = norm2_of(dv, tr);
   Vec sig = 2 * mu(s) * dv;
   sig.head(m_dim).array() += m_kappa * tr;
   return sig;
@@ -96,7 +100,7 @@ Vec Hencky::stress(const Vec& strain) const {
 Mat Hencky::tangent(const Vec& strain) const {
   double tr;
   const Vec dv = dev_voigt(strain, tr);
-  const double s = dev_norm2(strain);
+  const double s = norm2_of(dv, tr);
   const int d = m_dim, nv = voigt_size(d);
   const double m = mu(s);
   Mat C = 4 * dmu(s) * dv * dv.transpose();

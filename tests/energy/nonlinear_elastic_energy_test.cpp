@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
 using namespace hemicontact;
@@ -48,6 +49,9 @@ void check_fd(const NonlinearElasticEnergy& e, const Vec& x) {
       x);
   const Mat H = dense_hessian(e, x);
   EXPECT_TRUE(test::near_rel(H, fd_H, 1e-5, 0));
+  std::printf("[ fd       ] %zu unknowns: gradient %.2e, Hessian %.2e (max abs error / max abs entry)\n",
+              static_cast<size_t>(x.size()), (g - fd_g).cwiseAbs().maxCoeff() / g.cwiseAbs().maxCoeff(),
+              (H - fd_H).cwiseAbs().maxCoeff() / H.cwiseAbs().maxCoeff());
   EXPECT_LE((fd_H - fd_H.transpose()).cwiseAbs().maxCoeff(), 1e-5 * fd_H.cwiseAbs().maxCoeff());
 }
 

@@ -78,6 +78,8 @@ class Hencky : public Material {
   // dev ε in stress-Voigt form (normal components, then tensor shears ε_ij = γ_ij/2), so that
   // s = Σ_normal d_i² + (3D: d33² among them; plane strain: + (tr/3)²) + 2 Σ_shear d_k².
   Vec dev_voigt(const Vec& strain, double& tr) const;
+  // s = |dev ε|² from dev_voigt's output.
+  double norm2_of(const Vec& dv, double tr) const;
 
   double m_kappa, m_mu0, m_mu_inf, m_s0;
   int m_dim;
