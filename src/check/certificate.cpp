@@ -28,7 +28,7 @@ ContactState contact_state(const Model& md, const Vec& u) {
   const int d = md.dim();
   const Index n = md.contact.size();
   ContactState s;
-  s.residual = md.K * u - md.f;
+  s.residual = md.internal_force(u) - md.f;  // K u − f for a linear law (MODEL.md §4)
   s.u_nu.resize(n); s.u_tau.resize(n); s.sigma_nu.resize(n); s.sigma_tau.resize(n);
   s.xi.resize(n); s.lambda.resize(n);
   s.u_tau_vec.resize(n, d); s.sigma_tau_vec.resize(n, d);

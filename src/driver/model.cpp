@@ -5,7 +5,8 @@
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/fem/assembly.hpp>
 #include <hemicontact/io/config.hpp>
-#include <hemicontact/material/linear_elastic.hpp>
+#include <hemicontact/energy/nonlinear_elastic_energy.hpp>
+#include <hemicontact/material/material_factory.hpp>
 #include <hemicontact/mesh/boundary.hpp>
 #include <hemicontact/mesh/generators.hpp>
 #include <hemicontact/mesh/gmsh_import.hpp>
@@ -73,6 +74,14 @@ double Model::u_nu(const Vec& u, Index k) const {
   return u.segment(dim() * contact.node[k], dim()).dot(contact.normal.row(k).transpose());
 }
 
+Vec Model::internal_force(const Vec& u) const {
+  return material->is_linear() ? Vec(K * u) : assemble_internal_force(mesh, *material, u);
+}
+
+double Model::elastic_energy(const Vec& u) const {
+  return material->is_linear() ? 0.5 * u.dot(K * u) : assemble_elastic_energy(mesh, *material, u);
+}
+
 Mesh build_mesh(const json& scene, const std::string& scene_dir) {
   const json& m = scene.at("mesh");
   Mesh mesh;
@@ -124,10 +133,7 @@ Model build_model(const json& scene, Mesh mesh) {
   md.mesh = std::move(mesh);
   const int d = md.mesh.dim;
 
-  const json& mat = scene.at("material");
-  const PlaneMode mode = d == 3 ? PlaneMode::NONE_3D
-                                : (mat.at("plane") == "strain" ? PlaneMode::STRAIN : PlaneMode::STRESS);
-  md.material = std::make_shared<LinearElastic>(mat.at("E").get<double>(), mat.at("nu").get<double>(), mode);
+  md.material = make_material(scene.at("material"), d);
 
   md.gap = make_gap(scene.at("contact").at("gap"));
   md.normal_law = make_normal_law(scene.at("contact").at("normal_law"));
@@ -141,7 +147,11 @@ Model build_model(const json& scene, Mesh mesh) {
   md.dofs = DofMap(md.mesh, md.clamped, md.contact);
 
   const auto t0 = clk::now();
-  md.K = assemble_stiffness(md.mesh, *md.material);
+  // A nonlinear law's K is its tangent at u = 0 (the small-strain stiffness): it sets the solver's
+  // scales and the K(0) energy norm; equilibrium and energies use internal_force / elastic_energy.
+  md.K = md.material->is_linear()
+             ? assemble_stiffness(md.mesh, *md.material)
+             : assemble_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))));
   const auto f0v = scene.at("loads").at("body_force").get<std::vector<double>>();
   if (static_cast<int>(f0v.size()) != d) input_error("loads.body_force: expected " + std::to_string(d) + " components");
   const Vec f0 = scene.at("loads").at("scale").get<double>() * Eigen::Map<const Vec>(f0v.data(), d);

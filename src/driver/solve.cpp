@@ -5,6 +5,7 @@
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/energy/elastic_energy.hpp>
+#include <hemicontact/energy/nonlinear_elastic_energy.hpp>
 #include <hemicontact/energy/total_energy.hpp>
 #include <hemicontact/driver/polish.hpp>
 #include <hemicontact/fem/condensation.hpp>
@@ -89,7 +90,8 @@ void evaluate_solution(const Model& md, const SolveOptions& opt, Solution& sol) 
     if (md.normal_law) sol.j_term += md.contact.w[k] * md.normal_law->j(sol.state.u_nu[k]);
     sol.friction_term += md.contact.w[k] * sol.state.lambda[k] * sol.state.u_tau_vec.row(k).norm();
   }
-  sol.energy = 0.5 * sol.a_uu - sol.f_u + sol.j_term + sol.friction_term;
+  sol.elastic_energy = md.elastic_energy(sol.u);  // ½ uᵀK u (= ½ a_uu) for a linear law
+  sol.energy = sol.elastic_energy - sol.f_u + sol.j_term + sol.friction_term;
   sol.energy_norm = std::sqrt(std::max(0.0, sol.a_uu));
   sol.max_u_nu = md.contact.size() ? sol.state.u_nu.maxCoeff() : 0.0;
 }
@@ -115,6 +117,11 @@ struct Formulation {
 };
 
 std::string choose_formulation(const Model& md, const SolveOptions& opt) {
+  // Static condensation eliminates the interior through K⁻¹, exact only when F is linear; for a
+  // nonlinear F the interior equilibrium is itself nonlinear, so the problem is solved in full.
+  if (opt.formulation == "condensed" && !md.material->is_linear())
+    input_error("solver.formulation = condensed: static condensation is exact only for a linear material (" +
+                md.material->describe() + "); use full or auto");
   if (opt.formulation != "auto") return opt.formulation;
   // Condensation is exact for a linear material and pays whenever Γ3 is a small part of the mesh.
   return md.material->is_linear() && md.contact.size() > 0 ? "condensed" : "full";
@@ -129,7 +136,6 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
   F.nd.w = md.contact.w;
   auto t0 = clk::now();
   if (F.name == "condensed") {
-    if (!md.material->is_linear()) throw Error("solver.formulation: 'condensed' needs a linear material");
     F.cond = std::make_unique<Condensation>(md.Kx, md.fx, d * nc);
     timings["condensation_analyze"] = F.cond->analyze_seconds();
     timings["condensation_factorize"] = F.cond->factorize_seconds();
@@ -144,9 +150,16 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
     chol.compute(md.Kx);
     F.z_free = chol.solve(md.fx);
     timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
-    auto elastic = std::make_shared<ElasticEnergy>(md.Kx);
-    F.energy = std::make_unique<TotalEnergy>(md.dofs.n_free(), elastic->lower());
-    F.energy->add(elastic);
+    // z_free (from K(0) for a nonlinear law) only sets the solver's scales.
+    if (md.material->is_linear()) {
+      auto elastic = std::make_shared<ElasticEnergy>(md.Kx);
+      F.energy = std::make_unique<TotalEnergy>(md.dofs.n_free(), elastic->lower());
+      F.energy->add(elastic);
+    } else {
+      auto elastic = std::make_shared<NonlinearElasticEnergy>(md.mesh, md.material, md.dofs);
+      F.energy = std::make_unique<TotalEnergy>(md.dofs.n_free(), elastic->lower());
+      F.energy->add(elastic);
+    }
     F.load = std::make_shared<LoadEnergy>(md.fx);
     F.energy->add(F.load);
     for (Index k = 0; k < nc; ++k) F.nd.first.push_back(md.dofs.contact_dof(k, 0));
@@ -193,7 +206,7 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   I.backend = make_backend(opt.backend);
 
   // Nothing nonlinear and no obstacle: one sparse Cholesky solve is the answer (no backend at all).
-  if (!md.normal_law && !md.friction && md.gap.is_infinite()) {
+  if (!md.normal_law && !md.friction && md.gap.is_infinite() && md.material->is_linear()) {
     I.linear = true;
     SparseCholesky chol;
     chol.compute(md.Kx);
@@ -220,6 +233,12 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
 
   I.F = make_formulation(md, opt, I.setup_timings);
   Formulation& F = I.F;
+  if (!md.material->is_linear()) {
+    const std::string why = "condensation: nonlinear material, static condensation is not exact (formulation " +
+                            F.name + ")";
+    log_info() << why;
+    I.skipped.push_back(why);
+  }
   log_info() << "formulation " << F.name << ": " << F.energy->size() << " unknowns ("
              << I.setup_timings["factorization_total"] << " s to factor"
              << (F.cond ? " and condense" : "") << ")";

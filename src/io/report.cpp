@@ -80,7 +80,8 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
   r["dofs"] = md.dofs.n_free();
   r["material"] = {{"description", md.material->describe()},
                    {"m_F", md.material->m_F()},
-                   {"L_F", md.material->L_F()}};
+                   {"L_F", md.material->L_F()},
+                   {"is_linear", md.material->is_linear()}};
   r["laws"] = {{"normal_law", md.normal_law ? json(md.normal_law->describe()) : json(nullptr)},
                {"friction", md.friction ? json(md.friction->describe()) : json(nullptr)},
                {"gap", md.gap.describe()}};
@@ -92,6 +93,7 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
   r["energy"] = sol.energy;
   r["energy_norm"] = sol.energy_norm;
   r["a_uu"] = sol.a_uu;
+  r["elastic_energy"] = sol.elastic_energy;  // ∫W(ε(u)); = a_uu/2 for a linear F (a_uu uses K(0) otherwise)
   r["f_u"] = sol.f_u;
   r["j_term"] = sol.j_term;
   r["friction_term"] = sol.friction_term;
@@ -216,7 +218,7 @@ std::string summary_table(const Model& md, const Solution& sol) {
                             std::to_string(sol.history.size()) + " minimizations, " +
                             std::to_string(bt.iterations) + " iterations, " +
                             std::to_string(bt.evaluations) + " evaluations, " + fmt(bt.seconds, 3) + " s");
-  out += row("energy", fmt(sol.energy, 10) + "  (a(u,u)/2 = " + fmt(0.5 * sol.a_uu) + ", f(u) = " +
+  out += row("energy", fmt(sol.energy, 10) + "  (" + std::string(md.material->is_linear() ? "a(u,u)/2" : "int W(eps(u))") + " = " + fmt(sol.elastic_energy) + ", f(u) = " +
                            fmt(sol.f_u) + ", j = " + fmt(sol.j_term) + ", friction = " +
                            fmt(sol.friction_term) + ")");
   out += row("energy_norm", fmt(sol.energy_norm, 10));

@@ -119,8 +119,16 @@ std::vector<SchemaEntry> build_scene_schema() {
   // ------------------------------------------------------------------ material
   t.push_back(section("/material", "Constitutive law F (paper eq. (12); MODEL.md §1)."));
   t.push_back(
-      key("/material/model", "string", "linear_elastic", "Linear isotropic elasticity.", {"linear_elastic"}));
-  t.push_back(above(required("/material/E", "number", "Young's modulus E."), 0));
+      key("/material/model", "string", "linear_elastic",
+          "linear_elastic: linear isotropic elasticity. hencky: nonlinear Hencky-type law "
+          "W = (K/2)(tr ε)² + Φ(|dev ε|²) whose shear modulus μ(s) = μ_∞ + (μ_0 − μ_∞)/√(1 + s/eps_ref²) "
+          "falls (or rises) from μ_0 to μ_∞ = shear_ratio·μ_0 (plane strain and 3D only; "
+          "include/hemicontact/material/hencky.hpp).",
+          {"linear_elastic", "hencky"}));
+  t.push_back(above(required("/material/E", "number",
+                             "Young's modulus E (hencky: of the small-strain limit; bulk modulus "
+                             "E/(3(1 − 2 nu)), μ_0 = E/(2(1 + nu)))."),
+                    0));
   // (−1, 1) keeps both E/(1+κ) and the plane-stress factor 1/(1−κ²) finite and positive; the
   // stricter κ < 0.5 of plane strain depends on `plane`, so the material checks it.
   t.push_back(below(above(required("/material/nu", "number",
@@ -129,8 +137,16 @@ std::vector<SchemaEntry> build_scene_schema() {
                           -1),
                     1));
   t.push_back(key("/material/plane", "string", "stress",
-                  "2-D reduction: plane stress (the paper's example) or plane strain.",
+                  "2-D reduction: plane stress (the paper's example) or plane strain (the only one for hencky).",
                   {"stress", "strain"}));
+  t.push_back(above(key("/material/shear_ratio", "number|null", nullptr,
+                        "hencky only (required there): μ_∞/μ_0, the large-strain over the small-strain "
+                        "shear modulus (< 1 softens, > 1 stiffens, 1 is linear)."),
+                    0));
+  t.push_back(above(key("/material/eps_ref", "number|null", nullptr,
+                        "hencky only (required there): reference deviatoric strain ε_ref: at |dev ε| = ε_ref, "
+                        "μ − μ_∞ = (μ_0 − μ_∞)/√2."),
+                    0));
 
   // ------------------------------------------------------------------ boundary
   t.push_back(

@@ -7,6 +7,7 @@
 #include <hemicontact/mesh/generators.hpp>
 
 #include "support/fem_problem.hpp"
+#include "support/manufactured.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,22 +20,12 @@ using hemicontact::test::Field2;
 
 namespace {
 
-constexpr double PI = 3.14159265358979323846;
-constexpr double C2 = 8;  // amplitude of u2, so that both components are O(1)
-
-// Exact solution, zero on ∂Ω:  u1 = sin πx sin πy,  u2 = C2 p(x) p(y),  p(t) = t(1 − t).
-double p(double t) { return t * (1 - t); }
-double dp(double t) { return 1 - 2 * t; }
-
-Eigen::Vector2d u_exact(double x, double y) {
-  return {std::sin(PI * x) * std::sin(PI * y), C2 * p(x) * p(y)};
-}
-
-// ε(u) in Voigt form: (∂x u1, ∂y u2, ∂y u1 + ∂x u2).
-Eigen::Vector3d eps_exact(double x, double y) {
-  const double sx = std::sin(PI * x), sy = std::sin(PI * y), cx = std::cos(PI * x), cy = std::cos(PI * y);
-  return {PI * cx * sy, C2 * p(x) * dp(y), PI * sx * cy + C2 * dp(x) * p(y)};
-}
+using test::manufactured::C2;
+using test::manufactured::dp;
+using test::manufactured::eps_exact;
+using test::manufactured::p;
+using test::manufactured::PI;
+using test::manufactured::u_exact;
 
 // Body force f0 = −div σ(u) for σ = a tr(ε) I + b ε (paper §5, plane stress: a = Eκ/(1−κ²),
 // b = E/(1+κ)).

@@ -26,7 +26,7 @@ struct Model {
   Gap gap;                                            ///< layer thickness g
   ContactNodes contact;                               ///< Γ3 nodes, weights, frames, g_i
   DofMap dofs;                                        ///< full ↔ reduced unknowns
-  SpMat K;                                            ///< full stiffness (N·d)
+  SpMat K;                                            ///< full stiffness (N·d); nonlinear F: tangent at u = 0
   Vec f;                                              ///< full load vector, eq. (17)
   SpMat Kx;                                           ///< reduced stiffness Tᵀ K T
   Vec fx;                                             ///< reduced load Tᵀ f
@@ -38,6 +38,11 @@ struct Model {
   int dim() const { return mesh.dim; }
   /// @return full displacement u_ν of contact node k.
   double u_nu(const Vec& u, Index k) const;
+  /// @return the full internal force vector r(u) = ∫ F(ε(u)) : ε(φ) (MODEL.md §4: the equilibrium
+  /// residual is r(u) − f); K u for a linear material (the same floating-point operation as before).
+  Vec internal_force(const Vec& u) const;
+  /// @return the stored elastic energy ∫ W(ε(u)); ½ uᵀ K u for a linear material.
+  double elastic_energy(const Vec& u) const;
 };
 
 /// Build the mesh of a scene (generator or Gmsh file) and tag its boundary parts.

@@ -75,9 +75,12 @@ struct Solution {
   ContactState state;                ///< Γ3 quantities
   std::vector<NodeStatus> status;    ///< per Γ3 node
   CertificateReport certificate;     ///< MODEL.md §4
-  double energy = 0;                 ///< Π = ½a(u,u) − f(u) + Σ w j_ν(u_ν) + Σ w F_b(u_ν)|u_τ| (unsmoothed)
+  double energy = 0;                 ///< Π = ∫W(ε(u)) − f(u) + Σ w j_ν(u_ν) + Σ w F_b(u_ν)|u_τ| (unsmoothed; ∫W = ½a(u,u) if linear)
   double energy_norm = 0;            ///< sqrt(a(u,u))
   double a_uu = 0, f_u = 0, j_term = 0, friction_term = 0;  ///< the parts of energy
+  /// ∫ W(ε(u)), the elastic part of energy: ½ a_uu for a linear F; for a nonlinear F, a_uu and
+  /// energy_norm use the small-strain stiffness K(0) (an equivalent norm), this the true W.
+  double elastic_energy = 0;
   double max_u_nu = 0;               ///< max_i u_ν,i
   std::vector<OuterIteration> history;  ///< every minimization
   bool fixed_point_converged = true; ///< false if the outer loop hit its cap or stalled

@@ -1,0 +1,51 @@
+#pragma once
+/// @file nonlinear_elastic_energy.hpp  The elastic energy of a (possibly nonlinear) material,
+/// E(u) = Σ_T |T| W(ε_T(u)) (MODEL.md §2: ½ a(u,u) becomes ∫ W(ε(u)) with F = ∂W/∂ε), its gradient
+/// (the internal force vector r(u) = ∫ F(ε(u)) : ε(v)) and Hessian (the tangent stiffness
+/// K_t(u) = ∫ ε(v) : C(ε(u)) ε(w), C = ∂F/∂ε), P1 elements, one quadrature point per cell (exact:
+/// ε is constant on a cell).
+
+#include <hemicontact/energy/energy_term.hpp>
+#include <hemicontact/fem/dof_map.hpp>
+#include <hemicontact/material/material.hpp>
+#include <hemicontact/mesh/mesh.hpp>
+
+#include <memory>
+
+namespace hemicontact {
+
+/// @return Σ_T |T| W(ε_T(u)) for the full displacement @p u (N·d).
+double assemble_elastic_energy(const Mesh& mesh, const Material& material, const Vec& u);
+
+/// @return the full internal force vector r(u) = Σ_T |T| B_Tᵀ F(B_T u_T) (N·d); = K u for a linear law.
+Vec assemble_internal_force(const Mesh& mesh, const Material& material, const Vec& u);
+
+/// @return the full tangent stiffness K_t(u) = Σ_T |T| B_Tᵀ C(ε_T(u)) B_T (symmetric, full storage,
+/// every adjacent node pair a full d×d block, the pattern of assemble_stiffness).
+SpMat assemble_tangent_stiffness(const Mesh& mesh, const Material& material, const Vec& u);
+
+/// E(x) = Σ_T |T| W(ε_T(T x)) in the reduced unknowns x (u = T x, DofMap), with gradient Tᵀ r(T x)
+/// and Hessian Tᵀ K_t(T x) T. For a linear material ElasticEnergy (constant K) is the cheaper
+/// choice; this term is the full-space path for nonlinear ones (static condensation is not exact).
+class NonlinearElasticEnergy : public EnergyTerm {
+ public:
+  /// @param mesh, @param dofs must outlive the term (they are the Model's);
+  /// @param material the law F.
+  NonlinearElasticEnergy(const Mesh& mesh, std::shared_ptr<const Material> material, const DofMap& dofs);
+  std::string name() const override { return "elastic"; }
+  double value(const Vec& x) const override;
+  void add_gradient(const Vec& x, Vec& g) const override;
+  /// Adds the lower triangle of Tᵀ K_t T; @p H must have lower()'s pattern. @p psd is ignored: the
+  /// law is strongly monotone, so K_t is positive definite on the free dofs.
+  void add_hessian(const Vec& x, SpMat& H, Psd psd) const override;
+  /// @return the lower-triangular Hessian pattern (that of Tᵀ K_t(0) T).
+  const SpMat& lower() const { return m_lower; }
+
+ private:
+  const Mesh& m_mesh;
+  std::shared_ptr<const Material> m_material;
+  const DofMap& m_dofs;
+  SpMat m_lower;
+};
+
+}  // namespace hemicontact
