@@ -87,7 +87,8 @@ Args parse(int argc, char** argv) {
 }
 
 json load(const Args& a) {
-  std::vector<std::string> o = {"mesh.nx=" + std::to_string(a.nx), "mesh.ny=" + std::to_string(a.ny),
+  // mesh.n (set in the scene) would override nx, ny, nz.
+  std::vector<std::string> o = {"mesh.n=null", "mesh.nx=" + std::to_string(a.nx), "mesh.ny=" + std::to_string(a.ny),
                                 "mesh.nz=" + std::to_string(a.nz), "solver.backend=" + a.backend};
   o.insert(o.end(), a.overrides.begin(), a.overrides.end());
   return load_scene(a.scene, o);

@@ -83,7 +83,8 @@ void add_selector(std::vector<SchemaEntry>& t, const std::string& gamma, const s
                   "and [0,0.5) split a side without overlap."));
   t.push_back(key(p + "/*/to", "number|null", nullptr, "Upper end of [from, to), excluded; null = +∞."));
   if (with_traction)
-    t.push_back(key(p + "/*/traction", "number[]", json{0, 0}, "Traction f2 on these facets."));
+    t.push_back(key(p + "/*/traction", "number[]", json{0, 0},
+                    "Traction f2 on these facets, d components (the default is 2D: give it on a 3D mesh)."));
 }
 
 std::vector<SchemaEntry> build_scene_schema() {

@@ -7,6 +7,7 @@
 #include <hemicontact/io/config.hpp>
 #include <hemicontact/io/csv_writer.hpp>
 #include <hemicontact/io/report.hpp>
+#include <hemicontact/io/vtk_writer.hpp>
 
 #include "../support/expect_error.hpp"
 
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <random>
 
@@ -65,8 +67,9 @@ TEST(Scene3D, CertifiedSymmetricWithCentreStick) {
   const double U = sol.certificate.length_scale;
   for (Index k = 0; k < s.md.contact.size(); ++k) {
     const auto p = s.md.mesh.points.row(s.md.contact.node[k]);
-    if (std::abs(p[0] - 0.5) < 1e-12 && std::abs(p[1] - 0.5) < 1e-12)
+    if (std::abs(p[0] - 0.5) < 1e-12 && std::abs(p[1] - 0.5) < 1e-12) {
       EXPECT_EQ(sol.status[k].str(), "contact/stick");
+    }
     const SlipDirection d = slip_direction(s.md, sol.state, k);
     for (int axis = 0; axis < 2; ++axis) {
       const Index j = mirror(s.md, k, axis);
@@ -84,7 +87,9 @@ TEST(Scene3D, CertifiedSymmetricWithCentreStick) {
       EXPECT_NEAR(d.dir.norm(), 1.0, 1e-14);
       EXPECT_NEAR(d.dir.z(), 0.0, 1e-14);
       EXPECT_NEAR(d.angle_deg, std::atan2(d.dir.y(), d.dir.x()) * 180 / M_PI, 1e-12);
-      if (std::abs(p[0] - 0.5) > 1e-12) EXPECT_GT(d.dir.x() * (p[0] - 0.5), 0.0);
+      if (std::abs(p[0] - 0.5) > 1e-12) {
+        EXPECT_GT(d.dir.x() * (p[0] - 0.5), 0.0);
+      }
     }
   }
 }
@@ -136,6 +141,15 @@ TEST(Scene3D, ReportAndCsvCarryTheSlipDirection) {
             "index,node,x,y,z,w,g,u_nu,u_tau,sigma_nu,sigma_tau,xi,lambda,status,slip_dir_x,slip_dir_y,"
             "slip_dir_z,slip_angle_deg");
   std::filesystem::remove(path);
+  // The VTU has the 3D status fields.
+  const auto vtu = std::filesystem::temp_directory_path() / ("hemicontact_scene3d_" + std::to_string(rng()) + ".vtu");
+  write_vtu(vtu.string(), s.md, s.sol);
+  std::ifstream v(vtu);
+  const std::string text((std::istreambuf_iterator<char>(v)), std::istreambuf_iterator<char>());
+  for (const char* name : {"\"slip_dir\" NumberOfComponents=\"3\"", "\"slip_angle_deg\"", "\"status_normal\"",
+                           "\"status_tangential\""})
+    EXPECT_NE(text.find(name), std::string::npos) << name;
+  std::filesystem::remove(vtu);
 }
 
 TEST(Scene3D, SceneChecks) {
