@@ -9,6 +9,7 @@
 #include <hemicontact/io/report.hpp>
 #include <hemicontact/io/vtk_writer.hpp>
 
+#include "../support/cli_runner.hpp"
 #include "../support/expect_error.hpp"
 
 #include <gtest/gtest.h>
@@ -164,4 +165,21 @@ TEST(Scene3D, SceneChecks) {
   const json t2 = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json",
                              {"mesh.n=2", "boundary.gamma2.0.traction=[1,0]"});
   expect_input_error([&] { build_model(t2, "."); }, {"boundary.gamma2[0].traction", "3 components"});
+}
+
+// `hemicontact solve --plot` on a 3D scene draws the Γ3 status map (scripts/plot_status3d.py)
+// instead of the 2D Fig. 2 picture.
+TEST(Scene3D, CliPlotDrawsTheStatusMap) {
+  if (!hemicontact::test::matplotlib_available()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
+  std::mt19937 rng(std::random_device{}());
+  const auto dir = std::filesystem::temp_directory_path() / ("hemicontact_scene3d_plot_" + std::to_string(rng()));
+  std::filesystem::create_directories(dir);
+  const auto r = hemicontact::test::run_cli(
+      dir, "solve " HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json --set mesh.n=4 --quiet --plot --out " +
+               (dir / "res").string(),
+      "HEMICONTACT_SCRIPTS=" HEMICONTACT_SOURCE_DIR "/scripts");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "res" / "status3d.png")) << r.out << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "res" / "fig2.png"));
+  std::filesystem::remove_all(dir);
 }
