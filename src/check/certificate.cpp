@@ -62,6 +62,22 @@ ContactState contact_state(const Model& md, const Vec& u) {
   return s;
 }
 
+SlipDirection slip_direction(const Model& md, const ContactState& s, Index k) {
+  SlipDirection out;
+  const Eigen::Vector3d ut = s.u_tau_vec.row(k).transpose();
+  const double y = ut.norm();
+  if (!(y > 0)) return out;
+  out.dir = ut / y;
+  const Eigen::Vector3d nu = md.contact.normal.row(k).transpose();
+  // Reference axis: global x projected onto the tangent plane (y if x is (nearly) normal to it).
+  Eigen::Vector3d e = Eigen::Vector3d::UnitX() - nu.x() * nu;
+  if (e.norm() < 1e-8) e = Eigen::Vector3d::UnitY() - nu.y() * nu;
+  e.normalize();
+  const Eigen::Vector3d f = (-nu).cross(e);  // e rotated by +90° about −ν
+  out.angle_deg = std::atan2(out.dir.dot(f), out.dir.dot(e)) * 180.0 / M_PI;
+  return out;
+}
+
 double displacement_scale(const Model& md, const Vec& u) {
   double U = u.size() ? u.cwiseAbs().maxCoeff() : 0.0;
   return U > 0 ? U : md.mesh.max_edge_length();

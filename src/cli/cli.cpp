@@ -85,7 +85,7 @@ int cmd_solve(const std::vector<std::string>& args) {
   const SceneArgs a = parse_scene_args(args, {"--magnification"});
   if (a.quiet) set_log_level(LogLevel::WARN);
   const auto t0 = std::chrono::steady_clock::now();
-  // scripts/plot_fig2.py DIR --title NAME [--magnification M]
+  // scripts/plot_fig2.py (3D: plot_status3d.py) DIR --title NAME [--magnification M]
   std::vector<std::string> plot_args{a.out, "--title", std::filesystem::path(a.scene).stem().string()};
   for (const auto& [key, value] : a.extra) {
     char* end = nullptr;
@@ -108,8 +108,12 @@ int cmd_solve(const std::vector<std::string>& args) {
   if (scene.at("output").at("csv").get<bool>()) write_gamma3_csv((out / "gamma3.csv").string(), md, sol);
   std::fputs(summary_table(md, sol).c_str(), stdout);
   std::printf("results in %s\n", a.out.c_str());
-  if ((a.plot || scene.at("output").at("plot").get<bool>()) && run_plot_script("plot_fig2.py", plot_args) != 0)
-    log_warn() << "--plot: " << (out / "fig2.png").string() << " was not written (the solve's results are)";
+  // 3D: the Γ3 status map with slip directions (scripts/plot_status3d.py, same arguments).
+  const bool d3 = md.dim() == 3;
+  if ((a.plot || scene.at("output").at("plot").get<bool>()) &&
+      run_plot_script(d3 ? "plot_status3d.py" : "plot_fig2.py", plot_args) != 0)
+    log_warn() << "--plot: " << (out / (d3 ? "status3d.png" : "fig2.png")).string()
+               << " was not written (the solve's results are)";
 
   // The certificate decides: a backend that reports failure but whose (polished) answer is certified
   // is accepted with a warning; an uncertified answer fails, as "not converged" when the backend or

@@ -91,6 +91,21 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
     std::filesystem::path p = m.at("file").get<std::string>();
     if (p.is_relative()) p = std::filesystem::path(scene_dir) / p;
     mesh = read_gmsh(p.string());
+  } else if (m.at("type") == "box") {
+    BoxSpec s;
+    const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>(),
+               z = m.at("z").get<std::vector<double>>();
+    if (x.size() != 2 || y.size() != 2 || z.size() != 2)
+      input_error("mesh.x, mesh.y, mesh.z: each is an interval [a, b]");
+    s.x0 = x[0]; s.x1 = x[1]; s.y0 = y[0]; s.y1 = y[1]; s.z0 = z[0]; s.z1 = z[1];
+    // validate_scene copies n into nx, ny and nz.
+    s.nx = m.at("nx").get<int>();
+    s.ny = m.at("ny").get<int>();
+    s.nz = m.at("nz").get<int>();
+    s.pattern = parse_box_pattern(m.at("pattern").get<std::string>());
+    s.perturb = m.at("perturb").get<double>();
+    s.seed = m.at("seed").get<unsigned>();
+    mesh = make_box(s);
   } else {
     RectangleSpec s;
     const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>();

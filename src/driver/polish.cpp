@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 
 namespace hemicontact {
 namespace {
@@ -18,6 +20,110 @@ Solution evaluate_condensed(const Model& md, const Condensation& cond, const Sol
   return s;
 }
 
+// Keep the polished x_C only if the statuses stay and the certificate does not get worse.
+void accept_if_better(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& s0,
+                      const Vec& x, double load_scale, PolishResult& r, Vec& x_C) {
+  if (!x.allFinite()) {
+    r.note = "singular status system";
+    return;
+  }
+  const Solution s1 = evaluate_condensed(md, cond, opt, x, load_scale);
+  r.after = s1.certificate.max_residual;
+  for (Index k = 0; k < md.contact.size(); ++k)
+    if (s1.status[k].str() != s0.status[k].str()) {
+      r.note = "statuses changed at node " + std::to_string(k) + " (" + s0.status[k].str() + " -> " +
+               s1.status[k].str() + ")";
+      return;
+    }
+  // Both at round-off (the smoothed answer can already be exact, e.g. when no node is near a kink
+  // or stick) is a tie that the polish wins: it carries no smoothing error by construction.
+  if (!(r.after <= std::max(r.before, 1e-12))) {
+    r.note = "the certificate did not improve";
+    return;
+  }
+  r.accepted = true;
+  x_C = x;
+}
+
+// 3D: on a slipping node the condition −σ_τ = λ u_τ/|u_τ| (6) is not linear in x_τ, so the status
+// system R(x) = 0 is solved by Newton's method with its exact Jacobian, from the smoothed answer:
+//   contact:         R_ν = x_ν − g
+//   compliance/sep.: R_ν = S_ν (x − y) + w p(x_ν)                     (eq. (32))
+//   stick:           R_τ = x_τ                                          (2 rows)
+//   frictionless:    R_τ = S_τ (x − y)                                  (σ_τ = 0)
+//   slip:            R_τ = S_τ (x − y) + w F_b(x_ν) t,  t = x_τ/|x_τ|   (eq. (6))
+// with ∂t/∂x_τ = (I − t tᵀ)/|x_τ| and ∂F_b/∂x_ν the slope of F_b's branch (F_b is piecewise linear:
+// a central difference over a step far below the branch width is exact up to round-off).
+PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
+                                 double load_scale) {
+  PolishResult r;
+  const int d = 3;
+  const Index nc = md.contact.size(), m = cond.m();
+  r.attempted = true;
+  const Solution s0 = evaluate_condensed(md, cond, opt, x_C, load_scale);
+  r.before = s0.certificate.max_residual;
+  const Mat& S = cond.S();
+  const Vec yC = load_scale * cond.y_C();
+  const double delta = 1e-7 * s0.certificate.length_scale;  // difference step of F_b's slope
+
+  const auto residual = [&](const Vec& x, Mat& J) {
+    Vec R = S * (x - yC);
+    J = S;
+    for (Index k = 0; k < nc; ++k) {
+      const Index iv = d * k;
+      const double w = md.contact.w[k], xn = x[iv];
+      const NodeStatus st = s0.status[k];
+      if (st.normal == NormalStatus::CONTACT) {
+        R[iv] = xn - md.contact.g[k];
+        J.row(iv).setZero();
+        J(iv, iv) = 1;
+      } else if (md.normal_law) {
+        R[iv] += w * md.normal_law->p(xn);
+        J(iv, iv) += w * md.normal_law->dp(xn);
+      }
+      if (st.tangential == TangentialStatus::STICK) {
+        for (int c = 1; c < d; ++c) {
+          R[iv + c] = x[iv + c];
+          J.row(iv + c).setZero();
+          J(iv + c, iv + c) = 1;
+        }
+      } else if (md.friction) {
+        const Eigen::Vector2d xt = x.segment<2>(iv + 1);
+        const double y = xt.norm();
+        if (!(y > 0)) return Vec(Vec::Constant(m, std::numeric_limits<double>::quiet_NaN()));
+        const Eigen::Vector2d t = xt / y;
+        const double lambda = md.friction->F(xn);
+        R.segment<2>(iv + 1) += w * lambda * t;
+        J.block<2, 2>(iv + 1, iv + 1) += w * lambda / y * (Eigen::Matrix2d::Identity() - t * t.transpose());
+        if (st.normal != NormalStatus::CONTACT) {
+          const double dF = (md.friction->F(xn + delta) - md.friction->F(xn - delta)) / (2 * delta);
+          J.block<2, 1>(iv + 1, iv) += w * dF * t;
+        }
+      }
+    }
+    return R;
+  };
+
+  // Newton until the step reaches round-off: below 1e-14 relative, or no longer decreasing.
+  Vec x = x_C;
+  Mat J;
+  double prev = INF;
+  for (r.iterations = 1; r.iterations <= 50; ++r.iterations) {
+    const Vec R = residual(x, J);
+    if (!R.allFinite()) {
+      r.note = "a slipping node reached u_tau = 0";
+      return r;
+    }
+    const Vec dx = Eigen::PartialPivLU<Mat>(J).solve(-R);
+    x += dx;
+    const double change = dx.cwiseAbs().maxCoeff(), scale = x.cwiseAbs().maxCoeff();
+    if (!(change > 1e-14 * scale) || (r.iterations > 2 && change >= prev)) break;
+    prev = change;
+  }
+  accept_if_better(md, cond, opt, s0, x, load_scale, r, x_C);
+  return r;
+}
+
 }  // namespace
 
 PolishResult polish_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
@@ -25,10 +131,11 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
   PolishResult r;
   const int d = md.dim();
   const Index nc = md.contact.size(), m = cond.m();
-  if (d != 2 || nc == 0) {
-    r.note = d != 2 ? "3D slip directions are not linear: not polished" : "no Γ3 node";
+  if (nc == 0) {
+    r.note = "no Γ3 node";
     return r;
   }
+  if (d == 3) return polish_condensed_3d(md, cond, opt, x_C, load_scale);
   r.attempted = true;
   const Solution s0 = evaluate_condensed(md, cond, opt, x_C, load_scale);
   r.before = s0.certificate.max_residual;
@@ -83,26 +190,7 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
     if (!(change > 1e-14 * scale) || (r.iterations > 1 && change >= prev)) break;
     prev = change;
   }
-  if (!x.allFinite()) {
-    r.note = "singular status system";
-    return r;
-  }
-  const Solution s1 = evaluate_condensed(md, cond, opt, x, load_scale);
-  r.after = s1.certificate.max_residual;
-  for (Index k = 0; k < nc; ++k)
-    if (s1.status[k].str() != s0.status[k].str()) {
-      r.note = "statuses changed at node " + std::to_string(k) + " (" + s0.status[k].str() + " -> " +
-               s1.status[k].str() + ")";
-      return r;
-    }
-  // Both at round-off (the smoothed answer can already be exact, e.g. when no node is near a kink
-  // or stick) is a tie that the polish wins: it carries no smoothing error by construction.
-  if (!(r.after <= std::max(r.before, 1e-12))) {
-    r.note = "the certificate did not improve";
-    return r;
-  }
-  r.accepted = true;
-  x_C = x;
+  accept_if_better(md, cond, opt, s0, x, load_scale, r, x_C);
   return r;
 }
 

@@ -446,7 +446,7 @@ Solution ContactSolver::solve(const Vec* z0) {
     sol.timings["polish"] = since(t1);
     log_info() << "polish: " << (sol.polish.accepted ? "accepted" : "rejected") << ", certificate "
                << sol.polish.before << " -> " << sol.polish.after << " in " << sol.polish.iterations
-               << " lambda iterations" << (sol.polish.note.empty() ? "" : " (" + sol.polish.note + ")");
+               << (md.dim() == 3 ? " Newton iterations" : " lambda iterations") << (sol.polish.note.empty() ? "" : " (" + sol.polish.note + ")");
   } else if (!F.cond) {
     sol.skipped.push_back("polish: needs the condensed formulation");
   }

@@ -451,7 +451,7 @@ json validate_scene(json scene) {
   check_points(scene["contact"]["normal_law"]["points"], "contact.normal_law.points", false, "p", true);
   check_points(scene["contact"]["friction"]["points"], "contact.friction.points", false, "F_b", true);
   json& mesh = scene["mesh"];
-  if (!mesh["n"].is_null()) mesh["nx"] = mesh["ny"] = mesh["n"];
+  if (!mesh["n"].is_null()) mesh["nx"] = mesh["ny"] = mesh["nz"] = mesh["n"];
   return scene;
 }
 
@@ -615,7 +615,7 @@ overrides, checks it against the tables below and fills in every default. The re
   obstacle), or `{"along": "x", "points": [[x, g], ...]}`: piecewise linear in one coordinate,
   coordinates strictly increasing, g ≥ 0. The `points` of the tabulated laws are pairs with
   non-decreasing first entries: a repeated r is a jump of p_ν (or F_b) at r.
-- **`mesh.n`**, if set, overrides `mesh.nx` and `mesh.ny`: the effective scene has nx = ny = n.
+- **`mesh.n`**, if set, overrides `mesh.nx`, `mesh.ny` and `mesh.nz`: the effective scene has nx = ny = nz = n.
 - **Paths** such as `mesh.file` are relative to the directory of the scene file.
 - **Overrides.** `--set path=value` is applied before validation, so a misspelt key is reported
   as unknown. The path is dotted (`mesh.n=64`, `solver.options.mu_strategy=monotone`); an array

@@ -4,6 +4,7 @@
 
 #include <charconv>
 #include <fstream>
+#include <limits>
 #include <string>
 
 namespace hemicontact {
@@ -28,7 +29,9 @@ void write_gamma3_csv(const std::string& path, const Model& md, const Solution& 
                 EXIT_INTERNAL);
 
   std::string out = d == 2 ? "index,node,x,y," : "index,node,x,y,z,";
-  out += "w,g,u_nu,u_tau,sigma_nu,sigma_tau,xi,lambda,status\n";
+  // 2D columns are fixed (scripts read them); 3D appends the slip direction (NaN when sticking).
+  out += "w,g,u_nu,u_tau,sigma_nu,sigma_tau,xi,lambda,status";
+  out += d == 2 ? "\n" : ",slip_dir_x,slip_dir_y,slip_dir_z,slip_angle_deg\n";
   for (Index k = 0; k < nc; ++k) {
     out += std::to_string(k) + ',' + std::to_string(cn.node[k]);
     for (int c = 0; c < d; ++c) {
@@ -40,7 +43,17 @@ void write_gamma3_csv(const std::string& path, const Model& md, const Solution& 
       out += ',';
       put(out, v);
     }
-    out += ',' + sol.status[k].str() + '\n';
+    out += ',' + sol.status[k].str();
+    if (d == 3) {
+      const bool slip = sol.status[k].tangential == TangentialStatus::SLIP;
+      const SlipDirection sd = slip_direction(md, s, k);
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      for (double v : {sd.dir.x(), sd.dir.y(), sd.dir.z(), sd.angle_deg}) {
+        out += ',';
+        put(out, slip ? v : nan);
+      }
+    }
+    out += '\n';
   }
 
   std::ofstream f(path, std::ios::binary);

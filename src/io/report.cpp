@@ -115,6 +115,17 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
     n["xi"] = s.xi[k];
     n["lambda"] = s.lambda[k];
     n["status"] = sol.status[k].str();
+    if (d == 3) {
+      // 3D: the slip direction replaces 2D's ±; null on sticking nodes (it has no direction).
+      if (sol.status[k].tangential == TangentialStatus::SLIP) {
+        const SlipDirection sd = slip_direction(md, s, k);
+        n["slip_dir"] = {sd.dir.x(), sd.dir.y(), sd.dir.z()};
+        n["slip_angle_deg"] = sd.angle_deg;
+      } else {
+        n["slip_dir"] = nullptr;
+        n["slip_angle_deg"] = nullptr;
+      }
+    }
     nodes.push_back(std::move(n));
   }
   r["nodes"] = std::move(nodes);

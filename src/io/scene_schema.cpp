@@ -71,16 +71,20 @@ void add_selector(std::vector<SchemaEntry>& t, const std::string& gamma, const s
   t.push_back(key(p + "/*", "object", json::object(),
                   "A selector: the facets it matches belong to this boundary part. Set exactly "
                   "one of `side` and `physical`."));
-  t.push_back(key(p + "/*/side", "string|null", nullptr, "Side of the mesh's bounding box.",
-                  {"left", "right", "bottom", "top"}));
+  t.push_back(key(p + "/*/side", "string|null", nullptr,
+                  "Side of the mesh's bounding box: left/right = x min/max; bottom/top = y min/max "
+                  "in 2D, z min/max in 3D; front/back = y min/max (3D only).",
+                  {"left", "right", "bottom", "top", "front", "back"}));
   t.push_back(key(p + "/*/physical", "string|null", nullptr, "Gmsh physical group name (mesh.type = gmsh)."));
   t.push_back(key(p + "/*/from", "number|null", nullptr,
-                  "The facet midpoint's coordinate along the side (y on left/right, x on "
-                  "bottom/top) must lie in [from, to); null = −∞. Half-open, so [0.5,1) and "
-                  "[0,0.5) split a side without overlap."));
+                  "The facet midpoint's coordinate along the side must lie in [from, to); null = "
+                  "−∞. The coordinate is, in 2D, y on left/right and x on bottom/top; in 3D, the "
+                  "vertical z on left/right/front/back and x on bottom/top. Half-open, so [0.5,1) "
+                  "and [0,0.5) split a side without overlap."));
   t.push_back(key(p + "/*/to", "number|null", nullptr, "Upper end of [from, to), excluded; null = +∞."));
   if (with_traction)
-    t.push_back(key(p + "/*/traction", "number[]", json{0, 0}, "Traction f2 on these facets."));
+    t.push_back(key(p + "/*/traction", "number[]", json{0, 0},
+                    "Traction f2 on these facets, d components (the default is 2D: give it on a 3D mesh)."));
 }
 
 std::vector<SchemaEntry> build_scene_schema() {
@@ -91,20 +95,32 @@ std::vector<SchemaEntry> build_scene_schema() {
   // ------------------------------------------------------------------ mesh
   t.push_back(section("/mesh", "The triangulation of Ω."));
   t.push_back(key("/mesh/type", "string", "rectangle",
-                  "rectangle: structured triangulation of x × y; gmsh: read `file`.", {"rectangle", "gmsh"}));
-  t.push_back(key("/mesh/x", "number[]", json{0, 1}, "Interval [x0, x1] of the rectangle."));
-  t.push_back(key("/mesh/y", "number[]", json{0, 1}, "Interval [y0, y1] of the rectangle."));
+                  "rectangle: structured triangulation of x × y; box: structured tetrahedral mesh of "
+                  "x × y × z (3D); gmsh: read `file`.",
+                  {"rectangle", "box", "gmsh"}));
+  t.push_back(key("/mesh/x", "number[]", json{0, 1}, "Interval [x0, x1] of the rectangle or box."));
+  t.push_back(key("/mesh/y", "number[]", json{0, 1}, "Interval [y0, y1] of the rectangle or box."));
+  t.push_back(key("/mesh/z", "number[]", json{0, 1}, "Interval [z0, z1] of the box (3D)."));
   t.push_back(at_least(key("/mesh/n", "integer|null", nullptr,
-                           "If set, nx = ny = n: validation copies it into nx and ny (overriding "
-                           "them), so `--set mesh.n=64` refines a scene in both directions."),
+                           "If set, nx = ny = nz = n: validation copies it into nx, ny and nz "
+                           "(overriding them), so `--set mesh.n=64` refines a scene in every "
+                           "direction."),
                        1));
-  t.push_back(at_least(key("/mesh/nx", "integer", 8, "Cells along x (rectangle)."), 1));
-  t.push_back(at_least(key("/mesh/ny", "integer", 8, "Cells along y (rectangle)."), 1));
+  t.push_back(at_least(key("/mesh/nx", "integer", 8, "Cells along x (rectangle, box)."), 1));
+  t.push_back(at_least(key("/mesh/ny", "integer", 8, "Cells along y (rectangle, box)."), 1));
+  t.push_back(at_least(key("/mesh/nz", "integer", 8, "Cells along z (box)."), 1));
   t.push_back(key("/mesh/diagonal", "string", "right",
                   "right: each cell split by the diagonal from (x_i,y_j) to (x_{i+1},y_{j+1}); "
                   "left: the other one; symmetric: right on the left half, mirrored on the right "
                   "half; crossed: four triangles around the cell centre.",
                   {"right", "left", "symmetric", "crossed"}));
+  t.push_back(key("/mesh/pattern", "string", "kuhn",
+                  "Box (3D): each hexahedral cell is split into 6 tetrahedra. kuhn: all cells along "
+                  "the main diagonal (x_i,y_j,z_k)–(x_{i+1},y_{j+1},z_{k+1}) (conforming; the xz "
+                  "faces carry the 2D `right` diagonal); symmetric: kuhn mirrored in the upper x "
+                  "and y halves, so the mesh is mirror-symmetric about x = mid and y = mid (needs "
+                  "even nx, ny).",
+                  {"kuhn", "symmetric"}));
   t.push_back(key("/mesh/file", "string|null", nullptr,
                   "Gmsh .msh 4.1 file (mesh.type = gmsh), relative to the scene file's directory."));
   // Below 0.5 h two neighbouring nodes cannot meet or swap places (thin elements remain possible).
@@ -137,7 +153,9 @@ std::vector<SchemaEntry> build_scene_schema() {
                           -1),
                     1));
   t.push_back(key("/material/plane", "string", "stress",
-                  "2-D reduction: plane stress (the paper's example) or plane strain (the only one for hencky).",
+                  "2-D reduction: plane stress (the paper's example) or plane strain (the only one for "
+                  "hencky). A 3D mesh uses 3D elasticity and ignores the default; `strain` on a 3D "
+                  "mesh is an error.",
                   {"stress", "strain"}));
   t.push_back(above(key("/material/shear_ratio", "number|null", nullptr,
                         "hencky only (required there): μ_∞/μ_0, the large-strain over the small-strain "

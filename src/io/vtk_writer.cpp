@@ -133,6 +133,19 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol) {
   float_array(out, "lambda", N, 1, on_gamma3(s.lambda));
   float_array(out, "u_tau_vec", N, 3, tangential(s.u_tau_vec));
   float_array(out, "sigma_tau_vec", N, 3, tangential(s.sigma_tau_vec));
+  if (d == 3) {
+    // 3D: unit slip direction and its angle (zero on sticking and non-Γ3 nodes); 2D has slip±.
+    RowMat dir = RowMat::Zero(nc, 3);
+    Vec angle = Vec::Zero(nc);
+    for (Index k = 0; k < nc; ++k)
+      if (sol.status[k].tangential == TangentialStatus::SLIP) {
+        const SlipDirection sd = slip_direction(md, s, k);
+        dir.row(k) = sd.dir.transpose();
+        angle[k] = sd.angle_deg;
+      }
+    float_array(out, "slip_dir", N, 3, [&](Index a, int c) { return k_of[a] < 0 ? 0.0 : dir(k_of[a], c); });
+    float_array(out, "slip_angle_deg", N, 1, [&](Index a, int) { return k_of[a] < 0 ? 0.0 : angle[k_of[a]]; });
+  }
   int_array(out, "Int32", "status_normal", sn, 20);
   int_array(out, "Int32", "status_tangential", st, 20);
   out += "      </PointData>\n";

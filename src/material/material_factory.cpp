@@ -10,6 +10,11 @@ std::shared_ptr<const Material> make_material(const nlohmann::json& mat, int dim
   const std::string model = mat.at("model").get<std::string>();
   const double E = mat.at("E").get<double>(), nu = mat.at("nu").get<double>();
   const bool strain = mat.at("plane") == "strain";
+  // A 3D body is full 3D elasticity: `plane` is a 2D reduction. Its default ("stress") is ignored
+  // for a 3D mesh; an explicit "strain" on a 3D mesh is a contradiction and rejected.
+  if (dim == 3 && strain)
+    input_error("material.plane: 'strain' is a 2D reduction, but the mesh is 3D (3D elasticity is used): "
+                "remove material.plane");
   if (model == "linear_elastic") {
     // The nonlinear law's constants are null by default; set for a linear law they would be ignored.
     for (const char* k : {"shear_ratio", "eps_ref"})

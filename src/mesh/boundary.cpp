@@ -8,23 +8,38 @@
 namespace hemicontact {
 namespace {
 
+// The bounding-box face a side name denotes, and the coordinate `from`/`to` measure along it.
+// 2D: left/right are x = min/max and bottom/top y = min/max; the coordinate along a side is the
+// other one. 3D: left/right x, front/back y, bottom/top z; along the lateral faces the coordinate
+// is the vertical z (so "the upper half" of a side is [0.5, 1) on the unit cube), along bottom/top x.
+struct SideAxes {
+  int axis;     // the coordinate that is constant on the side
+  bool at_max;  // the side is at its maximum
+  int along;    // the coordinate compared with [from, to)
+};
+
+SideAxes side_axes(const BoundarySelector& s, int dim) {
+  const bool d3 = dim == 3;
+  if (s.side == "left") return {0, false, d3 ? 2 : 1};
+  if (s.side == "right") return {0, true, d3 ? 2 : 1};
+  if (s.side == "bottom") return {d3 ? 2 : 1, false, 0};
+  if (s.side == "top") return {d3 ? 2 : 1, true, 0};
+  if (s.side == "front" || s.side == "back") {
+    if (!d3) input_error(s.context + ".side: '" + s.side + "' (y = min/max) exists on 3D meshes only; in 2D use left, right, bottom, top");
+    return {1, s.side == "back", 2};
+  }
+  input_error(s.context + ".side: unknown side '" + s.side + "' (expected left, right, bottom, top" +
+              (d3 ? ", front, back)" : ")"));
+}
+
 // Does facet f lie on the bounding-box side, with its midpoint in [from, to)?
-bool selects(const Mesh& m, Index f, const BoundarySelector& s, const RowMat& lo, const RowMat& hi,
-             double tol) {
-  int axis = -1;
-  bool at_max = false;
-  if (s.side == "left") axis = 0;
-  else if (s.side == "right") { axis = 0; at_max = true; }
-  else if (s.side == "bottom") axis = 1;
-  else if (s.side == "top") { axis = 1; at_max = true; }
-  else input_error(s.context + ".side: unknown side '" + s.side + "' (expected left, right, bottom, top)");
-  const double target = at_max ? hi(0, axis) : lo(0, axis);
-  for (int a = 0; a < m.dim; ++a)
-    if (std::abs(m.points(m.facets(f, a), axis) - target) > tol) return false;
-  // Coordinate along the side (2D: the other axis).
-  const int along = 1 - axis;
+bool selects(const Mesh& m, Index f, const BoundarySelector& s, const SideAxes& a, const RowMat& lo,
+             const RowMat& hi, double tol) {
+  const double target = a.at_max ? hi(0, a.axis) : lo(0, a.axis);
+  for (int v = 0; v < m.dim; ++v)
+    if (std::abs(m.points(m.facets(f, v), a.axis) - target) > tol) return false;
   double mid = 0;
-  for (int a = 0; a < m.dim; ++a) mid += m.points(m.facets(f, a), along);
+  for (int v = 0; v < m.dim; ++v) mid += m.points(m.facets(f, v), a.along);
   mid /= m.dim;
   return mid >= s.from && mid < s.to;
 }
@@ -38,9 +53,9 @@ void assign(Mesh& m, const std::vector<BoundarySelector>& sel, Part part, std::v
     if (s.from >= s.to) input_error(s.context + ": empty interval [from, to)");
     std::vector<Index> chosen;
     if (!s.side.empty()) {
-      if (m.dim != 2) input_error(s.context + ": 'side' selectors are implemented for 2D meshes only");
+      const SideAxes axes = side_axes(s, m.dim);
       for (Index f = 0; f < m.num_facets(); ++f)
-        if (selects(m, f, s, lo, hi, tol)) chosen.push_back(f);
+        if (selects(m, f, s, axes, lo, hi, tol)) chosen.push_back(f);
     } else {
       auto it = m.facet_groups.find(s.physical);
       if (it == m.facet_groups.end()) {
@@ -62,8 +77,9 @@ void assign(Mesh& m, const std::vector<BoundarySelector>& sel, Part part, std::v
     for (Index f : chosen) {
       if (!owner[f].empty()) {
         std::ostringstream os;
-        os << s.context << " and " << owner[f] << " both select the boundary facet (" << m.facets(f, 0)
-           << ", " << m.facets(f, 1) << ")";
+        os << s.context << " and " << owner[f] << " both select the boundary facet (" << m.facets(f, 0);
+        for (int a = 1; a < m.dim; ++a) os << ", " << m.facets(f, a);
+        os << ")";
         input_error(os.str());
       }
       owner[f] = s.context;

@@ -2,6 +2,7 @@
 
 #include <hemicontact/core/error.hpp>
 
+#include <array>
 #include <random>
 #include <sstream>
 
@@ -87,6 +88,96 @@ Mesh make_rectangle(const RectangleSpec& s) {
   std::ostringstream os;
   os << "rectangle [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "] " << nx << "x" << ny
      << " " << to_string(s.diagonal);
+  if (s.perturb > 0) os << " perturbed " << s.perturb;
+  m.origin = os.str();
+  extract_boundary_facets(m);
+  return m;
+}
+
+BoxPattern parse_box_pattern(const std::string& name) {
+  if (name == "kuhn") return BoxPattern::KUHN;
+  if (name == "symmetric") return BoxPattern::SYMMETRIC;
+  input_error("mesh.pattern: unknown value '" + name + "' (expected kuhn or symmetric)");
+}
+
+const char* to_string(BoxPattern p) { return p == BoxPattern::KUHN ? "kuhn" : "symmetric"; }
+
+Mesh make_box(const BoxSpec& s) {
+  if (s.nx < 1 || s.ny < 1 || s.nz < 1) input_error("mesh: nx, ny and nz must be >= 1");
+  if (!(s.x1 > s.x0) || !(s.y1 > s.y0) || !(s.z1 > s.z0))
+    input_error("mesh: empty box (need x0 < x1, y0 < y1 and z0 < z1)");
+  if (!(s.perturb >= 0 && s.perturb < 0.5)) input_error("mesh.perturb must lie in [0, 0.5)");
+  if (s.pattern == BoxPattern::SYMMETRIC && (s.nx % 2 || s.ny % 2))
+    input_error("mesh.pattern: 'symmetric' needs even nx and ny (got nx = " + std::to_string(s.nx) +
+                ", ny = " + std::to_string(s.ny) + "); an odd middle column has no mirror-symmetric split");
+  const int nx = s.nx, ny = s.ny, nz = s.nz;
+  const double hx = (s.x1 - s.x0) / nx, hy = (s.y1 - s.y0) / ny, hz = (s.z1 - s.z0) / nz;
+  const auto grid = [nx, ny](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };
+
+  Mesh m;
+  m.dim = 3;
+  m.points.resize(Index(nx + 1) * (ny + 1) * (nz + 1), 3);
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) {
+        const int v = grid(i, j, k);
+        // Exact end points so that side selection sees exact coordinates.
+        m.points(v, 0) = (i == nx) ? s.x1 : s.x0 + i * hx;
+        m.points(v, 1) = (j == ny) ? s.y1 : s.y0 + j * hy;
+        m.points(v, 2) = (k == nz) ? s.z1 : s.z0 + k * hz;
+      }
+
+  // The six Kuhn tetrahedra in local corner bits (bit 0 = x, 1 = y, 2 = z): for the axis order
+  // (a, b, c) the path 0 → e_a → e_a+e_b → 7. det[e_a, e_a+e_b, e_a+e_b+e_c] = det[e_a, e_b, e_c]
+  // is the sign of the permutation, so the odd ones swap their two middle vertices.
+  static const int perms[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+  std::array<std::array<int, 4>, 6> kuhn{};
+  for (int t = 0; t < 6; ++t) {
+    const int a = 1 << perms[t][0], b = a | (1 << perms[t][1]);
+    kuhn[t] = t < 3 ? std::array<int, 4>{0, a, b, 7} : std::array<int, 4>{0, b, a, 7};
+  }
+
+  m.cells.resize(Index(nx) * ny * nz * 6, 4);
+  Index c = 0;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        // SYMMETRIC: the mirror image of the Kuhn split in the upper halves. Reflecting x maps local
+        // bit x to 1 − x (flip = 1), and likewise y. Conformity: faces inside one half see the same
+        // (reflected) split from both cells, so they match as in KUHN. A face on the mirror plane
+        // x = mid is a yz face; a reflection in x leaves its diagonal (smallest to largest corner in
+        // y, z) unchanged, so both sides cut it the same way; likewise for y = mid. A reflection is
+        // orientation-reversing, so one reflection swaps two vertices to keep the volume positive.
+        const bool fx = s.pattern == BoxPattern::SYMMETRIC && 2 * i >= nx;
+        const bool fy = s.pattern == BoxPattern::SYMMETRIC && 2 * j >= ny;
+        const int flip = (fx ? 1 : 0) | (fy ? 2 : 0);
+        const auto corner = [&](int bits) {
+          const int l = bits ^ flip;
+          return grid(i + (l & 1), j + ((l >> 1) & 1), k + ((l >> 2) & 1));
+        };
+        for (const auto& t : kuhn) {
+          std::array<int, 4> v{corner(t[0]), corner(t[1]), corner(t[2]), corner(t[3])};
+          if (fx != fy) std::swap(v[1], v[2]);
+          for (int a = 0; a < 4; ++a) m.cells(c, a) = v[a];
+          ++c;
+        }
+      }
+  if (s.perturb > 0) {
+    // Interior nodes only, so the boundary (and the parts on it) stay exactly where they are.
+    std::mt19937 rng(s.seed);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    for (int k = 1; k < nz; ++k)
+      for (int j = 1; j < ny; ++j)
+        for (int i = 1; i < nx; ++i) {
+          const int v = grid(i, j, k);
+          m.points(v, 0) += s.perturb * hx * U(rng);
+          m.points(v, 1) += s.perturb * hy * U(rng);
+          m.points(v, 2) += s.perturb * hz * U(rng);
+        }
+  }
+  std::ostringstream os;
+  os << "box [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "]x[" << s.z0 << "," << s.z1 << "] "
+     << nx << "x" << ny << "x" << nz << " " << to_string(s.pattern);
   if (s.perturb > 0) os << " perturbed " << s.perturb;
   m.origin = os.str();
   extract_boundary_facets(m);

@@ -77,7 +77,9 @@ TEST_P(DofMapByDiagonal, RoundTripAndLocalFrames) {
     EXPECT_NEAR(uv.dot(s.contact.tangent.row(k).transpose()), x[s.dofs.contact_dof(k, 1)], 1e-14);
   }
   for (Index v = 0; v < s.mesh.num_nodes(); ++v)
-    if (s.clamped[v]) EXPECT_EQ(u.segment(2 * v, 2).norm(), 0.0);
+    if (s.clamped[v]) {
+      EXPECT_EQ(u.segment(2 * v, 2).norm(), 0.0);
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(AllDiagonals, DofMapByDiagonal,

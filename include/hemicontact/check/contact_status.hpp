@@ -49,6 +49,18 @@ const char* to_string(TangentialStatus s);
 /// stick if |u_τ| ≤ tol·U, else slip by the sign of u_τ (2D).
 std::vector<NodeStatus> classify(const Model& model, const ContactState& s, double U, double tol);
 
+/// Slip direction of a 3D Γ3 node, as reported in report.json, gamma3.csv and the VTU.
+struct SlipDirection {
+  Eigen::Vector3d dir = Eigen::Vector3d::Zero();  ///< u_τ/|u_τ| (zero when u_τ = 0)
+  /// Angle of dir in the tangent plane, in degrees in (−180, 180]: measured from the global x axis
+  /// projected onto the plane (the y axis when x is normal to it), counter-clockwise about the
+  /// inward normal −ν. On a bottom face (ν = −e_z) this is atan2(d_y, d_x) of the top view.
+  double angle_deg = 0;
+};
+
+/// @return the slip direction of contact node @p k (3D only; @p k's u_τ from @p s).
+SlipDirection slip_direction(const Model& model, const ContactState& s, Index k);
+
 /// @return the displacement scale U = max nodal |u| (or the mesh size when u = 0).
 double displacement_scale(const Model& model, const Vec& u);
 

@@ -1,5 +1,5 @@
 #pragma once
-/// @file polish.hpp  Exact polish of a smoothed solution (2D, condensed formulation).
+/// @file polish.hpp  Exact polish of a smoothed solution (condensed formulation, 2D and 3D).
 ///
 /// The smoothed minimizer identifies the statuses; on fixed statuses the *unsmoothed* conditions of
 /// (22) are linear in the condensed unknowns x_C (p_ν and F_b are piecewise linear):
@@ -11,6 +11,10 @@
 /// is factored once; λ is iterated to its fixed point on the right-hand side. The result is kept
 /// only if it keeps the statuses and lowers the certificate's residual; it then carries no
 /// smoothing error (the certificate drops to round-off).
+///
+/// 3D: the slip condition −σ_τ = λ u_τ/|u_τ| is nonlinear in the two tangential unknowns; the same
+/// status system is solved by Newton's method with the exact Jacobian of the unit vector
+/// ((I − t tᵀ)/|u_τ|) and of λ = F_b(x_ν) (PolishResult::iterations counts Newton steps there).
 
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/condensation.hpp>

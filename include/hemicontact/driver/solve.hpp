@@ -18,9 +18,9 @@
 namespace hemicontact {
 /// What the exact polish (driver/polish.hpp) did.
 struct PolishResult {
-  bool attempted = false;  ///< false in 3D, without a condensation, or with nothing to polish
+  bool attempted = false;  ///< false without a condensation or with nothing to polish
   bool accepted = false;   ///< statuses kept and certificate not worse
-  int iterations = 0;      ///< λ fixed-point iterations on the linear status system
+  int iterations = 0;      ///< 2D: λ fixed-point iterations on the linear status system; 3D: Newton steps
   double before = 0;       ///< certificate max residual before
   double after = 0;        ///< after (of the candidate)
   std::string note;        ///< why not accepted, if not
@@ -38,7 +38,7 @@ namespace hemicontact {
 struct SolveOptions {
   std::string backend = "ipopt";   ///< NLP backend name
   std::string formulation = "auto";  ///< "full", "condensed" or "auto" (condensed for linear materials)
-  bool polish = true;              ///< exact polish on identified statuses (condensed, 2D)
+  bool polish = true;              ///< exact polish on identified statuses (condensed formulation)
   BackendOptions backend_options;  ///< tolerance, iteration cap, pass-through options
   double eps_tau = 1e-10;          ///< final friction smoothing width, relative to U_s
   double eps_nu = 1e-10;           ///< final mollification width of p_ν, relative to U_s

@@ -2,10 +2,12 @@
 /// @file csv_writer.hpp  The Γ3 quantities as CSV: one row per contact node, in the order of
 /// ContactNodes (left to right on a bottom edge), for plotting against the paper's figures.
 ///
-/// Header (2D; 3D adds z after y):
+/// Header (2D; 3D adds z after y and appends slip_dir_x,slip_dir_y,slip_dir_z,slip_angle_deg):
 /// @code
 ///   index,node,x,y,w,g,u_nu,u_tau,sigma_nu,sigma_tau,xi,lambda,status
 /// @endcode
+/// In 3D u_tau and sigma_tau are magnitudes, and the slip direction u_τ/|u_τ| and its angle
+/// (SlipDirection) are NaN on sticking nodes.
 /// index is the contact-node index k, node the mesh node, w the nodal weight w_k, g the gap g_k
 /// (written "inf" when there is no rigid obstacle), status e.g. "compliance/slip-". Numbers are
 /// written in the shortest form that reads back to the same double (full precision).

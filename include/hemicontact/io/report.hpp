@@ -11,7 +11,9 @@
 ///  - "energy", "energy_norm", "a_uu", "f_u", "j_term", "friction_term", "max_u_nu"
 ///  - "status_counts": {separated, compliance, contact, stick, slip+, slip-[, slip]}
 ///  - "nodes": one object per Γ3 node, in ContactNodes order: {node, x, y[, z], w, g, u_nu,
-///    u_tau, sigma_nu, sigma_tau, xi, lambda, status} with status e.g. "contact/stick"
+///    u_tau, sigma_nu, sigma_tau, xi, lambda, status} with status e.g. "contact/stick"; 3D nodes
+///    add slip_dir ([3] unit vector u_τ/|u_τ|, null when sticking) and slip_angle_deg (see
+///    SlipDirection; null when sticking), and their u_tau, sigma_tau are magnitudes
 ///  - "certificate": {passed, tol, max_residual, length_scale, force_scale, traction_scale,
 ///    residuals: {name: {value, worst}}}
 ///  - "fixed_point": {converged, iterations, history: [{k, stage, eps_tau, eps_nu, change_u,

@@ -14,6 +14,8 @@
 ///    "u_tau_vec", "sigma_tau_vec" (3 components, the tangential vectors)
 ///  - "status_normal" (Int32): −1 not on Γ3, 0 separated, 1 compliance, 2 contact
 ///  - "status_tangential" (Int32): −1 not on Γ3, 0 stick, 1 slip+, 2 slip−, 3 slip (3D)
+///  - 3D only: "slip_dir" (3 components, u_τ/|u_τ| on slipping Γ3 nodes, 0 elsewhere) and
+///    "slip_angle_deg" (its angle in the tangent plane, SlipDirection; 0 elsewhere)
 ///
 /// CellData
 ///  - "strain" (Voigt: ε11, ε22, 2ε12 in 2D; ε11, ε22, ε33, 2ε23, 2ε13, 2ε12 in 3D)

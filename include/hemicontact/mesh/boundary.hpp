@@ -10,8 +10,12 @@ namespace hemicontact {
 
 /// Selects boundary facets: by a side of the bounding box or by a named (Gmsh physical) group,
 /// optionally restricted to facets whose midpoint coordinate along the side lies in [from, to).
+/// That coordinate is, in 2D, y on left/right and x on bottom/top; in 3D, z (the vertical) on the
+/// lateral sides left/right/front/back and x on bottom/top.
 struct BoundarySelector {
-  std::string side;      ///< "left", "right" (x = min/max), "bottom", "top" (y = min/max); or empty
+  /// "left", "right" (x = min/max), "bottom", "top" (2D: y, 3D: z = min/max), "front", "back"
+  /// (3D only: y = min/max); or empty
+  std::string side;
   std::string physical;  ///< name of a group in Mesh::facet_groups; or empty
   double from = -INF;    ///< lower end of the half-open interval along the side
   double to = INF;       ///< upper end (excluded)
