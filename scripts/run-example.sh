@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # README command 1: set up, build, and run the main job — the paper's example (Sofonea, Han,
-# Barboteu 2017, §5) in its Fig. 2 form (loads × 1e6, see problems/README.md) and as printed,
-# each with its picture (Fig. 2: deformed mesh, Γ3 statuses and forces), then the paper's Fig. 3
+# Barboteu 2017, §5) in its Fig. 2 form (loads × 1e6, see problems/README.md), as printed, and as
+# a 3D body, each with its picture (Fig. 2: deformed mesh, Γ3 statuses and forces; 3D: the bottom
+# face's status map), then the paper's Fig. 3
 # (mesh convergence of the Fig. 2 scene, levels 4..128 against h = 1/256).
 # Prints the status summary and certificate of each solve and the convergence table; results go
 # to out/. Extra arguments are passed to the solves (e.g. --set mesh.n=128).
@@ -10,7 +11,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
 bash scripts/build.sh
 build="${BUILD_DIR:-build}"
-for scene in sofonea2017-fig2 sofonea2017-printed; do
+for scene in sofonea2017-fig2 sofonea2017-printed sofonea2017-3d; do
   echo
   echo "=== problems/$scene.json ==="
   "$build/hemicontact" solve "problems/$scene.json" --out "out/$scene" --force --plot "$@"
