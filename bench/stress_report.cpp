@@ -307,10 +307,13 @@ struct RandomRow {
   Outcome o;
 };
 
-std::vector<RandomRow> run_random(int seeds, int n_min, int n_max) {
+std::vector<RandomRow> run_random(int seeds, int n_min, int n_max, int max_iter) {
   std::vector<RandomRow> rows;
   for (int k = 1; k <= seeds; ++k) {
-    const stress::RandomScene s = stress::draw_scene(static_cast<unsigned>(k), n_min, n_max);
+    stress::RandomScene s = stress::draw_scene(static_cast<unsigned>(k), n_min, n_max);
+    // A hard draw can keep Ipopt at its 3000-iteration default for minutes (dense condensed
+    // Hessian on ~400 Γ3 unknowns); the cap bounds the report's run time and is in its header.
+    if (max_iter > 0) s.overrides.push_back("solver.max_iter=" + std::to_string(max_iter));
     rows.push_back({s, run(s.overrides)});
     const Outcome& o = rows.back().o;
     std::fprintf(stderr, "  seed %3d: %-28s cert %-9s outer %3d  %.2f s\n", k, o.outcome.c_str(),
@@ -389,7 +392,7 @@ std::string random_csv(const std::vector<RandomRow>& rows) {
   return t;
 }
 
-std::string random_md(const std::vector<RandomRow>& rows, int n_min, int n_max) {
+std::string random_md(const std::vector<RandomRow>& rows, int n_min, int n_max, int max_iter) {
   std::map<std::string, int> count;
   int nonfinite = 0;
   double worst_certified = 0, total = 0, slowest = 0;
@@ -401,8 +404,9 @@ std::string random_md(const std::vector<RandomRow>& rows, int n_min, int n_max) 
     slowest = std::max(slowest, r.o.seconds);
   }
   std::string t = "### Randomized scenes (" + std::to_string(rows.size()) + " seeds, n = " + std::to_string(n_min) +
-                  ".." + std::to_string(n_max) +
-                  ", default solver budgets)\n\n| outcome | scenes |\n|---|---|\n";
+                  ".." + std::to_string(n_max) + ", " +
+                  (max_iter > 0 ? "solver.max_iter = " + std::to_string(max_iter) : std::string("default solver budgets")) +
+                  ")\n\n| outcome | scenes |\n|---|---|\n";
   for (const auto& [k, v] : count) t += "| " + k + " | " + std::to_string(v) + " |\n";
   t += "\nNon-finite u or energy: " + std::to_string(nonfinite) + ". Largest certificate among certified: " +
        g3(worst_certified) + ". Total time " + g3(total) + " s, slowest scene " + g3(slowest) + " s.\n";
@@ -429,15 +433,23 @@ std::string theta_md(const std::vector<ThetaRow>& rows, int n) {
   std::string t = "### Outer fixed point: relaxation θ vs μ and the layer's stiffness (sliding scene, n = " +
                   std::to_string(n) +
                   ")\n\nEach cell: ✓ certified / ✗ not; outer iterations; ρ = estimated contraction factor "
-                  "(geometric mean of ‖Δλ^{k+1}‖/‖Δλ^k‖ at the final ε).\n\n| c_i × | μ | θ = 1 | θ = 0.75 | θ = 0.5 | θ = 0.25 |\n|---|---|---|---|---|---|\n";
+                  "(geometric mean of ‖Δλ^{k+1}‖/‖Δλ^k‖ at the final ε); pred. = max(1 − θ, |1 − θ(1 + a)|) with a = ρ at "
+                  "θ = 1 when that run converged (the relaxed map's factor for a Jacobian spectrum in [−a, 0]; "
+                  "best θ* = 2/(2 + a)). (stall): the solver's no-contraction stop; (cap): max_iters reached.\n\n| c_i × | μ | θ = 1 | θ = 0.75 | θ = 0.5 | θ = 0.25 |\n|---|---|---|---|---|---|\n";
   for (size_t i = 0; i + 3 < rows.size(); i += 4) {
     t += "| " + g3(rows[i].c_scale) + " | " + g3(rows[i].mu) + " |";
+    // Prediction from the plain loop's factor a (only when θ = 1 converged, so that a is the
+    // asymptotic factor): ρ(θ) = max(1 − θ, |1 − θ(1 + a)|) for a Jacobian spectrum in [−a, 0].
+    const double a = rows[i].o.ok ? rows[i].o.rho : NAN;
     for (size_t j = i; j < i + 4; ++j) {
       const Outcome& o = rows[j].o;
+      const double th = rows[j].theta;
+      const std::string pred =
+          j == i || std::isnan(a) ? "" : " (pred. " + g3(std::max(1 - th, std::abs(1 - th * (1 + a)))) + ")";
       const std::string why = o.ok ? "" : o.outcome == "not converged: fixed point"
                                               ? (o.message.find("does not contract") != std::string::npos ? " (stall)" : " (cap)")
                                               : " (" + o.outcome + ")";
-      t += " " + std::string(o.ok ? "✓" : "✗") + why + " " + std::to_string(o.outer) + " it, ρ " + g3(o.rho) + " |";
+      t += " " + std::string(o.ok ? "✓" : "✗") + why + " " + std::to_string(o.outer) + " it, ρ " + g3(o.rho) + pred + " |";
     }
     t += "\n";
   }
@@ -449,7 +461,7 @@ std::string theta_md(const std::vector<ThetaRow>& rows, int n) {
 int main(int argc, char** argv) {
   std::string out;
   std::string parts = "cases,random,theta";
-  int n = 64, seeds = 300, n_min = 8, n_max = 24, n_theta = 16;
+  int n = 64, seeds = 300, n_min = 8, n_max = 16, n_theta = 16, max_iter = 500;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -464,13 +476,14 @@ int main(int argc, char** argv) {
       else if (a == "--n-min") n_min = std::stoi(value());
       else if (a == "--n-max") n_max = std::stoi(value());
       else if (a == "--n-theta") n_theta = std::stoi(value());
+      else if (a == "--max-iter") max_iter = std::stoi(value());
       else throw Error("unknown option " + a, EXIT_USAGE);
     }
     if (out.empty()) throw Error("missing --out DIR", EXIT_USAGE);
   } catch (const std::exception& e) {
     std::fprintf(stderr,
                  "hemicontact_stress_report: %s\nusage: hemicontact_stress_report --out DIR [--parts cases,random,theta] "
-                 "[--n 64] [--seeds 300] [--n-min 8] [--n-max 24] [--n-theta 16]\n",
+                 "[--n 64] [--seeds 300] [--n-min 8] [--n-max 16] [--n-theta 16] [--max-iter 500]\n",
                  e.what());
     return EXIT_USAGE;
   }
@@ -480,7 +493,7 @@ int main(int argc, char** argv) {
   std::string report = "## Numerical stress report\n\nGenerated by `hemicontact_stress_report --out DIR --parts " +
                        parts + " --n " + std::to_string(n) + " --seeds " + std::to_string(seeds) + " --n-min " +
                        std::to_string(n_min) + " --n-max " + std::to_string(n_max) + " --n-theta " +
-                       std::to_string(n_theta) + "`.\n\n";
+                       std::to_string(n_theta) + " --max-iter " + std::to_string(max_iter) + "`.\n\n";
   const auto t0 = clk::now();
   if (want("cases")) {
     std::fprintf(stderr, "cases (n = %d)\n", n);
@@ -491,10 +504,10 @@ int main(int argc, char** argv) {
   }
   if (want("random")) {
     std::fprintf(stderr, "random (%d seeds)\n", seeds);
-    const auto rows = run_random(seeds, n_min, n_max);
+    const auto rows = run_random(seeds, n_min, n_max, max_iter);
     write(fs::path(out) / "random.csv", random_csv(rows));
-    write(fs::path(out) / "random.md", random_md(rows, n_min, n_max));
-    report += random_md(rows, n_min, n_max) + "\n";
+    write(fs::path(out) / "random.md", random_md(rows, n_min, n_max, max_iter));
+    report += random_md(rows, n_min, n_max, max_iter) + "\n";
   }
   if (want("theta")) {
     std::fprintf(stderr, "theta (n = %d)\n", n_theta);
