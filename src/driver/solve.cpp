@@ -41,6 +41,33 @@ double first_order_residual(const NlpObjective& f, const Vec& x, const Vec& lowe
   return r;
 }
 
+std::string short_number(double x) {
+  std::ostringstream os;
+  os << std::setprecision(3) << x;
+  return os.str();
+}
+
+}  // namespace
+
+double contraction_estimate(const std::vector<OuterIteration>& history) {
+  double sum = 0;
+  int n = 0;
+  for (const auto& h : history)
+    if (std::isfinite(h.contraction)) sum += std::log(h.contraction), ++n;
+  return n ? std::exp(sum / n) : std::numeric_limits<double>::quiet_NaN();
+}
+
+namespace {
+
+// "0.83 (last 0.91)" or "not measured": the geometric mean of the defined ρ_k and the last one.
+std::string contraction_text(const std::vector<OuterIteration>& history) {
+  const double est = contraction_estimate(history);
+  if (!std::isfinite(est)) return "not measured";
+  double last = est;
+  for (const auto& h : history)
+    if (std::isfinite(h.contraction)) last = h.contraction;
+  return short_number(est) + " (last " + short_number(last) + ")";
+}
 }  // namespace
 
 std::map<std::string, int> Solution::status_counts() const {
@@ -386,6 +413,7 @@ Solution ContactSolver::solve(const Vec* z0) {
     const bool final_stage = stage + 1 == schedule.size();
     double prev_change = INF;
     int slow = 0;
+    double prev_delta = INF;  // ‖Δλ‖∞ of the previous update in this stage
     for (int it = 0;; ++it) {
       OuterIteration rec;
       rec.k = k_total++;
@@ -401,6 +429,15 @@ Solution ContactSolver::solve(const Vec* z0) {
         const Vec lam_old = F.friction->lambda();
         const Vec lam = (1 - opt.relaxation) * lam_old + opt.relaxation * bounds_of(zs);
         rec.change_lambda = rel_change(lam, lam_old);
+        rec.delta_lambda = (lam - lam_old).cwiseAbs().maxCoeff();
+        // ρ_k of the relaxed map, from two successive updates at the same ε, both above the
+        // inner solves' round-off (contraction_floor): λ rather than u because λ is the variable
+        // the map iterates (λ ↦ F_b(u_ν(λ))); u_ν(λ) is a solution operator with its own scale.
+        const double noise =
+            opt.contraction_floor * std::max(lam.cwiseAbs().maxCoeff(), lam_old.cwiseAbs().maxCoeff());
+        if (final_stage && it > 0 && prev_delta > noise && rec.delta_lambda > noise)
+          rec.contraction = rec.delta_lambda / prev_delta;
+        prev_delta = rec.delta_lambda;
         F.friction->set_lambda(lam);
       }
       sol.history.push_back(rec);
@@ -410,6 +447,7 @@ Solution ContactSolver::solve(const Vec* z0) {
          << rec.backend.iterations << " it, " << std::setprecision(3) << rec.backend.seconds
          << " s; |dx_G3|/|x_G3| = " << std::setprecision(2) << rec.change_u << ", |dlambda|/|lambda| = "
          << rec.change_lambda << ", first-order residual " << rec.grad_norm;
+      if (std::isfinite(rec.contraction)) os << ", contraction rho = " << rec.contraction;
       log_info() << os.str();
       if (!rec.backend.ok()) {
         sol.backend_ok = false;
@@ -420,23 +458,32 @@ Solution ContactSolver::solve(const Vec* z0) {
       if (!lagged || !final_stage) break;  // coarse stages: one lagged update each
       const double change = std::max(rec.change_u, rec.change_lambda);
       if (it > 0 && change <= opt.tol_u) break;
+      const std::string theta = "relaxation theta = " + short_number(opt.relaxation);
       if (it + 1 >= opt.max_outer) {
         sol.fixed_point_converged = false;
-        sol.message = "fixed point did not converge in " + std::to_string(opt.max_outer) +
-                      " iterations (last change " + std::to_string(change) + ")";
+        sol.message = "fixed point lambda = F_b(u_nu) did not converge in " + std::to_string(opt.max_outer) +
+                      " outer iterations (last change " + short_number(change) + ", contraction factor " +
+                      contraction_text(sol.history) + ", " + theta +
+                      "); raise solver.fixed_point.max_iters, or if the factor is near or above 1 try a "
+                      "smaller solver.fixed_point.relaxation";
         break;
       }
-      // Stagnation: the change has not shrunk by 1% for 5 iterations in a row (no contraction).
-      slow = (change > 0.99 * prev_change) ? slow + 1 : 0;
+      // Non-contraction: the change has not shrunk by 1 − stall_ratio for stall_iters iterations in
+      // a row (an oscillating or diverging λ; large μ·slope of p_ν, MODEL.md §1 (21)).
+      slow = (change > opt.stall_ratio * prev_change) ? slow + 1 : 0;
       prev_change = change;
-      if (slow >= 5) {
+      if (slow >= opt.stall_iters) {
         sol.fixed_point_converged = false;
-        sol.message = "fixed point stalled: the change (" + std::to_string(change) +
-                      ") stopped decreasing; try solver.fixed_point.relaxation < 1";
+        sol.message = "fixed point lambda = F_b(u_nu) does not contract: the change (" + short_number(change) +
+                      ") has not decreased for " + std::to_string(opt.stall_iters) +
+                      " outer iterations (contraction factor " + contraction_text(sol.history) + ", " + theta +
+                      "); try a smaller solver.fixed_point.relaxation, e.g. " +
+                      short_number(0.5 * opt.relaxation);
         break;
       }
     }
   }
+  sol.contraction_estimate = contraction_estimate(sol.history);
 
   Vec z = U_s * zs;
   // Polished even after a backend failure: the certificate, not the backend's word, decides.

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/io/config.hpp>
 #include <set>
@@ -370,6 +371,12 @@ void check_points(const json& points, const std::string& path, bool nonnegative,
   }
 }
 
+// mesh.x, mesh.y: [a, b] with a < b (the generator would only say "empty rectangle").
+void check_interval(const json& v, const std::string& path) {
+  if (v.size() != 2 || !(v[0].get<double>() < v[1].get<double>()))
+    key_error(path, "expected an interval [a, b] with a < b, got " + v.dump());
+}
+
 void check_gap(const json& gap) {
   if (gap.is_number() && gap.get<double>() < 0)
     input_error("contact.gap: negative thickness g = " + gap.dump());
@@ -427,13 +434,50 @@ json parse_rejecting_duplicates(const std::string& text, const std::string& file
   return json::parse(text, callback);
 }
 
+/// Where a number that overflows a double (1e999: JSON has no inf, nlohmann refuses it) sits:
+/// its key, line and column. nlohmann names only the token, so the token is replaced by a marker
+/// string and the text parsed again to find the marker's path.
+std::string describe_overflow(const std::string& text, const json::exception& e) {
+  const std::string what = e.what();
+  const std::size_t q1 = what.find("parsing '"), q2 = what.rfind('\'');
+  if (q1 == std::string::npos || q2 == std::string::npos || q2 <= q1 + 9) return what;
+  const std::string token = what.substr(q1 + 9, q2 - q1 - 9);
+  const std::size_t at = text.find(token);
+  if (at == std::string::npos) return what;
+  const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + at, '\n'));
+  const std::size_t nl = text.rfind('\n', at);
+  const std::size_t column = nl == std::string::npos ? at + 1 : at - nl;
+  std::string where = "line " + std::to_string(line) + ", column " + std::to_string(column);
+  const std::string marker = "\"hemicontact:overflow\"";
+  std::string key;
+  try {
+    const json marked = json::parse(std::string(text).replace(at, token.size(), marker));
+    const std::function<bool(const json&, const std::string&)> find = [&](const json& v, const std::string& p) {
+      if (v.is_string() && v.get<std::string>() == "hemicontact:overflow") return key = p, true;
+      if (v.is_object())
+        for (const auto& item : v.items())
+          if (find(item.value(), child_path(p, item.key()))) return true;
+      if (v.is_array())
+        for (std::size_t i = 0; i < v.size(); ++i)
+          if (find(v[i], element_path(p, i))) return true;
+      return false;
+    };
+    find(marked, "");
+  } catch (const json::exception&) {
+    // a second overflowing number: line and column of the first are still right
+  }
+  return (key.empty() ? "" : "key '" + key + "': ") + "number " + token + " overflows a double (" + where +
+         "); scene numbers must be finite";
+}
+
 json value_from_text(const std::string& text, const std::string& assignment) {
   try {
     return json::parse(text);
   } catch (const json::parse_error&) {
     return text;  // not JSON: a plain string such as gmsh or monotone
   } catch (const json::exception& e) {
-    input_error("--set '" + assignment + "': " + e.what());  // e.g. number overflow in 1e999
+    input_error("--set '" + assignment + "': " + e.what() +
+                " (the value is not a finite double; scene numbers must be finite)");  // 1e999
   }
 }
 
@@ -448,6 +492,8 @@ json validate_scene(json scene) {
   validate_object(scene, "", "", idx);
   check_selectors(scene["boundary"]);
   check_gap(scene["contact"]["gap"]);
+  check_interval(scene["mesh"]["x"], "mesh.x");
+  check_interval(scene["mesh"]["y"], "mesh.y");
   check_points(scene["contact"]["normal_law"]["points"], "contact.normal_law.points", false, "p", true);
   check_points(scene["contact"]["friction"]["points"], "contact.friction.points", false, "F_b", true);
   json& mesh = scene["mesh"];
@@ -504,7 +550,7 @@ json load_scene(const std::string& path, const std::vector<std::string>& overrid
   } catch (const json::parse_error& e) {
     input_error("scene file '" + path + "': " + describe_parse_error(text, e));
   } catch (const json::exception& e) {
-    input_error("scene file '" + path + "': " + e.what());  // number overflow (1e999)
+    input_error("scene file '" + path + "': " + describe_overflow(text, e));  // number overflow (1e999)
   }
   for (const std::string& o : overrides) apply_override(scene, o);
   return validate_scene(std::move(scene));

@@ -4,6 +4,7 @@
 #include <hemicontact/core/error.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -41,6 +42,9 @@ std::map<std::string, double> merged_timings(const Model& md, const Solution& so
   for (const auto& [k, v] : sol.timings) t[k] = v;
   return t;
 }
+
+// NaN marks "not measured"; JSON has no NaN, so it is written as null explicitly.
+json finite_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 bool report_ok(const Solution& sol) {
   return sol.ok();
@@ -150,13 +154,22 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
                        {"change_u", h.change_u},
                        {"change_lambda", h.change_lambda},
                        {"grad_norm", h.grad_norm},
+                       {"delta_lambda", h.delta_lambda},
+                       {"contraction", finite_or_null(h.contraction)},
                        {"backend_status", to_string(h.backend.status)},
                        {"backend_iterations", h.backend.iterations},
                        {"backend_evaluations", h.backend.evaluations},
                        {"backend_seconds", h.backend.seconds},
                        {"backend_message", h.backend.message}});
+  // contraction: ρ_k per outer iteration (null where undefined, see OuterIteration::contraction);
+  // contraction_estimate: their geometric mean, the observed factor of the relaxed map.
+  json contraction = json::array();
+  for (const auto& h : sol.history) contraction.push_back(finite_or_null(h.contraction));
   r["fixed_point"] = {{"converged", sol.fixed_point_converged},
                       {"iterations", sol.history.size()},
+                      {"relaxation", opt.relaxation},
+                      {"contraction", std::move(contraction)},
+                      {"contraction_estimate", finite_or_null(sol.contraction_estimate)},
                       {"history", std::move(history)}};
 
   r["options"] = {{"backend", opt.backend},

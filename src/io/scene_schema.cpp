@@ -123,10 +123,15 @@ std::vector<SchemaEntry> build_scene_schema() {
                   {"kuhn", "symmetric"}));
   t.push_back(key("/mesh/file", "string|null", nullptr,
                   "Gmsh .msh 4.1 file (mesh.type = gmsh), relative to the scene file's directory."));
-  // Below 0.5 h two neighbouring nodes cannot meet or swap places (thin elements remain possible).
+  // Below 0.5 h two neighbouring nodes cannot meet or swap places. A right triangle of the
+  // right/left/symmetric meshes keeps a positive area for perturb < 0.25 ((1 − 2p)² > (2p)², the
+  // worst case of its cross product); beyond, an inverted cell is possible and check_cells reports it.
   t.push_back(below(at_least(key("/mesh/perturb", "number", 0,
                                  "Interior nodes are moved randomly by up to this fraction of h "
-                                 "(robustness tests on irregular meshes)."),
+                                 "in each coordinate (robustness tests on irregular meshes). From "
+                                 "0.25 up a cell can invert (right/left/symmetric meshes: never "
+                                 "below); an inverted cell is an input error naming it (lower "
+                                 "perturb or change `seed`)."),
                              0),
                     0.5));
   t.push_back(at_least(

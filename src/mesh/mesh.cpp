@@ -52,6 +52,15 @@ Vec Mesh::facet_normal(Index f) const {
 }
 
 namespace {
+
+// Same orientation of two orderings of one facet: equal up to a cyclic rotation (2D: equal).
+bool same_orientation(const std::array<int, 3>& a, const std::array<int, 3>& b, int dim) {
+  if (dim == 2) return a[0] == b[0] && a[1] == b[1];
+  for (int r = 0; r < 3; ++r)
+    if (a[0] == b[r] && a[1] == b[(r + 1) % 3] && a[2] == b[(r + 2) % 3]) return true;
+  return false;
+}
+
 template <class F>
 void for_each_edge(const Mesh& m, F&& f) {
   const int nv = m.dim + 1;
@@ -80,6 +89,7 @@ void extract_boundary_facets(Mesh& mesh) {
   struct Entry {
     std::array<int, 3> key;  // sorted nodes (unused third entry −1 in 2D)
     std::array<int, 3> oriented;
+    Index cell;
   };
   std::vector<Entry> all;
   all.reserve(static_cast<size_t>(mesh.num_cells()) * nv);
@@ -103,7 +113,7 @@ void extract_boundary_facets(Mesh& mesh) {
       } else {
         std::sort(key.begin(), key.end());
       }
-      all.push_back({key, f});
+      all.push_back({key, f, c});
     }
   }
   std::sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
@@ -119,6 +129,16 @@ void extract_boundary_facets(Mesh& mesh) {
       input_error(os.str());
     }
     if (j - i == 1) boundary.push_back(all[i].oriented);
+    // Two consistently oriented cells traverse their common facet in opposite orders (each lies on
+    // its own side); the same order means they overlap: the mesh is folded.
+    if (j - i == 2 && same_orientation(all[i].oriented, all[i + 1].oriented, d)) {
+      std::ostringstream os;
+      os << "mesh: cells " << std::min(all[i].cell, all[i + 1].cell) << " and "
+         << std::max(all[i].cell, all[i + 1].cell) << " overlap across their common facet (nodes";
+      for (int a = 0; a < d; ++a) os << ' ' << all[i].key[a];
+      os << "): the mesh is folded (an inverted cell)";
+      input_error(os.str());
+    }
     i = j;
   }
   mesh.facets.resize(static_cast<Index>(boundary.size()), d);
@@ -140,6 +160,10 @@ void check_cells(const Mesh& mesh) {
       os << "mesh: cell " << c << " (nodes";
       for (int a = 0; a <= mesh.dim; ++a) os << ' ' << mesh.cells(c, a);
       os << ") is " << (m < -tiny ? "inverted" : "degenerate (zero measure)") << ", measure " << m;
+      // A random perturbation of h/4 or more per coordinate can invert a cell (scene_schema.cpp,
+      // mesh.perturb); name the cause.
+      if (mesh.origin.find("perturbed") != std::string::npos)
+        os << " (" << mesh.origin << "; lower mesh.perturb or change mesh.seed)";
       input_error(os.str());
     }
   }

@@ -27,6 +27,7 @@ struct PolishResult {
 };
 }  // namespace hemicontact
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -47,6 +48,13 @@ struct SolveOptions {
   double tol_u = 1e-12;            ///< fixed point: relative change of x on Γ3 and of λ
   int max_outer = 50;              ///< fixed point: iteration cap
   double relaxation = 1.0;         ///< θ in λ ← (1−θ)λ + θ F_b(u_ν)
+  /// Fixed-point updates ‖Δλ‖∞ at or below this × ‖λ‖∞ are the inner solves' round-off (backend
+  /// tol 1e-12 on O(1) scaled unknowns), not the map's contraction: they enter no ratio ρ_k.
+  double contraction_floor = 1e-9;
+  /// Non-contraction: the update ‖Δλ‖∞ has not shrunk by this factor for `stall_iters`
+  /// consecutive outer iterations (ρ_k > stall_ratio) → stop and say so.
+  double stall_ratio = 0.99;
+  int stall_iters = 5;             ///< see stall_ratio
   bool allow_not_converged = false;  ///< exit 0 even if the fixed point did not converge
   double certificate_tol = 1e-8;   ///< acceptance tolerance of the certificate
   double status_tol = 1e-8;        ///< status decisions, relative to U
@@ -65,6 +73,11 @@ struct OuterIteration {
   double change_u = 0;       ///< ‖Δx_Γ3‖∞/‖x_Γ3‖∞ against the previous minimization
   double change_lambda = 0;  ///< ‖Δλ‖∞/‖λ‖∞ of the update after this minimization
   double grad_norm = 0;      ///< first-order residual max_i min(|∇Π̃_i|, room to the bound) in scaled units
+  double delta_lambda = 0;   ///< ‖λ^{k+1} − λ^k‖∞ of the (relaxed) update after this minimization, absolute
+  /// ρ_k = ‖λ^{k+1} − λ^k‖∞ / ‖λ^k − λ^{k−1}‖∞, the observed contraction factor of the relaxed map
+  /// λ ↦ (1−θ)λ + θ F_b(u_ν(λ)) at the final ε; NaN where undefined (first iteration of the final
+  /// stage, coarse stages, no lagged friction, or the previous update below contraction_floor).
+  double contraction = std::numeric_limits<double>::quiet_NaN();
   SolveResult backend;       ///< what the backend said
 };
 
@@ -84,6 +97,9 @@ struct Solution {
   double max_u_nu = 0;               ///< max_i u_ν,i
   std::vector<OuterIteration> history;  ///< every minimization
   bool fixed_point_converged = true; ///< false if the outer loop hit its cap or stalled
+  /// Estimated contraction factor of the outer fixed point: the geometric mean of the defined
+  /// ρ_k (OuterIteration::contraction); NaN if none is defined (no loop, or converged at once).
+  double contraction_estimate = std::numeric_limits<double>::quiet_NaN();
   bool backend_ok = true;            ///< false if the last minimization failed
   std::string message;               ///< human-readable verdict
   std::string backend;               ///< backend name
@@ -147,6 +163,9 @@ class ContactSolver {
 /// Solve the model. Never throws for non-convergence: the verdict is in the Solution.
 /// @throws Error for bad options (unknown backend, ...).
 Solution solve(const Model& model, const SolveOptions& options);
+
+/// @return the geometric mean of the defined contraction factors ρ_k of @p history (NaN if none).
+double contraction_estimate(const std::vector<OuterIteration>& history);
 
 /// Unsmoothed energy parts and certificate of a given full displacement (fills the Solution's
 /// state, status, certificate and energies).

@@ -54,7 +54,9 @@ struct Mesh {
 
 /// Find every facet that belongs to exactly one cell and store them in mesh.facets (parts NONE).
 /// Facets are oriented so that facet_normal() points out of the body.
-/// @throws Error if a facet is shared by more than two cells (non-manifold mesh).
+/// @throws Error if a facet is shared by more than two cells (non-manifold mesh), or if two cells
+/// lie on the same side of their common facet (a folded mesh: one cell was inverted, and a reader
+/// such as read_gmsh that reorients cells to positive measure hid the inversion itself).
 void extract_boundary_facets(Mesh& mesh);
 
 /// Check cell orientation and measures.

@@ -1,0 +1,224 @@
+// The bad-input battery of issue 6 ("Studies and stability"), end to end through the program: every
+// malformed scene — wrong types, missing parts, a p_ν table that is not a function, negative
+// thicknesses and coefficients, F_b < 0, an empty Γ3, inverted or zero-area triangles, non-finite
+// loads, unknown backends and keys — exits with code 2 (bad input), one line on stderr that names
+// the key or the element, and never reaches the solver.
+#include <hemicontact/config.hpp>
+#include <hemicontact/core/error.hpp>
+
+#include "support/cli_runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+/// One malformed scene: the fig2 scene at n = 4, changed by @c edit (and/or its text by @c text),
+/// run with @c args; stderr must contain every string of @c expect.
+struct BadInput {
+  std::string name;
+  std::function<void(json&)> edit;
+  std::vector<std::string> expect;
+  std::string args = "";
+  std::function<std::string(std::string)> text = nullptr;
+};
+
+// gtest prints a parameter that fails; the name says which case.
+void PrintTo(const BadInput& c, std::ostream* os) { *os << c.name; }
+
+json fig2_scene() {
+  std::ifstream in(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json");
+  json s = json::parse(in);
+  s["mesh"]["n"] = 4;
+  return s;
+}
+
+/// A Gmsh scene on one of the hand-written files of tests/data ("clamped" top, "contact" bottom).
+void gmsh_mesh(json& s, const std::string& file) {
+  s["mesh"] = {{"type", "gmsh"}, {"file", std::string(HEMICONTACT_SOURCE_DIR "/tests/data/") + file}};
+  s["boundary"] = {{"gamma1", {{{"physical", "clamped"}}}}, {"gamma3", {{{"physical", "contact"}}}}};
+}
+
+const auto none = [](json&) {};
+
+// A tabulated p_ν without friction, so that only the table itself is checked.
+std::function<void(json&)> normal_table(const json& points) {
+  return [points](json& s) {
+    s["contact"]["normal_law"] = {{"type", "table"}, {"points", points}, {"slope_left", 0}};
+    s["contact"]["friction"] = {{"type", "none"}};
+  };
+}
+
+class BadInputBattery : public ::testing::TestWithParam<BadInput> {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir = fs::temp_directory_path() / ("hemicontact_bad_" + std::string(info->name()).substr(
+                                                                 std::string(info->name()).rfind('/') + 1) +
+                                       "_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  fs::path dir;
+};
+
+}  // namespace
+
+TEST_P(BadInputBattery, ExitCode2AndMessageNamesTheKeyOrElement) {
+  const BadInput& c = GetParam();
+  json s = fig2_scene();
+  c.edit(s);
+  std::string text = s.dump(2);
+  if (c.text) text = c.text(text);
+  const fs::path scene = dir / "scene.json";
+  std::ofstream(scene) << text;
+  const auto r = hemicontact::test::run_cli(dir, "solve " + scene.string() + " --out " + (dir / "out").string() +
+                                                     " --quiet " + c.args);
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_EQ(r.err.rfind("hemicontact: error: ", 0), 0u) << r.err;
+  EXPECT_EQ(hemicontact::test::lines_of(r.err).size(), 1u) << r.err;  // one line, no backtrace
+  for (const std::string& part : c.expect) EXPECT_NE(r.err.find(part), std::string::npos) << "stderr: " << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out" / "report.json"));  // rejected before solving
+}
+
+// clang-format off
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, BadInputBattery,
+    ::testing::Values(
+        // ---- wrong types
+        BadInput{"StringForNumber", [](json& s) { s["material"]["E"] = "2000"; },
+                 {"'material.E': expected number, got string \"2000\""}},
+        BadInput{"ObjectForArray", [](json& s) { s["boundary"]["gamma3"] = {{"side", "bottom"}}; },
+                 {"'boundary.gamma3': expected array, got object"}},
+        BadInput{"ArrayForObject", [](json& s) { s["contact"]["friction"] = json::array(); },
+                 {"'contact.friction': expected object, got array"}},
+        BadInput{"NumberForBoolean", [](json& s) { s["solver"]["polish"] = 1; },
+                 {"'solver.polish': expected boolean, got integer 1"}},
+        BadInput{"FractionalCount", [](json& s) { s["mesh"]["n"] = 4.5; },
+                 {"'mesh.n': expected integer or null, got number 4.5"}},
+        BadInput{"StringForIntegerBySet", none, {"'mesh.n': expected integer or null, got string \"abc\""},
+                 "--set mesh.n=abc"},
+        BadInput{"PointNotAPair", normal_table({{0, 0, 1}, {0.1, 10}}),
+                 {"'contact.normal_law.points[0]': expected a pair"}},
+        BadInput{"TopLevelNotAnObject", none, {"top level must be a JSON object"}, "",
+                 [](std::string) { return std::string("[1, 2]"); }},
+        BadInput{"TractionWithThreeComponents", [](json& s) { s["boundary"]["gamma2"][0]["traction"] = {1, 2, 3}; },
+                 {"boundary.gamma2[0].traction: expected 2 components"}},
+        BadInput{"BodyForceWithThreeComponents", [](json& s) { s["loads"]["body_force"] = {0, 1, 2}; },
+                 {"loads.body_force: expected 2 components"}},
+        // ---- missing parts
+        BadInput{"NoMaterial", [](json& s) { s.erase("material"); }, {"missing required key 'material.E'"}},
+        BadInput{"NoGamma1", [](json& s) { s["boundary"].erase("gamma1"); }, {"missing required key 'boundary.gamma1'"}},
+        BadInput{"EmptyGamma1", [](json& s) { s["boundary"]["gamma1"] = json::array(); }, {"no Γ1 (clamped) facet"}},
+        BadInput{"NoGamma3ForContactScene", [](json& s) { s["boundary"].erase("gamma3"); },
+                 {"boundary.gamma3: the scene defines a contact law but Γ3 has no free node"}},
+        BadInput{"Gamma3SelectsNothing",
+                 [](json& s) { s["boundary"]["gamma3"] = {{{"side", "bottom"}, {"from", 2.0}, {"to", 3.0}}}; },
+                 {"boundary.gamma3[0] selects no boundary facet"}},
+        BadInput{"PaperLawWithoutC1", [](json& s) { s["contact"]["normal_law"].erase("c1"); },
+                 {"contact.normal_law.c1: required by type 'paper'"}},
+        BadInput{"CoulombWithoutNormalLaw", [](json& s) { s["contact"]["normal_law"] = {{"type", "none"}}; },
+                 {"contact.friction.type", "needs a normal law"}},
+        BadInput{"GmshWithoutFile", [](json& s) { s["mesh"]["type"] = "gmsh"; }, {"mesh.file: required"}},
+        // ---- p_ν tables that are not functions, and (32)'s ordering
+        BadInput{"TableDecreasingAbscissa", normal_table({{0, 0}, {0.2, 20}, {0.1, 30}}),
+                 {"'contact.normal_law.points[2]': x must be non-decreasing, got 0.1 after 0.2"}},
+        BadInput{"TableAbscissaThreeTimes", normal_table({{0, 0}, {0.1, 10}, {0.1, 5}, {0.1, 7}}),
+                 {"contact.normal_law.points[3]: r = 0.1 appears three times"}},
+        BadInput{"PaperLawR2BelowR1", [](json& s) { s["contact"]["normal_law"]["r2"] = 0.05; },
+                 {"contact.normal_law.r2: (32) requires 0 < r1 < r2"}},
+        BadInput{"GapTableNotIncreasing",
+                 [](json& s) { s["contact"]["gap"] = {{"along", "x"}, {"points", {{1, 0.1}, {0, 0.1}}}}; },
+                 {"'contact.gap.points[1]': x must be strictly increasing"}},
+        // ---- negative thicknesses and coefficients
+        BadInput{"NegativeGap", [](json& s) { s["contact"]["gap"] = -0.1; }, {"contact.gap: negative thickness g = -0.1"}},
+        BadInput{"NegativeGapInTable",
+                 [](json& s) { s["contact"]["gap"] = {{"along", "x"}, {"points", {{0, 0.1}, {1, -0.2}}}}; },
+                 {"contact.gap.points[1]", "negative thickness"}},
+        BadInput{"NegativeMu", [](json& s) { s["contact"]["friction"]["mu"] = -0.2; },
+                 {"'contact.friction.mu' must be >= 0, got -0.2"}},
+        BadInput{"NegativeTrescaBound", [](json& s) { s["contact"]["friction"] = {{"type", "tresca"}, {"bound", -1}}; },
+                 {"'contact.friction.bound' must be >= 0, got -1"}},
+        BadInput{"NegativeYoungModulus", [](json& s) { s["material"]["E"] = -2000; }, {"'material.E' must be > 0"}},
+        BadInput{"PoissonHalfInPlaneStrain", [](json& s) { s["material"]["plane"] = "strain"; s["material"]["nu"] = 0.5; },
+                 {"material.nu = 0.5"}},
+        BadInput{"NonPositiveRelaxation", [](json& s) { s["solver"]["fixed_point"] = {{"relaxation", 0}}; },
+                 {"'solver.fixed_point.relaxation' must be > 0 and <= 1, got 0"}},
+        BadInput{"ReversedInterval", [](json& s) { s["mesh"]["x"] = {1, 0}; },
+                 {"'mesh.x': expected an interval [a, b] with a < b, got [1,0]"}},
+        // ---- F_b < 0 ((15c))
+        BadInput{"SofteningLawMakesFbNegative", [](json& s) { s["contact"]["normal_law"]["c1"] = 1e-2; },
+                 {"contact.friction: F_b(0.15) = -0.9998", "(15c) requires F_b(r) >= 0", "see contact.normal_law"}},
+        BadInput{"FrictionTableNegative",
+                 [](json& s) { s["contact"]["friction"] = {{"type", "table"}, {"points", {{0, 0}, {0.1, -1}}}}; },
+                 {"contact.friction: F_b(0.1) = -1", "(15c)"}},
+        BadInput{"FrictionTableNonzeroBeforeContact",
+                 [](json& s) { s["contact"]["friction"] = {{"type", "table"}, {"points", {{-0.1, 1}, {0.1, 1}}}}; },
+                 {"contact.friction: F_b(-0.1) = 1", "F_b(r) = 0 for r <= 0"}},
+        // ---- meshes with inverted or zero-area triangles
+        BadInput{"FoldedGmshMesh", [](json& s) { gmsh_mesh(s, "folded_square.msh"); },
+                 {"folded_square.msh", "cells 0 and 3 overlap", "folded (an inverted cell)"}},
+        BadInput{"ZeroAreaGmshTriangle", [](json& s) { gmsh_mesh(s, "degenerate_square.msh"); },
+                 {"degenerate_square.msh", "cell 0 (nodes 0 1 4) is degenerate (zero measure)"}},
+        // mesh.perturb = 0.49 with seed 2 inverts cell 8 at n = 4 (measured; the generator is
+        // deterministic for a seed, and 0.49 ≥ 0.25 allows it).
+        BadInput{"PerturbationInvertsCell", none, {"mesh: cell 8 (nodes 5 6 11) is inverted", "mesh.perturb"},
+                 "--set mesh.perturb=0.49 --set mesh.seed=2"},
+        BadInput{"PerturbationAboveHalf", none, {"'mesh.perturb' must be >= 0 and < 0.5, got 0.6"}, "--set mesh.perturb=0.6"},
+        // ---- NaN / inf in loads: JSON has neither; 1e999 overflows, NaN and inf are not numbers
+        BadInput{"OverflowingLoadInFile", [](json& s) { s["loads"]["body_force"] = {0, 123456789}; },
+                 {"key 'loads.body_force[1]': number 1e999 overflows a double (line", "must be finite"}, "",
+                 [](std::string t) { return t.replace(t.find("123456789"), 9, "1e999"); }},
+        BadInput{"OverflowingLoadBySet", none, {"--set 'loads.scale=1e999'", "must be finite"}, "--set loads.scale=1e999"},
+        BadInput{"NanLoadBySet", none, {"'loads.body_force': expected number[], got string \"[0,NaN]\""},
+                 "--set loads.body_force=[0,NaN]"},
+        BadInput{"InfScaleBySet", none, {"'loads.scale': expected number, got string \"inf\""}, "--set loads.scale=inf"},
+        // ---- unknown names
+        BadInput{"UnknownBackend", none, {"unknown backend 'nope'"}, "--backend nope"},
+        BadInput{"UnknownTopLevelKey", [](json& s) { s["contcat"] = 1; }, {"unknown key 'contcat' (did you mean 'contact'?)"}},
+        BadInput{"UnknownLawKey", [](json& s) { s["contact"]["normal_law"]["c4"] = 1; },
+                 {"unknown key 'contact.normal_law.c4'"}},
+        BadInput{"UnknownEnumValue", [](json& s) { s["mesh"]["diagonal"] = "x"; },
+                 {"'mesh.diagonal': \"x\" is not one of"}}),
+    [](const ::testing::TestParamInfo<BadInput>& i) { return i.param.name; });
+// clang-format on
+
+// Not bad input but the other exit path of issue 6: an outer fixed point that does not contract
+// (the sliding scene of tests/stress/fixed_point_test.cpp at μ = 8) exits with code 3, a warning
+// naming the fixed point and suggesting relaxation, and report.json records the contraction factors;
+// with θ = 0.5 the same scene exits 0.
+TEST(FixedPointCli, NonContractionExits3AndRelaxationSucceeds) {
+  const fs::path dir = fs::temp_directory_path() / ("hemicontact_fp_cli_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string args = "solve " HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json --quiet --force "
+                           "--set mesh.n=16 --set check.smallness=false --set contact.gap=null "
+                           "--set boundary.gamma2=[] --set loads.body_force=[20000,-500] "
+                           "--set contact.friction.mu=8 --out " + (dir / "out").string();
+  const auto r = hemicontact::test::run_cli(dir, args);
+  EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
+  EXPECT_NE(r.err.find("fixed point lambda = F_b(u_nu) does not contract"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("solver.fixed_point.relaxation"), std::string::npos) << r.err;
+  const json rep = json::parse(hemicontact::test::slurp(dir / "out" / "report.json"));
+  EXPECT_FALSE(rep["ok"].get<bool>());
+  EXPECT_GT(rep["fixed_point"]["contraction_estimate"].get<double>(), 0.9);
+  const auto relaxed = hemicontact::test::run_cli(dir, args + " --set solver.fixed_point.relaxation=0.5");
+  EXPECT_EQ(relaxed.code, hemicontact::EXIT_OK) << relaxed.err;
+  const json rep2 = json::parse(hemicontact::test::slurp(dir / "out" / "report.json"));
+  EXPECT_TRUE(rep2["ok"].get<bool>());
+  EXPECT_LT(rep2["fixed_point"]["contraction_estimate"].get<double>(), 0.75);
+  fs::remove_all(dir);
+}
