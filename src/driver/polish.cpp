@@ -20,6 +20,14 @@ Solution evaluate_condensed(const Model& md, const Condensation& cond, const Sol
   return s;
 }
 
+// True when the friction bound vanishes on u_ν's whole branch (no friction, or F_b = 0 around u_ν,
+// e.g. a separated node, (15c)): then σ_τ = 0 is the node's tangential equation whatever u_τ is,
+// and the sign or size of u_τ (slip±/stick) carries no information.
+bool frictionless_at(const Model& md, double u_nu, double delta) {
+  if (!md.friction) return true;
+  return md.friction->F(u_nu) == 0 && md.friction->F(u_nu - delta) == 0 && md.friction->F(u_nu + delta) == 0;
+}
+
 // Keep the polished x_C only if the statuses stay and the certificate does not get worse.
 void accept_if_better(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& s0,
                       const Vec& x, double load_scale, PolishResult& r, Vec& x_C) {
@@ -29,8 +37,10 @@ void accept_if_better(const Model& md, const Condensation& cond, const SolveOpti
   }
   const Solution s1 = evaluate_condensed(md, cond, opt, x, load_scale);
   r.after = s1.certificate.max_residual;
+  const double delta = 1e-7 * s0.certificate.length_scale;
   for (Index k = 0; k < md.contact.size(); ++k)
-    if (s1.status[k].str() != s0.status[k].str()) {
+    if (s1.status[k].normal != s0.status[k].normal ||
+        (s1.status[k].tangential != s0.status[k].tangential && !frictionless_at(md, s0.state.u_nu[k], delta))) {
       r.note = "statuses changed at node " + std::to_string(k) + " (" + s0.status[k].str() + " -> " +
                s1.status[k].str() + ")";
       return;
@@ -55,7 +65,7 @@ void accept_if_better(const Model& md, const Condensation& cond, const SolveOpti
 // with ∂t/∂x_τ = (I − t tᵀ)/|x_τ| and ∂F_b/∂x_ν the slope of F_b's branch (F_b is piecewise linear:
 // a central difference over a step far below the branch width is exact up to round-off).
 PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
-                                 double load_scale) {
+                                 double load_scale, Vec* candidate) {
   PolishResult r;
   const int d = 3;
   const Index nc = md.contact.size(), m = cond.m();
@@ -81,13 +91,15 @@ PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, cons
         R[iv] += w * md.normal_law->p(xn);
         J(iv, iv) += w * md.normal_law->dp(xn);
       }
-      if (st.tangential == TangentialStatus::STICK) {
+      if (frictionless_at(md, s0.state.u_nu[k], delta)) {
+        // σ_τ = 0: the rows S_τ (x − y) already say it.
+      } else if (st.tangential == TangentialStatus::STICK) {
         for (int c = 1; c < d; ++c) {
           R[iv + c] = x[iv + c];
           J.row(iv + c).setZero();
           J(iv + c, iv + c) = 1;
         }
-      } else if (md.friction) {
+      } else {
         const Eigen::Vector2d xt = x.segment<2>(iv + 1);
         const double y = xt.norm();
         if (!(y > 0)) return Vec(Vec::Constant(m, std::numeric_limits<double>::quiet_NaN()));
@@ -120,27 +132,25 @@ PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, cons
     if (!(change > 1e-14 * scale) || (r.iterations > 2 && change >= prev)) break;
     prev = change;
   }
+  if (candidate && x.allFinite()) *candidate = x;
   accept_if_better(md, cond, opt, s0, x, load_scale, r, x_C);
   return r;
 }
 
 }  // namespace
 
-PolishResult polish_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
-                              double load_scale) {
+// 2D: the status system is linear for fixed λ (file comment of polish.hpp).
+static PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
+                                 double load_scale, Vec* candidate) {
   PolishResult r;
-  const int d = md.dim();
+  const int d = 2;
   const Index nc = md.contact.size(), m = cond.m();
-  if (nc == 0) {
-    r.note = "no Γ3 node";
-    return r;
-  }
-  if (d == 3) return polish_condensed_3d(md, cond, opt, x_C, load_scale);
   r.attempted = true;
   const Solution s0 = evaluate_condensed(md, cond, opt, x_C, load_scale);
   r.before = s0.certificate.max_residual;
   const Mat& S = cond.S();
   const Vec yC = load_scale * cond.y_C();
+  const double delta = 1e-7 * s0.certificate.length_scale;  // branch probe of F_b
 
   // Rows: one per unknown. Row ν_k / τ_k either pins the unknown or states the traction balance
   // (S (x − y))_row / w + [branch terms] = 0, multiplied by w to keep S's scale.
@@ -162,13 +172,11 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
       A(iv, iv) += w * dp0;
       b0[iv] = S.row(iv).dot(yC) - w * (p0 - dp0 * un);
     }
-    if (st.tangential == TangentialStatus::STICK || !md.friction) {
-      if (st.tangential == TangentialStatus::STICK) {
-        A(it, it) = 1;  // x_τ = 0
-      } else {
-        A.row(it) = S.row(it);  // frictionless: σ_τ = 0
-        b0[it] = S.row(it).dot(yC);
-      }
+    if (frictionless_at(md, un, delta)) {
+      A.row(it) = S.row(it);  // frictionless here: σ_τ = 0
+      b0[it] = S.row(it).dot(yC);
+    } else if (st.tangential == TangentialStatus::STICK) {
+      A(it, it) = 1;  // x_τ = 0
     } else {
       slip_sign[k] = st.tangential == TangentialStatus::SLIP_PLUS ? 1 : -1;
       A.row(it) = S.row(it);
@@ -190,8 +198,66 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
     if (!(change > 1e-14 * scale) || (r.iterations > 1 && change >= prev)) break;
     prev = change;
   }
+  if (candidate && x.allFinite()) *candidate = x;
   accept_if_better(md, cond, opt, s0, x, load_scale, r, x_C);
   return r;
+}
+
+PolishResult polish_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
+                              double load_scale) {
+  if (md.contact.size() == 0) {
+    PolishResult r;
+    r.note = "no Γ3 node";
+    return r;
+  }
+  const auto run = [&](const SolveOptions& o, Vec& x, Vec* candidate) {
+    return md.dim() == 3 ? polish_condensed_3d(md, cond, o, x, load_scale, candidate)
+                         : polish_condensed_2d(md, cond, o, x, load_scale, candidate);
+  };
+  // Round 0 reads the statuses off the smoothed answer. Two things can make them wrong:
+  //  * the final ε exceeds check.status_tol: a sticking node has |u_τ| ~ ε_τ U, a node just short
+  //    of a kink of p_ν sits ~ε_ν U from it, so it is misread. Each round therefore also tries the
+  //    statuses read at the smoothing scale, 10 ε;
+  //  * a node sits on the wrong side of a kink or of u_τ = 0. The rejected candidate of a round
+  //    then lands on the other side, and the next round reads the statuses off that candidate (a
+  //    primal active-set update), up to MAX_ROUNDS rounds.
+  // Whatever the round, a candidate is kept only if its statuses are self-consistent and its
+  // certificate (with the user's status_tol) beats the smoothed answer's.
+  constexpr int MAX_ROUNDS = 4;
+  const double coarse_tol = 10 * std::max(opt.eps_tau, opt.eps_nu);
+  std::vector<double> tols{opt.status_tol};
+  if (coarse_tol > opt.status_tol) tols.push_back(coarse_tol);
+  PolishResult first;
+  double before = 0;
+  Vec start = x_C;
+  for (int round = 0; round < MAX_ROUNDS; ++round) {
+    Vec next;
+    for (double tol : tols) {
+      SolveOptions o = opt;
+      o.status_tol = tol;
+      Vec x = start, candidate;
+      PolishResult r = run(o, x, &candidate);
+      if (round == 0 && tol == opt.status_tol) {
+        first = r;
+        before = r.before;
+        if (r.accepted) { x_C = x; return r; }
+      }
+      if (next.size() == 0) next = candidate;
+      if (!r.accepted) continue;
+      const double after = evaluate_condensed(md, cond, opt, x, load_scale).certificate.max_residual;
+      if (!(after <= std::max(before, 1e-12))) continue;
+      r.before = before;
+      r.after = after;
+      r.note = "statuses read at " + std::string(tol == opt.status_tol ? "check.status_tol" : "10 eps") +
+               (round ? " after " + std::to_string(round) + " active-set correction(s)" : std::string());
+      x_C = x;
+      return r;
+    }
+    if (next.size() == 0) break;
+    start = next;
+  }
+  first.note += "; no consistent statuses after " + std::to_string(MAX_ROUNDS) + " active-set rounds";
+  return first;
 }
 
 }  // namespace hemicontact
