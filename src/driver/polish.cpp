@@ -64,13 +64,12 @@ void accept_if_better(const Model& md, const Condensation& cond, const SolveOpti
 //   slip:            R_τ = S_τ (x − y) + w F_b(x_ν) t,  t = x_τ/|x_τ|   (eq. (6))
 // with ∂t/∂x_τ = (I − t tᵀ)/|x_τ| and ∂F_b/∂x_ν the slope of F_b's branch (F_b is piecewise linear:
 // a central difference over a step far below the branch width is exact up to round-off).
-PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
-                                 double load_scale, Vec* candidate) {
+PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, const SolveOptions& opt,
+                                 const Solution& s0, Vec& x_C, double load_scale, Vec* candidate) {
   PolishResult r;
   const int d = 3;
   const Index nc = md.contact.size(), m = cond.m();
   r.attempted = true;
-  const Solution s0 = evaluate_condensed(md, cond, opt, x_C, load_scale);
   r.before = s0.certificate.max_residual;
   const Mat& S = cond.S();
   const Vec yC = load_scale * cond.y_C();
@@ -140,13 +139,12 @@ PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, cons
 }  // namespace
 
 // 2D: the status system is linear for fixed λ (file comment of polish.hpp).
-static PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
-                                 double load_scale, Vec* candidate) {
+static PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, const SolveOptions& opt,
+                                        const Solution& s0, Vec& x_C, double load_scale, Vec* candidate) {
   PolishResult r;
   const int d = 2;
   const Index nc = md.contact.size(), m = cond.m();
   r.attempted = true;
-  const Solution s0 = evaluate_condensed(md, cond, opt, x_C, load_scale);
   r.before = s0.certificate.max_residual;
   const Mat& S = cond.S();
   const Vec yC = load_scale * cond.y_C();
@@ -203,6 +201,51 @@ static PolishResult polish_condensed_2d(const Model& md, const Condensation& con
   return r;
 }
 
+// The next status guess of an active-set round, from the rejected candidate @p c of the guess @p g
+// (a primal-dual active-set step on the unsmoothed conditions, MODEL.md §4):
+//  * primal: the candidate's own statuses (its u_ν picks contact / the branch of p_ν; its u_τ the slip);
+//  * dual, normal: a node held at g whose rigid reaction pulls (σ_ν + ξ > 0) is released to the
+//    branch of p_ν just below g;
+//  * dual, tangential: a sticking node outside the cone (|σ_τ| > λ) slips along −σ_τ; a node that
+//    slipped one way in the guess and came out the other way sticks.
+// @p start is moved to the candidate, with a small tangential start on newly slipping 3D nodes
+// (the slip direction t = x_τ/|x_τ| needs x_τ ≠ 0).
+static Solution next_guess(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& g,
+                    const Vec& c, double load_scale, Vec& start) {
+  Solution n = evaluate_condensed(md, cond, opt, c, load_scale);
+  start = c;
+  const int d = md.dim();
+  const double U = n.certificate.length_scale, delta = 1e-7 * U;
+  for (Index k = 0; k < md.contact.size(); ++k) {
+    NodeStatus& st = n.status[k];
+    const auto& sg = g.status[k];
+    if (sg.normal == NormalStatus::CONTACT && st.normal == NormalStatus::CONTACT &&
+        n.state.sigma_nu[k] + n.state.xi[k] > 0) {
+      st.normal = NormalStatus::COMPLIANCE;
+      n.state.u_nu[k] = md.contact.g[k] - delta;  // the branch of p_ν just below g
+    }
+    if (frictionless_at(md, n.state.u_nu[k], delta)) continue;
+    const bool slip_guess = sg.tangential != TangentialStatus::STICK;
+    if (!slip_guess && n.state.sigma_tau_vec.row(k).norm() > n.state.lambda[k] * (1 + 1e-12)) {
+      const Vec t = -n.state.sigma_tau_vec.row(k).transpose() / n.state.sigma_tau_vec.row(k).norm();
+      if (d == 2) {
+        const double s = t.dot(md.contact.tangent.row(k).transpose());
+        st.tangential = s > 0 ? TangentialStatus::SLIP_PLUS : TangentialStatus::SLIP_MINUS;
+      } else {
+        st.tangential = TangentialStatus::SLIP;
+        // local tangential unknowns (τ1, ν × τ1) of a small step along t
+        const Eigen::Vector3d nu = md.contact.normal.row(k).transpose(), t1 = md.contact.tangent.row(k).transpose();
+        const Eigen::Vector3d t2 = nu.cross(t1), tv = t;
+        start[d * k + 1] = 1e-3 * U * tv.dot(t1);
+        start[d * k + 2] = 1e-3 * U * tv.dot(t2);
+      }
+    } else if (slip_guess && d == 2 && st.tangential != TangentialStatus::STICK && st.tangential != sg.tangential) {
+      st.tangential = TangentialStatus::STICK;
+    }
+  }
+  return n;
+}
+
 PolishResult polish_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
                               double load_scale) {
   if (md.contact.size() == 0) {
@@ -210,51 +253,55 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
     r.note = "no Γ3 node";
     return r;
   }
-  const auto run = [&](const SolveOptions& o, Vec& x, Vec* candidate) {
-    return md.dim() == 3 ? polish_condensed_3d(md, cond, o, x, load_scale, candidate)
-                         : polish_condensed_2d(md, cond, o, x, load_scale, candidate);
+  const auto run = [&](const SolveOptions& o, const Solution& guess, Vec& x, Vec* candidate) {
+    return md.dim() == 3 ? polish_condensed_3d(md, cond, o, guess, x, load_scale, candidate)
+                         : polish_condensed_2d(md, cond, o, guess, x, load_scale, candidate);
   };
   // Round 0 reads the statuses off the smoothed answer. Two things can make them wrong:
   //  * the final ε exceeds check.status_tol: a sticking node has |u_τ| ~ ε_τ U, a node just short
-  //    of a kink of p_ν sits ~ε_ν U from it, so it is misread. Each round therefore also tries the
+  //    of a kink of p_ν sits ~ε_ν U from it, so it is misread. Round 0 therefore also tries the
   //    statuses read at the smoothing scale, 10 ε;
-  //  * a node sits on the wrong side of a kink or of u_τ = 0. The rejected candidate of a round
-  //    then lands on the other side, and the next round reads the statuses off that candidate (a
-  //    primal active-set update), up to MAX_ROUNDS rounds.
+  //  * a node sits on the wrong side of a kink, of u_τ = 0 or of the cone. The rejected candidate
+  //    then shows it, and the next round takes the active-set step of next_guess(), up to
+  //    MAX_ROUNDS rounds.
   // Whatever the round, a candidate is kept only if its statuses are self-consistent and its
   // certificate (with the user's status_tol) beats the smoothed answer's.
-  constexpr int MAX_ROUNDS = 4;
+  constexpr int MAX_ROUNDS = 6;
   const double coarse_tol = 10 * std::max(opt.eps_tau, opt.eps_nu);
-  std::vector<double> tols{opt.status_tol};
-  if (coarse_tol > opt.status_tol) tols.push_back(coarse_tol);
   PolishResult first;
   double before = 0;
-  Vec start = x_C;
+  Vec start = x_C, candidate;
+  Solution guess = evaluate_condensed(md, cond, opt, x_C, load_scale);
+  const auto accept = [&](PolishResult r, const Vec& x, const std::string& how) {
+    const double after = evaluate_condensed(md, cond, opt, x, load_scale).certificate.max_residual;
+    if (!(after <= std::max(before, 1e-12))) return false;
+    r.before = before;
+    r.after = after;
+    r.note = how;
+    first = r;
+    x_C = x;
+    return true;
+  };
   for (int round = 0; round < MAX_ROUNDS; ++round) {
-    Vec next;
-    for (double tol : tols) {
-      SolveOptions o = opt;
-      o.status_tol = tol;
-      Vec x = start, candidate;
-      PolishResult r = run(o, x, &candidate);
-      if (round == 0 && tol == opt.status_tol) {
-        first = r;
-        before = r.before;
-        if (r.accepted) { x_C = x; return r; }
+    Vec x = start;
+    PolishResult r = run(opt, guess, x, &candidate);
+    if (round == 0) {
+      first = r;
+      before = r.before;
+      if (r.accepted) { x_C = x; return r; }
+      if (coarse_tol > opt.status_tol) {
+        SolveOptions o = opt;
+        o.status_tol = coarse_tol;
+        Vec xc = start;
+        const PolishResult rc = run(o, evaluate_condensed(md, cond, o, xc, load_scale), xc, nullptr);
+        if (rc.accepted && accept(rc, xc, "statuses read at 10 eps")) return first;
       }
-      if (next.size() == 0) next = candidate;
-      if (!r.accepted) continue;
-      const double after = evaluate_condensed(md, cond, opt, x, load_scale).certificate.max_residual;
-      if (!(after <= std::max(before, 1e-12))) continue;
-      r.before = before;
-      r.after = after;
-      r.note = "statuses read at " + std::string(tol == opt.status_tol ? "check.status_tol" : "10 eps") +
-               (round ? " after " + std::to_string(round) + " active-set correction(s)" : std::string());
-      x_C = x;
-      return r;
+    } else if (r.accepted && accept(r, x, "after " + std::to_string(round) + " active-set round(s)")) {
+      return first;
     }
-    if (next.size() == 0) break;
-    start = next;
+    if (candidate.size() == 0) break;
+    guess = next_guess(md, cond, opt, guess, candidate, load_scale, start);
+    candidate.resize(0);
   }
   first.note += "; no consistent statuses after " + std::to_string(MAX_ROUNDS) + " active-set rounds";
   return first;
