@@ -277,15 +277,11 @@ std::vector<CaseRow> run_cases(int n) {
   }
 
   // ---- distorted meshes and a long thin body
-  for (int seed = 1; seed <= 3; ++seed) {
-    // Below 0.25 h no cell of this (symmetric) mesh can invert (scene_schema.cpp, mesh.perturb).
-    const Outcome o = run(base({"mesh.perturb=0.24", "mesh.seed=" + std::to_string(seed)}));
-    add("perturb 0.24 h, seed " + std::to_string(seed), "certified", o.ok, "", o);
-  }
   for (int seed = 1; seed <= 5; ++seed) {
+    // Interior nodes moved by up to 0.3 h (Euclidean): no cell of this (symmetric) mesh can invert
+    // below 0.35 h (scene_schema.cpp, mesh.perturb), so each seed must be certified.
     const Outcome o = run(base({"mesh.perturb=0.3", "mesh.seed=" + std::to_string(seed)}));
-    add("perturb 0.3 h, seed " + std::to_string(seed), "certified, or an inverted cell reported as input error",
-        o.ok || (o.input_error && o.message.find("inverted") != std::string::npos), o.outcome, o);
+    add("perturb 0.3 h, seed " + std::to_string(seed), "certified", o.ok, "", o);
   }
   {
     const int ny = std::max(2, n / 16);

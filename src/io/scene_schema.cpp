@@ -123,15 +123,18 @@ std::vector<SchemaEntry> build_scene_schema() {
                   {"kuhn", "symmetric"}));
   t.push_back(key("/mesh/file", "string|null", nullptr,
                   "Gmsh .msh 4.1 file (mesh.type = gmsh), relative to the scene file's directory."));
-  // Below 0.5 h two neighbouring nodes cannot meet or swap places. A right triangle of the
-  // right/left/symmetric meshes keeps a positive area for perturb < 0.25 ((1 − 2p)² > (2p)², the
-  // worst case of its cross product); beyond, an inverted cell is possible and check_cells reports it.
+  // Below 0.5 h two neighbouring nodes cannot meet or swap places. The right triangles of the
+  // right/left/symmetric meshes keep a positive area for perturb ≤ 0.35 (worst case over all moves
+  // of the three vertices within their discs, by numerical minimization: 15 % of the area is left
+  // at 0.3, 1 % at 0.35); beyond, or on crossed meshes earlier, a cell can invert and check_cells
+  // reports it.
   t.push_back(below(at_least(key("/mesh/perturb", "number", 0,
                                  "Interior nodes are moved randomly by up to this fraction of h "
-                                 "in each coordinate (robustness tests on irregular meshes). From "
-                                 "0.25 up a cell can invert (right/left/symmetric meshes: never "
-                                 "below); an inverted cell is an input error naming it (lower "
-                                 "perturb or change `seed`)."),
+                                 "(Euclidean distance, uniform in the disc or ball; robustness "
+                                 "tests on irregular meshes). Right/left/symmetric rectangles "
+                                 "cannot invert a cell up to 0.35; beyond (or on crossed meshes "
+                                 "and boxes earlier) a cell can invert, which is an input error "
+                                 "naming it (lower perturb or change `seed`)."),
                              0),
                     0.5));
   t.push_back(at_least(

@@ -77,12 +77,16 @@ Mesh make_rectangle(const RectangleSpec& s) {
     }
   if (s.perturb > 0) {
     // Interior grid nodes only, so the boundary (and the parts on it) stay exactly where they are.
+    // Each node moves by at most perturb·h (Euclidean, in units of the cell sides; uniform in the
+    // disc, drawn by rejection from the square), so "moved by up to 30 % of h" means what it says.
     std::mt19937 rng(s.seed);
     std::uniform_real_distribution<double> U(-1.0, 1.0);
     for (int j = 1; j < ny; ++j)
       for (int i = 1; i < nx; ++i) {
-        m.points(grid(i, j), 0) += s.perturb * hx * U(rng);
-        m.points(grid(i, j), 1) += s.perturb * hy * U(rng);
+        double a, b;
+        do { a = U(rng); b = U(rng); } while (a * a + b * b > 1);
+        m.points(grid(i, j), 0) += s.perturb * hx * a;
+        m.points(grid(i, j), 1) += s.perturb * hy * b;
       }
   }
   std::ostringstream os;
@@ -164,15 +168,18 @@ Mesh make_box(const BoxSpec& s) {
       }
   if (s.perturb > 0) {
     // Interior nodes only, so the boundary (and the parts on it) stay exactly where they are.
+    // At most perturb·h (Euclidean, in cell-side units; uniform in the ball, by rejection).
     std::mt19937 rng(s.seed);
     std::uniform_real_distribution<double> U(-1.0, 1.0);
     for (int k = 1; k < nz; ++k)
       for (int j = 1; j < ny; ++j)
         for (int i = 1; i < nx; ++i) {
           const int v = grid(i, j, k);
-          m.points(v, 0) += s.perturb * hx * U(rng);
-          m.points(v, 1) += s.perturb * hy * U(rng);
-          m.points(v, 2) += s.perturb * hz * U(rng);
+          double a, b, c;
+          do { a = U(rng); b = U(rng); c = U(rng); } while (a * a + b * b + c * c > 1);
+          m.points(v, 0) += s.perturb * hx * a;
+          m.points(v, 1) += s.perturb * hy * b;
+          m.points(v, 2) += s.perturb * hz * c;
         }
   }
   std::ostringstream os;

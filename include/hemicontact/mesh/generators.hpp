@@ -27,7 +27,7 @@ struct RectangleSpec {
   double y0 = 0, y1 = 1;               ///< y-interval
   int nx = 8, ny = 8;                  ///< cells per direction
   Diagonal diagonal = Diagonal::RIGHT; ///< cell split
-  double perturb = 0;                  ///< interior nodes moved by up to perturb·h per coordinate
+  double perturb = 0;                  ///< interior nodes moved by up to perturb·h (Euclidean, uniform in the disc/ball)
   unsigned seed = 1;                   ///< seed of the perturbation
 };
 
@@ -61,7 +61,7 @@ struct BoxSpec {
   double z0 = 0, z1 = 1;                ///< z-interval
   int nx = 4, ny = 4, nz = 4;           ///< cells per direction
   BoxPattern pattern = BoxPattern::KUHN; ///< cell split
-  double perturb = 0;                   ///< interior nodes moved by up to perturb·h per coordinate
+  double perturb = 0;                   ///< interior nodes moved by up to perturb·h (Euclidean, uniform in the disc/ball)
   unsigned seed = 1;                    ///< seed of the perturbation
 };
 
