@@ -10,24 +10,18 @@
 
 #include "../support/expect_error.hpp"
 
+#include "support/selectors.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
 using namespace hemicontact;
+using hemicontact::test::side;
 using hemicontact::test::expect_input_error;
 
 namespace {
-
-BoundarySelector sel(const std::string& name, const std::string& context, double from = -INF, double to = INF) {
-  BoundarySelector s;
-  s.side = name;
-  s.context = context;
-  s.from = from;
-  s.to = to;
-  return s;
-}
 
 Mesh box(int nx, int ny, int nz) {
   BoxSpec s;
@@ -63,8 +57,8 @@ TEST(Boundary3D, SixSidesSelectTheirFaces) {
   for (const auto& c : cases) {
     Mesh m = box(4, 2, 3);
     BoundarySpec spec;
-    spec.gamma1 = {sel(c.clamp, "gamma1[0]")};
-    spec.gamma3 = {sel(c.side, "gamma3[0]")};
+    spec.gamma1 = {side(c.clamp, "gamma1[0]")};
+    spec.gamma3 = {side(c.side, "gamma3[0]")};
     assign_boundary(m, spec);
     EXPECT_NEAR(area_of(m, Part::GAMMA3, c.normal), c.area, 1e-12) << c.side;
   }
@@ -75,10 +69,10 @@ TEST(Boundary3D, SixSidesSelectTheirFaces) {
 TEST(Boundary3D, IntervalsAlongZOnLateralSidesAndXOnBottom) {
   Mesh m = box(4, 2, 4);
   BoundarySpec spec;
-  spec.gamma1 = {sel("top", "gamma1[0]")};
-  spec.gamma2 = {sel("left", "gamma2[0]", 0.5), sel("left", "gamma2[1]", -INF, 0.5)};
+  spec.gamma1 = {side("top", "gamma1[0]")};
+  spec.gamma2 = {side("left", "gamma2[0]", 0.5), side("left", "gamma2[1]", -INF, 0.5)};
   for (auto& s : spec.gamma2) s.traction = e(1, 0, 0);
-  spec.gamma3 = {sel("bottom", "gamma3[0]", 0.0, 1.0)};  // x ∈ [0, 1): half of the 2×3 bottom
+  spec.gamma3 = {side("bottom", "gamma3[0]", 0.0, 1.0)};  // x ∈ [0, 1): half of the 2×3 bottom
   assign_boundary(m, spec);
   double upper = 0, lower = 0;
   for (Index f = 0; f < m.num_facets(); ++f) {
@@ -100,8 +94,8 @@ TEST(Boundary3D, IntervalsAlongZOnLateralSidesAndXOnBottom) {
 TEST(Boundary3D, ContactWeightsAreAThirdOfTheTouchingAreas) {
   Mesh m = box(4, 2, 3);
   BoundarySpec spec;
-  spec.gamma1 = {sel("top", "gamma1[0]")};
-  spec.gamma3 = {sel("bottom", "gamma3[0]")};
+  spec.gamma1 = {side("top", "gamma1[0]")};
+  spec.gamma3 = {side("bottom", "gamma3[0]")};
   assign_boundary(m, spec);
   const ContactNodes c = make_contact_nodes(m, clamped_nodes(m), Gap{});
   EXPECT_EQ(c.size(), 5 * 3);
@@ -126,7 +120,7 @@ TEST(Boundary3D, ContactWeightsAreAThirdOfTheTouchingAreas) {
   EXPECT_EQ(touching_area_checked, 15);
 
   Mesh m2 = box(4, 2, 3);
-  spec.gamma1 = {sel("left", "gamma1[0]")};
+  spec.gamma1 = {side("left", "gamma1[0]")};
   assign_boundary(m2, spec);
   const ContactNodes c2 = make_contact_nodes(m2, clamped_nodes(m2), Gap{});
   EXPECT_EQ(c2.size(), 4 * 3);
@@ -136,18 +130,18 @@ TEST(Boundary3D, ContactWeightsAreAThirdOfTheTouchingAreas) {
 TEST(Boundary3D, ErrorsNameTheSelector) {
   Mesh m = box(2, 2, 2);
   BoundarySpec spec;
-  spec.gamma1 = {sel("top", "boundary.gamma1[0]")};
-  spec.gamma3 = {sel("north", "boundary.gamma3[0]")};
+  spec.gamma1 = {side("top", "boundary.gamma1[0]")};
+  spec.gamma3 = {side("north", "boundary.gamma3[0]")};
   expect_input_error([&] { assign_boundary(m, spec); }, {"boundary.gamma3[0].side", "'north'", "front, back"});
   // front/back are 3D names.
   RectangleSpec r;
   Mesh sq = make_rectangle(r);
   BoundarySpec s2;
-  s2.gamma1 = {sel("front", "boundary.gamma1[0]")};
+  s2.gamma1 = {side("front", "boundary.gamma1[0]")};
   expect_input_error([&] { assign_boundary(sq, s2); }, {"boundary.gamma1[0].side", "'front'", "3D meshes only"});
   // Interval with no facet.
   Mesh m3 = box(2, 2, 2);
   BoundarySpec s3;
-  s3.gamma1 = {sel("left", "boundary.gamma1[0]", 1.5, 2.0)};
+  s3.gamma1 = {side("left", "boundary.gamma1[0]", 1.5, 2.0)};
   expect_input_error([&] { assign_boundary(m3, s3); }, {"boundary.gamma1[0] selects no boundary facet"});
 }

@@ -8,22 +8,16 @@
 #include <hemicontact/fem/assembly.hpp>
 #include <hemicontact/mesh/generators.hpp>
 
+#include "support/selectors.hpp"
+
 #include <gtest/gtest.h>
 
 #include <string>
 
 using namespace hemicontact;
+using hemicontact::test::side;
 
 namespace {
-
-BoundarySelector side(const std::string& name, const std::string& context, double from = -INF, double to = INF) {
-  BoundarySelector s;
-  s.side = name;
-  s.context = context;
-  s.from = from;
-  s.to = to;
-  return s;
-}
 
 BoundarySelector load(BoundarySelector s, double fx, double fy) {
   s.traction = (Vec(2) << fx, fy).finished();
