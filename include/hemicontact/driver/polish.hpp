@@ -12,6 +12,14 @@
 /// only if it keeps the statuses and lowers the certificate's residual; it then carries no
 /// smoothing error (the certificate drops to round-off).
 ///
+/// The statuses come from the smoothed answer, read at check.status_tol and, when the final ε is
+/// larger, at 10 ε (a sticking node shows |u_τ| ~ ε U). A node with F_b = 0 on its branch gets the
+/// frictionless row σ_τ = 0 whatever its u_τ. If no reading is self-consistent, up to 6
+/// primal-dual active-set rounds follow, each from the previous rejected candidate: its own
+/// statuses, with pulling contact nodes released, stick nodes outside the cone set slipping along
+/// −σ_τ, and nodes whose slip reversed set sticking. The first self-consistent candidate whose
+/// certificate beats the smoothed answer's is kept.
+///
 /// 3D: the slip condition −σ_τ = λ u_τ/|u_τ| is nonlinear in the two tangential unknowns; the same
 /// status system is solved by Newton's method with the exact Jacobian of the unit vector
 /// ((I − t tᵀ)/|u_τ|) and of λ = F_b(x_ν) (PolishResult::iterations counts Newton steps there).
