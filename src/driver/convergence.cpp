@@ -82,9 +82,14 @@ ConvergenceLevel solve_level(const Model& md, const SolveOptions& opt, const nlo
   ConvergenceLevel r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.n = n;
-  const auto& x = scene.at("mesh").at("x");
-  const auto& y = scene.at("mesh").at("y");
-  r.h = std::max(x[1].get<double>() - x[0].get<double>(), y[1].get<double>() - y[0].get<double>()) / n;
+  // The paper's h: the longest side of the rectangle (box) over n.
+  double longest = 0;
+  for (const char* axis : {"x", "y", "z"})
+    if (scene.at("mesh").contains(axis) && scene.at("mesh").at(axis).is_array()) {
+      const auto& a = scene.at("mesh").at(axis);
+      longest = std::max(longest, a[1].get<double>() - a[0].get<double>());
+    }
+  r.h = longest / n;
   r.h_max = md.mesh.max_edge_length();
   r.dofs = md.dofs.n_free();
   r.energy_norm = sol.energy_norm;
@@ -173,9 +178,10 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
   if (!bad.empty())
     input_error("convergence: level(s) " + bad + " do not divide the reference level " + std::to_string(reference) +
                 " (the meshes must be nested)");
-  if (scene.at("mesh").at("type").get<std::string>() != "rectangle")
-    input_error("convergence: mesh.type is '" + scene.at("mesh").at("type").get<std::string>() +
-                "'; a study refines a generated rectangle (mesh.type = rectangle) through mesh.n");
+  const std::string type = scene.at("mesh").at("type").get<std::string>();
+  if (type != "rectangle" && type != "box")
+    input_error("convergence: mesh.type is '" + type +
+                "'; a study refines a generated mesh (mesh.type = rectangle or box) through mesh.n");
 
   // ---- the reference first: every level is measured against it
   ConvergenceStudy st;
@@ -206,9 +212,8 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
       Pu = prolongate(md.mesh, sol.u, ref.mesh);
       lvl.nested = is_nested(md.mesh, ref.mesh);
       if (!lvl.nested)
-        log_warn() << "convergence: the n = " << L << " mesh is not nested in the reference mesh (mesh.diagonal = "
-                   << get_string(scene, "mesh.diagonal") << ", mesh.perturb = " << get_number(scene, "mesh.perturb")
-                   << "): its error includes the interpolation onto the reference mesh";
+        log_warn() << "convergence: the n = " << L << " mesh is not nested in the reference mesh ("
+                   << md.mesh.origin << "): its error includes the interpolation onto the reference mesh";
     }
     lvl.error = energy_norm_difference(ref.K, ref_sol.u, Pu) / ref_norm;
     lvl.order = NaN;

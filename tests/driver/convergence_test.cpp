@@ -190,3 +190,33 @@ TEST(ConvergenceRateFit, NeedsTwoLevelsCoarserThanTheReference) {
   EXPECT_TRUE(convergence_json(st)["rate_fit"].is_null());
   EXPECT_TRUE(convergence_json(synthetic_study(1.0, 1.0))["rate_fit"].is_object());
 }
+
+// A 3D study (box meshes, Kuhn/symmetric tetrahedra): the levels are nested in the reference
+// (the Kuhn split of a cube is a union of Kuhn splits of its 8 sub-cubes), every solve is
+// certified, and the error decreases from level to level.
+TEST(ConvergenceStudy3D, BoxLevelsAreNestedAndConverge) {
+  const ConvergenceStudy st = run_convergence(scene_of("3d"), PROBLEMS, {2, 4}, 8);
+  ASSERT_EQ(st.levels.size(), 2u);
+  EXPECT_TRUE(st.ok());
+  for (const auto& l : st.levels) {
+    EXPECT_TRUE(l.nested) << "n = " << l.n;
+    EXPECT_GT(l.error, 0.0);
+    EXPECT_LT(l.error, 1.0);
+  }
+  EXPECT_LT(st.levels[1].error, st.levels[0].error);
+  EXPECT_GT(st.levels[1].order, 0.3);  // measured in the comment of the 2D scenes: orders 0.6-0.9
+  EXPECT_DOUBLE_EQ(st.levels[0].h, 0.5);
+}
+
+TEST(ConvergenceStudy, GmshMeshesAreRefused) {
+  json s = scene_of("fig2");
+  s["mesh"]["type"] = "gmsh";
+  s["mesh"]["file"] = "x.msh";
+  try {
+    run_convergence(s, PROBLEMS, {4}, 8);
+    ADD_FAILURE() << "a gmsh scene was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), EXIT_INPUT);
+    EXPECT_NE(std::string(e.what()).find("mesh.type is 'gmsh'"), std::string::npos) << e.what();
+  }
+}

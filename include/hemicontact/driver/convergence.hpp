@@ -2,7 +2,7 @@
 /// @file convergence.hpp  Mesh-convergence study of a scene (paper §5, Fig. 3; MODEL.md §5).
 ///
 /// The scene is solved on uniform meshes n = L for each level L and on a reference mesh n = R,
-/// every level by overriding `mesh.n` (so nx = ny = L). With u_ref the reference solution and P the
+/// every level by overriding `mesh.n` (so nx = ny [= nz for a box] = L). With u_ref the reference solution and P the
 /// P1 prolongation onto the reference mesh (fem/prolongation.hpp), each level's error is
 ///   e_L = ‖u_ref − P u_L‖_E / ‖u_ref‖_E,   ‖v‖_E² = vᵀ K_R v = a(v, v),
 /// the energy norm of the *reference* mesh's stiffness K_R. When every level divides R the
@@ -104,7 +104,7 @@ std::vector<int> parse_levels(const std::string& text);
 /// @param reference  the reference level R
 /// @return the study, levels coarse to fine
 /// @throws Error (EXIT_INPUT) if there is no level, a level or R is < 1, some levels do not divide
-///         R (all of them are named), or the scene's mesh is not a generated rectangle
+///         R (all of them are named), or the scene's mesh is not generated (rectangle or box)
 ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string& scene_dir, std::vector<int> levels,
                                  int reference);
 
