@@ -6,13 +6,13 @@
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
 #include <hemicontact/io/config.hpp>
+#include <hemicontact/io/output_dir.hpp>
 
 #include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -309,8 +309,7 @@ void write_convergence_csv(const std::string& path, const ConvergenceStudy& stud
     for (bool b : {l.converged, l.certified, l.ok}) out += b ? ",1" : ",0";
     out += '\n';
   }
-  std::ofstream f(path, std::ios::binary);
-  if (!f || !(f << out) || !f.flush()) input_error("cannot write '" + path + "'");
+  write_text_file(path, out);
 }
 
 std::string convergence_table(const ConvergenceStudy& study) {

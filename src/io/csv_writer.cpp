@@ -1,9 +1,9 @@
 #include <hemicontact/io/csv_writer.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/io/output_dir.hpp>
 
 #include <charconv>
-#include <fstream>
 #include <limits>
 #include <string>
 
@@ -56,10 +56,7 @@ void write_gamma3_csv(const std::string& path, const Model& md, const Solution& 
     out += '\n';
   }
 
-  std::ofstream f(path, std::ios::binary);
-  if (!f) input_error("cannot write '" + path + "'");
-  f << out;
-  if (!f.flush()) input_error("cannot write '" + path + "' (disk full?)");
+  write_text_file(path, out);
 }
 
 }  // namespace hemicontact

@@ -35,4 +35,11 @@ void prepare_output_dir(const std::string& dir, bool overwrite) {
   fs::remove(probe, ec);
 }
 
+void write_text_file(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  if (!f) input_error("cannot write '" + path + "'");
+  f << text;
+  if (!f.flush()) input_error("cannot write '" + path + "' (disk full?)");
+}
+
 }  // namespace hemicontact

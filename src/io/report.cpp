@@ -2,11 +2,11 @@
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/io/output_dir.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -205,11 +205,8 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
 }
 
 void write_report(const std::string& path, const json& report) {
-  std::ofstream f(path, std::ios::binary);
-  if (!f) input_error("cannot write '" + path + "'");
   // Non-finite doubles become null here (nlohmann's serializer), so the file is always valid JSON.
-  f << report.dump(2) << '\n';
-  if (!f.flush()) input_error("cannot write '" + path + "' (disk full?)");
+  write_text_file(path, report.dump(2) + '\n');
 }
 
 std::string status_runs(const Solution& sol) {

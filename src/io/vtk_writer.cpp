@@ -2,9 +2,9 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/fem/assembly.hpp>
+#include <hemicontact/io/output_dir.hpp>
 
 #include <charconv>
-#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
@@ -173,10 +173,7 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol) {
   out += "      </Cells>\n";
   out += "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
 
-  std::ofstream f(path, std::ios::binary);
-  if (!f) input_error("cannot write '" + path + "'");
-  f << out;
-  if (!f.flush()) input_error("cannot write '" + path + "' (disk full?)");
+  write_text_file(path, out);
 }
 
 }  // namespace hemicontact

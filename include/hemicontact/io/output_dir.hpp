@@ -17,4 +17,8 @@ namespace hemicontact {
 ///         "--out 'x': cannot create directory: ...", "--out 'x': directory is not writable"
 void prepare_output_dir(const std::string& dir, bool overwrite);
 
+/// @brief Write @p text to the file @p path (binary mode, replacing it), or fail naming the file.
+/// @throws Error (EXIT_INPUT): "cannot write 'path'" or "cannot write 'path' (disk full?)"
+void write_text_file(const std::string& path, const std::string& text);
+
 }  // namespace hemicontact
