@@ -67,7 +67,35 @@ ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamp
     const int v = nodes[i];
     c.w[i] = w[v];
     c.normal.row(i) = nsum.row(v) / nsum.row(v).norm();
-    if (d == 2) {
+    const unsigned char fixed = mesh.node_fixed.empty() ? 0 : mesh.node_fixed[v];
+    if (fixed) {
+      // A roller on a Γ3 node: each fixed global axis must be tangent, and becomes a local tangent,
+      // so that "u_c = 0" is the bound x_τ = 0 on one local unknown.
+      if (c.fixed_local.empty()) c.fixed_local.assign(static_cast<size_t>(n), 0);
+      std::vector<int> axes;
+      for (int a = 0; a < d; ++a)
+        if (fixed & (1u << a)) {
+          if (std::abs(c.normal(i, a)) > 1e-9) {
+            std::ostringstream os;
+            os << "boundary.rollers: the Γ3 node at (" << mesh.points.row(v) << ") is held along "
+               << "xyz"[a] << ", which is not tangent to Γ3 (normal " << c.normal.row(i)
+               << "): a roller may only fix tangential components of a contact node";
+            input_error(os.str());
+          }
+          axes.push_back(a);
+        }
+      if (d == 2) {
+        c.tangent.row(i) = RowMat::Zero(1, 2);
+        c.tangent(i, axes[0]) = 1.0;
+        c.fixed_local[i] = 1u << 1;
+      } else {
+        // ν × (ν × e) = −e for a unit e ⟂ ν: with τ1 = ν × e the second tangent ν × τ1 is −e.
+        const Eigen::Vector3d nu = c.normal.row(i).transpose();
+        const Eigen::Vector3d e = Eigen::Vector3d::Unit(axes[0]);
+        c.tangent.row(i) = nu.cross(e).normalized().transpose();
+        c.fixed_local[i] = axes.size() == 1 ? (1u << 2) : ((1u << 1) | (1u << 2));
+      }
+    } else if (d == 2) {
       c.tangent(i, 0) = -c.normal(i, 1);
       c.tangent(i, 1) = c.normal(i, 0);
     } else {

@@ -34,6 +34,8 @@ std::vector<BoundarySelector> selectors(const json& list, const std::string& nam
     if (!s["physical"].is_null()) b.physical = s["physical"].get<std::string>();
     b.from = number_or(s["from"], -INF);
     b.to = number_or(s["to"], INF);
+    if (s.contains("components"))
+      for (const auto& c : s["components"]) b.components.push_back(static_cast<int>(std::string("xyz").find(c.get<std::string>())));
     if (s.contains("traction")) {
       const auto t = s["traction"].get<std::vector<double>>();
       b.traction = scale * Eigen::Map<const Vec>(t.data(), static_cast<Index>(t.size()));
@@ -130,6 +132,7 @@ void assign_scene_boundary(Mesh& mesh, const json& scene) {
   spec.gamma1 = selectors(scene.at("boundary").at("gamma1"), "gamma1", scale);
   spec.gamma2 = selectors(scene.at("boundary").at("gamma2"), "gamma2", scale);
   spec.gamma3 = selectors(scene.at("boundary").at("gamma3"), "gamma3", scale);
+  spec.rollers = selectors(scene.at("boundary").at("rollers"), "rollers", scale);
   assign_boundary(mesh, spec);
 }
 

@@ -28,6 +28,11 @@ bool frictionless_at(const Model& md, double u_nu, double delta) {
   return md.friction->F(u_nu) == 0 && md.friction->F(u_nu - delta) == 0 && md.friction->F(u_nu + delta) == 0;
 }
 
+// Is local component @p c (1 = τ1, 2 = τ2) of contact node @p k held at zero by a roller?
+bool roller_fixed(const Model& md, Index k, int c) {
+  return !md.contact.fixed_local.empty() && (md.contact.fixed_local[static_cast<size_t>(k)] & (1u << c));
+}
+
 // Keep the polished x_C only if the statuses stay and the certificate does not get worse.
 void accept_if_better(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& s0,
                       const Vec& x, double load_scale, PolishResult& r, Vec& x_C) {
@@ -111,6 +116,12 @@ PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, cons
           J.block<2, 1>(iv + 1, iv) += w * dF * t;
         }
       }
+      for (int c = 1; c < d; ++c)
+        if (roller_fixed(md, k, c)) {  // a roller: x_τc = 0 replaces the traction balance
+          R[iv + c] = x[iv + c];
+          J.row(iv + c).setZero();
+          J(iv + c, iv + c) = 1;
+        }
     }
     return R;
   };
@@ -170,7 +181,9 @@ static PolishResult polish_condensed_2d(const Model& md, const Condensation& con
       A(iv, iv) += w * dp0;
       b0[iv] = S.row(iv).dot(yC) - w * (p0 - dp0 * un);
     }
-    if (frictionless_at(md, un, delta)) {
+    if (roller_fixed(md, k, 1)) {
+      A(it, it) = 1;  // a roller holds x_τ = 0
+    } else if (frictionless_at(md, un, delta)) {
       A.row(it) = S.row(it);  // frictionless here: σ_τ = 0
       b0[it] = S.row(it).dot(yC);
     } else if (st.tangential == TangentialStatus::STICK) {
@@ -236,8 +249,8 @@ static Solution next_guess(const Model& md, const Condensation& cond, const Solv
         // local tangential unknowns (τ1, ν × τ1) of a small step along t
         const Eigen::Vector3d nu = md.contact.normal.row(k).transpose(), t1 = md.contact.tangent.row(k).transpose();
         const Eigen::Vector3d t2 = nu.cross(t1), tv = t;
-        start[d * k + 1] = 1e-3 * U * tv.dot(t1);
-        start[d * k + 2] = 1e-3 * U * tv.dot(t2);
+        start[d * k + 1] = roller_fixed(md, k, 1) ? 0.0 : 1e-3 * U * tv.dot(t1);
+        start[d * k + 2] = roller_fixed(md, k, 2) ? 0.0 : 1e-3 * U * tv.dot(t2);
       }
     } else if (slip_guess && d == 2 && st.tangential != TangentialStatus::STICK && st.tangential != sg.tangential) {
       st.tangential = TangentialStatus::STICK;

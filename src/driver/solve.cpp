@@ -197,6 +197,12 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
   F.upper = Vec::Constant(n, INF);
   for (Index k = 0; k < nc; ++k)
     if (std::isfinite(md.contact.g[k])) F.upper[F.nd.first[k]] = md.contact.g[k];
+  // A roller on a Γ3 node fixes local tangential unknowns (ContactNodes::fixed_local): the bounds
+  // 0 ≤ x_τ ≤ 0 keep the node's frame and the uniform d unknowns per node.
+  if (!md.contact.fixed_local.empty())
+    for (Index k = 0; k < nc; ++k)
+      for (int c = 1; c < d; ++c)
+        if (md.contact.fixed_local[k] & (1u << c)) F.lower[F.nd.first[k] + c] = F.upper[F.nd.first[k] + c] = 0;
   if (md.normal_law) {
     F.normal = std::make_shared<NormalComplianceEnergy>(F.nd, nullptr);
     F.energy->add(F.normal);
@@ -233,7 +239,8 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   I.backend = make_backend(opt.backend);
 
   // Nothing nonlinear and no obstacle: one sparse Cholesky solve is the answer (no backend at all).
-  if (!md.normal_law && !md.friction && md.gap.is_infinite() && md.material->is_linear()) {
+  if (!md.normal_law && !md.friction && md.gap.is_infinite() && md.material->is_linear() &&
+      md.contact.fixed_local.empty()) {
     I.linear = true;
     SparseCholesky chol;
     chol.compute(md.Kx);

@@ -180,6 +180,15 @@ std::vector<SchemaEntry> build_scene_schema() {
   add_selector(t, "gamma1", "Γ1, clamped (u = 0): list of selectors.", false);
   add_selector(t, "gamma2", "Γ2, traction f2: list of selectors, each with its traction.", true);
   add_selector(t, "gamma3", "Γ3, contact with the foundation: list of selectors.", false);
+  add_selector(t, "rollers",
+               "Roller (symmetry-plane) conditions: on the selected facets' nodes the listed "
+               "displacement components are zero, the others free (e.g. a plane-strain slab: "
+               "`{\"side\": \"front\", \"components\": [\"y\"]}`). A roller on a Γ3 node must be "
+               "tangent to Γ3. Γ1 is still required (coercivity).",
+               false);
+  t.push_back(required("/boundary/rollers/*/components", "array",
+                       "The components held at zero, e.g. [\"y\"]."));
+  t.push_back(required("/boundary/rollers/*/components/*", "string", "A component name.", {"x", "y", "z"}));
 
   // ------------------------------------------------------------------ loads
   t.push_back(section("/loads", "Volume and surface loads."));

@@ -2,6 +2,7 @@
 
 #include <hemicontact/core/error.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -44,29 +45,35 @@ bool selects(const Mesh& m, Index f, const BoundarySelector& s, const SideAxes& 
   return mid >= s.from && mid < s.to;
 }
 
-void assign(Mesh& m, const std::vector<BoundarySelector>& sel, Part part, std::vector<std::string>& owner) {
+// The boundary facets selector @p s matches (never empty: that is an error naming it).
+std::vector<Index> select_facets(const Mesh& m, const BoundarySelector& s) {
   const RowMat lo = m.points.colwise().minCoeff(), hi = m.points.colwise().maxCoeff();
   const double tol = 1e-9 * (hi - lo).maxCoeff();
-  for (const auto& s : sel) {
-    if (s.side.empty() == s.physical.empty())
-      input_error(s.context + ": give exactly one of 'side' and 'physical'");
-    if (s.from >= s.to) input_error(s.context + ": empty interval [from, to)");
-    std::vector<Index> chosen;
-    if (!s.side.empty()) {
-      const SideAxes axes = side_axes(s, m.dim);
-      for (Index f = 0; f < m.num_facets(); ++f)
-        if (selects(m, f, s, axes, lo, hi, tol)) chosen.push_back(f);
-    } else {
-      auto it = m.facet_groups.find(s.physical);
-      if (it == m.facet_groups.end()) {
-        std::string names;
-        for (const auto& [k, v] : m.facet_groups) names += (names.empty() ? "" : ", ") + k;
-        input_error(s.context + ".physical: the mesh has no facet group '" + s.physical +
-                    "' (groups: " + (names.empty() ? "none" : names) + ")");
-      }
-      chosen = it->second;
+  if (s.side.empty() == s.physical.empty())
+    input_error(s.context + ": give exactly one of 'side' and 'physical'");
+  if (s.from >= s.to) input_error(s.context + ": empty interval [from, to)");
+  std::vector<Index> chosen;
+  if (!s.side.empty()) {
+    const SideAxes axes = side_axes(s, m.dim);
+    for (Index f = 0; f < m.num_facets(); ++f)
+      if (selects(m, f, s, axes, lo, hi, tol)) chosen.push_back(f);
+  } else {
+    auto it = m.facet_groups.find(s.physical);
+    if (it == m.facet_groups.end()) {
+      std::string names;
+      for (const auto& [k, v] : m.facet_groups) names += (names.empty() ? "" : ", ") + k;
+      input_error(s.context + ".physical: the mesh has no facet group '" + s.physical +
+                  "' (groups: " + (names.empty() ? "none" : names) + ")");
     }
-    if (chosen.empty()) input_error(s.context + " selects no boundary facet");
+    chosen = it->second;
+  }
+  if (chosen.empty()) input_error(s.context + " selects no boundary facet");
+  return chosen;
+}
+
+void assign(Mesh& m, const std::vector<BoundarySelector>& sel, Part part, std::vector<std::string>& owner) {
+  for (const auto& s : sel) {
+    const std::vector<Index> chosen = select_facets(m, s);
     int load = -1;
     if (part == Part::GAMMA2) {
       if (s.traction.size() != m.dim)
@@ -97,6 +104,20 @@ void assign_boundary(Mesh& mesh, const BoundarySpec& spec) {
   assign(mesh, spec.gamma1, Part::GAMMA1, owner);
   assign(mesh, spec.gamma2, Part::GAMMA2, owner);
   assign(mesh, spec.gamma3, Part::GAMMA3, owner);
+  mesh.node_fixed.clear();
+  for (const auto& s : spec.rollers) {
+    if (s.components.empty()) input_error(s.context + ".components: name at least one component to hold at zero");
+    unsigned char mask = 0;
+    for (int c : s.components) {
+      if (c < 0 || c >= mesh.dim)
+        input_error(s.context + ".components: component " + std::string(1, "xyz"[std::clamp(c, 0, 2)]) +
+                    " does not exist on a " + std::to_string(mesh.dim) + "D mesh");
+      mask |= static_cast<unsigned char>(1u << c);
+    }
+    if (mesh.node_fixed.empty()) mesh.node_fixed.assign(mesh.num_nodes(), 0);
+    for (Index f : select_facets(mesh, s))
+      for (int a = 0; a < mesh.dim; ++a) mesh.node_fixed[mesh.facets(f, a)] |= mask;
+  }
   bool any_gamma1 = false;
   for (Part p : mesh.facet_part) any_gamma1 |= (p == Part::GAMMA1);
   if (!any_gamma1)

@@ -9,6 +9,7 @@
 // they agree up to the discretization error, O(h) in the energy norm for both: the test checks
 // that the gap is small on a coarse mesh and shrinks when h is halved.
 #include <hemicontact/check/contact_status.hpp>
+#include <hemicontact/core/error.hpp>
 #include <hemicontact/driver/model.hpp>
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/io/config.hpp>
@@ -25,9 +26,9 @@ namespace {
 
 constexpr double E = 2000, F2 = 4000, F0 = 500;  // half the fig2 side loads: compliance and contact
 
-json slab_scene(int dim, int n, int ny) {
+json slab_scene(int dim, int n, int ny, double nu = 0.0, bool rollers = false) {
   const double t = double(ny) / n;  // slab thickness: ny cubic cells
-  json s = {{"material", {{"model", "linear_elastic"}, {"E", E}, {"nu", 0.0}, {"plane", "strain"}}},
+  json s = {{"material", {{"model", "linear_elastic"}, {"E", E}, {"nu", nu}, {"plane", "strain"}}},
             {"contact",
              {{"gap", 0.15},
               {"normal_law", {{"type", "paper"}, {"c1", 100}, {"c2", -100}, {"c3", 400}, {"r1", 0.1}, {"r2", 0.15}}},
@@ -48,6 +49,9 @@ json slab_scene(int dim, int n, int ny) {
                                  {{"side", "right"}, {"from", 0.5}, {"traction", {-F2, 0, 0}}}}},
                      {"gamma3", {{{"side", "bottom"}}}}};
     s["loads"] = {{"body_force", {0, 0, -F0}}};
+    if (rollers)
+      s["boundary"]["rollers"] = {{{"side", "front"}, {"components", {"y"}}},
+                                  {{"side", "back"}, {"components", {"y"}}}};
   }
   return validate_scene(s);
 }
@@ -57,8 +61,8 @@ struct Solved {
   Solution sol;
 };
 
-Solved solve_slab(int dim, int n, int ny = 2) {
-  const json scene = slab_scene(dim, n, ny);
+Solved solve_slab(int dim, int n, int ny = 2, double nu = 0.0, bool rollers = false) {
+  const json scene = slab_scene(dim, n, ny, nu, rollers);
   Solved s{build_model(scene, "."), {}};
   s.sol = solve(s.md, solve_options_from_scene(scene));
   return s;
@@ -153,4 +157,107 @@ TEST(Slab, MatchesPlaneStrainAndTheGapShrinksWithH) {
   const double g0[4] = {gaps[0].u_nu, gaps[0].u_tau, gaps[0].u_y, gaps[0].energy};
   const double g2[4] = {gaps[2].u_nu, gaps[2].u_tau, gaps[2].u_y, gaps[2].energy};
   for (int i = 0; i < 4; ++i) EXPECT_LE(g2[i], 0.5 * g0[i]) << "quantity " << i;
+}
+
+// Plane strain with ν ≠ 0 is the slab whose front and back faces are rollers (u_y = 0, the other
+// components free, boundary.rollers): ε_yy = 0 everywhere is then the slab's own solution. One
+// cell thick, every node is on a roller face, so u_y vanishes exactly (also on the Γ3 nodes, whose
+// frames take y as a tangent); the remaining gap is the two P1 discretizations' and shrinks with h.
+TEST(Slab, RollersMatchPlaneStrainWithPoisson) {
+  constexpr double nu = 0.3;
+  Gap3D2D gaps[3];
+  const int levels[3] = {4, 8, 16};
+  for (int l = 0; l < 3; ++l) {
+    const int n = levels[l], ny = 1;
+    const Solved s2 = solve_slab(2, n, ny, nu), s3 = solve_slab(3, n, ny, nu, true);
+    for (const Solved* s : {&s2, &s3}) {
+      ASSERT_TRUE(s->sol.ok()) << s->sol.message;
+      EXPECT_LE(s->sol.certificate.max_residual, 1e-8);
+    }
+    // Γ3 nodes hold u_y = 0 through their rotated frames: zero up to the frames' round-off.
+    const double U = s3.sol.u.cwiseAbs().maxCoeff();
+    for (Index v = 0; v < s3.md.mesh.num_nodes(); ++v) EXPECT_LE(std::abs(s3.sol.u[3 * v + 1]), 1e-14 * U) << "node " << v;
+    gaps[l] = compare(s2, s3, double(ny) / n);
+    const Gap3D2D& g = gaps[l];
+    std::printf("roller slab n = %d: |du_nu|/U = %.3e, |du_tau|/U = %.3e, energy rel. %.3e, statuses compared "
+                "at %d of %d nodes, mismatches %d\n",
+                n, g.u_nu, g.u_tau, g.energy, g.compared, int(s3.md.contact.size()), g.status_mismatches);
+    EXPECT_EQ(g.status_mismatches, 0) << "n = " << n;
+    const double h = 1.0 / n;
+    for (double v : {g.u_nu, g.u_tau, g.energy}) EXPECT_LE(v, 0.5 * h) << "n = " << n;
+  }
+  const double g0[3] = {gaps[0].u_nu, gaps[0].u_tau, gaps[0].energy};
+  const double g2[3] = {gaps[2].u_nu, gaps[2].u_tau, gaps[2].energy};
+  for (int i = 0; i < 3; ++i) EXPECT_LE(g2[i], 0.5 * g0[i]) << "quantity " << i;
+}
+
+// Rollers drop exactly the held components of the non-contact nodes from the unknowns (Γ3 nodes
+// keep d unknowns and hold theirs by bounds), and bad rollers are refused naming the selector.
+TEST(Rollers, UnknownsAndBadInput) {
+  const int n = 4, ny = 1;
+  const Model free_slab = build_model(slab_scene(3, n, ny, 0.3, false), ".");
+  const Model roller_slab = build_model(slab_scene(3, n, ny, 0.3, true), ".");
+  Index held = 0;  // non-clamped, non-Γ3 nodes on the front/back faces (all of them at ny = 1)
+  std::vector<bool> on_gamma3(roller_slab.mesh.num_nodes(), false);
+  for (int v : roller_slab.contact.node) on_gamma3[v] = true;
+  for (Index v = 0; v < roller_slab.mesh.num_nodes(); ++v)
+    if (!roller_slab.clamped[v] && !on_gamma3[v]) ++held;
+  EXPECT_EQ(free_slab.dofs.n_free() - roller_slab.dofs.n_free(), held);
+  ASSERT_EQ(roller_slab.contact.fixed_local.size(), roller_slab.contact.size());
+  for (Index k = 0; k < roller_slab.contact.size(); ++k) EXPECT_EQ(roller_slab.contact.fixed_local[k], 1u << 2);
+
+  json along_normal = slab_scene(3, n, ny, 0.3, true);
+  along_normal["boundary"]["rollers"] = {{{"side", "bottom"}, {"components", {"z"}}}};
+  try {
+    build_model(validate_scene(along_normal), ".");
+    ADD_FAILURE() << "a roller along Γ3's normal was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), EXIT_INPUT);
+    EXPECT_NE(std::string(e.what()).find("not tangent to Γ3"), std::string::npos) << e.what();
+  }
+  json flat = slab_scene(2, n, ny, 0.3, false);
+  flat["boundary"]["rollers"] = {{{"side", "left"}, {"components", {"z"}}}};
+  try {
+    build_model(validate_scene(flat), ".");
+    ADD_FAILURE() << "a z roller on a 2D mesh was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), EXIT_INPUT);
+    EXPECT_NE(std::string(e.what()).find("boundary.rollers[0].components"), std::string::npos) << e.what();
+  }
+}
+
+// A symmetry plane is a roller: the fig2 scene on its mirror-symmetric mesh has a symmetric
+// solution ((21) holds, so it is unique), hence u_x = 0 on x = ½. The left half with a roller
+// (u_x = 0) on x = ½ is then the same discrete problem restricted to the half: its solution must be
+// the full solution's left half to round-off, Γ3's centre node (roller and contact) included.
+TEST(Rollers, HalfOfTheSymmetricFig2IsTheFullSolution) {
+  const int n = 16;
+  const json full_scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json",
+                                     {"mesh.n=" + std::to_string(n), "check.smallness=false"});
+  json half = full_scene;
+  half["mesh"] = {{"type", "rectangle"}, {"x", {0, 0.5}}, {"y", {0, 1}}, {"nx", n / 2}, {"ny", n},
+                  {"diagonal", "right"}};  // the symmetric mesh's left half
+  half["boundary"]["gamma2"] = {{{"side", "left"}, {"from", 0.5}, {"traction", {8000, 0}}}};
+  half["boundary"]["rollers"] = {{{"side", "right"}, {"components", {"x"}}}};
+  half = validate_scene(half);
+  const Model md_full = build_model(full_scene, "."), md_half = build_model(half, ".");
+  const Solution full = solve(md_full, solve_options_from_scene(full_scene));
+  const Solution hs = solve(md_half, solve_options_from_scene(half));
+  ASSERT_TRUE(full.ok()) << full.message;
+  ASSERT_TRUE(hs.ok()) << hs.message;
+  EXPECT_LE(hs.certificate.max_residual, 1e-12);
+  const double U = full.u.cwiseAbs().maxCoeff();
+  int matched = 0;
+  for (Index v = 0; v < md_half.mesh.num_nodes(); ++v)
+    for (Index w = 0; w < md_full.mesh.num_nodes(); ++w)
+      if ((md_full.mesh.points.row(w) - md_half.mesh.points.row(v)).norm() < 1e-12) {
+        ++matched;
+        EXPECT_NEAR(hs.u[2 * v], full.u[2 * w], 1e-9 * U) << "node at " << md_half.mesh.points.row(v);
+        EXPECT_NEAR(hs.u[2 * v + 1], full.u[2 * w + 1], 1e-9 * U) << "node at " << md_half.mesh.points.row(v);
+      }
+  EXPECT_EQ(matched, (n / 2 + 1) * (n + 1));
+  EXPECT_NEAR(2 * hs.energy, full.energy, 1e-9 * std::abs(full.energy));
+  // The Γ3 statuses: the half's are the full's left half (the centre node sticks in both).
+  for (Index k = 0; k < md_half.contact.size(); ++k) EXPECT_EQ(hs.status[k].normal, full.status[k].normal) << k;
+  EXPECT_EQ(hs.status.back().tangential, TangentialStatus::STICK);
 }

@@ -37,12 +37,17 @@ struct ContactNodes {
   RowMat normal;          ///< ν_i, one row each (unit, outward)
   RowMat tangent;         ///< τ_i (2D: one tangent; 3D: first tangent, the second is ν × τ1)
   Vec g;                  ///< g_i = g(x_i) (may be +∞)
+  /// Per node, a bit mask of the *local* tangential components (bit 1: τ1, bit 2: τ2) held at zero
+  /// by a roller (Mesh::node_fixed): the frame is chosen so that each fixed global axis is one
+  /// local tangent. Empty when no Γ3 node has a roller.
+  std::vector<unsigned char> fixed_local;
   /// @return the number of contact nodes.
   Index size() const { return static_cast<Index>(node.size()); }
 };
 
 /// Collect the Γ3 nodes of @p mesh that are not clamped (a node on Γ1 ∩ Γ3 is clamped).
-/// @throws Error if a Γ3 gap value is negative (thickness g ≥ 0, eq. (14)).
+/// @throws Error if a Γ3 gap value is negative (thickness g ≥ 0, eq. (14)), or if a roller holds a
+/// Γ3 node along a direction that is not tangent to Γ3 (it would fight the contact law).
 ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamped, const Gap& gap);
 
 }  // namespace hemicontact

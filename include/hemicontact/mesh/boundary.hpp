@@ -21,6 +21,7 @@ struct BoundarySelector {
   double to = INF;       ///< upper end (excluded)
   Vec traction;          ///< Γ2 only: the constant traction f2 on the selected facets
   std::string context;   ///< where it came from, for messages (e.g. "boundary.gamma2[1]")
+  std::vector<int> components;  ///< rollers only: the displacement components held at zero (0 = x, ...)
 };
 
 /// The selectors of the three parts.
@@ -28,12 +29,17 @@ struct BoundarySpec {
   std::vector<BoundarySelector> gamma1;  ///< clamped
   std::vector<BoundarySelector> gamma2;  ///< tractions
   std::vector<BoundarySelector> gamma3;  ///< contact
+  /// Roller (symmetry-plane) conditions: u_c = 0 for the listed components c on the selected
+  /// facets' nodes, the other components free (a roller facet may also be on Γ2 or be free).
+  std::vector<BoundarySelector> rollers;
 };
 
 /// Tag mesh.facets with their parts and tractions.
 /// @throws Error naming the selector when one selects nothing, names an unknown side or group,
 /// or when two selectors claim the same facet; and when no Γ1 facet results (the problem would
 /// not be coercive: the paper requires meas(Γ1) > 0).
+/// Rollers set Mesh::node_fixed; a roller selector without components, or with a component
+/// ≥ dim, is an error naming it.
 void assign_boundary(Mesh& mesh, const BoundarySpec& spec);
 
 /// @return a flag per node: true if the node lies on a Γ1 facet (its displacement is zero).

@@ -31,6 +31,10 @@ struct Mesh {
   std::vector<Vec> tractions;      ///< the piecewise-constant tractions f2 (one per Γ2 selector)
   /// Named facet groups (Gmsh physical groups): name → indices into facets.
   std::map<std::string, std::vector<Index>> facet_groups;
+  /// Per node, a bit mask of the displacement components held at zero by roller conditions
+  /// (bit c: component c; boundary.rollers); empty when there are none. Γ1 nodes are not listed
+  /// here (they are fully clamped: clamped_nodes()).
+  std::vector<unsigned char> node_fixed;
   /// Human-readable origin ("rectangle 64x64 right", "gmsh file.msh"), for the report.
   std::string origin;
 
