@@ -261,3 +261,43 @@ TEST(Rollers, HalfOfTheSymmetricFig2IsTheFullSolution) {
   for (Index k = 0; k < md_half.contact.size(); ++k) EXPECT_EQ(hs.status[k].normal, full.status[k].normal) << k;
   EXPECT_EQ(hs.status.back().tangential, TangentialStatus::STICK);
 }
+
+// The same in 3D with two symmetry planes: the 3D paper scene (symmetric box pattern, mirror
+// symmetric about x = ½ and y = ½, unique solution) and its quarter [0,½]² × [0,1] (Kuhn pattern,
+// which is the symmetric pattern's lower quarter) with rollers u_x = 0 on x = ½ and u_y = 0 on
+// y = ½. Γ3's corner node (½, ½, 0) is held in both tangential directions. The quarter's solution
+// must be the full one's quarter to round-off.
+TEST(Rollers, QuarterOfTheSymmetric3DScene) {
+  const int n = 8;
+  const json full_scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json",
+                                     {"mesh.n=" + std::to_string(n), "check.smallness=false"});
+  json q = full_scene;
+  q["mesh"] = {{"type", "box"}, {"x", {0, 0.5}}, {"y", {0, 0.5}}, {"z", {0, 1}},
+               {"nx", n / 2}, {"ny", n / 2}, {"nz", n}, {"pattern", "kuhn"}};
+  q["boundary"]["gamma2"] = {{{"side", "left"}, {"from", 0.5}, {"traction", {8000, 0, 0}}}};
+  q["boundary"]["rollers"] = {{{"side", "right"}, {"components", {"x"}}}, {{"side", "back"}, {"components", {"y"}}}};
+  q = validate_scene(q);
+  const Model md_full = build_model(full_scene, "."), md_q = build_model(q, ".");
+  const Solution full = solve(md_full, solve_options_from_scene(full_scene));
+  const Solution qs = solve(md_q, solve_options_from_scene(q));
+  ASSERT_TRUE(full.ok()) << full.message;
+  ASSERT_TRUE(qs.ok()) << qs.message;
+  const double U = full.u.cwiseAbs().maxCoeff();
+  int matched = 0;
+  for (Index v = 0; v < md_q.mesh.num_nodes(); ++v)
+    for (Index w = 0; w < md_full.mesh.num_nodes(); ++w)
+      if ((md_full.mesh.points.row(w) - md_q.mesh.points.row(v)).norm() < 1e-12) {
+        ++matched;
+        for (int c = 0; c < 3; ++c)
+          EXPECT_NEAR(qs.u[3 * v + c], full.u[3 * w + c], 1e-8 * U) << "node at " << md_q.mesh.points.row(v);
+      }
+  EXPECT_EQ(matched, (n / 2 + 1) * (n / 2 + 1) * (n + 1));
+  EXPECT_NEAR(4 * qs.energy, full.energy, 1e-8 * std::abs(full.energy));
+  bool corner = false;
+  for (Index k = 0; k < md_q.contact.size(); ++k)
+    if (md_q.contact.fixed_local[k] == ((1u << 1) | (1u << 2))) {
+      corner = true;
+      EXPECT_EQ(qs.status[k].tangential, TangentialStatus::STICK);
+    }
+  EXPECT_TRUE(corner);
+}
