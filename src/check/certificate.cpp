@@ -38,9 +38,8 @@ ContactState contact_state(const Model& md, const Vec& u) {
     const Vec uk = u.segment(d * v, d);
     Vec sk = s.residual.segment(d * v, d) / md.contact.w[k];  // nodal traction σν (step-41)
     // A roller's reaction is not a contact traction: drop the held components (tangent to Γ3).
-    if (!md.mesh.node_fixed.empty())
-      for (int c = 0; c < d; ++c)
-        if (md.mesh.node_fixed[v] & (1u << c)) sk[c] = 0;
+    for (int c = 0; c < d; ++c)
+      if (md.mesh.held(v) & (1u << c)) sk[c] = 0;
     s.u_nu[k] = uk.dot(nu);
     s.sigma_nu[k] = sk.dot(nu);
     const Vec ut = uk - s.u_nu[k] * nu, st = sk - s.sigma_nu[k] * nu;
@@ -145,7 +144,7 @@ CertificateReport certify(const Model& md, const Vec& u, const ContactState& s, 
   for (Index v = 0; v < md.mesh.num_nodes(); ++v)
     if (!skip[v])
       for (int i = 0; i < d; ++i)
-        if (md.mesh.node_fixed.empty() || !(md.mesh.node_fixed[v] & (1u << i)))  // roller reactions
+        if (!(md.mesh.held(v) & (1u << i)))  // not a roller reaction
           take(eq, std::abs(s.residual[d * v + i]) / r.force_scale, d * v + i);
 
   r.residuals = {feas, normal, compl_, cone, slip, eq};

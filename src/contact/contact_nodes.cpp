@@ -67,7 +67,7 @@ ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamp
     const int v = nodes[i];
     c.w[i] = w[v];
     c.normal.row(i) = nsum.row(v) / nsum.row(v).norm();
-    const unsigned char fixed = mesh.node_fixed.empty() ? 0 : mesh.node_fixed[v];
+    const unsigned char fixed = mesh.held(v);
     if (fixed) {
       // A roller on a Γ3 node: each fixed global axis must be tangent, and becomes a local tangent,
       // so that "u_c = 0" is the bound x_τ = 0 on one local unknown.

@@ -147,11 +147,9 @@ PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, cons
   return r;
 }
 
-}  // namespace
-
 // 2D: the status system is linear for fixed λ (file comment of polish.hpp).
-static PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, const SolveOptions& opt,
-                                        const Solution& s0, Vec& x_C, double load_scale, Vec* candidate) {
+PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, const SolveOptions& opt,
+                                 const Solution& s0, Vec& x_C, double load_scale, Vec* candidate) {
   PolishResult r;
   const int d = 2;
   const Index nc = md.contact.size(), m = cond.m();
@@ -223,7 +221,7 @@ static PolishResult polish_condensed_2d(const Model& md, const Condensation& con
 //    slipped one way in the guess and came out the other way sticks.
 // @p start is moved to the candidate, with a small tangential start on newly slipping 3D nodes
 // (the slip direction t = x_τ/|x_τ| needs x_τ ≠ 0).
-static Solution next_guess(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& g,
+Solution next_guess(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& g,
                     const Vec& c, double load_scale, Vec& start) {
   Solution n = evaluate_condensed(md, cond, opt, c, load_scale);
   start = c;
@@ -258,6 +256,8 @@ static Solution next_guess(const Model& md, const Condensation& cond, const Solv
   }
   return n;
 }
+
+}  // namespace
 
 PolishResult polish_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,
                               double load_scale) {
@@ -312,7 +312,10 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
     } else if (r.accepted && accept(r, x, "after " + std::to_string(round) + " active-set round(s)")) {
       return first;
     }
-    if (candidate.size() == 0) break;
+    if (candidate.size() == 0) {
+      first.note += "; no candidate to correct the statuses from";
+      return first;
+    }
     guess = next_guess(md, cond, opt, guess, candidate, load_scale, start);
     candidate.resize(0);
   }

@@ -15,7 +15,7 @@ DofMap::DofMap(const Mesh& mesh, const std::vector<bool>& clamped, const Contact
   Index col = 0;
   for (Index v = 0; v < N; ++v) {
     if (clamped[v] || contact_index[v] >= 0) continue;
-    const unsigned char fixed = mesh.node_fixed.empty() ? 0 : mesh.node_fixed[v];  // rollers
+    const unsigned char fixed = mesh.held(v);  // rollers
     for (int i = 0; i < d; ++i)
       if (!(fixed & (1u << i))) t.emplace_back(static_cast<int>(d * v + i), static_cast<int>(col++), 1.0);
   }

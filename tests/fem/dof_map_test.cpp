@@ -29,8 +29,8 @@ DofSetup make_setup(Diagonal diag) {
   r.perturb = 0.2;
   s.mesh = make_rectangle(r);
   BoundarySpec b;
-  b.gamma1 = {BoundarySelector{"top", "", -INF, INF, Vec(), "gamma1"}};
-  b.gamma3 = {BoundarySelector{"bottom", "", -INF, INF, Vec(), "gamma3"}};
+  b.gamma1 = {BoundarySelector{"top", "", -INF, INF, Vec(), "gamma1", {}}};
+  b.gamma3 = {BoundarySelector{"bottom", "", -INF, INF, Vec(), "gamma3", {}}};
   assign_boundary(s.mesh, b);
   const double a = 0.5;  // rotate the body by ~29° after tagging
   for (Index v = 0; v < s.mesh.num_nodes(); ++v) {

@@ -35,6 +35,8 @@ struct Mesh {
   /// (bit c: component c; boundary.rollers); empty when there are none. Γ1 nodes are not listed
   /// here (they are fully clamped: clamped_nodes()).
   std::vector<unsigned char> node_fixed;
+  /// @return node @p v's roller mask (0 when it has none).
+  unsigned char held(Index v) const { return node_fixed.empty() ? 0 : node_fixed[static_cast<size_t>(v)]; }
   /// Human-readable origin ("rectangle 64x64 right", "gmsh file.msh"), for the report.
   std::string origin;
 
