@@ -33,6 +33,7 @@ struct BadInput {
   std::vector<std::string> expect;
   std::string args = "";
   std::function<std::string(std::string)> text = nullptr;
+  bool needs_gmsh = false;  ///< reads a .msh file: skipped (with the reason) in a build without the Gmsh API
 };
 
 // gtest prints a parameter that fails; the name says which case.
@@ -79,6 +80,9 @@ class BadInputBattery : public ::testing::TestWithParam<BadInput> {
 
 TEST_P(BadInputBattery, ExitCode2AndMessageNamesTheKeyOrElement) {
   const BadInput& c = GetParam();
+  if (c.needs_gmsh && !HEMICONTACT_HAS_GMSH)
+    GTEST_SKIP() << "built without the Gmsh API (scripts/install-deps.sh installs libgmsh-dev): "
+                    "the .msh file is not read, so its defect cannot be reported";
   json s = fig2_scene();
   c.edit(s);
   std::string text = s.dump(2);
@@ -170,9 +174,9 @@ INSTANTIATE_TEST_SUITE_P(
                  {"contact.friction: F_b(-0.1) = 1", "F_b(r) = 0 for r <= 0"}},
         // ---- meshes with inverted or zero-area triangles
         BadInput{"FoldedGmshMesh", [](json& s) { gmsh_mesh(s, "folded_square.msh"); },
-                 {"folded_square.msh", "cells 0 and 3 overlap", "folded (an inverted cell)"}},
+                 {"folded_square.msh", "cells 0 and 3 overlap", "folded (an inverted cell)"}, "", nullptr, true},
         BadInput{"ZeroAreaGmshTriangle", [](json& s) { gmsh_mesh(s, "degenerate_square.msh"); },
-                 {"degenerate_square.msh", "cell 0 (nodes 0 1 4) is degenerate (zero measure)"}},
+                 {"degenerate_square.msh", "cell 0 (nodes 0 1 4) is degenerate (zero measure)"}, "", nullptr, true},
         // mesh.perturb = 0.49 with seed 32 inverts cell 13 at n = 4 (measured; the generator is
         // deterministic for a seed, and 0.49 > 0.35 allows it; seeds 1..31 happen not to).
         BadInput{"PerturbationInvertsCell", none, {"mesh: cell 13 (nodes 8 13 12) is inverted", "mesh.perturb"},

@@ -13,19 +13,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 using namespace hemicontact;
 
 namespace {
 
-class RandomScenes : public ::testing::TestWithParam<unsigned> {};
-
-}  // namespace
-
-TEST_P(RandomScenes, CertifiedOrHonestlyNotConverged) {
-  const stress::RandomScene rs = stress::draw_scene(GetParam(), 4, 8);
-  SCOPED_TRACE("rerun: " + rs.command());
+/// One drawn scene: certified, or honestly not (see the file comment). Returns whether the answer
+/// was certified; an input error (an inverted perturbed cell) counts as not certified.
+bool certified_or_honestly_not(unsigned seed) {
+  const stress::RandomScene rs = stress::draw_scene(seed, 4, 8);
+  SCOPED_TRACE("seed " + std::to_string(seed) + ", rerun: " + rs.command());
   std::vector<std::string> o = rs.overrides;
   // CI budget: a hard draw stops early and must then say so (the bench runs the full budgets).
   o.insert(o.end(), {"solver.max_iter=300", "solver.fixed_point.max_iters=20"});
@@ -38,11 +37,14 @@ TEST_P(RandomScenes, CertifiedOrHonestlyNotConverged) {
     // symmetric rectangles only beyond perturb 0.35) is an input error naming it: the honest outcome.
     EXPECT_EQ(e.code(), EXIT_INPUT);
     EXPECT_NE(std::string(e.what()).find("inverted"), std::string::npos) << e.what();
-    return;
+    return false;
   }
   const SolveOptions opt = solve_options_from_scene(scene);
   const Solution s = solve(md, opt);
-  ASSERT_TRUE(s.u.allFinite());
+  if (!s.u.allFinite()) {
+    ADD_FAILURE() << "non-finite u";
+    return false;
+  }
   EXPECT_TRUE(std::isfinite(s.energy));
   EXPECT_FALSE(s.message.empty());
   for (const auto& h : s.history)
@@ -67,9 +69,26 @@ TEST_P(RandomScenes, CertifiedOrHonestlyNotConverged) {
   EXPECT_EQ(again.certificate.passed, s.certificate.passed);
   EXPECT_NEAR(again.certificate.max_residual, s.certificate.max_residual,
               1e-12 + 1e-9 * s.certificate.max_residual);
+  return s.ok();
 }
 
-INSTANTIATE_TEST_SUITE_P(Seeds, RandomScenes, ::testing::Range(1u, 25u));
+}  // namespace
+
+// Honest failures alone would let this pass with every seed failing, so it also has a floor: the
+// number of certified seeds among 1..24 measured when the floor was set (CERTIFIED_MEASURED) less
+// a margin of 2 for machines whose rounding tips a borderline draw (the draws themselves are
+// portable: stress/random_scenes.hpp). Raise the floor when the solver gets better.
+TEST(RandomScenes, CertifiedOrHonestlyNotConvergedWithAFloor) {
+  constexpr int CERTIFIED_MEASURED = 21, MARGIN = 2;
+  int certified = 0;
+  std::string failed;
+  for (unsigned seed = 1; seed <= 24; ++seed) {
+    if (certified_or_honestly_not(seed)) ++certified;
+    else failed += " " + std::to_string(seed);
+  }
+  std::printf("[ random   ] %d of 24 seeds certified; not certified:%s\n", certified, failed.c_str());
+  EXPECT_GE(certified, CERTIFIED_MEASURED - MARGIN) << "not certified:" << failed;
+}
 
 // Seed 40 of the full report (n = 8..16): final ε = 1.8e-7 ≫ check.status_tol = 1e-8, so the
 // smoothed answer shows |u_τ| ~ ε U on sticking nodes and reads 28 of them as slipping; the status
