@@ -19,14 +19,14 @@
 #include <hemicontact/check/contact_status.hpp>
 #include <hemicontact/contact/mollified_law.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/energy/elastic_energy.hpp>
 #include <hemicontact/energy/total_energy.hpp>
 #include <hemicontact/fem/assembly.hpp>
 #include <hemicontact/fem/condensation.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <benchmark/benchmark.h>
 

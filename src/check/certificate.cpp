@@ -5,25 +5,6 @@
 
 namespace hemicontact {
 
-const char* to_string(NormalStatus s) {
-  switch (s) {
-    case NormalStatus::SEPARATED: return "separated";
-    case NormalStatus::COMPLIANCE: return "compliance";
-    default: return "contact";
-  }
-}
-
-const char* to_string(TangentialStatus s) {
-  switch (s) {
-    case TangentialStatus::STICK: return "stick";
-    case TangentialStatus::SLIP_PLUS: return "slip+";
-    case TangentialStatus::SLIP_MINUS: return "slip-";
-    default: return "slip";
-  }
-}
-
-std::string NodeStatus::str() const { return std::string(to_string(normal)) + "/" + to_string(tangential); }
-
 ContactState contact_state(const Model& md, const Vec& u) {
   const int d = md.dim();
   const Index n = md.contact.size();
@@ -61,6 +42,15 @@ ContactState contact_state(const Model& md, const Vec& u) {
       s.xi[k] = 0;
     }
     s.lambda[k] = md.friction ? md.friction->F(s.u_nu[k]) : 0.0;
+  }
+  if (d == 3) {
+    s.slip_dir = RowMat::Zero(n, 3);
+    s.slip_angle_deg = Vec::Zero(n);
+    for (Index k = 0; k < n; ++k) {
+      const SlipDirection sd = slip_direction(md, s, k);
+      s.slip_dir.row(k) = sd.dir.transpose();
+      s.slip_angle_deg[k] = sd.angle_deg;
+    }
   }
   return s;
 }

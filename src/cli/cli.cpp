@@ -3,13 +3,13 @@
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/io/config.hpp>
-#include <hemicontact/io/csv_writer.hpp>
-#include <hemicontact/io/output_dir.hpp>
-#include <hemicontact/io/report.hpp>
-#include <hemicontact/io/vtk_writer.hpp>
+#include <hemicontact/scene/config.hpp>
+#include <hemicontact/output/csv_writer.hpp>
+#include <hemicontact/output/output_dir.hpp>
+#include <hemicontact/output/report.hpp>
+#include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/nlp/backend.hpp>
 
 #include <algorithm>

@@ -16,8 +16,8 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/convergence.hpp>
-#include <hemicontact/io/config.hpp>
-#include <hemicontact/io/output_dir.hpp>
+#include <hemicontact/scene/config.hpp>
+#include <hemicontact/output/output_dir.hpp>
 
 #include <algorithm>
 #include <cstdio>

@@ -21,10 +21,10 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/minima.hpp>
-#include <hemicontact/driver/model.hpp>
-#include <hemicontact/io/config.hpp>
-#include <hemicontact/io/output_dir.hpp>
-#include <hemicontact/io/vtk_writer.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
+#include <hemicontact/output/output_dir.hpp>
+#include <hemicontact/output/vtk_writer.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -2,11 +2,11 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
-#include <hemicontact/io/config.hpp>
-#include <hemicontact/io/output_dir.hpp>
+#include <hemicontact/scene/config.hpp>
+#include <hemicontact/output/output_dir.hpp>
 
 #include <algorithm>
 #include <charconv>

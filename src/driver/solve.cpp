@@ -1,5 +1,8 @@
 #include <hemicontact/driver/solve.hpp>
 
+#include <hemicontact/check/certificate.hpp>
+#include <hemicontact/check/contact_status.hpp>
+#include <hemicontact/check/smallness.hpp>
 #include <hemicontact/contact/mollified_law.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
@@ -69,41 +72,6 @@ std::string contraction_text(const std::vector<OuterIteration>& history) {
   return short_number(est) + " (last " + short_number(last) + ")";
 }
 }  // namespace
-
-std::map<std::string, int> Solution::status_counts() const {
-  std::map<std::string, int> c{{"separated", 0}, {"compliance", 0}, {"contact", 0},
-                               {"stick", 0},     {"slip+", 0},      {"slip-", 0}};
-  for (const auto& s : status) {
-    ++c[to_string(s.normal)];
-    ++c[to_string(s.tangential)];
-  }
-  return c;
-}
-
-SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
-  const auto& s = scene.at("solver");
-  SolveOptions o;
-  o.backend = s.at("backend").get<std::string>();
-  o.formulation = s.at("formulation").get<std::string>();
-  o.polish = s.at("polish").get<bool>();
-  o.backend_options.tol = s.at("tol").get<double>();
-  o.backend_options.max_iter = s.at("max_iter").get<int>();
-  o.backend_options.print_level = s.at("print_level").get<int>();
-  for (const auto& [k, v] : s.at("options").items())
-    o.backend_options.extra[k] = v.is_string() ? v.get<std::string>() : v.dump();
-  o.eps_tau = s.at("eps_tau").get<double>();
-  o.eps_nu = s.at("eps_nu").get<double>();
-  o.eps_start = s.at("continuation").at("eps_start").get<double>();
-  o.eps_factor = s.at("continuation").at("factor").get<double>();
-  o.tol_u = s.at("fixed_point").at("tol_u").get<double>();
-  o.max_outer = s.at("fixed_point").at("max_iters").get<int>();
-  o.relaxation = s.at("fixed_point").at("relaxation").get<double>();
-  o.allow_not_converged = s.at("fixed_point").at("allow_not_converged").get<bool>();
-  o.certificate_tol = scene.at("check").at("certificate_tol").get<double>();
-  o.status_tol = scene.at("check").at("status_tol").get<double>();
-  o.smallness = scene.at("check").at("smallness").get<bool>();
-  return o;
-}
 
 void evaluate_solution(const Model& md, const SolveOptions& opt, Solution& sol) {
   sol.state = contact_state(md, sol.u);

@@ -1,8 +1,9 @@
 // The smallness condition (21): its discrete eigenvalues against an independent dense computation,
 // their convergence under refinement, and the verdict on the paper's scene and a softened one.
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/check/smallness.hpp>
 #include <hemicontact/fem/assembly.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>

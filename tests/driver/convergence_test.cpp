@@ -3,7 +3,7 @@
 // checked before any solve; the reference measured against itself has no error.
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/driver/convergence.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
 

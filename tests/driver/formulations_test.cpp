@@ -1,8 +1,8 @@
 // Fast path (static condensation onto Γ3 + exact polish) against the full-space formulation, and
 // skipping of what a scene does not need.
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
 

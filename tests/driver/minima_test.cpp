@@ -18,8 +18,8 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/driver/minima.hpp>
-#include <hemicontact/driver/model.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>

@@ -1,9 +1,10 @@
 // The paper's scenes (problems/sofonea2017-*.json) solved through the whole pipeline:
 // the Fig. 2 status pattern, the printed scene's all-compliance answer, the certificate, mirror
 // symmetry, skipping of the outer loop without friction, and the certificate catching violations.
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/check/certificate.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
 

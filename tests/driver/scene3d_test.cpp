@@ -1,13 +1,14 @@
 // The 3D paper scene (problems/sofonea2017-3d.json) through the whole pipeline: certificate after the
 // 3D polish, mirror symmetry of statuses and slip directions about x = 1/2 and y = 1/2, backends
 // agreeing, the 3D output columns, and the 3D scene checks (plane, n → nz).
+#include <hemicontact/check/certificate.hpp>
 #include <hemicontact/check/contact_status.hpp>
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/io/config.hpp>
-#include <hemicontact/io/csv_writer.hpp>
-#include <hemicontact/io/report.hpp>
-#include <hemicontact/io/vtk_writer.hpp>
+#include <hemicontact/scene/config.hpp>
+#include <hemicontact/output/csv_writer.hpp>
+#include <hemicontact/output/report.hpp>
+#include <hemicontact/output/vtk_writer.hpp>
 
 #include "../support/cli_runner.hpp"
 #include "../support/expect_error.hpp"

@@ -33,9 +33,9 @@
 // backend tolerance (solver.tol, on the scaled problem) separates the numerical from the hand
 // solution. Each case runs through three pipelines (SingleNode param, see solver_block).
 
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 #include <hemicontact/mesh/mesh.hpp>
 
 #include <Eigen/LU>

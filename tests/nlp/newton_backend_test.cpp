@@ -5,9 +5,9 @@
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 #include <hemicontact/nlp/backend.hpp>
 
 #include "nlp/test_problems.hpp"

@@ -1,9 +1,9 @@
 // The paper's example (MODEL.md §5) against an independent exact solution
 // (tests/data/paper-reference-small.json, a copy of shared/data/paper-reference-small.json):
 // n = 4, 8, 'right' mesh, loads as printed (s = 1) and × 1e6 (s = 1e6).
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
 

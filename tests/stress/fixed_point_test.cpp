@@ -8,10 +8,10 @@
 // the contraction factor is proportional to μ. Measured: ρ ≈ 0.13 μ (0.39 at μ = 3, 0.66 at μ = 5);
 // at μ = 8 the iterates oscillate with ρ ≈ 1, and θ = 0.5 brings ρ to ≈ 0.48 (bench/stress_report
 // sweeps θ × μ).
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/io/config.hpp>
-#include <hemicontact/io/report.hpp>
+#include <hemicontact/scene/config.hpp>
+#include <hemicontact/output/report.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,9 +2,9 @@
 // converges with a passing certificate or reports non-convergence — never NaN, never a crash, never
 // an uncertified answer presented as converged.
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
 

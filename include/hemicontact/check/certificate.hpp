@@ -13,29 +13,12 @@
 /// S = max(F / w̄, max λ_i, max |ξ_i|) (a traction; w̄ = mean Γ3 weight). Each is a max over nodes.
 
 #include <hemicontact/check/contact_status.hpp>
+#include <hemicontact/problem/reports.hpp>
 
 #include <string>
 #include <vector>
 
 namespace hemicontact {
-
-/// One residual of the certificate.
-struct CertificateResidual {
-  std::string name;   ///< "feasibility", "normal", "complementarity", "friction_cone", "slip_direction", "equilibrium"
-  double value = 0;   ///< normalized max over nodes/dofs
-  Index worst = -1;   ///< contact node (or dof for equilibrium) where it is attained
-};
-
-/// The certificate of a displacement.
-struct CertificateReport {
-  std::vector<CertificateResidual> residuals;  ///< in the order listed in the file comment
-  double max_residual = 0;                     ///< max over residuals
-  double tol = 0;                              ///< acceptance tolerance (check.certificate_tol)
-  bool passed = false;                         ///< max_residual <= tol
-  double length_scale = 0;                     ///< U
-  double force_scale = 0;                      ///< F
-  double traction_scale = 0;                   ///< S
-};
 
 /// Compute the certificate. @param status_tol relative tolerance deciding slipping nodes.
 CertificateReport certify(const Model& model, const Vec& u, const ContactState& state, double tol,

@@ -11,22 +11,10 @@
 /// nodal-quadrature mass diag(w_i). For λ_{1ν,ν} the tangential unknowns are condensed out too.
 /// When (21) fails the problem may have several solutions (local minima, saddles).
 
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/problem/model.hpp>
+#include <hemicontact/problem/reports.hpp>
 
 namespace hemicontact {
-
-/// The terms of (21).
-struct SmallnessReport {
-  bool computed = false;     ///< false when there is no Γ3 or nothing nonconvex/nonmonotone to check
-  double m_F = 0;            ///< (12)(b)
-  double L_Fb = 0;           ///< (15)(a); 0 without friction; +inf for a discontinuous F_b
-  double alpha_j = 0;        ///< (13)(d); 0 without layer; +inf for a downward jump of p_ν
-  double lambda_1 = 0;       ///< λ_{1,ν}: smallest eigenvalue with ∫Γ3 u·v
-  double lambda_1nu = 0;     ///< λ_{1ν,ν}: smallest eigenvalue with ∫Γ3 u_ν v_ν
-  double lhs = 0;            ///< L_Fb/λ_{1,ν} + α_jν/λ_{1ν,ν}
-  bool holds = false;        ///< lhs < m_F: uniqueness guaranteed
-  double seconds = 0;        ///< time to compute
-};
 
 /// Evaluate (21) for a model (one extra sparse factorization of the ε:ε Gram matrix).
 SmallnessReport evaluate_smallness(const Model& model);

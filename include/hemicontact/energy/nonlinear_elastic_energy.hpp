@@ -7,22 +7,13 @@
 
 #include <hemicontact/energy/energy_term.hpp>
 #include <hemicontact/fem/dof_map.hpp>
+#include <hemicontact/fem/nonlinear_assembly.hpp>
 #include <hemicontact/material/material.hpp>
 #include <hemicontact/mesh/mesh.hpp>
 
 #include <memory>
 
 namespace hemicontact {
-
-/// @return Σ_T |T| W(ε_T(u)) for the full displacement @p u (N·d).
-double assemble_elastic_energy(const Mesh& mesh, const Material& material, const Vec& u);
-
-/// @return the full internal force vector r(u) = Σ_T |T| B_Tᵀ F(B_T u_T) (N·d); = K u for a linear law.
-Vec assemble_internal_force(const Mesh& mesh, const Material& material, const Vec& u);
-
-/// @return the full tangent stiffness K_t(u) = Σ_T |T| B_Tᵀ C(ε_T(u)) B_T (symmetric, full storage,
-/// every adjacent node pair a full d×d block, the pattern of assemble_stiffness).
-SpMat assemble_tangent_stiffness(const Mesh& mesh, const Material& material, const Vec& u);
 
 /// E(x) = Σ_T |T| W(ε_T(T x)) in the reduced unknowns x (u = T x, DofMap), with gradient Tᵀ r(T x)
 /// and Hessian Tᵀ K_t(T x) T. For a linear material ElasticEnergy (constant K) is the cheaper

@@ -1,8 +1,8 @@
-#include <hemicontact/io/vtk_writer.hpp>
+#include <hemicontact/output/vtk_writer.hpp>
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/fem/assembly.hpp>
-#include <hemicontact/io/output_dir.hpp>
+#include <hemicontact/output/output_dir.hpp>
 
 #include <charconv>
 #include <functional>
@@ -139,9 +139,8 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol) {
     Vec angle = Vec::Zero(nc);
     for (Index k = 0; k < nc; ++k)
       if (sol.status[k].tangential == TangentialStatus::SLIP) {
-        const SlipDirection sd = slip_direction(md, s, k);
-        dir.row(k) = sd.dir.transpose();
-        angle[k] = sd.angle_deg;
+        dir.row(k) = s.slip_dir.row(k);
+        angle[k] = s.slip_angle_deg[k];
       }
     float_array(out, "slip_dir", N, 3, [&](Index a, int c) { return k_of[a] < 0 ? 0.0 : dir(k_of[a], c); });
     float_array(out, "slip_angle_deg", N, 1, [&](Index a, int) { return k_of[a] < 0 ? 0.0 : angle[k_of[a]]; });

@@ -5,7 +5,7 @@
 // Rows appear in documentation order. A parent row must come before its children; config.cpp
 // checks that, and that every default satisfies its own row, when it first indexes the table.
 
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 #include <string>
 #include <utility>
 #include <vector>

@@ -1,4 +1,4 @@
-#include <hemicontact/io/output_dir.hpp>
+#include <hemicontact/output/output_dir.hpp>
 
 #include <hemicontact/core/error.hpp>
 

@@ -2,15 +2,16 @@
 // guard. The Solution is made by hand (a prescribed displacement, then evaluate_solution()), so
 // no NLP backend runs: the writers are checked against the Solution they were given.
 
-#include <hemicontact/io/csv_writer.hpp>
-#include <hemicontact/io/output_dir.hpp>
-#include <hemicontact/io/report.hpp>
-#include <hemicontact/io/vtk_writer.hpp>
+#include <hemicontact/output/csv_writer.hpp>
+#include <hemicontact/output/output_dir.hpp>
+#include <hemicontact/output/report.hpp>
+#include <hemicontact/output/vtk_writer.hpp>
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/fem/assembly.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 #include <set>
 #include <sstream>
 #include <unordered_map>

@@ -1,8 +1,8 @@
-#include <hemicontact/io/report.hpp>
+#include <hemicontact/output/report.hpp>
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/io/output_dir.hpp>
+#include <hemicontact/output/output_dir.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -122,9 +122,8 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
     if (d == 3) {
       // 3D: the slip direction replaces 2D's ±; null on sticking nodes (it has no direction).
       if (sol.status[k].tangential == TangentialStatus::SLIP) {
-        const SlipDirection sd = slip_direction(md, s, k);
-        n["slip_dir"] = {sd.dir.x(), sd.dir.y(), sd.dir.z()};
-        n["slip_angle_deg"] = sd.angle_deg;
+        n["slip_dir"] = {s.slip_dir(k, 0), s.slip_dir(k, 1), s.slip_dir(k, 2)};
+        n["slip_angle_deg"] = s.slip_angle_deg[k];
       } else {
         n["slip_dir"] = nullptr;
         n["slip_angle_deg"] = nullptr;

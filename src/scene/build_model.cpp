@@ -1,11 +1,10 @@
-#include <hemicontact/driver/model.hpp>
+#include <hemicontact/scene/build_model.hpp>
 
 #include <hemicontact/contact/law_factory.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/fem/assembly.hpp>
-#include <hemicontact/io/config.hpp>
-#include <hemicontact/energy/nonlinear_elastic_energy.hpp>
+#include <hemicontact/scene/config.hpp>
 #include <hemicontact/material/material_factory.hpp>
 #include <hemicontact/mesh/boundary.hpp>
 #include <hemicontact/mesh/generators.hpp>
@@ -71,18 +70,6 @@ Gap make_gap(const json& g) {
 }
 
 }  // namespace
-
-double Model::u_nu(const Vec& u, Index k) const {
-  return u.segment(dim() * contact.node[k], dim()).dot(contact.normal.row(k).transpose());
-}
-
-Vec Model::internal_force(const Vec& u) const {
-  return material->is_linear() ? Vec(K * u) : assemble_internal_force(mesh, *material, u);
-}
-
-double Model::elastic_energy(const Vec& u) const {
-  return material->is_linear() ? 0.5 * u.dot(K * u) : assemble_elastic_energy(mesh, *material, u);
-}
 
 Mesh build_mesh(const json& scene, const std::string& scene_dir) {
   const json& m = scene.at("mesh");
@@ -181,6 +168,31 @@ Model build_model(const json& scene, Mesh mesh) {
              << " cells, " << md.dofs.n_free() << " dofs, " << md.contact.size() << " Γ3 nodes ("
              << md.timings["assembly"] << " s assembly)";
   return md;
+}
+
+SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
+  const auto& s = scene.at("solver");
+  SolveOptions o;
+  o.backend = s.at("backend").get<std::string>();
+  o.formulation = s.at("formulation").get<std::string>();
+  o.polish = s.at("polish").get<bool>();
+  o.backend_options.tol = s.at("tol").get<double>();
+  o.backend_options.max_iter = s.at("max_iter").get<int>();
+  o.backend_options.print_level = s.at("print_level").get<int>();
+  for (const auto& [k, v] : s.at("options").items())
+    o.backend_options.extra[k] = v.is_string() ? v.get<std::string>() : v.dump();
+  o.eps_tau = s.at("eps_tau").get<double>();
+  o.eps_nu = s.at("eps_nu").get<double>();
+  o.eps_start = s.at("continuation").at("eps_start").get<double>();
+  o.eps_factor = s.at("continuation").at("factor").get<double>();
+  o.tol_u = s.at("fixed_point").at("tol_u").get<double>();
+  o.max_outer = s.at("fixed_point").at("max_iters").get<int>();
+  o.relaxation = s.at("fixed_point").at("relaxation").get<double>();
+  o.allow_not_converged = s.at("fixed_point").at("allow_not_converged").get<bool>();
+  o.certificate_tol = scene.at("check").at("certificate_tol").get<double>();
+  o.status_tol = scene.at("check").at("status_tol").get<double>();
+  o.smallness = scene.at("check").at("smallness").get<bool>();
+  return o;
 }
 
 }  // namespace hemicontact

@@ -1,7 +1,7 @@
-#include <hemicontact/io/csv_writer.hpp>
+#include <hemicontact/output/csv_writer.hpp>
 
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/io/output_dir.hpp>
+#include <hemicontact/output/output_dir.hpp>
 
 #include <charconv>
 #include <limits>
@@ -46,9 +46,8 @@ void write_gamma3_csv(const std::string& path, const Model& md, const Solution& 
     out += ',' + sol.status[k].str();
     if (d == 3) {
       const bool slip = sol.status[k].tangential == TangentialStatus::SLIP;
-      const SlipDirection sd = slip_direction(md, s, k);
       const double nan = std::numeric_limits<double>::quiet_NaN();
-      for (double v : {sd.dir.x(), sd.dir.y(), sd.dir.z(), sd.angle_deg}) {
+      for (double v : {s.slip_dir(k, 0), s.slip_dir(k, 1), s.slip_dir(k, 2), s.slip_angle_deg[k]}) {
         out += ',';
         put(out, slip ? v : nan);
       }

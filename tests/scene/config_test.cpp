@@ -10,7 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/io/config.hpp>
+#include <hemicontact/scene/config.hpp>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <random>

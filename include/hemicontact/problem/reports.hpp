@@ -1,0 +1,53 @@
+#pragma once
+/// @file reports.hpp  The records the checks and the polish leave on a solution: the certificate
+/// (MODEL.md §4, check/certificate.hpp), the smallness condition (21) (check/smallness.hpp) and
+/// the exact polish (driver/polish.hpp). Plain data; the writers read them.
+
+#include <hemicontact/core/types.hpp>
+
+#include <string>
+#include <vector>
+
+namespace hemicontact {
+
+/// One residual of the certificate.
+struct CertificateResidual {
+  std::string name;   ///< "feasibility", "normal", "complementarity", "friction_cone", "slip_direction", "equilibrium"
+  double value = 0;   ///< normalized max over nodes/dofs
+  Index worst = -1;   ///< contact node (or dof for equilibrium) where it is attained
+};
+
+/// The certificate of a displacement.
+struct CertificateReport {
+  std::vector<CertificateResidual> residuals;  ///< in the order listed in the file comment
+  double max_residual = 0;                     ///< max over residuals
+  double tol = 0;                              ///< acceptance tolerance (check.certificate_tol)
+  bool passed = false;                         ///< max_residual <= tol
+  double length_scale = 0;                     ///< U
+  double force_scale = 0;                      ///< F
+  double traction_scale = 0;                   ///< S
+};
+
+/// The terms of (21).
+struct SmallnessReport {
+  bool computed = false;     ///< false when there is no Γ3 or nothing nonconvex/nonmonotone to check
+  double m_F = 0;            ///< (12)(b)
+  double L_Fb = 0;           ///< (15)(a); 0 without friction; +inf for a discontinuous F_b
+  double alpha_j = 0;        ///< (13)(d); 0 without layer; +inf for a downward jump of p_ν
+  double lambda_1 = 0;       ///< λ_{1,ν}: smallest eigenvalue with ∫Γ3 u·v
+  double lambda_1nu = 0;     ///< λ_{1ν,ν}: smallest eigenvalue with ∫Γ3 u_ν v_ν
+  double lhs = 0;            ///< L_Fb/λ_{1,ν} + α_jν/λ_{1ν,ν}
+  bool holds = false;        ///< lhs < m_F: uniqueness guaranteed
+  double seconds = 0;        ///< time to compute
+};
+
+/// What the exact polish (driver/polish.hpp) did.
+struct PolishResult {
+  bool attempted = false;  ///< false without a condensation or with nothing to polish
+  bool accepted = false;   ///< statuses kept and certificate not worse
+  int iterations = 0;      ///< 2D: λ fixed-point iterations on the linear status system; 3D: Newton steps
+  double before = 0;       ///< certificate max residual before
+  double after = 0;        ///< after (of the candidate)
+  std::string note;        ///< why not accepted, if not
+};
+}  // namespace hemicontact

@@ -1,0 +1,34 @@
+#pragma once
+/// @file build_model.hpp  From an effective scene (scene/config.hpp: loaded, validated, defaults
+/// injected) to the Model every stage reads, and to the options of its solve.
+
+#include <hemicontact/mesh/mesh.hpp>
+#include <hemicontact/problem/model.hpp>
+#include <hemicontact/problem/solve_options.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace hemicontact {
+
+/// Build the mesh of a scene (generator or Gmsh file) and tag its boundary parts.
+/// @param scene effective scene; @param scene_dir directory that relative paths are taken from.
+Mesh build_mesh(const nlohmann::json& scene, const std::string& scene_dir);
+
+/// Check the cells and tag the boundary parts of @p mesh from the scene's "boundary" selectors
+/// (and scale the tractions by loads.scale).
+void assign_scene_boundary(Mesh& mesh, const nlohmann::json& scene);
+
+/// Build the model from an effective scene and a mesh whose boundary parts are already assigned
+/// (assign_scene_boundary); the scene's "mesh" block is then not read. Used by tests and studies.
+Model build_model(const nlohmann::json& scene, Mesh mesh);
+
+/// Build the whole model from an effective (validated) scene.
+/// @throws Error naming the key for every semantic input problem (no Γ1, negative g, ν ≥ 0.5, ...).
+Model build_model(const nlohmann::json& scene, const std::string& scene_dir);
+
+/// @return the options of an effective scene.
+SolveOptions solve_options_from_scene(const nlohmann::json& scene);
+
+}  // namespace hemicontact

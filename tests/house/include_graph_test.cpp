@@ -1,0 +1,122 @@
+// The house as drawn (README "Layout"): folders form layers and every `#include <hemicontact/X/...>`
+// points down (or within its own folder), so the folder-level include graph has no cycle.
+//
+//   core, config                                   0  types, errors, logging
+//   mesh, material, nlp                            1  geometry; the law F; the abstract NLP + backends
+//   contact                                        2  Γ3 nodes, p_ν, F_b, smoothing (reads mesh)
+//   fem                                            3  P1 kernels, assembly (linear and nonlinear), dofs, CHOLMOD
+//   energy                                         4  the terms of Π_λ (reads fem, contact, nlp)
+//   problem                                        5  Model, Solution and the result records every stage passes on
+//   check                                          6  contact state, statuses, certificate, (21)
+//   scene                                          7  scene input: schema, validation, building the Model
+//   driver                                         8  solve (continuation, fixed point, polish), minima, convergence
+//   output                                         9  writers: report.json, VTU, CSV, study tables
+//   cli                                            10 the program
+//
+// The test reads the sources, so it fails the moment an include climbs a layer.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::map<std::string, int> LAYER = {
+    {"core", 0},    {"config", 0},  {"mesh", 1},  {"material", 1}, {"nlp", 1},     {"contact", 2},
+    {"fem", 3},     {"energy", 4},  {"problem", 5}, {"check", 6},  {"scene", 7},   {"driver", 8},
+    {"output", 9},  {"cli", 10}};
+
+struct Edge {
+  std::string from, to, file;
+};
+
+/// Folder of a source path below include/hemicontact/ or src/ ("config" for config.hpp.in).
+std::string folder_of(const fs::path& rel) {
+  const std::string first = rel.begin()->string();
+  return rel.has_parent_path() ? first : "config";
+}
+
+std::vector<Edge> include_edges() {
+  const fs::path root(HEMICONTACT_SOURCE_DIR);
+  const std::regex inc(R"(^\s*#\s*include\s*<hemicontact/([a-z_]+)(/|\.hpp>))");
+  std::vector<Edge> edges;
+  for (const fs::path base : {root / "include" / "hemicontact", root / "src"})
+    for (const auto& e : fs::recursive_directory_iterator(base)) {
+      if (!e.is_regular_file()) continue;
+      const std::string ext = e.path().extension().string();
+      if (ext != ".hpp" && ext != ".cpp" && ext != ".in") continue;
+      const std::string from = folder_of(fs::relative(e.path(), base));
+      std::ifstream in(e.path());
+      std::string line;
+      std::smatch m;
+      while (std::getline(in, line))
+        if (std::regex_search(line, m, inc)) {
+          const std::string to = m[2] == "/" ? m[1].str() : "config";
+          edges.push_back({from, to, fs::relative(e.path(), root).string()});
+        }
+    }
+  return edges;
+}
+
+}  // namespace
+
+TEST(House, EveryFolderHasALayer) {
+  const fs::path root(HEMICONTACT_SOURCE_DIR);
+  std::set<std::string> unknown;
+  for (const fs::path base : {root / "include" / "hemicontact", root / "src"})
+    for (const auto& e : fs::directory_iterator(base))
+      if (e.is_directory() && !LAYER.count(e.path().filename().string())) unknown.insert(e.path().filename().string());
+  for (const auto& f : unknown) ADD_FAILURE() << "folder '" << f << "' has no layer in the table above";
+}
+
+TEST(House, IncludesPointDownOnly) {
+  const std::vector<Edge> edges = include_edges();
+  ASSERT_GT(edges.size(), 100u);  // the sources were found
+  for (const Edge& e : edges) {
+    ASSERT_TRUE(LAYER.count(e.from)) << e.file;
+    ASSERT_TRUE(LAYER.count(e.to)) << e.file << " includes unknown folder " << e.to;
+    if (e.from == e.to) continue;
+    EXPECT_LT(LAYER.at(e.to), LAYER.at(e.from))
+        << e.file << ": " << e.from << " (layer " << LAYER.at(e.from) << ") includes " << e.to << " (layer "
+        << LAYER.at(e.to) << ")";
+  }
+}
+
+// Implied by the layers, and the property the house needs: no folder reaches itself.
+TEST(House, FolderGraphHasNoCycle) {
+  std::map<std::string, std::set<std::string>> out;
+  for (const Edge& e : include_edges())
+    if (e.from != e.to) out[e.from].insert(e.to);
+  std::map<std::string, int> state;  // 0 new, 1 on the stack, 2 done
+  std::vector<std::string> stack;
+  std::string cycle;
+  std::function<void(const std::string&)> visit = [&](const std::string& v) {
+    state[v] = 1;
+    stack.push_back(v);
+    for (const auto& w : out[v]) {
+      if (!cycle.empty()) return;
+      if (state[w] == 1) {
+        std::ostringstream os;
+        for (auto it = std::find(stack.begin(), stack.end(), w); it != stack.end(); ++it) os << *it << " -> ";
+        cycle = os.str() + w;
+      } else if (state[w] == 0) {
+        visit(w);
+      }
+    }
+    stack.pop_back();
+    state[v] = 2;
+  };
+  for (const auto& [v, _] : out)
+    if (state[v] == 0) visit(v);
+  EXPECT_TRUE(cycle.empty()) << "include cycle: " << cycle;
+}
