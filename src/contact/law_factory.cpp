@@ -13,7 +13,7 @@ namespace {
 
 using json = nlohmann::json;
 
-// Defaults are injected as null (io/config), so "absent" and "null" mean the same: not set.
+// Defaults are injected as null (scene/config), so "absent" and "null" mean the same: not set.
 bool is_set(const json& obj, const std::string& key) {
   const auto it = obj.find(key);
   return it != obj.end() && !it->is_null();

@@ -189,6 +189,9 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.max_outer = s.at("fixed_point").at("max_iters").get<int>();
   o.relaxation = s.at("fixed_point").at("relaxation").get<double>();
   o.allow_not_converged = s.at("fixed_point").at("allow_not_converged").get<bool>();
+  o.contraction_floor = s.at("fixed_point").at("contraction_floor").get<double>();
+  o.stall_ratio = s.at("fixed_point").at("stall_ratio").get<double>();
+  o.stall_iters = s.at("fixed_point").at("stall_iters").get<int>();
   o.certificate_tol = scene.at("check").at("certificate_tol").get<double>();
   o.status_tol = scene.at("check").at("status_tol").get<double>();
   o.smallness = scene.at("check").at("smallness").get<bool>();

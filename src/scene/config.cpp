@@ -633,7 +633,7 @@ std::string table(const std::vector<const SchemaEntry*>& rows) {
 
 const char* const MARKDOWN_HEADER = R"(# Scene file format
 
-<!-- Generated from src/io/scene_schema.cpp by hemicontact::schema_markdown(); do not edit by hand.
+<!-- Generated from src/scene/scene_schema.cpp by hemicontact::schema_markdown(); do not edit by hand.
      Regenerate: HEMICONTACT_REGENERATE_DOCS=1 build-config/tests/hemicontact_tests --gtest_filter=SceneSchema.MarkdownMatchesDoc -->
 
 A scene is one JSON object. `hemicontact solve scene.json` reads it, applies the `--set`

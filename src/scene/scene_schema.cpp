@@ -5,7 +5,9 @@
 // Rows appear in documentation order. A parent row must come before its children; config.cpp
 // checks that, and that every default satisfies its own row, when it first indexes the table.
 
+#include <hemicontact/problem/solve_options.hpp>
 #include <hemicontact/scene/config.hpp>
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -89,6 +91,10 @@ void add_selector(std::vector<SchemaEntry>& t, const std::string& gamma, const s
 
 std::vector<SchemaEntry> build_scene_schema() {
   std::vector<SchemaEntry> t;
+  // The solver's and the check's defaults have one home, the member initialisers of SolveOptions
+  // (and its BackendOptions): the rows below inject those values, so a scene and a
+  // default-constructed SolveOptions (tests, benches) cannot disagree.
+  const SolveOptions D;
 
   t.push_back(key("/description", "string", "", "Free text; echoed in the report."));
 
@@ -246,55 +252,68 @@ std::vector<SchemaEntry> build_scene_schema() {
   // ε's and tolerances are relative to the displacement scale U so that one scene works at any
   // load level (STYLE.md §4).
   t.push_back(section("/solver", "NLP backend, smoothing and the outer loops (MODEL.md §2)."));
-  t.push_back(key("/solver/backend", "string", "ipopt",
+  t.push_back(key("/solver/backend", "string", D.backend,
                   "NLP backend by name: \"ipopt\", \"newton\", \"nlopt:LD_LBFGS\", ... (only those "
                   "compiled in)."));
-  t.push_back(key("/solver/formulation", "string", "auto",
+  t.push_back(key("/solver/formulation", "string", D.formulation,
                   "Unknowns the NLP sees: full = all free dofs; condensed = interior dofs "
                   "eliminated onto Γ3 by static condensation (one sparse factorization, a dense "
                   "problem on the Γ3 unknowns; exact for linear materials); auto = condensed for "
                   "a linear material with a Γ3, full otherwise.",
                   {"auto", "full", "condensed"}));
-  t.push_back(key("/solver/polish", "boolean", true,
+  t.push_back(key("/solver/polish", "boolean", D.polish,
                   "After the smoothed solve, solve the unsmoothed conditions of (22) exactly on the "
                   "identified statuses (condensed formulation, 2D); kept only if the statuses stay "
                   "and the certificate improves."));
-  t.push_back(above(key("/solver/tol", "number", 1e-12,
+  t.push_back(above(key("/solver/tol", "number", D.backend_options.tol,
                         "Backend first-order tolerance, on the nondimensionalized problem "
                         "(unknowns / U_s, energy / (‖f‖∞ U_s))."),
                     0));
-  t.push_back(at_least(key("/solver/max_iter", "integer", 3000, "Backend iterations per solve."), 1));
-  t.push_back(at_least(key("/solver/print_level", "integer", 0, "Backend verbosity (0 = silent)."), 0));
+  t.push_back(at_least(key("/solver/max_iter", "integer", D.backend_options.max_iter, "Backend iterations per solve."), 1));
+  t.push_back(at_least(key("/solver/print_level", "integer", D.backend_options.print_level, "Backend verbosity (0 = silent)."), 0));
   t.push_back(key("/solver/options", "object*", json::object(),
                   "Passed verbatim to the backend (e.g. Ipopt's mu_strategy); not checked here."));
-  t.push_back(above(key("/solver/eps_tau", "number", 1e-10,
+  t.push_back(above(key("/solver/eps_tau", "number", D.eps_tau,
                         "Final friction smoothing width ε_τ, relative to the displacement scale U."),
                     0));
   t.push_back(above(
-      key("/solver/eps_nu", "number", 1e-10, "Final width ε_ν of the mollified p_ν, relative to U."), 0));
+      key("/solver/eps_nu", "number", D.eps_nu, "Final width ε_ν of the mollified p_ν, relative to U."), 0));
   t.push_back(section("/solver/continuation", "Continuation in ε_τ, ε_ν with warm starts."));
-  t.push_back(above(key("/solver/continuation/eps_start", "number", 1e-2, "First ε, relative to U."), 0));
-  t.push_back(below(above(key("/solver/continuation/factor", "number", 1e-2,
+  t.push_back(above(key("/solver/continuation/eps_start", "number", D.eps_start, "First ε, relative to U."), 0));
+  t.push_back(below(above(key("/solver/continuation/factor", "number", D.eps_factor,
                               "ε is multiplied by it each step until eps_tau / eps_nu."),
                           0),
                     1));
   t.push_back(section("/solver/fixed_point", "Outer loop λ_i = F_b(u_ν,i) (MODEL.md §2)."));
-  t.push_back(above(key("/solver/fixed_point/tol_u", "number", 1e-12,
+  t.push_back(above(key("/solver/fixed_point/tol_u", "number", D.tol_u,
                         "Converged when the relative change of u on Γ3 and of λ is ≤ tol_u."),
                     0));
-  t.push_back(at_least(key("/solver/fixed_point/max_iters", "integer", 50, "Outer iteration limit."), 1));
+  t.push_back(at_least(key("/solver/fixed_point/max_iters", "integer", D.max_outer, "Outer iteration limit."), 1));
   t.push_back(at_most(
-      above(key("/solver/fixed_point/relaxation", "number", 1, "θ in λ ← (1−θ)λ + θ F_b(u_ν)."), 0), 1));
-  t.push_back(key("/solver/fixed_point/allow_not_converged", "boolean", false,
+      above(key("/solver/fixed_point/relaxation", "number", D.relaxation, "θ in λ ← (1−θ)λ + θ F_b(u_ν)."), 0), 1));
+  t.push_back(key("/solver/fixed_point/allow_not_converged", "boolean", D.allow_not_converged,
                   "true: reaching max_iters is a warning instead of an error."));
+  t.push_back(below(above(key("/solver/fixed_point/contraction_floor", "number", D.contraction_floor,
+                              "Updates ‖Δλ‖∞ at or below this × ‖λ‖∞ are the inner solves' round-off, "
+                              "not the map's contraction: they enter no contraction factor ρ_k."),
+                          0),
+                    1));
+  t.push_back(below(above(key("/solver/fixed_point/stall_ratio", "number", D.stall_ratio,
+                              "Non-contraction test: the update has not shrunk below this × the previous "
+                              "one for stall_iters outer iterations in a row → stop and say so."),
+                          0),
+                    1));
+  t.push_back(at_least(key("/solver/fixed_point/stall_iters", "integer", D.stall_iters,
+                           "See stall_ratio."),
+                       1));
 
   // ------------------------------------------------------------------ check
   t.push_back(section("/check", "Acceptance of the computed solution (MODEL.md §3, §4)."));
   t.push_back(above(
-      key("/check/certificate_tol", "number", 1e-8, "Largest normalized certificate residual accepted."), 0));
+      key("/check/certificate_tol", "number", D.certificate_tol, "Largest normalized certificate residual accepted."), 0));
   t.push_back(above(
-      key("/check/status_tol", "number", 1e-8, "Relative to U: decides stick / contact / separated."), 0));
-  t.push_back(key("/check/smallness", "boolean", true,
+      key("/check/status_tol", "number", D.status_tol, "Relative to U: decides stick / contact / separated."), 0));
+  t.push_back(key("/check/smallness", "boolean", D.smallness,
                   "Evaluate the smallness condition (21) (uniqueness guaranteed: yes/no); costs one "
                   "extra sparse factorization of the ε:ε Gram matrix."));
 
@@ -304,9 +323,6 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(key("/output/csv", "boolean", true, "One CSV row per Γ3 node."));
   t.push_back(key("/output/plot", "boolean", false, "Pictures (needs python3-matplotlib)."));
 
-  // ------------------------------------------------------------------ expected
-  t.push_back(key("/expected", "object*", json::object(),
-                  "Regression expectations read by tests/regression; ignored by the solver."));
   return t;
 }
 

@@ -21,7 +21,7 @@ using json = nlohmann::json;
 
 using hemicontact::test::expect_input_error;
 
-/// contact.normal_law as io/config delivers it: every key present, unused ones null.
+/// contact.normal_law as scene/config delivers it: every key present, unused ones null.
 json normal_law_obj(const json& set) {
   json obj = {{"type", nullptr},   {"c1", nullptr},         {"c2", nullptr},
               {"c3", nullptr},     {"r1", nullptr},         {"r2", nullptr},
@@ -30,7 +30,7 @@ json normal_law_obj(const json& set) {
   return obj;
 }
 
-/// contact.friction as io/config delivers it.
+/// contact.friction as scene/config delivers it.
 json friction_obj(const json& set) {
   json obj = {{"type", nullptr},   {"mu", nullptr},         {"bound", nullptr},
               {"points", nullptr}, {"slope_left", nullptr}, {"slope_right", nullptr}};

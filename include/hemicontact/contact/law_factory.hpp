@@ -1,7 +1,7 @@
 #pragma once
 /// @file law_factory.hpp  Build the normal law (32)–(33) and the friction bound (34)/(15) from the scene JSON.
 ///
-/// Input is the already schema-validated object with defaults injected (io/config), so every key
+/// Input is the already schema-validated object with defaults injected (scene/config), so every key
 /// below is present, unused ones as null. The factory still checks what the schema cannot:
 /// the type-dependent keys, the table rules and (15c), with errors naming the key path.
 ///

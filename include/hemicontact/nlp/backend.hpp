@@ -34,11 +34,12 @@ struct SolveResult {
   bool ok() const { return status == SolveStatus::CONVERGED || status == SolveStatus::ACCEPTABLE; }
 };
 
-/// Options common to all backends. Defaults live in the scene schema (io/config), not here;
-/// these member initialisers only keep a default-constructed struct usable in unit tests.
+/// Options common to all backends. These member initialisers are the defaults' one home: the
+/// scene schema (src/scene/scene_schema.cpp) injects them as solver.tol, solver.max_iter and
+/// solver.print_level.
 struct BackendOptions {
-  double tol = 1e-10;       ///< first-order tolerance, relative to the gradient scale at x0
-  int max_iter = 500;       ///< iteration cap
+  double tol = 1e-12;       ///< first-order tolerance, relative to the gradient scale at x0
+  int max_iter = 3000;      ///< iteration cap
   int print_level = 0;      ///< backend verbosity (0 = silent; our logger reports progress)
   /// Backend-specific options passed through verbatim (e.g. Ipopt "mu_strategy" -> "adaptive").
   /// Values are strings; numeric/integer Ipopt options are parsed from them.

@@ -1,7 +1,7 @@
 #pragma once
 /// @file solve_options.hpp  Every setting of a solve, read from the scene's "solver" and "check"
-/// blocks (scene/build_model.hpp: solve_options_from_scene); the defaults below are those of the
-/// scene schema (src/scene/scene_schema.cpp), which is their one home for scenes.
+/// blocks (scene/build_model.hpp: solve_options_from_scene). The member initialisers below are the
+/// defaults' one home: the scene schema (src/scene/scene_schema.cpp) injects these values.
 
 #include <hemicontact/nlp/backend.hpp>
 
@@ -9,7 +9,7 @@
 
 namespace hemicontact {
 
-/// Solver settings, read from the scene's "solver", "check" blocks (defaults live in the schema).
+/// Solver settings, read from the scene's "solver", "check" blocks (defaults: this struct).
 struct SolveOptions {
   std::string backend = "ipopt";   ///< NLP backend name
   std::string formulation = "auto";  ///< "full", "condensed" or "auto" (condensed for linear materials)

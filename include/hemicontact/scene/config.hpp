@@ -55,7 +55,7 @@ struct SchemaEntry {
 };
 
 /// @brief The scene schema: every key a scene may contain, in documentation order.
-/// @return the table, built once (defined in src/io/scene_schema.cpp).
+/// @return the table, built once (defined in src/scene/scene_schema.cpp).
 const std::vector<SchemaEntry>& scene_schema();
 
 /// @brief Validate a scene against scene_schema() and inject defaults.
