@@ -41,6 +41,8 @@
 #include <hemicontact/energy/total_energy.hpp>
 
 #include <Eigen/Eigenvalues>
+#include "support/fd_check.hpp"
+
 #include <gtest/gtest.h>
 #include <gtest/gtest-spi.h>
 
@@ -287,15 +289,8 @@ void check_fd(const Fn& fn, const Vec& x, const Vec& h, const Scales& s, const M
   const Vec g = fn.gradient(x);
   ASSERT_EQ(g.size(), n);
   const Mat H = symmetric_from_lower(fn.hessian(x, Psd::NONE));
-  Vec g_fd(n);
-  Mat H_fd(n, n);
-  for (Index j = 0; j < n; ++j) {
-    Vec xp = x, xm = x;
-    xp[j] += h[j];
-    xm[j] -= h[j];
-    g_fd[j] = (fn.value(xp) - fn.value(xm)) / (2 * h[j]);
-    H_fd.col(j) = (fn.gradient(xp) - fn.gradient(xm)) / (2 * h[j]);
-  }
+  const Vec g_fd = test::fd_gradient(fn.value, x, h);
+  const Mat H_fd = test::fd_jacobian(fn.gradient, x, h);
   double worst_g = 0, worst_h = 0;
   std::string where_g, where_h;
   const auto take = [](double err, double tol, double& worst, std::string& where, const std::string& w) {

@@ -16,31 +16,47 @@
 
 namespace hemicontact::test {
 
-/// Central-difference gradient of @p f at @p x with relative step @p h.
-inline Vec fd_gradient(const std::function<double(const Vec&)>& f, const Vec& x, double h = 1e-6) {
+/// Central-difference gradient of @p f at @p x with the step @p steps[i] in coordinate i (for
+/// functions with branches, whose steps must stay on one piece: tests/energy/energy_terms_test.cpp).
+inline Vec fd_gradient(const std::function<double(const Vec&)>& f, const Vec& x, const Vec& steps) {
   Vec g(x.size());
   for (Index i = 0; i < x.size(); ++i) {
-    const double step = h * std::max(1.0, std::abs(x[i]));
     Vec xp = x, xm = x;
-    xp[i] += step;
-    xm[i] -= step;
-    g[i] = (f(xp) - f(xm)) / (2 * step);
+    xp[i] += steps[i];
+    xm[i] -= steps[i];
+    g[i] = (f(xp) - f(xm)) / (2 * steps[i]);
   }
   return g;
 }
 
-/// Central-difference Jacobian of a vector function @p g (dense; for small test problems).
-inline Mat fd_jacobian(const std::function<Vec(const Vec&)>& g, const Vec& x, double h = 1e-6) {
-  const Vec g0 = g(x);
-  Mat J(g0.size(), x.size());
-  for (Index i = 0; i < x.size(); ++i) {
-    const double step = h * std::max(1.0, std::abs(x[i]));
+/// Central-difference Jacobian of a vector function @p g (dense; for small test problems) with the
+/// step @p steps[j] in coordinate j.
+inline Mat fd_jacobian(const std::function<Vec(const Vec&)>& g, const Vec& x, const Vec& steps) {
+  Mat J;
+  for (Index j = 0; j < x.size(); ++j) {
     Vec xp = x, xm = x;
-    xp[i] += step;
-    xm[i] -= step;
-    J.col(i) = (g(xp) - g(xm)) / (2 * step);
+    xp[j] += steps[j];
+    xm[j] -= steps[j];
+    const Vec col = (g(xp) - g(xm)) / (2 * steps[j]);
+    if (j == 0) J.resize(col.size(), x.size());
+    J.col(j) = col;
   }
   return J;
+}
+
+/// The relative steps h·max(1, |x_i|) of fd_gradient / fd_jacobian with a scalar @p h.
+inline Vec relative_steps(const Vec& x, double h) {
+  return (h * x.cwiseAbs().cwiseMax(1.0)).eval();
+}
+
+/// Central-difference gradient of @p f at @p x with relative step @p h.
+inline Vec fd_gradient(const std::function<double(const Vec&)>& f, const Vec& x, double h = 1e-6) {
+  return fd_gradient(f, x, relative_steps(x, h));
+}
+
+/// Central-difference Jacobian of a vector function @p g (dense; for small test problems).
+inline Mat fd_jacobian(const std::function<Vec(const Vec&)>& g, const Vec& x, double h = 1e-6) {
+  return fd_jacobian(g, x, relative_steps(x, h));
 }
 
 /// Assert ‖a − b‖∞ ≤ rtol·max(‖a‖∞, ‖b‖∞) + atol, printing both on failure.
