@@ -105,12 +105,11 @@ SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, cons
     c.note = "linear elasticity: the energy is a convex quadratic";
     return c;
   }
-  const Vec z = solver.to_unknowns(sol.x);
   // The energy of the lagged problem at the solution: final widths, λ frozen there.
-  solver.set_eps(opt.eps_tau, opt.eps_nu);
-  solver.freeze_friction(z);
-  const NlpObjective& f = solver.energy();
-  const NodalDofs& nd = solver.contact_dofs();
+  const ContactSolver::LaggedEnergy lagged = solver.lagged_energy(sol);
+  const NlpObjective& f = lagged.f;
+  const NodalDofs& nd = lagged.nd;
+  const Vec& z = lagged.z;
   const Index n = f.size();
   std::vector<bool> keep(static_cast<size_t>(n), true);
   Vec grad;

@@ -1,5 +1,7 @@
 #include <hemicontact/driver/polish.hpp>
 
+#include <hemicontact/check/evaluate.hpp>
+
 #include <Eigen/LU>
 
 #include <algorithm>

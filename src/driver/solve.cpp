@@ -71,25 +71,41 @@ std::string contraction_text(const std::vector<OuterIteration>& history) {
     if (std::isfinite(h.contraction)) last = h.contraction;
   return short_number(est) + " (last " + short_number(last) + ")";
 }
-}  // namespace
 
-void evaluate_solution(const Model& md, const SolveOptions& opt, Solution& sol) {
-  sol.state = contact_state(md, sol.u);
-  const double U = displacement_scale(md, sol.u);
-  sol.status = classify(md, sol.state, U, opt.status_tol);
-  sol.certificate = certify(md, sol.u, sol.state, opt.certificate_tol, opt.status_tol);
-  sol.a_uu = sol.u.dot(md.K * sol.u);
-  sol.f_u = md.f.dot(sol.u);
-  sol.j_term = sol.friction_term = 0;
-  for (Index k = 0; k < md.contact.size(); ++k) {
-    if (md.normal_law) sol.j_term += md.contact.w[k] * md.normal_law->j(sol.state.u_nu[k]);
-    sol.friction_term += md.contact.w[k] * sol.state.lambda[k] * sol.state.u_tau_vec.row(k).norm();
-  }
-  sol.elastic_energy = md.elastic_energy(sol.u);  // ½ uᵀK u (= ½ a_uu) for a linear law
-  sol.energy = sol.elastic_energy - sol.f_u + sol.j_term + sol.friction_term;
-  sol.energy_norm = std::sqrt(std::max(0.0, sol.a_uu));
-  sol.max_u_nu = md.contact.size() ? sol.state.u_nu.maxCoeff() : 0.0;
+// The progress line of one minimization (stderr).
+std::string outer_line(const OuterIteration& rec, int stage, const std::string& backend) {
+  std::ostringstream os;
+  os << "outer " << rec.k << " (stage " << stage << ", eps_tau " << std::setprecision(2) << rec.eps_tau
+     << ", eps_nu " << rec.eps_nu << "): " << backend << " " << to_string(rec.backend.status) << " in "
+     << rec.backend.iterations << " it, " << std::setprecision(3) << rec.backend.seconds
+     << " s; |dx_G3|/|x_G3| = " << std::setprecision(2) << rec.change_u << ", |dlambda|/|lambda| = "
+     << rec.change_lambda << ", first-order residual " << rec.grad_norm;
+  if (std::isfinite(rec.contraction)) os << ", contraction rho = " << rec.contraction;
+  return os.str();
 }
+
+std::string backend_failure(const std::string& backend, const OuterIteration& rec) {
+  return "backend " + backend + " failed at outer iteration " + std::to_string(rec.k) + ": " +
+         to_string(rec.backend.status) + " (" + rec.backend.message + ")";
+}
+
+std::string theta_text(const SolveOptions& opt) { return "relaxation theta = " + short_number(opt.relaxation); }
+
+std::string fixed_point_cap(const SolveOptions& opt, double change, const std::vector<OuterIteration>& history) {
+  return "fixed point lambda = F_b(u_nu) did not converge in " + std::to_string(opt.max_outer) +
+         " outer iterations (last change " + short_number(change) + ", contraction factor " +
+         contraction_text(history) + ", " + theta_text(opt) +
+         "); raise solver.fixed_point.max_iters, or if the factor is near or above 1 try a "
+         "smaller solver.fixed_point.relaxation";
+}
+
+std::string fixed_point_stall(const SolveOptions& opt, double change, const std::vector<OuterIteration>& history) {
+  return "fixed point lambda = F_b(u_nu) does not contract: the change (" + short_number(change) +
+         ") has not decreased for " + std::to_string(opt.stall_iters) + " outer iterations (contraction factor " +
+         contraction_text(history) + ", " + theta_text(opt) +
+         "); try a smaller solver.fixed_point.relaxation, e.g. " + short_number(0.5 * opt.relaxation);
+}
+}  // namespace
 
 namespace {
 
@@ -184,6 +200,7 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
 
 }  // namespace
 
+// The solve's working state and its steps, in the order solve() calls them (solve.hpp's pseudo-code).
 struct ContactSolver::Impl {
   const Model* model;  // the model the answers are evaluated on (a load-scaled copy: set_loads)
   SolveOptions opt;
@@ -198,7 +215,28 @@ struct ContactSolver::Impl {
   std::unique_ptr<ScaledObjective> scaled;
   NlpProblem prob;
   std::vector<std::pair<double, double>> schedule;  // (eps_tau, eps_nu), relative
+  bool lagged = false;  // λ = F_b(u_ν) depends on the answer: the outer fixed point runs
   Impl(const Model& m, const SolveOptions& o) : model(&m), opt(o) {}
+
+  /// One solve from a start: the answer being built and the iterate in scaled unknowns zs = z/U_s.
+  struct Run {
+    Solution sol;
+    Vec zs;
+    Vec prev_c;       // Γ3 unknowns after the previous minimization
+    int k_total = 0;  // minimizations so far
+  };
+
+  Solution header() const;
+  Solution linear_answer(clk::time_point t_start) const;
+  Run start(const Vec* z0);
+  bool run_stage(Run& run, size_t stage);
+  void set_smoothing(size_t stage);
+  OuterIteration minimize(Run& run, size_t stage);
+  void relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta);
+  void polish(Run& run);
+  void certify(Run& run, clk::time_point t_start) const;
+  Vec gamma3(const Vec& z) const;
+  Vec friction_bounds(const Vec& zs) const;
 };
 
 ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::make_unique<Impl>(md, opt)) {
@@ -235,6 +273,7 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
 
   I.F = make_formulation(md, opt, I.setup_timings);
   Formulation& F = I.F;
+  I.lagged = md.friction && md.friction->depends_on_u_nu();
   if (!md.material->is_linear()) {
     const std::string why = "condensation: nonlinear material, static condensation is not exact (formulation " +
                             F.name + ")";
@@ -310,177 +349,184 @@ Vec ContactSolver::to_unknowns(const Vec& x) const {
   return x.tail(m->F.cond->m());
 }
 
-const NlpObjective& ContactSolver::energy() const { return *m->F.energy; }
-
 const NodalDofs& ContactSolver::contact_dofs() const { return m->F.nd; }
 
-const Vec& ContactSolver::upper_bounds() const { return m->F.upper; }
-
-void ContactSolver::set_eps(double eps_tau, double eps_nu) {
+ContactSolver::LaggedEnergy ContactSolver::lagged_energy(const Solution& sol) {
   Impl& I = *m;
-  if (I.F.normal) I.F.normal->set_law(std::make_shared<MollifiedLaw>(I.model->normal_law, eps_nu * I.U_s, "solver.eps_nu"));
-  if (I.F.friction) I.F.friction->set_eps(eps_tau * I.U_s);
+  if (I.linear) throw Error("ContactSolver::lagged_energy: a linear solve has no contact energy", EXIT_INTERNAL);
+  const Vec z = to_unknowns(sol.x);
+  if (I.F.normal)
+    I.F.normal->set_law(std::make_shared<MollifiedLaw>(I.model->normal_law, I.opt.eps_nu * I.U_s, "solver.eps_nu"));
+  if (I.F.friction) {
+    I.F.friction->set_eps(I.opt.eps_tau * I.U_s);
+    Vec l(I.model->contact.size());
+    for (Index k = 0; k < I.model->contact.size(); ++k) l[k] = I.model->friction->F(z[I.F.nd.first[k]]);
+    I.F.friction->set_lambda(l);
+  }
+  return {*I.F.energy, z, I.F.nd};
 }
 
-void ContactSolver::freeze_friction(const Vec& z) {
-  Impl& I = *m;
-  if (!I.F.friction) return;
-  Vec l(I.model->contact.size());
-  for (Index k = 0; k < I.model->contact.size(); ++k) l[k] = I.model->friction->F(z[I.F.nd.first[k]]);
-  I.F.friction->set_lambda(l);
-}
-
+// The algorithm (solve.hpp): ε-continuation stages, each a minimization with λ frozen and a
+// relaxed λ update (to the fixed point at the final ε), then the exact polish and the certificate.
 Solution ContactSolver::solve(const Vec* z0) {
   const auto t_start = clk::now();
   Impl& I = *m;
-  const Model& md = *I.model;
-  const SolveOptions& opt = I.opt;
+  if (I.linear) return I.linear_answer(t_start);
+  Impl::Run run = I.start(z0);
+  for (size_t stage = 0; stage < I.schedule.size(); ++stage)
+    if (!I.run_stage(run, stage)) break;  // the backend failed: polish and judge what we have
+  I.polish(run);
+  I.certify(run, t_start);
+  return std::move(run.sol);
+}
+
+// What every answer carries from the set-up.
+Solution ContactSolver::Impl::header() const {
   Solution sol;
-  sol.backend = I.backend->name();
-  sol.skipped = I.skipped;
-  sol.smallness = I.smallness;
-  sol.timings = I.setup_timings;
-  if (I.linear) {
-    sol.backend = "none (CHOLMOD linear solve)";
-    sol.x = I.x_linear;
-    sol.u = md.dofs.to_full(sol.x);
-    evaluate_solution(md, opt, sol);
-    sol.timings["solve_total"] = since(t_start) + I.setup_timings["setup_total"];
-    sol.message = sol.certificate.passed ? "linear solve; certificate passed" : "linear solve; certificate failed";
-    return sol;
-  }
-  Formulation& F = I.F;
-  NlpBackend* backend = I.backend.get();
-  const NlpProblem& prob = I.prob;
-  const ScaledObjective& scaled = *I.scaled;
-  const auto& schedule = I.schedule;
-  const double U_s = I.U_s;
-  const Index nc = md.contact.size();
-  const int d = md.dim();
-  sol.formulation = F.name;
-  sol.x_scale = U_s;
-  sol.f_scale = I.F_s * U_s;
-  const bool lagged = md.friction && md.friction->depends_on_u_nu();
+  sol.backend = backend->name();
+  sol.skipped = skipped;
+  sol.smallness = smallness;
+  sol.timings = setup_timings;
+  return sol;
+}
 
-  Vec zs = z0 ? Vec(*z0 / U_s) : Vec::Zero(F.energy->size());  // scaled unknowns
-  if (zs.size() != F.energy->size()) throw Error("solve: start vector of the wrong size", EXIT_INTERNAL);
-  zs = zs.cwiseMax(prob.lower).cwiseMin(prob.upper);
-  const auto gamma3 = [&](const Vec& z) {
-    Vec c(nc * d);
-    for (Index k = 0; k < nc; ++k) c.segment(d * k, d) = z.segment(F.nd.first[k], d);
-    return c;
-  };
-  const auto bounds_of = [&](const Vec& z) {
-    Vec l(nc);
-    for (Index k = 0; k < nc; ++k) l[k] = md.friction->F(U_s * z[F.nd.first[k]]);
-    return l;
-  };
-  if (F.friction) F.friction->set_lambda(bounds_of(zs));
+Solution ContactSolver::Impl::linear_answer(clk::time_point t_start) const {
+  Solution sol = header();
+  sol.backend = "none (CHOLMOD linear solve)";
+  sol.x = x_linear;
+  sol.u = model->dofs.to_full(sol.x);
+  evaluate_solution(*model, opt, sol);
+  sol.timings["solve_total"] = since(t_start) + setup_timings.at("setup_total");
+  sol.message = sol.certificate.passed ? "linear solve; certificate passed" : "linear solve; certificate failed";
+  return sol;
+}
 
-  Vec prev_c = gamma3(zs);
-  int k_total = 0;
-  sol.fixed_point_converged = true;
-  for (size_t stage = 0; stage < schedule.size() && sol.backend_ok; ++stage) {
-    const auto [et, en] = schedule[stage];
-    if (F.normal) F.normal->set_law(std::make_shared<MollifiedLaw>(md.normal_law, en * U_s, "solver.eps_nu"));
-    if (F.friction) F.friction->set_eps(et * U_s);
-    if (stage == 0) sol.start_energy = F.energy->value(U_s * zs);
-    const bool final_stage = stage + 1 == schedule.size();
-    double prev_change = INF;
-    int slow = 0;
-    double prev_delta = INF;  // ‖Δλ‖∞ of the previous update in this stage
-    for (int it = 0;; ++it) {
-      OuterIteration rec;
-      rec.k = k_total++;
-      rec.stage = static_cast<int>(stage);
-      rec.eps_tau = et * U_s;
-      rec.eps_nu = en * U_s;
-      rec.backend = backend->minimize(prob, zs, opt.backend_options);
-      const Vec c = gamma3(zs);
-      rec.change_u = rel_change(c, prev_c);
-      prev_c = c;
-      rec.grad_norm = first_order_residual(scaled, zs, prob.lower, prob.upper);
-      if (lagged) {
-        const Vec lam_old = F.friction->lambda();
-        const Vec lam = (1 - opt.relaxation) * lam_old + opt.relaxation * bounds_of(zs);
-        rec.change_lambda = rel_change(lam, lam_old);
-        rec.delta_lambda = (lam - lam_old).cwiseAbs().maxCoeff();
-        // ρ_k of the relaxed map, from two successive updates at the same ε, both above the
-        // inner solves' round-off (contraction_floor): λ rather than u because λ is the variable
-        // the map iterates (λ ↦ F_b(u_ν(λ))); u_ν(λ) is a solution operator with its own scale.
-        const double noise =
-            opt.contraction_floor * std::max(lam.cwiseAbs().maxCoeff(), lam_old.cwiseAbs().maxCoeff());
-        if (final_stage && it > 0 && prev_delta > noise && rec.delta_lambda > noise)
-          rec.contraction = rec.delta_lambda / prev_delta;
-        prev_delta = rec.delta_lambda;
-        F.friction->set_lambda(lam);
-      }
-      sol.history.push_back(rec);
-      std::ostringstream os;
-      os << "outer " << rec.k << " (stage " << stage << ", eps_tau " << std::setprecision(2) << rec.eps_tau
-         << ", eps_nu " << rec.eps_nu << "): " << backend->name() << " " << to_string(rec.backend.status) << " in "
-         << rec.backend.iterations << " it, " << std::setprecision(3) << rec.backend.seconds
-         << " s; |dx_G3|/|x_G3| = " << std::setprecision(2) << rec.change_u << ", |dlambda|/|lambda| = "
-         << rec.change_lambda << ", first-order residual " << rec.grad_norm;
-      if (std::isfinite(rec.contraction)) os << ", contraction rho = " << rec.contraction;
-      log_info() << os.str();
-      if (!rec.backend.ok()) {
-        sol.backend_ok = false;
-        sol.message = "backend " + backend->name() + " failed at outer iteration " + std::to_string(rec.k) +
-                      ": " + to_string(rec.backend.status) + " (" + rec.backend.message + ")";
-        break;
-      }
-      if (!lagged || !final_stage) break;  // coarse stages: one lagged update each
-      const double change = std::max(rec.change_u, rec.change_lambda);
-      if (it > 0 && change <= opt.tol_u) break;
-      const std::string theta = "relaxation theta = " + short_number(opt.relaxation);
-      if (it + 1 >= opt.max_outer) {
-        sol.fixed_point_converged = false;
-        sol.message = "fixed point lambda = F_b(u_nu) did not converge in " + std::to_string(opt.max_outer) +
-                      " outer iterations (last change " + short_number(change) + ", contraction factor " +
-                      contraction_text(sol.history) + ", " + theta +
-                      "); raise solver.fixed_point.max_iters, or if the factor is near or above 1 try a "
-                      "smaller solver.fixed_point.relaxation";
-        break;
-      }
-      // Non-contraction: the change has not shrunk by 1 − stall_ratio for stall_iters iterations in
-      // a row (an oscillating or diverging λ; large μ·slope of p_ν, MODEL.md §1 (21)).
-      slow = (change > opt.stall_ratio * prev_change) ? slow + 1 : 0;
-      prev_change = change;
-      if (slow >= opt.stall_iters) {
-        sol.fixed_point_converged = false;
-        sol.message = "fixed point lambda = F_b(u_nu) does not contract: the change (" + short_number(change) +
-                      ") has not decreased for " + std::to_string(opt.stall_iters) +
-                      " outer iterations (contraction factor " + contraction_text(sol.history) + ", " + theta +
-                      "); try a smaller solver.fixed_point.relaxation, e.g. " +
-                      short_number(0.5 * opt.relaxation);
-        break;
-      }
+// The start z0 (zero by default) in scaled unknowns, projected onto the bounds, with λ frozen there.
+ContactSolver::Impl::Run ContactSolver::Impl::start(const Vec* z0) {
+  Run run;
+  run.sol = header();
+  run.sol.formulation = F.name;
+  run.sol.x_scale = U_s;
+  run.sol.f_scale = F_s * U_s;
+  run.zs = z0 ? Vec(*z0 / U_s) : Vec::Zero(F.energy->size());
+  if (run.zs.size() != F.energy->size()) throw Error("solve: start vector of the wrong size", EXIT_INTERNAL);
+  run.zs = run.zs.cwiseMax(prob.lower).cwiseMin(prob.upper);
+  if (F.friction) F.friction->set_lambda(friction_bounds(run.zs));
+  run.prev_c = gamma3(run.zs);
+  run.sol.fixed_point_converged = true;
+  return run;
+}
+
+// One continuation stage: minimize with λ frozen, relax λ; a coarse stage takes one lagged update,
+// the final stage iterates to the fixed point λ = F_b(u_ν) or says why it stopped.
+// @return false when the backend failed (the run stops).
+bool ContactSolver::Impl::run_stage(Run& run, size_t stage) {
+  set_smoothing(stage);
+  if (stage == 0) run.sol.start_energy = F.energy->value(U_s * run.zs);
+  const bool final_stage = stage + 1 == schedule.size();
+  double prev_change = INF;
+  int slow = 0;
+  double prev_delta = INF;  // ‖Δλ‖∞ of the previous update in this stage
+  for (int it = 0;; ++it) {
+    OuterIteration rec = minimize(run, stage);
+    if (lagged) relax_lambda(run, rec, final_stage && it > 0, prev_delta);
+    run.sol.history.push_back(rec);
+    log_info() << outer_line(rec, static_cast<int>(stage), backend->name());
+    if (!rec.backend.ok()) {
+      run.sol.backend_ok = false;
+      run.sol.message = backend_failure(backend->name(), rec);
+      return false;
+    }
+    if (!lagged || !final_stage) return true;  // coarse stages: one lagged update each
+    const double change = std::max(rec.change_u, rec.change_lambda);
+    if (it > 0 && change <= opt.tol_u) return true;
+    if (it + 1 >= opt.max_outer) {
+      run.sol.fixed_point_converged = false;
+      run.sol.message = fixed_point_cap(opt, change, run.sol.history);
+      return true;
+    }
+    // Non-contraction: the change has not shrunk by 1 − stall_ratio for stall_iters iterations in
+    // a row (an oscillating or diverging λ; large μ·slope of p_ν, MODEL.md §1 (21)).
+    slow = (change > opt.stall_ratio * prev_change) ? slow + 1 : 0;
+    prev_change = change;
+    if (slow >= opt.stall_iters) {
+      run.sol.fixed_point_converged = false;
+      run.sol.message = fixed_point_stall(opt, change, run.sol.history);
+      return true;
     }
   }
-  sol.contraction_estimate = contraction_estimate(sol.history);
+}
 
-  Vec z = U_s * zs;
-  // Polished even after a backend failure: the certificate, not the backend's word, decides.
+// The smoothing widths of a stage (absolute: relative widths × U_s).
+void ContactSolver::Impl::set_smoothing(size_t stage) {
+  const auto [et, en] = schedule[stage];
+  if (F.normal) F.normal->set_law(std::make_shared<MollifiedLaw>(model->normal_law, en * U_s, "solver.eps_nu"));
+  if (F.friction) F.friction->set_eps(et * U_s);
+}
+
+// x ← argmin Π_λ,ε (warm start), recorded with the change on Γ3 and the first-order residual.
+OuterIteration ContactSolver::Impl::minimize(Run& run, size_t stage) {
+  OuterIteration rec;
+  rec.k = run.k_total++;
+  rec.stage = static_cast<int>(stage);
+  rec.eps_tau = schedule[stage].first * U_s;
+  rec.eps_nu = schedule[stage].second * U_s;
+  rec.backend = backend->minimize(prob, run.zs, opt.backend_options);
+  const Vec c = gamma3(run.zs);
+  rec.change_u = rel_change(c, run.prev_c);
+  run.prev_c = c;
+  rec.grad_norm = first_order_residual(*scaled, run.zs, prob.lower, prob.upper);
+  return rec;
+}
+
+// λ ← (1−θ)λ + θ F_b(u_ν), with the change and (when @p measure_contraction) the contraction ρ_k.
+void ContactSolver::Impl::relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction,
+                                       double& prev_delta) {
+  const Vec lam_old = F.friction->lambda();
+  const Vec lam = (1 - opt.relaxation) * lam_old + opt.relaxation * friction_bounds(run.zs);
+  rec.change_lambda = rel_change(lam, lam_old);
+  rec.delta_lambda = (lam - lam_old).cwiseAbs().maxCoeff();
+  // ρ_k of the relaxed map, from two successive updates at the same ε, both above the
+  // inner solves' round-off (contraction_floor): λ rather than u because λ is the variable
+  // the map iterates (λ ↦ F_b(u_ν(λ))); u_ν(λ) is a solution operator with its own scale.
+  const double noise = opt.contraction_floor * std::max(lam.cwiseAbs().maxCoeff(), lam_old.cwiseAbs().maxCoeff());
+  if (measure_contraction && prev_delta > noise && rec.delta_lambda > noise)
+    rec.contraction = rec.delta_lambda / prev_delta;
+  prev_delta = rec.delta_lambda;
+  F.friction->set_lambda(lam);
+}
+
+// The exact polish on the identified statuses (driver/polish.hpp), then x and u. Polished even
+// after a backend failure: the certificate, not the backend's word, decides.
+void ContactSolver::Impl::polish(Run& run) {
+  Solution& sol = run.sol;
+  sol.contraction_estimate = contraction_estimate(sol.history);
+  Vec z = U_s * run.zs;
   if (F.cond && opt.polish && sol.fixed_point_converged) {
     const auto t1 = clk::now();
-    sol.polish = polish_condensed(md, *F.cond, opt, z, F.load_scale);
+    sol.polish = polish_condensed(*model, *F.cond, opt, z, F.load_scale);
     sol.timings["polish"] = since(t1);
     log_info() << "polish: " << (sol.polish.accepted ? "accepted" : "rejected") << ", certificate "
                << sol.polish.before << " -> " << sol.polish.after << " in " << sol.polish.iterations
-               << (md.dim() == 3 ? " Newton iterations" : " lambda iterations") << (sol.polish.note.empty() ? "" : " (" + sol.polish.note + ")");
+               << (model->dim() == 3 ? " Newton iterations" : " lambda iterations")
+               << (sol.polish.note.empty() ? "" : " (" + sol.polish.note + ")");
   } else if (!F.cond) {
     sol.skipped.push_back("polish: needs the condensed formulation");
   }
   sol.x = F.to_x(z);
-  sol.u = md.dofs.to_full(sol.x);
+  sol.u = model->dofs.to_full(sol.x);
+}
+
+// The certificate of the answer (MODEL.md §4), the timings and the verdict.
+void ContactSolver::Impl::certify(Run& run, clk::time_point t_start) const {
+  Solution& sol = run.sol;
   auto t1 = clk::now();
-  evaluate_solution(md, opt, sol);
+  evaluate_solution(*model, opt, sol);
   sol.timings["certificate"] = since(t1);
   double nlp = 0;
   for (const auto& h : sol.history) nlp += h.backend.seconds;
   sol.timings["backend"] = nlp;
-  sol.timings["solve_total"] = since(t_start) + I.setup_timings["setup_total"];
+  sol.timings["solve_total"] = since(t_start) + setup_timings.at("setup_total");
   if (!sol.backend_ok && sol.certificate.passed)
     sol.message += "; the certificate passed all the same (max residual " +
                    std::to_string(sol.certificate.max_residual) + "), so the answer is accepted";
@@ -489,7 +535,22 @@ Solution ContactSolver::solve(const Vec* z0) {
                                          : "converged, but the certificate failed (max residual " +
                                                std::to_string(sol.certificate.max_residual) + ")";
   if (!sol.fixed_point_converged) log_warn() << sol.message;
-  return sol;
+}
+
+// The Γ3 unknowns (d per node, node order) of solver unknowns z.
+Vec ContactSolver::Impl::gamma3(const Vec& z) const {
+  const Index nc = model->contact.size();
+  const int d = model->dim();
+  Vec c(nc * d);
+  for (Index k = 0; k < nc; ++k) c.segment(d * k, d) = z.segment(F.nd.first[k], d);
+  return c;
+}
+
+// λ_i = F_b(u_ν,i) at scaled unknowns zs.
+Vec ContactSolver::Impl::friction_bounds(const Vec& zs) const {
+  Vec l(model->contact.size());
+  for (Index k = 0; k < model->contact.size(); ++k) l[k] = model->friction->F(U_s * zs[F.nd.first[k]]);
+  return l;
 }
 
 Solution solve(const Model& md, const SolveOptions& opt) {

@@ -24,8 +24,10 @@
 /// status system is solved by Newton's method with the exact Jacobian of the unit vector
 /// ((I − t tᵀ)/|u_τ|) and of λ = F_b(x_ν) (PolishResult::iterations counts Newton steps there).
 
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/condensation.hpp>
+#include <hemicontact/problem/model.hpp>
+#include <hemicontact/problem/reports.hpp>
+#include <hemicontact/problem/solve_options.hpp>
 
 namespace hemicontact {
 

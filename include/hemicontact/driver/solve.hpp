@@ -1,13 +1,22 @@
 #pragma once
 /// @file solve.hpp  The design's solve: min Π_λ subject to u_ν ≤ g, smoothed, handed to an NLP
 /// backend, with ε-continuation and the outer fixed point λ_i = F_b(u_ν,i) (MODEL.md §2).
+/// ContactSolver::solve() is this, one named step per line (src/driver/solve.cpp):
 ///
-///   for ε in the continuation schedule (large → small, warm-started):
-///     repeat: freeze λ ← (1−θ)λ + θ F_b(u_ν); x ← argmin Π_λ,ε (backend, warm start)
-///     — once per coarse ε, until ‖Δx_Γ3‖/‖x_Γ3‖ ≤ tol_u and ‖Δλ‖/‖λ‖ ≤ tol_u at the final ε.
+///   start:       z ← z0 projected onto the bounds; λ ← F_b(u_ν(z))
+///   for each stage ε of the continuation schedule (large → small, warm-started):   run_stage
+///     set_smoothing(ε)
+///     repeat:    z ← argmin Π_λ,ε (backend, warm start)                           minimize
+///                λ ← (1−θ)λ + θ F_b(u_ν(z))                                      relax_lambda
+///     — once per coarse ε; at the final ε until ‖Δz_Γ3‖/‖z_Γ3‖ ≤ tol_u and ‖Δλ‖/‖λ‖ ≤ tol_u, or
+///       the cap / the non-contraction test stops it with a message naming the remedy
+///   polish:      solve the unsmoothed conditions of (22) on the identified statuses (polish.hpp)
+///   certify:     the certificate of u (MODEL.md §4) decides; timings and the verdict
+///
 /// Skipped when not needed (and said so in the report): no friction or F_b independent of u_ν →
 /// no outer loop; no soft layer → no j_ν term; g = ∞ → no bounds; nothing to smooth → no continuation.
 
+#include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/nlp/backend.hpp>
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
@@ -44,17 +53,17 @@ class ContactSolver {
   const std::string& formulation() const;
   /// @return the solver unknowns of a reduced vector x (its Γ3 tail when condensed).
   Vec to_unknowns(const Vec& x) const;
-  /// @return the smoothed energy Π_λ,ε in solver unknowns (unscaled); its λ and ε are whatever the
-  /// last solve or set_eps()/freeze_friction() left.
-  const NlpObjective& energy() const;
   /// @return where each Γ3 node's (ν, τ) unknowns are in the solver unknowns.
   const NodalDofs& contact_dofs() const;
-  /// @return the upper bounds (g_i on the ν unknowns, +inf elsewhere).
-  const Vec& upper_bounds() const;
-  /// Set the smoothing widths (relative to the displacement scale) of energy().
-  void set_eps(double eps_tau, double eps_nu);
-  /// Freeze λ_i = F_b(u_ν,i) at solver unknowns @p z in energy().
-  void freeze_friction(const Vec& z);
+  /// The lagged problem's energy at a solution, for second-order checks (driver/minima.hpp).
+  struct LaggedEnergy {
+    const NlpObjective& f;  ///< Π_λ,ε in solver unknowns (unscaled), final widths, λ frozen at z
+    Vec z;                  ///< the solution in solver unknowns
+    const NodalDofs& nd;    ///< where each Γ3 node's (ν, τ) unknowns are in z
+  };
+  /// Set the final smoothing widths, freeze λ_i = F_b(u_ν,i) at @p sol, and return that energy.
+  /// Not for a linear solve (formulation() empty).
+  LaggedEnergy lagged_energy(const Solution& sol);
   /// Switch the NLP backend, keeping the factorization and everything else (minima over backends).
   void set_backend(const std::string& name);
   /// Solve from now on for loads @p s × the original model's, keeping the factorization: only
@@ -74,8 +83,5 @@ Solution solve(const Model& model, const SolveOptions& options);
 /// @return the geometric mean of the defined contraction factors ρ_k of @p history (NaN if none).
 double contraction_estimate(const std::vector<OuterIteration>& history);
 
-/// Unsmoothed energy parts and certificate of a given full displacement (fills the Solution's
-/// state, status, certificate and energies).
-void evaluate_solution(const Model& model, const SolveOptions& options, Solution& sol);
 
 }  // namespace hemicontact

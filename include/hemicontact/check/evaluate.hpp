@@ -1,0 +1,16 @@
+#pragma once
+/// @file evaluate.hpp  What a displacement is worth on the unsmoothed problem (22): its Γ3 state,
+/// statuses, certificate (MODEL.md §4) and energies. The solve, the polish and the studies all
+/// judge a candidate with this one function.
+
+#include <hemicontact/problem/model.hpp>
+#include <hemicontact/problem/solution.hpp>
+#include <hemicontact/problem/solve_options.hpp>
+
+namespace hemicontact {
+
+/// Unsmoothed energy parts and certificate of a given full displacement (fills the Solution's
+/// state, status, certificate and energies).
+void evaluate_solution(const Model& model, const SolveOptions& options, Solution& sol);
+
+}  // namespace hemicontact
