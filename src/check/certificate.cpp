@@ -112,14 +112,18 @@ CertificateReport certify(const Model& md, const Vec& u, const ContactState& s, 
   const auto take = [](CertificateResidual& c, double v, Index at) {
     if (v > c.value || std::isnan(v)) { c.value = std::isnan(v) ? INF : v; c.worst = at; }
   };
+  // std::max(0, NaN) and std::min(x, NaN) drop the NaN: these keep it, so that take() reads a
+  // non-finite state as an infinite residual, never as a pass.
+  const auto pos = [](double v) { return std::isnan(v) ? v : std::max(0.0, v); };
+  const auto min_nan = [](double a, double b) { return std::isnan(a) || std::isnan(b) ? NAN : std::min(a, b); };
   for (Index k = 0; k < n; ++k) {
     const double g = md.contact.g[k];
     const double un = s.u_nu[k], sn = s.sigma_nu[k] + s.xi[k];
-    take(feas, std::max(0.0, un - g) / U, k);
-    take(normal, std::max(0.0, sn) / S, k);
-    take(compl_, std::abs(std::min((g - un) / U, -sn / S)), k);
+    take(feas, pos(un - g) / U, k);
+    take(normal, pos(sn) / S, k);
+    take(compl_, std::abs(min_nan((g - un) / U, -sn / S)), k);
     const double st = d == 2 ? std::abs(s.sigma_tau[k]) : s.sigma_tau[k];
-    take(cone, std::max(0.0, st - s.lambda[k]) / S, k);
+    take(cone, pos(st - s.lambda[k]) / S, k);
     const double y = s.u_tau_vec.row(k).norm();
     if (y > status_tol * U) {
       // −σ_τ = λ u_τ/|u_τ| on slipping nodes, eq. (6).
