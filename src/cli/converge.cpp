@@ -13,6 +13,7 @@
 // (scripts/plot_convergence.py). Exit code 3 (4) when a solve did not converge (certify).
 #include "cli.hpp"
 
+#include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/convergence.hpp>

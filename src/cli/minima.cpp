@@ -18,6 +18,7 @@
 // found, 3 when no run converged, 4 when runs converged but none certified.
 #include "cli.hpp"
 
+#include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/minima.hpp>

@@ -6,7 +6,6 @@
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
 #include <hemicontact/scene/config.hpp>
-#include <hemicontact/output/output_dir.hpp>
 
 #include <algorithm>
 #include <charconv>
@@ -21,7 +20,6 @@ namespace hemicontact {
 namespace {
 
 const double NaN = std::numeric_limits<double>::quiet_NaN();
-const char* const STATUS_KEYS[] = {"separated", "compliance", "contact", "stick", "slip+", "slip-", "slip"};
 
 // Shortest text that reads back to the same double; empty when not finite (CSV "no value").
 std::string num(double v) {
@@ -105,25 +103,6 @@ ConvergenceLevel solve_level(const Model& md, const SolveOptions& opt, const nlo
                << (r.converged ? "certificate failed (max residual " + num(r.certificate_residual) + ")"
                                : "not converged: " + sol.message);
   return r;
-}
-
-nlohmann::json level_json(const ConvergenceLevel& l) {
-  const auto finite_or_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
-  return {{"n", l.n},
-          {"h", l.h},
-          {"h_max", l.h_max},
-          {"dofs", l.dofs},
-          {"energy_norm", l.energy_norm},
-          {"error", finite_or_null(l.error)},
-          {"order", finite_or_null(l.order)},
-          {"seconds", l.seconds},
-          {"status_counts", l.status_counts},
-          {"certificate_max_residual", finite_or_null(l.certificate_residual)},
-          {"converged", l.converged},
-          {"certified", l.certified},
-          {"ok", l.ok},
-          {"nested", l.nested},
-          {"message", l.message}};
 }
 
 }  // namespace
@@ -272,83 +251,6 @@ RateFit fit_rate(const ConvergenceStudy& study, int max_levels) {
   }
   fit.valid = true;
   return fit;
-}
-
-nlohmann::json convergence_json(const ConvergenceStudy& study) {
-  nlohmann::json levels = nlohmann::json::array();
-  for (const auto& l : study.levels) levels.push_back(level_json(l));
-  const RateFit fit = fit_rate(study);
-  nlohmann::json rate = nullptr;
-  if (fit.valid)
-    rate = {{"alpha", fit.alpha}, {"C", fit.C}, {"levels_used", fit.levels_used},
-            {"max_rel_residual", fit.max_rel_residual},
-            {"model", "error = C * sqrt(h^(2 alpha) - h_ref^(2 alpha))"}};
-  return {{"reference", level_json(study.reference)},
-          {"levels", levels},
-          {"backend", study.backend},
-          {"ok", study.ok()},
-          {"failed", study.failed()},
-          {"scene", study.scene},
-          {"rate_fit", rate}};
-}
-
-void write_convergence_csv(const std::string& path, const ConvergenceStudy& study) {
-  std::string out = "n,h,h_max,dofs,energy_norm,error,order,seconds";
-  for (const char* k : STATUS_KEYS) out += std::string(",") + k;
-  out += ",certificate_max_residual,converged,certified,ok\n";
-  for (const auto& l : study.levels) {
-    out += std::to_string(l.n);
-    for (double v : {l.h, l.h_max}) out += "," + num(v);
-    out += "," + std::to_string(l.dofs);
-    for (double v : {l.energy_norm, l.error, l.order, l.seconds}) out += "," + num(v);
-    for (const char* k : STATUS_KEYS) {
-      const auto it = l.status_counts.find(k);
-      out += "," + std::to_string(it == l.status_counts.end() ? 0 : it->second);
-    }
-    out += "," + num(l.certificate_residual);
-    for (bool b : {l.converged, l.certified, l.ok}) out += b ? ",1" : ",0";
-    out += '\n';
-  }
-  write_text_file(path, out);
-}
-
-std::string convergence_table(const ConvergenceStudy& study) {
-  std::string out;
-  char line[256];
-  const auto row = [&](const ConvergenceLevel& l, const char* role) {
-    const auto& c = l.status_counts;
-    const auto get = [&](const char* k) { return c.count(k) ? c.at(k) : 0; };
-    char counts[64], order[32] = "-";
-    std::snprintf(counts, sizeof counts, "%d/%d/%d", get("separated"), get("compliance"), get("contact"));
-    if (std::isfinite(l.order)) std::snprintf(order, sizeof order, "%.3f", l.order);
-    std::snprintf(line, sizeof line, "%6d %10.4g %8lld %12.6g %12.4e %7s %9.3f %13s %11.3e %s%s\n", l.n, l.h,
-                  static_cast<long long>(l.dofs), l.energy_norm, l.error, order, l.seconds, counts,
-                  l.certificate_residual, l.ok ? "ok" : (l.converged ? "NOT CERTIFIED" : "NOT CONVERGED"), role);
-    out += line;
-  };
-  std::snprintf(line, sizeof line, "%6s %10s %8s %12s %12s %7s %9s %13s %11s %s\n", "n", "h", "dofs", "|u_h|_E",
-                "rel.error", "order", "solve [s]", "sep/com/con", "certificate", "verdict");
-  out += line;
-  for (const auto& l : study.levels) row(l, "");
-  row(study.reference, "  (reference)");
-  const RateFit fit = fit_rate(study);
-  if (fit.valid) {
-    std::snprintf(line, sizeof line,
-                  "reference-corrected rate (finest %d levels, error = C sqrt(h^2a - h_ref^2a)): a = %.3f, "
-                  "C = %.3g, fit residual %.1f%%\n",
-                  fit.levels_used, fit.alpha, fit.C, 100 * fit.max_rel_residual);
-    out += line;
-  }
-  const auto failed = study.failed();
-  if (failed.empty()) {
-    out += "all " + std::to_string(study.levels.size() + 1) + " solves converged and certified (backend " +
-           study.backend + ")\n";
-  } else {
-    out += "FAILED at n =";
-    for (size_t i = 0; i < failed.size(); ++i) out += (i ? ", " : " ") + std::to_string(failed[i]);
-    out += "\n";
-  }
-  return out;
 }
 
 }  // namespace hemicontact

@@ -108,23 +108,4 @@ std::vector<int> parse_levels(const std::string& text);
 ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string& scene_dir, std::vector<int> levels,
                                  int reference);
 
-/// @brief The study as JSON: {"reference": level, "levels": [level...], "backend", "ok", "failed",
-/// "scene", "rate_fit": {alpha, C, levels_used, max_rel_residual} or null} with each level {n, h, h_max, dofs, energy_norm, error, order, seconds, status_counts,
-/// certificate_max_residual, converged, certified, ok, nested, message}; NaN orders are null.
-/// @param study the study @return the JSON object
-nlohmann::json convergence_json(const ConvergenceStudy& study);
-
-/// @brief Write one CSV row per level (the reference is not a row), header
-/// @code
-///   n,h,h_max,dofs,energy_norm,error,order,seconds,separated,compliance,contact,stick,slip+,slip-,slip,certificate_max_residual,converged,certified,ok
-/// @endcode
-/// Numbers are written in full precision; the first level's order is empty; booleans are 0/1.
-/// @param path the file to write (its directory must exist) @param study the study
-/// @throws Error (EXIT_INPUT) if the file cannot be written
-void write_convergence_csv(const std::string& path, const ConvergenceStudy& study);
-
-/// @brief A fixed-width table for stdout: one line per level, then the reference and a verdict.
-/// @param study the study @return several lines, each ending in '\n'
-std::string convergence_table(const ConvergenceStudy& study);
-
 }  // namespace hemicontact

@@ -157,19 +157,4 @@ SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, cons
 /// @throws Error (EXIT_INPUT) naming @p context for a malformed or wrongly sized start
 std::vector<Vec> read_gamma3_starts(const nlohmann::json& js, const Model& md, const std::string& context);
 
-/// The report as JSON (minima.json): options, smallness, runs, and per distinct solution its
-/// energies, status counts, certificate, second-order check, starts, backends and Γ3 nodes
-/// (x, y, u_nu, u_tau, sigma_nu, sigma_tau, xi, lambda, status).
-/// @param md the model @param r the report @return the JSON object
-nlohmann::json minima_json(const Model& md, const MinimaReport& r);
-
-/// One CSV row per distinct solution (minima.csv): k, energy, energy_norm, type, lambda_min,
-/// certificate, n_starts, backends, starts, then the status counts.
-/// @param path the file @param r the report @throws Error (EXIT_INPUT) if it cannot be written
-void write_minima_csv(const std::string& path, const MinimaReport& r);
-
-/// The table printed by `hemicontact minima`: one line per distinct solution, then the runs
-/// that were not certified. @param r the report @return lines ending in '\n'
-std::string minima_table(const MinimaReport& r);
-
 }  // namespace hemicontact
