@@ -101,7 +101,7 @@ struct Formulation {
   NodalDofs nd;                              // Γ3 node k: z[nd.first[k] + c]
   Vec lower, upper;                          // bounds on z
   Vec z_free;                                // the unconstrained elastic solution, in z
-  std::unique_ptr<Condensation> cond;        // condensed only
+  std::shared_ptr<const Condensation> cond;  // condensed only (shared: the elastic term holds its S)
   std::shared_ptr<NormalComplianceEnergy> normal;
   std::shared_ptr<FrictionEnergy> friction;
   std::shared_ptr<CondensedElasticEnergy> condensed_elastic;  // condensed: holds y_C = (K⁻¹f)_C
@@ -131,12 +131,13 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
   F.nd.w = md.contact.w;
   auto t0 = clk::now();
   if (F.name == "condensed") {
-    F.cond = std::make_unique<Condensation>(md.Kx, md.fx, d * nc);
+    F.cond = std::make_shared<const Condensation>(md.Kx, md.fx, d * nc);
     timings["condensation_analyze"] = F.cond->analyze_seconds();
     timings["condensation_factorize"] = F.cond->factorize_seconds();
     timings["condensation_schur"] = F.cond->schur_seconds();
     F.energy = std::make_unique<TotalEnergy>(d * nc, dense_lower_pattern(d * nc));
-    F.condensed_elastic = std::make_shared<CondensedElasticEnergy>(F.cond->S(), F.cond->y_C(), F.cond->constant());
+    F.condensed_elastic = std::make_shared<CondensedElasticEnergy>(std::shared_ptr<const Mat>(F.cond, &F.cond->S()),
+                                                                   F.cond->y_C(), F.cond->constant());
     F.energy->add(F.condensed_elastic);
     for (Index k = 0; k < nc; ++k) F.nd.first.push_back(d * k);
     F.z_free = F.cond->y_C();
@@ -151,7 +152,7 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
       F.energy = std::make_unique<TotalEnergy>(md.dofs.n_free(), elastic->lower());
       F.energy->add(elastic);
     } else {
-      auto elastic = std::make_shared<NonlinearElasticEnergy>(md.mesh, md.material, md.dofs);
+      auto elastic = std::make_shared<NonlinearElasticEnergy>(md.mesh, md.material, md.dofs);  // copies both
       F.energy = std::make_unique<TotalEnergy>(md.dofs.n_free(), elastic->lower());
       F.energy->add(elastic);
     }

@@ -41,17 +41,24 @@ void ElasticEnergy::add_hessian(const Vec&, SpMat& H, Psd) const {
   Eigen::Map<Vec>(H.valuePtr(), H.nonZeros()) += Eigen::Map<const Vec>(m_lower.valuePtr(), m_lower.nonZeros());
 }
 
+CondensedElasticEnergy::CondensedElasticEnergy(std::shared_ptr<const Mat> S, Vec y_C, double c)
+    : m_S(std::move(S)), m_y(std::move(y_C)), m_c(c) {
+  if (!m_S || m_S->rows() != m_S->cols() || m_S->rows() != m_y.size())
+    throw Error("CondensedElasticEnergy: S must be a square matrix of the size of y_C", EXIT_INTERNAL);
+}
+
 double CondensedElasticEnergy::value(const Vec& x) const {
   const Vec d = x - m_y;
-  return 0.5 * d.dot(m_S * d) + m_c;
+  return 0.5 * d.dot(*m_S * d) + m_c;
 }
 
 void CondensedElasticEnergy::add_hessian(const Vec&, SpMat& H, Psd) const {
   // dense_lower_pattern stores column j as rows j..m−1, so the values are S's lower columns in order.
-  const Index m = m_S.rows();
+  const Mat& S = *m_S;
+  const Index m = S.rows();
   double* v = H.valuePtr();
   for (Index j = 0; j < m; ++j)
-    for (Index i = j; i < m; ++i) *v++ += m_S(i, j);
+    for (Index i = j; i < m; ++i) *v++ += S(i, j);
 }
 
 SpMat dense_lower_pattern(Index m) {

@@ -656,7 +656,7 @@ TEST_P(EnergyFd, CondensedTotal) {
   const double c0 = -0.7;
   const SpMat pattern = dense_lower_pattern(p.n);
   EXPECT_EQ(pattern.nonZeros(), p.n * (p.n + 1) / 2);
-  auto el = std::make_shared<CondensedElasticEnergy>(S, y, c0);
+  auto el = std::make_shared<CondensedElasticEnergy>(std::make_shared<const Mat>(S), y, c0);
   auto normal = std::make_shared<NormalComplianceEnergy>(p.nodes, p.law);
   auto friction = std::make_shared<FrictionEnergy>(p.nodes, eps_);
   friction->set_lambda(p.lambda);
@@ -861,6 +861,29 @@ TEST(PatternPosition, FindsAndRejects) {
   EXPECT_EQ(B.innerIndexPtr()[pos], a + 2);
   EXPECT_EQ(pattern_position(B, a + 1, a + 2), pos);
   EXPECT_THROW(pattern_position(B, p.nu(2), p.nu(1)), Error);  // different nodes: not in the blocks
+}
+
+// ---------------------------------------------------------------- owning
+
+// The condensed elastic term shares S: the caller's handle can go.
+TEST(CondensedElasticEnergy, OwnsItsSchurComplement) {
+  const Problem p = make_problem(3, 1e-2);
+  std::mt19937 rng(32);
+  const Vec x = random_point(p, rng);
+  const Mat S = Mat(p.K);
+  const Vec y = Vec::Constant(p.n, 0.1);
+  const SpMat pattern = dense_lower_pattern(p.n);
+  std::unique_ptr<CondensedElasticEnergy> condensed;
+  {
+    auto owner = std::make_shared<const Mat>(S);
+    condensed = std::make_unique<CondensedElasticEnergy>(owner, y, 0.5);
+  }
+  const Fn fn = of_term(*condensed, pattern);
+  EXPECT_EQ(fn.value(x), 0.5 * (x - y).dot(S * (x - y)) + 0.5);
+  EXPECT_EQ(fn.gradient(x), Vec(S * (x - y)));
+  EXPECT_EQ(symmetric_from_lower(fn.hessian(x, Psd::NONE)), S);
+  EXPECT_THROW((void)CondensedElasticEnergy(nullptr, y, 0.0), Error);
+  EXPECT_THROW((void)CondensedElasticEnergy(std::make_shared<const Mat>(Mat::Identity(2, 2)), y, 0.0), Error);
 }
 
 }  // namespace
