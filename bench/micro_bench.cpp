@@ -95,13 +95,10 @@ std::unique_ptr<EnergySetup> make_energy(const Model& md, bool condensed) {
     xn = std::min(xn, md.contact.g[k]);
     lambda[k] = md.friction ? md.friction->F(xn) : 0.0;
   }
+  const auto layout = std::make_shared<const NodalLayout>(nd, e->energy->hessian_pattern());
   if (md.normal_law)
-    e->energy->add(std::make_shared<NormalComplianceEnergy>(nd, std::make_shared<MollifiedLaw>(md.normal_law, 1e-6 * U)));
-  if (md.friction) {
-    auto fr = std::make_shared<FrictionEnergy>(nd, 1e-6 * U);
-    fr->set_lambda(lambda);
-    e->energy->add(fr);
-  }
+    e->energy->add(std::make_shared<NormalComplianceEnergy>(layout, std::make_shared<const MollifiedLaw>(md.normal_law, 1e-6 * U)));
+  if (md.friction) e->energy->add(std::make_shared<FrictionEnergy>(layout, 1e-6 * U, lambda));
   return e;
 }
 

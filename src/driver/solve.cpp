@@ -102,6 +102,7 @@ struct Formulation {
   Vec lower, upper;                          // bounds on z
   Vec z_free;                                // the unconstrained elastic solution, in z
   std::shared_ptr<const Condensation> cond;  // condensed only (shared: the elastic term holds its S)
+  std::shared_ptr<const NodalLayout> layout;  // Γ3 nodes' blocks in the energy's Hessian pattern
   std::shared_ptr<NormalComplianceEnergy> normal;
   std::shared_ptr<FrictionEnergy> friction;
   std::shared_ptr<CondensedElasticEnergy> condensed_elastic;  // condensed: holds y_C = (K⁻¹f)_C
@@ -172,15 +173,22 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
     for (Index k = 0; k < nc; ++k)
       for (int c = 1; c < d; ++c)
         if (md.contact.fixed_local[k] & (1u << c)) F.lower[F.nd.first[k] + c] = F.upper[F.nd.first[k] + c] = 0;
+  F.layout = std::make_shared<const NodalLayout>(F.nd, F.energy->hessian_pattern());
+  return F;
+}
+
+// The contact terms, complete from the start: their widths are the final ones (absolute, U_s the
+// displacement scale) until a solve sets each stage's, and λ = 0 until it freezes the bounds.
+void add_contact_terms(Formulation& F, const Model& md, const SolveOptions& opt, double U_s) {
   if (md.normal_law) {
-    F.normal = std::make_shared<NormalComplianceEnergy>(F.nd, nullptr);
+    F.normal = std::make_shared<NormalComplianceEnergy>(
+        F.layout, std::make_shared<const MollifiedLaw>(md.normal_law, opt.eps_nu * U_s, "solver.eps_nu"));
     F.energy->add(F.normal);
   }
   if (md.friction) {
-    F.friction = std::make_shared<FrictionEnergy>(F.nd, 1.0);
+    F.friction = std::make_shared<FrictionEnergy>(F.layout, opt.eps_tau * U_s, Vec::Zero(md.contact.size()));
     F.energy->add(F.friction);
   }
-  return F;
 }
 
 }  // namespace
@@ -256,6 +264,7 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   // (u ~ 1e-7) and the scaled (u ~ 1e-1) scene.
   I.U_s = F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0 ? F.z_free.cwiseAbs().maxCoeff() : 1.0;
   I.F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
+  add_contact_terms(F, md, opt, I.U_s);
   I.scaled = std::make_unique<ScaledObjective>(*F.energy, I.U_s, I.F_s * I.U_s);
   I.prob.f = I.scaled.get();
   I.prob.lower = F.lower / I.U_s;
@@ -319,7 +328,7 @@ const Vec& ContactSolver::upper_bounds() const { return m->F.upper; }
 
 void ContactSolver::set_eps(double eps_tau, double eps_nu) {
   Impl& I = *m;
-  if (I.F.normal) I.F.normal->set_law(std::make_shared<MollifiedLaw>(I.model->normal_law, eps_nu * I.U_s, "solver.eps_nu"));
+  if (I.F.normal) I.F.normal->set_eps(eps_nu * I.U_s, "solver.eps_nu");
   if (I.F.friction) I.F.friction->set_eps(eps_tau * I.U_s);
 }
 
@@ -383,7 +392,7 @@ Solution ContactSolver::solve(const Vec* z0) {
   sol.fixed_point_converged = true;
   for (size_t stage = 0; stage < schedule.size() && sol.backend_ok; ++stage) {
     const auto [et, en] = schedule[stage];
-    if (F.normal) F.normal->set_law(std::make_shared<MollifiedLaw>(md.normal_law, en * U_s, "solver.eps_nu"));
+    if (F.normal) F.normal->set_eps(en * U_s, "solver.eps_nu");
     if (F.friction) F.friction->set_eps(et * U_s);
     if (stage == 0) sol.start_energy = F.energy->value(U_s * zs);
     const bool final_stage = stage + 1 == schedule.size();
