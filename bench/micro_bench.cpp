@@ -58,7 +58,7 @@ const Model& model_at(int n) {
 // obstacle (so the normal law sees every branch along Γ3), with λ_i = F_b(x_ν,i) frozen there.
 struct EnergySetup {
   std::unique_ptr<TotalEnergy> energy;
-  std::unique_ptr<Condensation> cond;
+  std::shared_ptr<const Condensation> cond;
   Vec x;
 };
 
@@ -71,9 +71,10 @@ std::unique_ptr<EnergySetup> make_energy(const Model& md, bool condensed) {
   nd.w = md.contact.w;
   Vec z_free;
   if (condensed) {
-    e->cond = std::make_unique<Condensation>(md.Kx, md.fx, d * nc);
+    e->cond = std::make_shared<const Condensation>(md.Kx, md.fx, d * nc);
     e->energy = std::make_unique<TotalEnergy>(d * nc, dense_lower_pattern(d * nc));
-    e->energy->add(std::make_shared<CondensedElasticEnergy>(e->cond->S(), e->cond->y_C(), e->cond->constant()));
+    e->energy->add(std::make_shared<CondensedElasticEnergy>(std::shared_ptr<const Mat>(e->cond, &e->cond->S()),
+                                                            e->cond->y_C(), e->cond->constant()));
     for (Index k = 0; k < nc; ++k) nd.first.push_back(d * k);
     z_free = e->cond->y_C();
   } else {
@@ -94,13 +95,10 @@ std::unique_ptr<EnergySetup> make_energy(const Model& md, bool condensed) {
     xn = std::min(xn, md.contact.g[k]);
     lambda[k] = md.friction ? md.friction->F(xn) : 0.0;
   }
+  const auto layout = std::make_shared<const NodalLayout>(nd, e->energy->hessian_pattern());
   if (md.normal_law)
-    e->energy->add(std::make_shared<NormalComplianceEnergy>(nd, std::make_shared<MollifiedLaw>(md.normal_law, 1e-6 * U)));
-  if (md.friction) {
-    auto fr = std::make_shared<FrictionEnergy>(nd, 1e-6 * U);
-    fr->set_lambda(lambda);
-    e->energy->add(fr);
-  }
+    e->energy->add(std::make_shared<NormalComplianceEnergy>(layout, std::make_shared<const MollifiedLaw>(md.normal_law, 1e-6 * U)));
+  if (md.friction) e->energy->add(std::make_shared<FrictionEnergy>(layout, 1e-6 * U, lambda));
   return e;
 }
 

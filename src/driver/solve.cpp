@@ -117,7 +117,8 @@ struct Formulation {
   NodalDofs nd;                              // Γ3 node k: z[nd.first[k] + c]
   Vec lower, upper;                          // bounds on z
   Vec z_free;                                // the unconstrained elastic solution, in z
-  std::unique_ptr<Condensation> cond;        // condensed only
+  std::shared_ptr<const Condensation> cond;  // condensed only (shared: the elastic term holds its S)
+  std::shared_ptr<const NodalLayout> layout;  // Γ3 nodes' blocks in the energy's Hessian pattern
   std::shared_ptr<NormalComplianceEnergy> normal;
   std::shared_ptr<FrictionEnergy> friction;
   std::shared_ptr<CondensedElasticEnergy> condensed_elastic;  // condensed: holds y_C = (K⁻¹f)_C
@@ -147,12 +148,13 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
   F.nd.w = md.contact.w;
   auto t0 = clk::now();
   if (F.name == "condensed") {
-    F.cond = std::make_unique<Condensation>(md.Kx, md.fx, d * nc);
+    F.cond = std::make_shared<const Condensation>(md.Kx, md.fx, d * nc);
     timings["condensation_analyze"] = F.cond->analyze_seconds();
     timings["condensation_factorize"] = F.cond->factorize_seconds();
     timings["condensation_schur"] = F.cond->schur_seconds();
     F.energy = std::make_unique<TotalEnergy>(d * nc, dense_lower_pattern(d * nc));
-    F.condensed_elastic = std::make_shared<CondensedElasticEnergy>(F.cond->S(), F.cond->y_C(), F.cond->constant());
+    F.condensed_elastic = std::make_shared<CondensedElasticEnergy>(std::shared_ptr<const Mat>(F.cond, &F.cond->S()),
+                                                                   F.cond->y_C(), F.cond->constant());
     F.energy->add(F.condensed_elastic);
     for (Index k = 0; k < nc; ++k) F.nd.first.push_back(d * k);
     F.z_free = F.cond->y_C();
@@ -167,7 +169,7 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
       F.energy = std::make_unique<TotalEnergy>(md.dofs.n_free(), elastic->lower());
       F.energy->add(elastic);
     } else {
-      auto elastic = std::make_shared<NonlinearElasticEnergy>(md.mesh, md.material, md.dofs);
+      auto elastic = std::make_shared<NonlinearElasticEnergy>(md.mesh, md.material, md.dofs);  // copies both
       F.energy = std::make_unique<TotalEnergy>(md.dofs.n_free(), elastic->lower());
       F.energy->add(elastic);
     }
@@ -187,15 +189,22 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
     for (Index k = 0; k < nc; ++k)
       for (int c = 1; c < d; ++c)
         if (md.contact.fixed_local[k] & (1u << c)) F.lower[F.nd.first[k] + c] = F.upper[F.nd.first[k] + c] = 0;
+  F.layout = std::make_shared<const NodalLayout>(F.nd, F.energy->hessian_pattern());
+  return F;
+}
+
+// The contact terms, complete from the start: their widths are the final ones (absolute, U_s the
+// displacement scale) until a solve sets each stage's, and λ = 0 until it freezes the bounds.
+void add_contact_terms(Formulation& F, const Model& md, const SolveOptions& opt, double U_s) {
   if (md.normal_law) {
-    F.normal = std::make_shared<NormalComplianceEnergy>(F.nd, nullptr);
+    F.normal = std::make_shared<NormalComplianceEnergy>(
+        F.layout, std::make_shared<const MollifiedLaw>(md.normal_law, opt.eps_nu * U_s, "solver.eps_nu"));
     F.energy->add(F.normal);
   }
   if (md.friction) {
-    F.friction = std::make_shared<FrictionEnergy>(F.nd, 1.0);
+    F.friction = std::make_shared<FrictionEnergy>(F.layout, opt.eps_tau * U_s, Vec::Zero(md.contact.size()));
     F.energy->add(F.friction);
   }
-  return F;
 }
 
 }  // namespace
@@ -294,6 +303,7 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   // (u ~ 1e-7) and the scaled (u ~ 1e-1) scene.
   I.U_s = F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0 ? F.z_free.cwiseAbs().maxCoeff() : 1.0;
   I.F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
+  add_contact_terms(F, md, opt, I.U_s);
   I.scaled = std::make_unique<ScaledObjective>(*F.energy, I.U_s, I.F_s * I.U_s);
   I.prob.f = I.scaled.get();
   I.prob.lower = F.lower / I.U_s;
@@ -355,8 +365,7 @@ ContactSolver::LaggedEnergy ContactSolver::lagged_energy(const Solution& sol) {
   Impl& I = *m;
   if (I.linear) throw Error("ContactSolver::lagged_energy: a linear solve has no contact energy", EXIT_INTERNAL);
   const Vec z = to_unknowns(sol.x);
-  if (I.F.normal)
-    I.F.normal->set_law(std::make_shared<MollifiedLaw>(I.model->normal_law, I.opt.eps_nu * I.U_s, "solver.eps_nu"));
+  if (I.F.normal) I.F.normal->set_eps(I.opt.eps_nu * I.U_s, "solver.eps_nu");
   if (I.F.friction) {
     I.F.friction->set_eps(I.opt.eps_tau * I.U_s);
     Vec l(I.model->contact.size());
@@ -460,7 +469,7 @@ bool ContactSolver::Impl::run_stage(Run& run, size_t stage) {
 // The smoothing widths of a stage (absolute: relative widths × U_s).
 void ContactSolver::Impl::set_smoothing(size_t stage) {
   const auto [et, en] = schedule[stage];
-  if (F.normal) F.normal->set_law(std::make_shared<MollifiedLaw>(model->normal_law, en * U_s, "solver.eps_nu"));
+  if (F.normal) F.normal->set_eps(en * U_s, "solver.eps_nu");
   if (F.friction) F.friction->set_eps(et * U_s);
 }
 

@@ -23,12 +23,12 @@ SpMat lower_of(const SpMat& A) {
 
 }  // namespace
 
-NonlinearElasticEnergy::NonlinearElasticEnergy(const Mesh& mesh, std::shared_ptr<const Material> material,
-                                               const DofMap& dofs)
-    : m_mesh(mesh), m_material(std::move(material)), m_dofs(dofs) {
-  if (m_material->dim() != mesh.dim)
+NonlinearElasticEnergy::NonlinearElasticEnergy(Mesh mesh, std::shared_ptr<const Material> material, DofMap dofs)
+    : m_mesh(std::move(mesh)), m_material(std::move(material)), m_dofs(std::move(dofs)) {
+  if (!m_material) throw Error("NonlinearElasticEnergy: null material", EXIT_INTERNAL);
+  if (m_material->dim() != m_mesh.dim)
     throw Error("NonlinearElasticEnergy: material and mesh dimensions differ", EXIT_INTERNAL);
-  m_lower = lower_of(m_dofs.reduce(assemble_tangent_stiffness(mesh, *m_material, Vec::Zero(dofs.n_full()))));
+  m_lower = lower_of(m_dofs.reduce(assemble_tangent_stiffness(m_mesh, *m_material, Vec::Zero(m_dofs.n_full()))));
 }
 
 double NonlinearElasticEnergy::value(const Vec& x) const {

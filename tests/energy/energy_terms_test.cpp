@@ -85,6 +85,10 @@ struct Problem {
   double h_int = 1e-6, h_nu = 0, h_tau = 0;  ///< h_nu: the step inside windows
 
   Index nu(Index k) const { return nodes.first[k]; }
+  /// The nodes laid out in @p pattern (the nodal terms' shared Hessian positions).
+  std::shared_ptr<const NodalLayout> layout(const SpMat& pattern) const {
+    return std::make_shared<const NodalLayout>(nodes, pattern);
+  }
   /// FD step of a ν component at r (file comment): 1e-6, but ≤ 1e-3 ε inside a window and never
   /// more than a quarter of the distance to the nearest window edge r_k ± ε.
   double law_step(double r) const {
@@ -451,7 +455,7 @@ TEST_P(EnergyFd, Load) {
 }
 
 TEST_P(EnergyFd, NormalCompliance) {
-  NormalComplianceEnergy term(p_.nodes, p_.law);
+  NormalComplianceEnergy term(p_.layout(p_.blocks), p_.law);
   const Fn fn = of_term(term, p_.blocks);
   const Terms on{false, false, true, false};
   std::mt19937 rng(13);
@@ -483,8 +487,7 @@ TEST_P(EnergyFd, NormalCompliance) {
 }
 
 TEST_P(EnergyFd, Friction) {
-  FrictionEnergy term(p_.nodes, eps_);
-  term.set_lambda(p_.lambda);
+  FrictionEnergy term(p_.layout(p_.blocks), eps_, p_.lambda);
   EXPECT_EQ(term.eps(), eps_);
   const Fn fn = of_term(term, p_.blocks);
   const Terms on{false, false, false, true};
@@ -545,10 +548,10 @@ struct Composite {
   explicit Composite(const Problem& p) {
     el = std::make_shared<ElasticEnergy>(p.K);
     load = std::make_shared<LoadEnergy>(p.f);
-    normal = std::make_shared<NormalComplianceEnergy>(p.nodes, p.law);
-    friction = std::make_shared<FrictionEnergy>(p.nodes, p.eps);
-    friction->set_lambda(p.lambda);
     total = std::make_unique<TotalEnergy>(p.n, el->lower());
+    const auto layout = p.layout(total->hessian_pattern());  // one layout for both nodal terms
+    normal = std::make_shared<NormalComplianceEnergy>(layout, p.law);
+    friction = std::make_shared<FrictionEnergy>(layout, p.eps, p.lambda);
     total->add(el);
     total->add(load);
     total->add(normal);
@@ -651,10 +654,10 @@ TEST_P(EnergyFd, CondensedTotal) {
   const double c0 = -0.7;
   const SpMat pattern = dense_lower_pattern(p.n);
   EXPECT_EQ(pattern.nonZeros(), p.n * (p.n + 1) / 2);
-  auto el = std::make_shared<CondensedElasticEnergy>(S, y, c0);
-  auto normal = std::make_shared<NormalComplianceEnergy>(p.nodes, p.law);
-  auto friction = std::make_shared<FrictionEnergy>(p.nodes, eps_);
-  friction->set_lambda(p.lambda);
+  auto el = std::make_shared<CondensedElasticEnergy>(std::make_shared<const Mat>(S), y, c0);
+  const auto layout = p.layout(pattern);
+  auto normal = std::make_shared<NormalComplianceEnergy>(layout, p.law);
+  auto friction = std::make_shared<FrictionEnergy>(layout, eps_, p.lambda);
   TotalEnergy total(p.n, pattern);
   total.add(el);
   total.add(normal);
@@ -689,7 +692,7 @@ TEST_P(EnergyFd, ClampOnSofteningBranch) {
     // ε = 1: the windows overlap so much that p_ε′ = Σ Δs_k q_ε′(r − r_k) ≥ 0 everywhere (the −200
     // ramp is always outweighed), i.e. the mollified law has no softening left: CLAMP == NONE.
     EXPECT_EQ(p_.law->one_sided_lipschitz(), 0.0);
-    NormalComplianceEnergy term(p_.nodes, p_.law);
+    NormalComplianceEnergy term(p_.layout(p_.blocks), p_.law);
     const Fn fn = of_term(term, p_.blocks);
     EXPECT_EQ(symmetric_from_lower(fn.hessian(x, Psd::NONE)), symmetric_from_lower(fn.hessian(x, Psd::CLAMP)));
     return;
@@ -697,7 +700,7 @@ TEST_P(EnergyFd, ClampOnSofteningBranch) {
   const double w0 = p_.nodes.w[0];
   const double scale = p_.K.cwiseAbs().sum() + w0 * 600 + 2.0 / eps_ * (p_.nodes.w.cwiseProduct(p_.lambda)).maxCoeff();
 
-  NormalComplianceEnergy term(p_.nodes, p_.law);
+  NormalComplianceEnergy term(p_.layout(p_.blocks), p_.law);
   const Fn fn = of_term(term, p_.blocks);
   const Mat Hn = symmetric_from_lower(fn.hessian(x, Psd::NONE));
   const Mat Hc = symmetric_from_lower(fn.hessian(x, Psd::CLAMP));
@@ -800,9 +803,9 @@ bool flags(const Fn& fn, const Problem& p, const Terms& on, const Vec& x) {
 }
 
 TEST_P(EnergyFd, CheckFlagsWrongDerivatives) {
-  auto normal = std::make_shared<NormalComplianceEnergy>(p_.nodes, p_.law);
-  auto friction = std::make_shared<FrictionEnergy>(p_.nodes, eps_);
-  friction->set_lambda(p_.lambda);
+  const auto layout = p_.layout(p_.blocks);
+  auto normal = std::make_shared<NormalComplianceEnergy>(layout, p_.law);
+  auto friction = std::make_shared<FrictionEnergy>(layout, eps_, p_.lambda);
   const Terms on_n{false, false, true, false}, on_f{false, false, false, true};
   std::mt19937 rng(18);
   std::vector<Vec> xs;
@@ -856,6 +859,111 @@ TEST(PatternPosition, FindsAndRejects) {
   EXPECT_EQ(B.innerIndexPtr()[pos], a + 2);
   EXPECT_EQ(pattern_position(B, a + 1, a + 2), pos);
   EXPECT_THROW(pattern_position(B, p.nu(2), p.nu(1)), Error);  // different nodes: not in the blocks
+}
+
+// ---------------------------------------------------------------- owning
+
+// The condensed elastic term shares S: the caller's handle can go.
+TEST(CondensedElasticEnergy, OwnsItsSchurComplement) {
+  const Problem p = make_problem(3, 1e-2);
+  std::mt19937 rng(32);
+  const Vec x = random_point(p, rng);
+  const Mat S = Mat(p.K);
+  const Vec y = Vec::Constant(p.n, 0.1);
+  const SpMat pattern = dense_lower_pattern(p.n);
+  std::unique_ptr<CondensedElasticEnergy> condensed;
+  {
+    auto owner = std::make_shared<const Mat>(S);
+    condensed = std::make_unique<CondensedElasticEnergy>(owner, y, 0.5);
+  }
+  const Fn fn = of_term(*condensed, pattern);
+  EXPECT_EQ(fn.value(x), 0.5 * (x - y).dot(S * (x - y)) + 0.5);
+  EXPECT_EQ(fn.gradient(x), Vec(S * (x - y)));
+  EXPECT_EQ(symmetric_from_lower(fn.hessian(x, Psd::NONE)), S);
+  EXPECT_THROW((void)CondensedElasticEnergy(nullptr, y, 0.0), Error);
+  EXPECT_THROW((void)CondensedElasticEnergy(std::make_shared<const Mat>(Mat::Identity(2, 2)), y, 0.0), Error);
+}
+
+// ---------------------------------------------------------------- complete from construction
+
+/// Value, gradient and Hessian (on @p pattern) of a term at x, for exact comparisons.
+struct Eval {
+  double v;
+  Vec g;
+  Mat H;
+};
+Eval eval(const EnergyTerm& t, const SpMat& pattern, const Vec& x, Psd psd = Psd::NONE) {
+  const Fn fn = of_term(t, pattern);
+  return {fn.value(x), fn.gradient(x), symmetric_from_lower(fn.hessian(x, psd))};
+}
+void expect_same(const Eval& a, const Eval& b) {
+  EXPECT_EQ(a.v, b.v);
+  EXPECT_EQ(a.g, b.g);
+  EXPECT_EQ(a.H, b.H);
+}
+
+// set_eps (ε-continuation) gives exactly the term built with that width: the normal term
+// re-mollifies the same exact law, friction changes ε_τ only.
+TEST(ContactEnergy, SetEpsEqualsConstructionWithThatWidth) {
+  for (int dim : {2, 3}) {
+    SCOPED_TRACE("d = " + std::to_string(dim));
+    const Problem p = make_problem(dim, 1e-2);
+    const auto layout = p.layout(p.blocks);
+    const double eps2 = 3e-3;
+    NormalComplianceEnergy normal(layout, p.law);
+    normal.set_eps(eps2);
+    EXPECT_EQ(normal.law().eps_nu(), eps2);
+    EXPECT_EQ(&normal.law().exact(), p.exact.get());  // the same exact law, not a copy
+    const NormalComplianceEnergy normal2(layout, std::make_shared<const MollifiedLaw>(p.exact, eps2));
+    FrictionEnergy friction(layout, p.eps, p.lambda);
+    friction.set_eps(eps2);
+    EXPECT_EQ(friction.eps(), eps2);
+    const FrictionEnergy friction2(layout, eps2, p.lambda);
+    std::mt19937 rng(31);
+    for (int i = 0; i < 5; ++i) {
+      const Vec x = random_point(p, rng);
+      expect_same(eval(normal, p.blocks, x), eval(normal2, p.blocks, x));
+      expect_same(eval(normal, p.blocks, x, Psd::CLAMP), eval(normal2, p.blocks, x, Psd::CLAMP));
+      expect_same(eval(friction, p.blocks, x), eval(friction2, p.blocks, x));
+    }
+    // Re-lagging replaces λ whole.
+    const Vec lam = 2 * p.lambda;
+    friction.set_lambda(lam);
+    EXPECT_EQ(friction.lambda(), lam);
+  }
+}
+
+// A term cannot be built without its law or with an unusable width or bounds.
+TEST(ContactEnergy, RejectsIncompleteConstruction) {
+  const Problem p = make_problem(2, 1e-2);
+  const auto layout = p.layout(p.blocks);
+  EXPECT_THROW((void)NormalComplianceEnergy(layout, nullptr), Error);
+  EXPECT_THROW((void)FrictionEnergy(layout, 0.0, p.lambda), Error);
+  EXPECT_THROW((void)FrictionEnergy(layout, INF, p.lambda), Error);
+  EXPECT_THROW((void)FrictionEnergy(layout, 1e-2, Vec::Zero(p.nc + 1)), Error);
+  FrictionEnergy friction(layout, 1e-2, p.lambda);
+  EXPECT_THROW(friction.set_eps(-1e-2), Error);
+  EXPECT_THROW(friction.set_lambda(Vec::Zero(p.nc - 1)), Error);
+  EXPECT_EQ(friction.eps(), 1e-2);  // unchanged by the refused calls
+  EXPECT_EQ(friction.lambda(), p.lambda);
+  NormalComplianceEnergy normal(layout, p.law);
+  EXPECT_THROW(normal.set_eps(0.0), Error);
+  EXPECT_EQ(normal.law().eps_nu(), 1e-2);
+}
+
+// The normal term keeps its law and layout alive: the caller's handles can go.
+TEST(ContactEnergy, OwnsItsLawAndLayout) {
+  const Problem p = make_problem(3, 1e-2);
+  std::mt19937 rng(32);
+  const Vec x = random_point(p, rng);
+  const Eval ref_n = eval(NormalComplianceEnergy(p.layout(p.blocks), p.law), p.blocks, x);
+  std::unique_ptr<NormalComplianceEnergy> normal;
+  {
+    auto exact = std::make_shared<const PiecewiseLinearLaw>(PiecewiseLinearLaw::paper(C1, C2, C3, R1, R2));
+    normal = std::make_unique<NormalComplianceEnergy>(p.layout(p.blocks),
+                                                      std::make_shared<const MollifiedLaw>(exact, p.eps));
+  }  // the law and the layout now live in the term only
+  expect_same(eval(*normal, p.blocks, x), ref_n);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <memory>
 #include <random>
 
 using namespace hemicontact;
@@ -118,4 +119,23 @@ TEST(NonlinearElasticEnergy, FiniteDifferences3D) {
   for (Index i = 0; i < x.size(); ++i) x[i] = u(rng);
   EXPECT_NEAR(el.value(x), 0.5 * x.dot(Kx * x), 1e-13 * x.dot(Kx * x));
   EXPECT_TRUE(test::near_rel(dense_hessian(el, x), Mat(Kx), 1e-13, 0));
+}
+
+// The term owns its mesh and dof map (copies): it outlives the Model it was built from.
+TEST(NonlinearElasticEnergy, OutlivesTheModel) {
+  const auto scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2-hencky.json", {"mesh.n=2"});
+  std::unique_ptr<NonlinearElasticEnergy> e;
+  Vec x, g_ref;
+  double v_ref = 0;
+  {
+    const Model md = build_model(scene, HEMICONTACT_SOURCE_DIR "/problems");
+    e = std::make_unique<NonlinearElasticEnergy>(md.mesh, md.material, md.dofs);
+    x = Vec::LinSpaced(md.dofs.n_free(), -0.01, 0.02);
+    v_ref = md.elastic_energy(md.dofs.to_full(x));
+    g_ref = md.dofs.to_reduced(md.internal_force(md.dofs.to_full(x)));
+  }
+  EXPECT_DOUBLE_EQ(e->value(x), v_ref);
+  Vec g = Vec::Zero(x.size());
+  e->add_gradient(x, g);
+  EXPECT_TRUE(test::near_rel(g, g_ref, 1e-14, 0));
 }

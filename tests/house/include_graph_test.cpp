@@ -50,7 +50,7 @@ std::vector<Edge> include_edges() {
   const fs::path root(HEMICONTACT_SOURCE_DIR);
   const std::regex inc(R"(^\s*#\s*include\s*<hemicontact/([a-z_]+)(/|\.hpp>))");
   std::vector<Edge> edges;
-  for (const fs::path base : {root / "include" / "hemicontact", root / "src"})
+  for (const fs::path& base : {root / "include" / "hemicontact", root / "src"})
     for (const auto& e : fs::recursive_directory_iterator(base)) {
       if (!e.is_regular_file()) continue;
       const std::string ext = e.path().extension().string();
@@ -73,7 +73,7 @@ std::vector<Edge> include_edges() {
 TEST(House, EveryFolderHasALayer) {
   const fs::path root(HEMICONTACT_SOURCE_DIR);
   std::set<std::string> unknown;
-  for (const fs::path base : {root / "include" / "hemicontact", root / "src"})
+  for (const fs::path& base : {root / "include" / "hemicontact", root / "src"})
     for (const auto& e : fs::directory_iterator(base))
       if (e.is_directory() && !LAYER.count(e.path().filename().string())) unknown.insert(e.path().filename().string());
   for (const auto& f : unknown) ADD_FAILURE() << "folder '" << f << "' has no layer in the table above";

@@ -3,6 +3,8 @@
 
 #include <hemicontact/energy/energy_term.hpp>
 
+#include <memory>
+
 namespace hemicontact {
 
 /// The elastic energy ½ xᵀ K x (K = Tᵀ K_u T, reduced); its Hessian K is constant.
@@ -26,11 +28,14 @@ class ElasticEnergy : public EnergyTerm {
 /// elastic energy minus the work of the loads, minimized over the interior for given Γ3 unknowns.
 class CondensedElasticEnergy : public EnergyTerm {
  public:
-  /// @param S Schur complement (dense SPD); @param y_C Γ3 part of K⁻¹f; @param c constant −½fᵀy.
-  CondensedElasticEnergy(const Mat& S, Vec y_C, double c) : m_S(S), m_y(std::move(y_C)), m_c(c) {}
+  /// @param S Schur complement (dense SPD), shared, not copied (it is m×m, m = d·|Γ3|): the
+  ///        Condensation that computed it can hand it out with an aliasing shared_ptr
+  /// @param y_C Γ3 part of K⁻¹f; @param c constant −½fᵀy.
+  /// @throws Error (internal) if @p S is null or not square
+  CondensedElasticEnergy(std::shared_ptr<const Mat> S, Vec y_C, double c);
   std::string name() const override { return "condensed_elastic"; }
   double value(const Vec& x) const override;
-  void add_gradient(const Vec& x, Vec& g) const override { g += m_S * (x - m_y); }
+  void add_gradient(const Vec& x, Vec& g) const override { g += *m_S * (x - m_y); }
   /// Adds S's lower triangle; @p H must have the pattern dense_lower_pattern(m).
   void add_hessian(const Vec& x, SpMat& H, Psd psd) const override;
   /// Replace y_C and c (loads scaled: y_C → s y_C, c → s² c).
@@ -40,7 +45,7 @@ class CondensedElasticEnergy : public EnergyTerm {
   }
 
  private:
-  const Mat& m_S;
+  std::shared_ptr<const Mat> m_S;
   Vec m_y;
   double m_c;
 };

@@ -4,7 +4,8 @@
 ///
 /// polyfem's "form" shape: value, gradient, Hessian, and a hook to re-freeze lagged data; the
 /// composite TotalEnergy sums enabled terms. Contact terms are nodal (nodal quadrature on Γ3),
-/// evaluated by a per-node kernel on the node's local components (ipc-toolkit's local/global split).
+/// evaluated by a per-node kernel on the node's local components (ipc-toolkit's local/global split):
+/// NodalTerm (nodal_term.hpp) assembles them.
 
 #include <hemicontact/nlp/nlp_problem.hpp>
 
@@ -13,7 +14,8 @@
 
 namespace hemicontact {
 
-/// Where each Γ3 node's local components live in x, and its quadrature weight.
+/// Where each Γ3 node's local components live in x, and its quadrature weight (NodalLayout adds
+/// where the node's Hessian block lies in a pattern).
 struct NodalDofs {
   int dim = 2;                 ///< d: components per node (ν, τ[, τ2])
   std::vector<Index> first;    ///< x index of component ν of node k; τ follow consecutively

@@ -20,9 +20,11 @@ namespace hemicontact {
 /// choice; this term is the full-space path for nonlinear ones (static condensation is not exact).
 class NonlinearElasticEnergy : public EnergyTerm {
  public:
-  /// @param mesh, @param dofs must outlive the term (they are the Model's);
-  /// @param material the law F.
-  NonlinearElasticEnergy(const Mesh& mesh, std::shared_ptr<const Material> material, const DofMap& dofs);
+  /// @param mesh the mesh (copied: the term owns what it evaluates on; a mesh is small next to K)
+  /// @param material the law F (shared)
+  /// @param dofs the full ↔ reduced map (copied, as the mesh)
+  /// @throws Error (internal) if the material is null or its dimension is not the mesh's
+  NonlinearElasticEnergy(Mesh mesh, std::shared_ptr<const Material> material, DofMap dofs);
   std::string name() const override { return "elastic"; }
   double value(const Vec& x) const override;
   void add_gradient(const Vec& x, Vec& g) const override;
@@ -33,9 +35,9 @@ class NonlinearElasticEnergy : public EnergyTerm {
   const SpMat& lower() const { return m_lower; }
 
  private:
-  const Mesh& m_mesh;
+  Mesh m_mesh;
   std::shared_ptr<const Material> m_material;
-  const DofMap& m_dofs;
+  DofMap m_dofs;
   SpMat m_lower;
 };
 

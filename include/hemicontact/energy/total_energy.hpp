@@ -33,9 +33,12 @@ class TotalEnergy : public NlpObjective {
 
 /// f̃(x̃) = f(s_x x̃)/s_f: a backend-independent rescaling so every backend sees O(1) unknowns and
 /// gradients (the printed scene has u ~ 1e-7, loads ~ 1e-5; absolute tolerances would be meaningless).
+/// A view, like Eigen::Ref: it refers to f and owns nothing.
 class ScaledObjective : public NlpObjective {
  public:
-  /// @param f the objective; @param s_x unknown scale; @param s_f value scale (> 0).
+  /// @param f the objective, referred to, not copied: it must outlive this view (the solver owns
+  ///        both, the view built after and released before f); @param s_x unknown scale;
+  /// @param s_f value scale (> 0).
   ScaledObjective(const NlpObjective& f, double s_x, double s_f) : m_f(f), m_sx(s_x), m_sf(s_f) {}
   Index size() const override { return m_f.size(); }
   double value(const Vec& x) const override { return m_f.value(m_sx * x) / m_sf; }
