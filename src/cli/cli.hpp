@@ -37,8 +37,9 @@ int cmd_converge(const std::vector<std::string>& args);
 int cmd_minima(const std::vector<std::string>& args);
 
 /// @brief Run scripts/@p script with /usr/bin/python3 (or $HEMICONTACT_PYTHON) and @p args
-/// (src/cli/plot.cpp). The script is looked up in $HEMICONTACT_SCRIPTS, else in the scripts/
-/// directory of the first parent of the running executable that has one.
+/// (src/cli/plot.cpp). The script is looked up in $HEMICONTACT_SCRIPTS, the installed
+/// share/hemicontact/scripts, the source tree's scripts/ (configure time), then scripts/ above the
+/// executable.
 /// @return the script's exit code (0: picture written); non-zero after a message on stderr when
 ///         python3, the script or matplotlib is missing
 int run_plot_script(const std::string& script, const std::vector<std::string>& args);

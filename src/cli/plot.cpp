@@ -1,11 +1,14 @@
 // Pictures: the CLI runs the Python scripts in scripts/ (Debian's /usr/bin/python3 with
-// python3-matplotlib) rather than linking a plotting library. The build passes no path, so the
-// scripts are found from the running executable: /proc/self/exe, then up its parent directories
-// to the first one holding scripts/<name> (build-*/hemicontact → the repository root), or in the
-// directory named by HEMICONTACT_SCRIPTS. HEMICONTACT_PYTHON replaces /usr/bin/python3 (tests use
-// it to exercise the "no matplotlib" path).
+// python3-matplotlib) rather than linking a plotting library. A script is looked up, in order, in
+//   1. $HEMICONTACT_SCRIPTS (a directory; set it to use modified scripts),
+//   2. the installed copy, <exe dir>/../share/hemicontact/scripts (cmake --install),
+//   3. the source tree the program was built from (HEMICONTACT_SCRIPTS_DIR, baked in at configure
+//      time, so a build folder anywhere finds them),
+//   4. scripts/ in the parent directories of the executable (a moved source tree with its build).
+// HEMICONTACT_PYTHON replaces /usr/bin/python3 (tests use it to exercise the "no matplotlib" path).
 #include "cli.hpp"
 
+#include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 
 #include <cerrno>
@@ -35,16 +38,22 @@ std::string find_script(const std::string& script) {
   }
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  std::vector<fs::path> dirs;
+  if (!ec) dirs.push_back(exe.parent_path().parent_path() / "share" / "hemicontact" / "scripts");
+  dirs.push_back(HEMICONTACT_SCRIPTS_DIR);
   if (!ec)
     for (fs::path dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
-      const fs::path p = dir / "scripts" / script;
-      if (fs::is_regular_file(p)) return p.string();
+      dirs.push_back(dir / "scripts");
       if (dir == dir.root_path()) break;
     }
+  for (const fs::path& dir : dirs) {
+    std::error_code missing;
+    if (fs::is_regular_file(dir / script, missing)) return (dir / script).string();
+  }
   std::fprintf(stderr,
-               "hemicontact: --plot: cannot find scripts/%s in any directory above the executable %s; set "
-               "HEMICONTACT_SCRIPTS to the repository's scripts/ directory\n",
-               script.c_str(), ec ? "(unknown)" : exe.c_str());
+               "hemicontact: --plot: cannot find %s in the installed share/hemicontact/scripts, in %s, or in a "
+               "scripts/ directory above the executable %s; set HEMICONTACT_SCRIPTS to a directory holding it\n",
+               script.c_str(), HEMICONTACT_SCRIPTS_DIR, ec ? "(unknown)" : exe.c_str());
   return "";
 }
 
