@@ -25,35 +25,106 @@ std::string version() { return std::string("hemicontact ") + HEMICONTACT_VERSION
 
 std::string usage() {
   return "usage:\n"
-         "  hemicontact solve SCENE.json [--out DIR] [--set path=value]... [--backend NAME] [--force] [--quiet]\n"
-         "                   [--plot [--magnification M]]\n"
-         "      solve a scene; writes DIR/report.json, DIR/solution.vtu, DIR/gamma3.csv (DIR defaults to\n"
-         "      out/<scene name>); --set overrides any scene entry (e.g. --set mesh.n=128);\n"
-         "      --backend NAME is --set solver.backend=NAME; --force overwrites existing results;\n"
-         "      --plot (or output.plot = true) also draws DIR/fig2.png (deformed mesh magnified M times,\n"
-         "      default: largest displacement = 10% of the body; forces on Gamma3) with /usr/bin/python3 +\n"
-         "      matplotlib; if that fails a warning is printed and the exit code is unchanged\n"
-         "  hemicontact converge SCENE.json [--levels 4,8,...,128] [--reference 256] [--out DIR] [--set path=value]...\n"
-         "                      [--backend NAME] [--force] [--quiet] [--plot]\n"
-         "      mesh-convergence study: solves the reference mesh n = R, then each level n = L (every L must\n"
-         "      divide R); relative energy-norm errors against the reference and observed orders go to\n"
-         "      DIR/convergence.csv, DIR/convergence.json and stdout (DIR defaults to out/<scene name>-convergence);\n"
-         "      --plot draws DIR/convergence.png (error vs h, log-log); exit code 3/4 if a solve did not\n"
-         "      converge / certify, 2 if --plot could not draw\n"
-         "  hemicontact minima SCENE.json [--starts N] [--seed S] [--backends a,b,...] [--start FILE.json]...\n"
-         "                    [--group-tol T] [--load-path-steps N] [--box B] [--out DIR] [--set path=value]...\n"
-         "                    [--force] [--quiet]\n"
-         "      distinct solutions when (21) fails: solves from zero, all at g, all separated, N random starts\n"
-         "      (default 8, seed S = 1, box +-B*U_s, B = 1), a load path up and down (N steps per unit load,\n"
-         "      default 10) and each --start (a JSON array of [u_nu, u_tau] per Gamma3 node, or a report.json),\n"
-         "      with each backend (default: the scene's); certified results within T (default 1e-6) of each\n"
-         "      other in relative energy norm are one solution, classified local minimum or saddle; writes\n"
-         "      DIR/minima.csv, DIR/minima.json, DIR/solution_<k>.vtu, DIR/minima.png (DIR defaults to\n"
-         "      out/<scene name>-minima); exit code 3/4 if no run converged / certified\n"
-         "  hemicontact backends        list the NLP backends compiled in\n"
+         "  hemicontact solve SCENE.json [options]      solve a scene (report.json, solution.vtu, gamma3.csv)\n"
+         "  hemicontact converge SCENE.json [options]   mesh-convergence study (the paper's Fig. 3)\n"
+         "  hemicontact minima SCENE.json [options]     distinct solutions when (21) fails\n"
+         "  hemicontact backends                        list the NLP backends compiled in\n"
          "  hemicontact --help | --version\n"
+         "  hemicontact COMMAND --help                  the command's options, defaults and an example\n"
          "exit codes: 0 solved and certified, 1 usage, 2 bad input, 3 not converged, 4 certificate failed,\n"
          "            5 internal error\n";
+}
+
+namespace {
+
+// Options every scene command takes (parse_scene_args).
+const char* const SCENE_OPTIONS =
+    "  --out DIR          output folder (default shown above); created if missing\n"
+    "  --set path=value   override a scene entry by its dotted path, value in JSON (repeatable),\n"
+    "                     e.g. --set mesh.n=128 --set solver.tol=1e-10; every key: docs/scene-format.md\n"
+    "  --backend NAME     the same as --set solver.backend=NAME (default: the scene's, ipopt);\n"
+    "                     hemicontact backends lists them\n"
+    "  --force            replace the results of an earlier run in DIR (only the files it wrote)\n"
+    "  --quiet            warnings only on stderr (progress is on stderr by default)\n"
+    "  -h, --help         this help\n";
+
+}  // namespace
+
+std::string command_help(const std::string& command) {
+  if (command == "solve")
+    return std::string(
+               "usage: hemicontact solve SCENE.json [--out DIR] [--set path=value]... [--backend NAME] [--force]\n"
+               "                         [--quiet] [--plot [--magnification M]]\n"
+               "Solve a scene: min Pi_lambda subject to u_nu <= g, smoothed, continuation in eps, the outer fixed\n"
+               "point lambda = F_b(u_nu), the exact polish and the certificate (MODEL.md section 4). Writes\n"
+               "DIR/report.json, DIR/solution.vtu (ParaView), DIR/gamma3.csv; DIR defaults to out/<scene name>.\n"
+               "options:\n") +
+           SCENE_OPTIONS +
+           "  --plot             also draw DIR/fig2.png (3D: DIR/status3d.png) with /usr/bin/python3 +\n"
+           "                     matplotlib (default off; output.plot = true in the scene does the same)\n"
+           "  --magnification M  deformation magnification of the picture (default: largest displacement\n"
+           "                     drawn as 10% of the body)\n"
+           "example:\n"
+           "  hemicontact solve problems/sofonea2017-fig2.json --set mesh.n=128 --out out/fig2-128 --plot\n";
+  if (command == "converge")
+    return std::string(
+               "usage: hemicontact converge SCENE.json [--levels L1,L2,...] [--reference R] [--out DIR]\n"
+               "                            [--set path=value]... [--backend NAME] [--force] [--quiet] [--plot]\n"
+               "Mesh-convergence study: solves the reference mesh n = R, then each level n = L (every L must\n"
+               "divide R); relative energy-norm errors against the reference and observed orders go to\n"
+               "DIR/convergence.csv, DIR/convergence.json and stdout. DIR defaults to out/<scene name>-convergence.\n"
+               "Exit code 3/4 if a solve did not converge / certify, 2 if --plot could not draw.\n"
+               "options:\n"
+               "  --levels LIST      mesh levels, e.g. 4,8,16 or 4,8,...,128 (doubling) (default 4,8,...,128)\n"
+               "  --reference R      reference level (default 256, the paper's)\n"
+               "  --plot             also draw DIR/convergence.png (error vs h, log-log)\n") +
+           SCENE_OPTIONS +
+           "example:\n"
+           "  hemicontact converge problems/sofonea2017-fig2.json --levels 4,8,...,64 --reference 128 --plot\n";
+  if (command == "minima")
+    return std::string(
+               "usage: hemicontact minima SCENE.json [--starts N] [--seed S] [--backends a,b,...] [--start FILE]...\n"
+               "                          [--group-tol T] [--load-path-steps N] [--box B] [--out DIR]\n"
+               "                          [--set path=value]... [--force] [--quiet]\n"
+               "Distinct solutions when the smallness condition (21) fails: solves from zero, all at g, all\n"
+               "separated, N random starts, a load path up and down and each --start, with each backend;\n"
+               "certified results within T of each other (relative energy norm) are one solution, classified\n"
+               "local minimum or saddle. Writes DIR/minima.csv, DIR/minima.json, DIR/solution_<k>.vtu and\n"
+               "DIR/minima.png; DIR defaults to out/<scene name>-minima. Exit code 3/4 if no run converged /\n"
+               "certified.\n"
+               "options:\n"
+               "  --starts N         random starts (default 8)\n"
+               "  --seed S           seed of the random starts (default 1)\n"
+               "  --box B            random starts in the box +-B*U_s (default 1)\n"
+               "  --backends LIST    backends to run every start with (default: the scene's)\n"
+               "  --start FILE       a start: a JSON array of [u_nu, u_tau] per Gamma3 node, or a report.json\n"
+               "                     (repeatable)\n"
+               "  --group-tol T      relative energy-norm distance below which two results are one (default 1e-6)\n"
+               "  --load-path-steps N  load path steps per unit load, up and down (default 10; 0: none)\n") +
+           SCENE_OPTIONS +
+           "example:\n"
+           "  hemicontact minima problems/minima-softening.json --starts 16 --seed 3 --backends ipopt,newton\n";
+  if (command == "backends")
+    return "usage: hemicontact backends\n"
+           "List the NLP backends compiled in, one per line with a description; pass one to\n"
+           "hemicontact solve --backend NAME.\n"
+           "options:\n"
+           "  -h, --help         this help\n"
+           "example:\n"
+           "  hemicontact backends\n";
+  return usage();
+}
+
+bool wants_help(const std::vector<std::string>& args) {
+  // Options that take a value: their value is never a request for help (--set description=-h).
+  static const std::vector<std::string> with_value = {
+      "--out",    "--set",  "--backend",  "--magnification", "--levels",          "--reference", "--starts",
+      "--seed",   "--box",  "--backends", "--start",         "--load-path-steps", "--group-tol"};
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "-h" || args[i] == "--help") return true;
+    if (std::find(with_value.begin(), with_value.end(), args[i]) != with_value.end()) ++i;
+  }
+  return false;
 }
 
 SceneArgs parse_scene_args(const std::vector<std::string>& args, const std::vector<std::string>& extra_keys) {

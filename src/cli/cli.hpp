@@ -27,7 +27,13 @@ struct SceneArgs {
 /// @p extra_keys lists command-specific options that take a value.
 SceneArgs parse_scene_args(const std::vector<std::string>& args, const std::vector<std::string>& extra_keys = {});
 
+/// @return the overview printed by `hemicontact --help`.
 std::string usage();
+/// @return the help of one command (`hemicontact COMMAND --help`): usage, options with defaults,
+/// an example; the overview for an unknown command.
+std::string command_help(const std::string& command);
+/// @return true when @p args (a command's arguments) ask for its help (-h or --help anywhere).
+bool wants_help(const std::vector<std::string>& args);
 std::string version();
 int cmd_solve(const std::vector<std::string>& args);
 int cmd_backends(const std::vector<std::string>& args);

@@ -33,6 +33,11 @@ int main(int argc, char** argv) {
     }
     const std::string cmd = args[0];
     const std::vector<std::string> rest(args.begin() + 1, args.end());
+    const bool known = cmd == "solve" || cmd == "backends" || cmd == "converge" || cmd == "minima";
+    if (known && cli::wants_help(rest)) {
+      std::fputs(cli::command_help(cmd).c_str(), stdout);
+      return EXIT_OK;
+    }
     if (cmd == "solve") return cli::cmd_solve(rest);
     if (cmd == "backends") return cli::cmd_backends(rest);
     if (cmd == "converge") return cli::cmd_converge(rest);

@@ -84,6 +84,31 @@ TEST_F(Cli, HelpBackendsAndUsage) {
   expect_error(run("solve x.json --bogus"), hemicontact::EXIT_USAGE, "unknown option --bogus");
 }
 
+// Every command answers -h and --help with its own help on stdout (usage, options with their
+// defaults, an example) and exit 0, wherever the flag stands; a value that reads "-h" is a value.
+TEST_F(Cli, EveryCommandHasHelp) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> commands = {
+      {"solve", {"usage: hemicontact solve SCENE.json", "--set path=value", "--plot", "--magnification", "example:"}},
+      {"converge", {"usage: hemicontact converge", "default 4,8,...,128", "default 256", "example:"}},
+      {"minima", {"usage: hemicontact minima", "default 8", "default 1e-6", "default 10", "example:"}},
+      {"backends", {"usage: hemicontact backends", "example:"}}};
+  for (const auto& [cmd, parts] : commands)
+    for (const std::string flag : {"-h", "--help"}) {
+      SCOPED_TRACE(cmd + " " + flag);
+      const CliRun r = run(cmd + " " + flag);
+      EXPECT_EQ(r.code, 0) << r.err;
+      EXPECT_TRUE(r.err.empty()) << r.err;
+      for (const auto& p : parts) EXPECT_NE(r.out.find(p), std::string::npos) << p << "\n" << r.out;
+    }
+  const CliRun after = run("solve x.json --quiet --help");
+  EXPECT_EQ(after.code, 0);
+  EXPECT_NE(after.out.find("usage: hemicontact solve"), std::string::npos);
+  // --out -h names a folder called "-h": not help, so the missing scene is the error.
+  expect_error(run("solve missing.json --out -h"), hemicontact::EXIT_INPUT, "missing.json");
+  const CliRun overview = run("--help");
+  EXPECT_NE(overview.out.find("hemicontact COMMAND --help"), std::string::npos);
+}
+
 TEST_F(Cli, SolveWritesResults) {
   const std::string out = (dir / "res").string();
   const CliRun r = run("solve " + write(scene()) + " --out " + out + " --quiet");
