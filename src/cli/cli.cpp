@@ -166,25 +166,30 @@ int cmd_solve(const std::vector<std::string>& args) {
     plot_args.insert(plot_args.end(), {key, value});
   }
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
-  prepare_output_dir(a.out, a.force);
+  const bool plot = a.plot || scene.at("output").at("plot").get<bool>();
+  const char* picture = "fig2.png";  // 3D: status3d.png (known once the mesh is built)
+  prepare_output_dir(a.out, a.force, {"report.json", "solution.vtu", "gamma3.csv", "fig2.png", "status3d.png"});
   const Model md = build_model(scene, scene_directory(a.scene));
   const SolveOptions opt = solve_options_from_scene(scene);
   Solution sol = solve(md, opt);
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
+  // report.json comes last: it lists every file of the set ("files") and marks it complete.
   const std::filesystem::path out(a.out);
-  const nlohmann::json report = make_report(md, sol, opt);
-  write_report((out / "report.json").string(), report);
   if (scene.at("output").at("vtu").get<bool>()) write_vtu((out / "solution.vtu").string(), md, sol);
   if (scene.at("output").at("csv").get<bool>()) write_gamma3_csv((out / "gamma3.csv").string(), md, sol);
   std::fputs(summary_table(md, sol).c_str(), stdout);
-  std::printf("results in %s\n", a.out.c_str());
   // 3D: the Γ3 status map with slip directions (scripts/plot_status3d.py, same arguments).
   const bool d3 = md.dim() == 3;
-  if ((a.plot || scene.at("output").at("plot").get<bool>()) &&
-      run_plot_script(d3 ? "plot_status3d.py" : "plot_fig2.py", plot_args) != 0)
-    log_warn() << "--plot: " << (out / (d3 ? "status3d.png" : "fig2.png")).string()
-               << " was not written (the solve's results are)";
+  if (d3) picture = "status3d.png";
+  if (plot && run_plot_script(d3 ? "plot_status3d.py" : "plot_fig2.py", plot_args) != 0)
+    log_warn() << "--plot: " << (out / picture).string() << " was not written (the solve's results are)";
+  if (plot && std::filesystem::exists(out / picture)) record_output_file((out / picture).string());
+  nlohmann::json report = make_report(md, sol, opt);
+  report["files"] = output_files(a.out);
+  report["files"].push_back("report.json");
+  write_report((out / "report.json").string(), report);
+  std::printf("results in %s\n", a.out.c_str());
 
   // The certificate decides: a backend that reports failure but whose (polished) answer is certified
   // is accepted with a warning; an uncertified answer fails, as "not converged" when the backend or

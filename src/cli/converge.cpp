@@ -46,11 +46,8 @@ int cmd_converge(const std::vector<std::string>& args) {
   if (a.quiet) set_log_level(LogLevel::WARN);
 
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
-  prepare_output_dir(a.out, a.force);
+  prepare_output_dir(a.out, a.force, {"convergence.csv", "convergence.json", "convergence.png"});
   const std::filesystem::path out(a.out);
-  for (const char* f : {"convergence.csv", "convergence.json"})
-    if (std::filesystem::exists(out / f) && !a.force)
-      input_error("--out '" + a.out + "' already holds results (" + f + "); pass --force to overwrite");
 
   const ConvergenceStudy st = run_convergence(scene, scene_directory(a.scene), levels, reference[0]);
 
@@ -58,7 +55,7 @@ int cmd_converge(const std::vector<std::string>& args) {
   js["name"] = name;
   js["scene_file"] = a.scene;
   write_convergence_csv((out / "convergence.csv").string(), st);
-  std::ofstream((out / "convergence.json").string()) << js.dump(2) << '\n';
+  write_text_file((out / "convergence.json").string(), js.dump(2) + '\n');
   std::printf("%s: convergence against the reference n = %d\n", name.c_str(), reference[0]);
   std::fputs(convergence_table(st).c_str(), stdout);
   std::printf("results in %s\n", a.out.c_str());
@@ -67,6 +64,7 @@ int cmd_converge(const std::vector<std::string>& args) {
                            run_plot_script("plot_convergence.py", {(out / "convergence.csv").string(), "--out",
                                                                    (out / "convergence.png").string(), "--title",
                                                                    name}) != 0;
+  if (std::filesystem::exists(out / "convergence.png")) record_output_file((out / "convergence.png").string());
   if (!st.ok()) {
     std::string not_converged, not_certified;
     std::vector<ConvergenceLevel> all = st.levels;

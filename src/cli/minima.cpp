@@ -95,11 +95,8 @@ int cmd_minima(const std::vector<std::string>& args) {
     }
     for (Vec& v : read_gamma3_starts(js, md, "--start '" + f + "'")) mo.user_starts.push_back(std::move(v));
   }
-  prepare_output_dir(a.out, a.force);
+  prepare_output_dir(a.out, a.force, {"minima.csv", "minima.json", "minima.png", "solution_0.vtu"});
   const std::filesystem::path out(a.out);
-  for (const char* f : {"minima.csv", "minima.json"})
-    if (std::filesystem::exists(out / f) && !a.force)
-      input_error("--out '" + a.out + "' already holds results (" + f + "); pass --force to overwrite");
 
   const SolveOptions opt = solve_options_from_scene(scene);
   const MinimaReport r = find_minima(md, opt, mo);
@@ -108,7 +105,7 @@ int cmd_minima(const std::vector<std::string>& args) {
   js["name"] = name;
   js["scene_file"] = a.scene;
   js["scene"] = scene;
-  std::ofstream((out / "minima.json").string()) << js.dump(2) << '\n';
+  write_text_file((out / "minima.json").string(), js.dump(2) + '\n');
   write_minima_csv((out / "minima.csv").string(), r);
   for (size_t k = 0; k < r.solutions.size(); ++k)
     write_vtu((out / ("solution_" + std::to_string(k) + ".vtu")).string(), md, r.solutions[k].solution);
@@ -120,6 +117,7 @@ int cmd_minima(const std::vector<std::string>& args) {
                                          "--title", name}) != 0)
     log_warn() << "minima: " << (out / "minima.png").string()
                << " was not drawn (needs /usr/bin/python3 with matplotlib); the table, CSV, JSON and VTU files are written";
+  if (std::filesystem::exists(out / "minima.png")) record_output_file((out / "minima.png").string());
 
   if (r.solutions.empty()) {
     const bool any_converged =

@@ -208,8 +208,7 @@ json minima_json(const Model& md, const MinimaReport& r) {
 }
 
 void write_minima_csv(const std::string& path, const MinimaReport& r) {
-  std::ofstream out(path);
-  if (!out) input_error("cannot write '" + path + "'");
+  std::ostringstream out;
   const std::vector<std::string> counts{"separated", "compliance", "contact", "stick", "slip+", "slip-", "slip"};
   out << "k,energy,energy_norm,type,lambda_min,certificate,n_starts,backends,starts";
   for (const auto& c : counts) out << ',' << c;
@@ -230,7 +229,7 @@ void write_minima_csv(const std::string& path, const MinimaReport& r) {
     for (const auto& c : counts) out << ',' << (sc.count(c) ? sc.at(c) : 0);
     out << '\n';
   }
-  if (!out) input_error("cannot write '" + path + "'");
+  write_text_file(path, out.str());
 }
 
 std::string minima_table(const MinimaReport& r) {

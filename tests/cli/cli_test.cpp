@@ -109,6 +109,25 @@ TEST_F(Cli, EveryCommandHasHelp) {
   EXPECT_NE(overview.out.find("hemicontact COMMAND --help"), std::string::npos);
 }
 
+// --force replaces the previous result set as a whole: an n = 8 run without VTU after one with it
+// leaves no stale solution.vtu, keeps the user's notes.txt, and report.json lists the new set.
+TEST_F(Cli, ForceReplacesThePreviousResultSet) {
+  const std::string out = (dir / "res").string();
+  const std::string scene_file = write(scene());
+  ASSERT_EQ(run("solve " + scene_file + " --out " + out + " --quiet").code, 0);
+  ASSERT_TRUE(fs::exists(fs::path(out) / "solution.vtu"));
+  std::ofstream(fs::path(out) / "notes.txt") << "mine\n";
+  const CliRun again = run("solve " + scene_file + " --out " + out + " --quiet");
+  EXPECT_EQ(again.code, hemicontact::EXIT_INPUT);
+  EXPECT_NE(again.err.find("already holds results"), std::string::npos) << again.err;
+  const CliRun r = run("solve " + scene_file + " --out " + out + " --quiet --force --set output.vtu=false");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(fs::path(out) / "solution.vtu"));
+  EXPECT_EQ(slurp(fs::path(out) / "notes.txt"), "mine\n");
+  const json rep = json::parse(slurp(fs::path(out) / "report.json"));
+  EXPECT_EQ(rep["files"], json({"gamma3.csv", "report.json"}));
+}
+
 TEST_F(Cli, SolveWritesResults) {
   const std::string out = (dir / "res").string();
   const CliRun r = run("solve " + write(scene()) + " --out " + out + " --quiet");

@@ -561,7 +561,8 @@ TEST(OutputDir, CreatesRefusesFilesAndKeepsResults) {
   const std::string nested = dir / "a/b/c";
   prepare_output_dir(nested, false);
   EXPECT_TRUE(fs::is_directory(nested));
-  EXPECT_TRUE(fs::is_empty(nested));  // the write probe is cleaned up
+  EXPECT_EQ(std::distance(fs::directory_iterator(nested), fs::directory_iterator()), 1);  // the manifest only
+  EXPECT_TRUE(output_files(nested).empty());
   prepare_output_dir(nested, false);  // an existing directory without results is fine
 
   const std::string file = dir / "plain.txt";
@@ -573,10 +574,41 @@ TEST(OutputDir, CreatesRefusesFilesAndKeepsResults) {
 
   std::ofstream(nested + "/report.json") << "{}\n";
   EXPECT_EQ(input_error_of([&] { prepare_output_dir(nested, false); }),
-            "--out '" + nested + "' already holds results (report.json); pass --force to overwrite");
+            "--out '" + nested + "' already holds results (report.json); pass --force to replace them");
   EXPECT_EQ(read_text(nested + "/report.json"), "{}\n");
   prepare_output_dir(nested, true);
-  EXPECT_EQ(read_text(nested + "/report.json"), "{}\n");  // preparing never deletes anything
+  EXPECT_FALSE(fs::exists(nested + "/report.json"));  // --force: the previous result set goes
+}
+
+// The manifest: every file written through write_text_file is listed once; --force removes exactly
+// those (and report.json), never a user's file, never a name that leaves the folder; a user's file
+// with the name of one the run will write is refused even with --force.
+TEST(OutputDir, ForceReplacesExactlyTheFilesOfTheEarlierRun) {
+  TempDir dir("manifest");
+  const std::string out = dir / "res";
+  prepare_output_dir(out, false);
+  write_text_file(out + "/solution.vtu", "old vtu\n");
+  write_text_file(out + "/gamma3.csv", "old csv\n");
+  write_text_file(out + "/gamma3.csv", "old csv again\n");  // listed once
+  EXPECT_EQ(output_files(out), (std::vector<std::string>{"solution.vtu", "gamma3.csv"}));
+  std::ofstream(out + "/notes.txt") << "mine\n";
+  std::ofstream(dir / "outside.txt") << "mine too\n";
+  // A manifest edited to point outside the folder, or at a subfolder, is not followed.
+  std::ofstream(out + "/" + OUTPUT_MANIFEST, std::ios::app) << "../outside.txt\n.\n\nsub\n";
+  fs::create_directories(out + "/sub");
+  EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(out, false); }), "already holds results (solution.vtu");
+  prepare_output_dir(out, true, {"report.json", "gamma3.csv"});
+  EXPECT_FALSE(fs::exists(out + "/solution.vtu"));
+  EXPECT_FALSE(fs::exists(out + "/gamma3.csv"));
+  EXPECT_EQ(read_text(out + "/notes.txt"), "mine\n");
+  EXPECT_EQ(read_text(dir / "outside.txt"), "mine too\n");
+  EXPECT_TRUE(fs::is_directory(out + "/sub"));
+  EXPECT_TRUE(output_files(out).empty());
+
+  std::ofstream(out + "/gamma3.csv") << "the user's own\n";
+  EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(out, true, {"gamma3.csv"}); }),
+                  "'gamma3.csv' exists and was not written by hemicontact");
+  EXPECT_EQ(read_text(out + "/gamma3.csv"), "the user's own\n");
 }
 
 }  // namespace
