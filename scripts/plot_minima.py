@@ -68,6 +68,10 @@ def main():
         return 2
 
     nodes0 = sols[0]["nodes"]
+    if not nodes0:
+        print(f"plot_minima.py: {args.json}: the scene has no Gamma3 nodes, so there is no profile to draw",
+              file=sys.stderr)
+        return 1
     axes = [a for a in ("x", "y", "z") if a in nodes0[0]]
     spread = {a: max(n[a] for n in nodes0) - min(n[a] for n in nodes0) for a in axes}
     axis = max(axes, key=lambda a: spread[a])

@@ -112,11 +112,18 @@ int cmd_minima(const std::vector<std::string>& args) {
   std::printf("%s: distinct solutions (lowest energy first)\n", name.c_str());
   std::fputs(minima_table(r).c_str(), stdout);
   std::printf("results in %s\n", a.out.c_str());
-  if (!r.solutions.empty() &&
-      run_plot_script("plot_minima.py", {(out / "minima.json").string(), "--out", (out / "minima.png").string(),
-                                         "--title", name}) != 0)
-    log_warn() << "minima: " << (out / "minima.png").string()
-               << " was not drawn (needs /usr/bin/python3 with matplotlib); the table, CSV, JSON and VTU files are written";
+  // The picture is the Γ3 profile of each solution: nothing to draw without Γ3 (or solutions).
+  if (md.contact.size() == 0)
+    log_info() << "minima: no Gamma3 nodes, so no minima.png (the problem is linear elasticity: one solution)";
+  else if (!r.solutions.empty()) {
+    const int code = run_plot_script("plot_minima.py", {(out / "minima.json").string(), "--out",
+                                                        (out / "minima.png").string(), "--title", name});
+    // The scripts exit with 2 exactly when matplotlib is missing (after saying so themselves).
+    if (code != 0)
+      log_warn() << "minima: " << (out / "minima.png").string() << " was not drawn"
+                 << (code == 2 ? " (needs /usr/bin/python3 with matplotlib)" : "")
+                 << "; the table, CSV, JSON and VTU files are written";
+  }
   if (std::filesystem::exists(out / "minima.png")) record_output_file((out / "minima.png").string());
 
   if (r.solutions.empty()) {

@@ -146,4 +146,20 @@ TEST_F(MinimaCli, MissingMatplotlibIsAWarningOnly) {
   EXPECT_NE(r.err.find("matplotlib"), std::string::npos) << r.err;
 }
 
+// A scene without Γ3 is linear elasticity: one solution and no Γ3 profile to draw. It used to end
+// in a Python traceback that blamed a missing matplotlib; now it says why there is no picture.
+TEST_F(MinimaCli, SceneWithoutGamma3DrawsNothingAndSaysWhy) {
+  const fs::path file = dir / "no_gamma3.json";
+  std::ofstream(file) << R"({"mesh": {"type": "rectangle", "n": 4}, "material": {"E": 1000, "nu": 0.3},
+                             "boundary": {"gamma1": [{"side": "top"}]}, "loads": {"body_force": [0, -1]}})";
+  const fs::path out = dir / "ng3";
+  const MinimaOutcome r = cli("minima " + file.string() + " --starts 0 --load-path-steps 0 --out " + out.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out / "minima.csv"));
+  EXPECT_FALSE(fs::exists(out / "minima.png"));
+  EXPECT_NE(r.err.find("no Gamma3 nodes"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("Traceback"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("matplotlib"), std::string::npos) << r.err;
+}
+
 }  // namespace
