@@ -14,6 +14,7 @@ pkgs=(
   coinor-libipopt-dev    # Ipopt 3.11.9 with MUMPS: the design's NLP backend
   libnlopt-cxx-dev       # NLopt 2.7: alternative local/global NLP backends
   nlohmann-json3-dev     # scene files and report.json
+  zlib1g-dev             # compressed binary VTU output
   libgtest-dev           # unit tests
   libbenchmark-dev       # micro-benchmarks in bench/
   python3-matplotlib     # pictures (work-precision, convergence, Fig. 2); Debian's /usr/bin/python3

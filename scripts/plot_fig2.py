@@ -25,7 +25,9 @@ import argparse
 import csv
 import math
 import os
+import struct
 import sys
+import zlib
 import xml.etree.ElementTree as ET
 
 NORMAL = ["separated", "compliance", "contact"]  # status_normal codes 0, 1, 2
@@ -42,20 +44,54 @@ class InputError(Exception):
 
 
 def read_vtu(path):
-    """Points (N x 3), triangles, and the point data arrays (lists of tuples or numbers) of an ASCII .vtu."""
+    """Points (N x 3), triangles, and the point data arrays (lists of tuples or numbers) of a .vtu
+    written by hemicontact: ASCII, or binary with the arrays in a raw appended block (VTK's layout
+    for header_type UInt64), zlib-compressed when the file names vtkZLibDataCompressor."""
     try:
-        root = ET.parse(path).getroot()
-    except (OSError, ET.ParseError) as e:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as e:
         raise InputError(f"cannot read {path}: {e}")
+    # The appended block may hold any bytes: the XML is what comes before it.
+    at = data.find(b'<AppendedData encoding="raw">')
+    block = b""
+    if at >= 0:
+        block = data[data.index(b"_", at) + 1:]
+        data = data[:at] + b"</VTKFile>\n"
+    try:
+        root = ET.fromstring(data)
+    except ET.ParseError as e:
+        raise InputError(f"cannot read {path}: {e}")
+    compressed = root.get("compressor") == "vtkZLibDataCompressor"
     piece = root.find("./UnstructuredGrid/Piece")
     if piece is None:
         raise InputError(f"{path}: not a VTK UnstructuredGrid file")
+    codes = {"Float64": "d", "Float32": "f", "Int64": "q", "Int32": "i", "UInt8": "B"}
+
+    def appended(el):
+        offset = int(el.get("offset"))
+        if compressed:
+            nblocks, _, _ = struct.unpack_from("<3Q", block, offset)
+            sizes = struct.unpack_from(f"<{nblocks}Q", block, offset + 24)
+            pos, raw = offset + 24 + 8 * nblocks, b""
+            for size in sizes:
+                raw += zlib.decompress(block[pos:pos + size])
+                pos += size
+        else:
+            (nbytes,) = struct.unpack_from("<Q", block, offset)
+            raw = block[offset + 8:offset + 8 + nbytes]
+        code = codes[el.get("type")]
+        return list(struct.unpack(f"<{len(raw) // struct.calcsize(code)}{code}", raw))
 
     def array(el):
-        if el.get("format", "ascii") != "ascii":
-            raise InputError(f"{path}: DataArray {el.get('Name')} is not ASCII")
-        kind = int if el.get("type", "").startswith(("Int", "UInt")) else float
-        vals = [kind(t) for t in (el.text or "").split()]
+        fmt = el.get("format", "ascii")
+        if fmt == "appended":
+            vals = appended(el)
+        elif fmt == "ascii":
+            kind = int if el.get("type", "").startswith(("Int", "UInt")) else float
+            vals = [kind(t) for t in (el.text or "").split()]
+        else:
+            raise InputError(f"{path}: DataArray {el.get('Name')} has format {fmt}")
         nc = int(el.get("NumberOfComponents", "1"))
         return vals if nc == 1 else [tuple(vals[i:i + nc]) for i in range(0, len(vals), nc)]
 

@@ -176,7 +176,9 @@ int cmd_solve(const std::vector<std::string>& args) {
 
   // report.json comes last: it lists every file of the set ("files") and marks it complete.
   const std::filesystem::path out(a.out);
-  if (scene.at("output").at("vtu").get<bool>()) write_vtu((out / "solution.vtu").string(), md, sol);
+  const VtuFormat vtu_format =
+      scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
+  if (scene.at("output").at("vtu").get<bool>()) write_vtu((out / "solution.vtu").string(), md, sol, vtu_format);
   if (scene.at("output").at("csv").get<bool>()) write_gamma3_csv((out / "gamma3.csv").string(), md, sol);
   std::fputs(summary_table(md, sol).c_str(), stdout);
   // 3D: the Γ3 status map with slip directions (scripts/plot_status3d.py, same arguments).

@@ -320,6 +320,10 @@ std::vector<SchemaEntry> build_scene_schema() {
   // ------------------------------------------------------------------ output
   t.push_back(section("/output", "Files written next to report.json."));
   t.push_back(key("/output/vtu", "boolean", true, "VTK file: u, status, σ_ν, σ_τ, λ."));
+  t.push_back(key("/output/vtu_format", "string", "binary",
+                  "solution.vtu storage: binary (appended, zlib-compressed when built with zlib; ~5x "
+                  "smaller and faster) or ascii (every number in full, for diffs).",
+                  {"binary", "ascii"}));
   t.push_back(key("/output/csv", "boolean", true, "One CSV row per Γ3 node."));
   t.push_back(key("/output/plot", "boolean", false, "Pictures (needs python3-matplotlib)."));
 

@@ -17,6 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -28,6 +30,10 @@
 #include <vector>
 
 #include <unistd.h>
+
+#if HEMICONTACT_HAS_ZLIB
+#include <zlib.h>
+#endif
 
 namespace hemicontact {
 namespace {
@@ -132,7 +138,53 @@ struct VtuArray {
   std::vector<double> values;
 };
 
-/// Parse every named DataArray of an ASCII VTU (a minimal reader: enough for our own output).
+/// The values of an appended (binary) array at @p offset of the appended block: VTK's layout for
+/// header_type UInt64, zlib blocks when @p compressed (vtk_writer.cpp), decoded independently here.
+std::vector<double> appended_values(const std::string& block, size_t offset, const std::string& type, bool compressed) {
+  const auto u64 = [&](size_t at) {
+    std::uint64_t v;
+    std::memcpy(&v, block.data() + at, 8);
+    return v;
+  };
+  std::string raw;
+  if (compressed) {
+#if HEMICONTACT_HAS_ZLIB
+    const std::uint64_t nblocks = u64(offset), bs = u64(offset + 8), last = u64(offset + 16);
+    size_t at = offset + 24 + 8 * nblocks;
+    for (std::uint64_t k = 0; k < nblocks; ++k) {
+      const std::uint64_t csize = u64(offset + 24 + 8 * k);
+      uLongf len = static_cast<uLongf>((k + 1 == nblocks && last) ? last : bs);
+      std::string out(len, '\0');
+      EXPECT_EQ(uncompress(reinterpret_cast<Bytef*>(out.data()), &len,
+                           reinterpret_cast<const Bytef*>(block.data() + at), static_cast<uLong>(csize)),
+                Z_OK);
+      raw += out.substr(0, len);
+      at += csize;
+    }
+#else
+    ADD_FAILURE() << "a compressed VTU from a build without zlib";
+#endif
+  } else {
+    raw = block.substr(offset + 8, u64(offset));
+  }
+  std::vector<double> v;
+  const auto read = [&](auto tag) {
+    using T = decltype(tag);
+    for (size_t k = 0; k + sizeof(T) <= raw.size(); k += sizeof(T)) {
+      T x;
+      std::memcpy(&x, raw.data() + k, sizeof(T));
+      v.push_back(static_cast<double>(x));
+    }
+  };
+  if (type == "Float64") read(double());
+  else if (type == "Int64") read(std::int64_t());
+  else if (type == "Int32") read(std::int32_t());
+  else read(std::uint8_t());
+  return v;
+}
+
+/// Parse every named DataArray of a VTU, ASCII or appended binary (a minimal reader: enough for
+/// our own output).
 std::map<std::string, VtuArray> parse_vtu_arrays(const std::string& text) {
   std::map<std::string, VtuArray> out;
   const auto attr = [](const std::string& tag, const std::string& name) -> std::string {
@@ -141,22 +193,33 @@ std::map<std::string, VtuArray> parse_vtu_arrays(const std::string& text) {
     const auto b = p + name.size() + 3;
     return tag.substr(b, tag.find('"', b) - b);
   };
+  // The XML ends where the appended block starts (its bytes may contain anything).
+  const size_t appended_at = text.find("<AppendedData encoding=\"raw\">");
+  const std::string xml = text.substr(0, appended_at);
+  std::string block;
+  if (appended_at != std::string::npos) block = text.substr(text.find('_', appended_at) + 1);
+  const bool compressed = xml.find("compressor=\"vtkZLibDataCompressor\"") != std::string::npos;
   size_t pos = 0;
-  while ((pos = text.find("<DataArray", pos)) != std::string::npos) {
-    const size_t tag_end = text.find('>', pos);
-    const size_t close = text.find("</DataArray>", tag_end);
-    EXPECT_NE(close, std::string::npos);
-    const std::string tag = text.substr(pos, tag_end - pos);
+  while ((pos = xml.find("<DataArray", pos)) != std::string::npos) {
+    const size_t tag_end = xml.find('>', pos);
+    const std::string tag = xml.substr(pos, tag_end - pos);
     VtuArray a;
     a.type = attr(tag, "type");
     const std::string nc = attr(tag, "NumberOfComponents");
     a.comps = nc.empty() ? 1 : std::stoi(nc);
-    EXPECT_EQ(attr(tag, "format"), "ascii");
-    std::istringstream body(text.substr(tag_end + 1, close - tag_end - 1));
-    std::string tok;
-    while (body >> tok) a.values.push_back(std::strtod(tok.c_str(), nullptr));
+    if (attr(tag, "format") == "appended") {
+      a.values = appended_values(block, std::stoul(attr(tag, "offset")), a.type, compressed);
+      pos = tag_end;
+    } else {
+      EXPECT_EQ(attr(tag, "format"), "ascii");
+      const size_t close = xml.find("</DataArray>", tag_end);
+      EXPECT_NE(close, std::string::npos);
+      std::istringstream body(xml.substr(tag_end + 1, close - tag_end - 1));
+      std::string tok;
+      while (body >> tok) a.values.push_back(std::strtod(tok.c_str(), nullptr));
+      pos = close;
+    }
     out[attr(tag, "Name")] = std::move(a);
-    pos = close;
   }
   return out;
 }
@@ -174,12 +237,53 @@ size_t count_of(const std::string& text, const std::string& part) {
   return n;
 }
 
+// The binary file (the default) carries exactly the ASCII file's numbers (ASCII writes each double
+// in its shortest round-trip form, so both decode to the same bits), in fewer bytes; the statuses
+// are also fields by name, and the codes' legend is in the file.
+TEST(VtkWriter, BinaryEqualsAsciiAndStatusesHaveNames) {
+  Fixture fx;
+  TempDir dir("vtu_binary");
+  write_vtu(dir / "a.vtu", fx.md, fx.sol, VtuFormat::ASCII);
+  write_vtu(dir / "b.vtu", fx.md, fx.sol);
+  const std::string ascii = read_text(dir / "a.vtu"), binary = read_text(dir / "b.vtu");
+  EXPECT_CONTAINS(binary, "<AppendedData encoding=\"raw\">");
+  EXPECT_EQ(binary.find("format=\"ascii\""), std::string::npos);
+  if (HEMICONTACT_HAS_ZLIB) {
+    EXPECT_CONTAINS(binary, "compressor=\"vtkZLibDataCompressor\"");
+  }
+  EXPECT_LT(binary.size(), ascii.size());
+  const auto A = parse_vtu_arrays(ascii), B = parse_vtu_arrays(binary);
+  ASSERT_EQ(A.size(), B.size());
+  for (const auto& [name, a] : A) {
+    ASSERT_TRUE(B.count(name)) << name;
+    EXPECT_EQ(B.at(name).type, a.type) << name;
+    EXPECT_EQ(B.at(name).comps, a.comps) << name;
+    EXPECT_EQ(B.at(name).values, a.values) << name;  // bit for bit
+  }
+  // One 0/1 field per 2D status, agreeing with the codes on every node.
+  const auto& sn = B.at("status_normal").values;
+  const auto& st = B.at("status_tangential").values;
+  const std::vector<std::pair<std::string, std::pair<const std::vector<double>*, int>>> fields = {
+      {"separated", {&sn, 0}}, {"compliance", {&sn, 1}}, {"contact", {&sn, 2}},
+      {"stick", {&st, 0}},     {"slip_plus", {&st, 1}},  {"slip_minus", {&st, 2}}};
+  for (const auto& [name, code] : fields) {
+    ASSERT_TRUE(B.count(name)) << name;
+    const auto& v = B.at(name).values;
+    for (size_t a = 0; a < v.size(); ++a) EXPECT_EQ(v[a], (*code.first)[a] == code.second ? 1.0 : 0.0) << name << a;
+  }
+  EXPECT_FALSE(B.count("slip"));  // 3D only
+  std::string legend;
+  for (double c : B.at("status_legend").values) legend += static_cast<char>(c);
+  EXPECT_CONTAINS(legend, "status_normal: -1 not on Gamma3, 0 separated, 1 compliance, 2 contact");
+  EXPECT_CONTAINS(legend, "0 stick, 1 slip+, 2 slip-, 3 slip");
+}
+
 TEST(VtkWriter, ArraysCountsAndValuesRoundTrip) {
   Fixture fx;
   const Model& md = fx.md;
   const Solution& sol = fx.sol;
   TempDir dir("vtu");
-  write_vtu(dir / "solution.vtu", md, sol);
+  write_vtu(dir / "solution.vtu", md, sol, VtuFormat::ASCII);
   const std::string text = read_text(dir / "solution.vtu");
 
   // Well-formed enough: the header, one root, balanced tags.

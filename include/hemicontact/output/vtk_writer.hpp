@@ -1,9 +1,11 @@
 #pragma once
 /// @file vtk_writer.hpp  The solution as a VTK XML UnstructuredGrid (.vtu) for ParaView.
 ///
-/// The file is ASCII on purpose: it needs no VTK library to write, it diffs, and a test can read
-/// it back. Numbers are written in the shortest form that reads back to the same double (full
-/// precision). Points always have 3 components (z = 0 in 2D); cells are VTK_TRIANGLE (5) in 2D
+/// Binary by default: the arrays go raw into one appended block, zlib-compressed (VTK's
+/// vtkZLibDataCompressor layout, header_type UInt64) when the build has zlib — about 5x smaller
+/// than ASCII and written in a fraction of the time. ASCII (output.vtu_format = "ascii") writes
+/// every number in the shortest form that reads back to the same double, for diffs. No VTK
+/// library is needed either way. Points always have 3 components (z = 0 in 2D); cells are VTK_TRIANGLE (5) in 2D
 /// and VTK_TETRA (10) in 3D.
 ///
 /// PointData
@@ -14,6 +16,11 @@
 ///    "u_tau_vec", "sigma_tau_vec" (3 components, the tangential vectors)
 ///  - "status_normal" (Int32): −1 not on Γ3, 0 separated, 1 compliance, 2 contact
 ///  - "status_tangential" (Int32): −1 not on Γ3, 0 stick, 1 slip+, 2 slip−, 3 slip (3D)
+///  - by name, UInt8 0/1: "separated", "compliance", "contact", "stick", and "slip_plus",
+///    "slip_minus" (2D) or "slip" (3D): colour by any of them in ParaView
+///
+/// FieldData: "status_legend", the legend of the two integer codes as text (UInt8 characters;
+/// also an XML comment in the file).
 ///  - 3D only: "slip_dir" (3 components, u_τ/|u_τ| on slipping Γ3 nodes, 0 elsewhere) and
 ///    "slip_angle_deg" (its angle in the tangent plane, SlipDirection; 0 elsewhere)
 ///
@@ -27,13 +34,17 @@
 
 namespace hemicontact {
 
-/// @brief Write the solution as an ASCII VTK XML UnstructuredGrid. Never solves.
+/// How the arrays are stored.
+enum class VtuFormat { BINARY, ASCII };
+
+/// @brief Write the solution as a VTK XML UnstructuredGrid. Never solves.
 /// @param path the .vtu file to write (its directory must exist)
 /// @param md   the model the solution belongs to
 /// @param sol  the solution; sol.u, sol.state and sol.status must be filled (evaluate_solution())
 /// @throws Error (EXIT_INPUT) if the file cannot be written;
 ///         Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
-void write_vtu(const std::string& path, const Model& md, const Solution& sol);
+/// @param format binary (appended, compressed with zlib when available; the default) or ASCII
+void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format = VtuFormat::BINARY);
 
 /// @brief Integer code of a normal status as written to "status_normal".
 /// @param s the status @return 0 separated, 1 compliance, 2 contact
