@@ -14,6 +14,7 @@
 #include "cli.hpp"
 
 #include <hemicontact/output/study_writers.hpp>
+#include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/convergence.hpp>
@@ -46,10 +47,25 @@ int cmd_converge(const std::vector<std::string>& args) {
   if (a.quiet) set_log_level(LogLevel::WARN);
 
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
-  prepare_output_dir(a.out, a.force, {"convergence.csv", "convergence.json", "convergence.png"});
+  prepare_output_dir(a.out, a.force, {"convergence.csv", "convergence.json", "convergence.png", "convergence.pvd"});
   const std::filesystem::path out(a.out);
 
-  const ConvergenceStudy st = run_convergence(scene, scene_directory(a.scene), levels, reference[0]);
+  // One VTU per solved level as it completes, and a .pvd that steps through them in ParaView.
+  const VtuFormat vtu_format =
+      scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
+  std::vector<std::pair<double, std::string>> vtus;
+  const bool write_vtus = scene.at("output").at("vtu").get<bool>();
+  const auto on_level = [&](int n, const Model& md, const Solution& sol) {
+    if (!write_vtus) return;
+    const std::string file = "level_" + std::to_string(n) + ".vtu";
+    write_vtu((out / file).string(), md, sol, vtu_format);
+    vtus.emplace_back(n, file);
+  };
+  const ConvergenceStudy st = run_convergence(scene, scene_directory(a.scene), levels, reference[0], on_level);
+  if (write_vtus) {
+    std::sort(vtus.begin(), vtus.end());
+    write_pvd((out / "convergence.pvd").string(), vtus);
+  }
 
   nlohmann::json js = convergence_json(st);
   js["name"] = name;

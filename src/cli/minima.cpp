@@ -95,7 +95,7 @@ int cmd_minima(const std::vector<std::string>& args) {
     }
     for (Vec& v : read_gamma3_starts(js, md, "--start '" + f + "'")) mo.user_starts.push_back(std::move(v));
   }
-  prepare_output_dir(a.out, a.force, {"minima.csv", "minima.json", "minima.png", "solution_0.vtu"});
+  prepare_output_dir(a.out, a.force, {"minima.csv", "minima.json", "minima.png", "minima.pvd", "solution_0.vtu"});
   const std::filesystem::path out(a.out);
 
   const SolveOptions opt = solve_options_from_scene(scene);
@@ -107,8 +107,16 @@ int cmd_minima(const std::vector<std::string>& args) {
   js["scene"] = scene;
   write_text_file((out / "minima.json").string(), js.dump(2) + '\n');
   write_minima_csv((out / "minima.csv").string(), r);
-  for (size_t k = 0; k < r.solutions.size(); ++k)
-    write_vtu((out / ("solution_" + std::to_string(k) + ".vtu")).string(), md, r.solutions[k].solution);
+  const VtuFormat vtu_format =
+      scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
+  std::vector<std::pair<double, std::string>> vtus;
+  for (size_t k = 0; k < r.solutions.size(); ++k) {
+    const std::string file = "solution_" + std::to_string(k) + ".vtu";
+    write_vtu((out / file).string(), md, r.solutions[k].solution, vtu_format);
+    vtus.emplace_back(static_cast<double>(k), file);
+  }
+  // The distinct solutions, lowest energy first, as the steps of one collection.
+  if (!vtus.empty()) write_pvd((out / "minima.pvd").string(), vtus);
   std::printf("%s: distinct solutions (lowest energy first)\n", name.c_str());
   std::fputs(minima_table(r).c_str(), stdout);
   std::printf("results in %s\n", a.out.c_str());

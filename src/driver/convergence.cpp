@@ -143,7 +143,7 @@ std::vector<int> parse_levels(const std::string& text) {
 }
 
 ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string& scene_dir, std::vector<int> levels,
-                                 int reference) {
+                                 int reference, const LevelSolved& on_level) {
   // ---- check the request before any solve
   if (levels.empty()) input_error("convergence: no mesh level given");
   std::sort(levels.begin(), levels.end());
@@ -170,6 +170,7 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
   const SolveOptions ref_opt = solve_options_from_scene(st.scene);
   Solution ref_sol;
   st.reference = solve_level(ref, ref_opt, st.scene, reference, ref_sol);
+  if (on_level) on_level(reference, ref, ref_sol);
   st.reference.error = 0;
   st.backend = ref_sol.backend;
   const double ref_norm = ref_sol.energy_norm;
@@ -188,6 +189,7 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
       const Model md = build_model(s, scene_dir);
       Solution sol;
       lvl = solve_level(md, solve_options_from_scene(s), s, L, sol);
+      if (on_level) on_level(L, md, sol);
       Pu = prolongate(md.mesh, sol.u, ref.mesh);
       lvl.nested = is_nested(md.mesh, ref.mesh);
       if (!lvl.nested)

@@ -292,4 +292,17 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol, Vt
   write_text_file(path, out);
 }
 
+void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& entries) {
+  std::string out =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+      "  <Collection>\n";
+  for (const auto& [t, file] : entries) {
+    out += "    <DataSet timestep=\"";
+    put(out, t);
+    out += "\" part=\"0\" file=\"" + file + "\"/>\n";
+  }
+  out += "  </Collection>\n</VTKFile>\n";
+  write_text_file(path, out);
+}
+
 }  // namespace hemicontact

@@ -86,6 +86,10 @@ TEST_F(ConvergeCli, WritesCsvJsonAndTable) {
   EXPECT_EQ(r4[6], "");
   EXPECT_GT(std::stod(r8[6]), 0.0);
   EXPECT_EQ(r4.back(), "1");
+  // One VTU per level (the reference too) and a collection that steps through them, coarse first.
+  EXPECT_EQ(hemicontact::test::pvd_files(out / "convergence.pvd"),
+            (std::vector<std::string>{"level_4.vtu", "level_8.vtu", "level_16.vtu"}));
+  for (const auto& f : hemicontact::test::pvd_files(out / "convergence.pvd")) EXPECT_TRUE(fs::exists(out / f)) << f;
   // JSON: the same levels, the reference and the verdict.
   const json js = json::parse(slurp(out / "convergence.json"));
   EXPECT_EQ(js["reference"]["n"], 16);

@@ -76,6 +76,8 @@ TEST_F(MinimaCli, WritesTableCsvJsonVtuAndPicture) {
   }
   for (int k = 0; k < 4; ++k) EXPECT_TRUE(fs::exists(out / ("solution_" + std::to_string(k) + ".vtu"))) << k;
   EXPECT_FALSE(fs::exists(out / "solution_4.vtu"));
+  EXPECT_EQ(hemicontact::test::pvd_files(out / "minima.pvd"),
+            (std::vector<std::string>{"solution_0.vtu", "solution_1.vtu", "solution_2.vtu", "solution_3.vtu"}));
   if (matplotlib_available()) {
     EXPECT_TRUE(fs::exists(out / "minima.png")) << r.err;
   }

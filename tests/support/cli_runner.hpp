@@ -36,6 +36,17 @@ inline std::vector<std::string> lines_of(const std::string& text) {
 }
 
 /// @return true if Debian's python3 can import matplotlib (picture tests skip otherwise).
+/// The files a ParaView collection (.pvd) lists, in order (its DataSet file="..." attributes).
+inline std::vector<std::string> pvd_files(const std::filesystem::path& pvd) {
+  std::vector<std::string> files;
+  const std::string text = slurp(pvd);
+  for (size_t p = text.find("file=\""); p != std::string::npos; p = text.find("file=\"", p + 1)) {
+    const size_t b = p + 6;
+    files.push_back(text.substr(b, text.find('"', b) - b));
+  }
+  return files;
+}
+
 inline bool matplotlib_available() {
   return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0;
 }

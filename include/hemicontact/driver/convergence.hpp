@@ -22,7 +22,12 @@
 
 #include <hemicontact/core/types.hpp>
 
+#include <hemicontact/problem/model.hpp>
+#include <hemicontact/problem/solution.hpp>
+
 #include <nlohmann/json.hpp>
+
+#include <functional>
 
 #include <map>
 #include <string>
@@ -105,7 +110,11 @@ std::vector<int> parse_levels(const std::string& text);
 /// @return the study, levels coarse to fine
 /// @throws Error (EXIT_INPUT) if there is no level, a level or R is < 1, some levels do not divide
 ///         R (all of them are named), or the scene's mesh is not generated (rectangle or box)
+/// Called with each solved level (the reference first) while the study runs: the caller writes
+/// what it wants of it (the CLI: one VTU per level) without the driver knowing about files.
+using LevelSolved = std::function<void(int n, const Model& model, const Solution& solution)>;
+
 ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string& scene_dir, std::vector<int> levels,
-                                 int reference);
+                                 int reference, const LevelSolved& on_level = nullptr);
 
 }  // namespace hemicontact

@@ -31,6 +31,8 @@
 #include <hemicontact/driver/solve.hpp>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hemicontact {
 
@@ -45,6 +47,11 @@ enum class VtuFormat { BINARY, ASCII };
 ///         Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
 /// @param format binary (appended, compressed with zlib when available; the default) or ASCII
 void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format = VtuFormat::BINARY);
+
+/// @brief Write a ParaView collection (.pvd) of VTU files: one DataSet per entry, its "timestep"
+/// the entry's number (the mesh level of a convergence study, the index of a distinct solution),
+/// its file relative to the .pvd's folder. ParaView steps through them with the time controls.
+void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& entries);
 
 /// @brief Integer code of a normal status as written to "status_normal".
 /// @param s the status @return 0 separated, 1 compliance, 2 contact
