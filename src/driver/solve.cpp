@@ -31,19 +31,6 @@ double rel_change(const Vec& a, const Vec& b) {
   return s > 0 ? (a - b).cwiseAbs().maxCoeff() / s : 0.0;
 }
 
-// First-order optimality of min f s.t. l ≤ x ≤ u, measured in the scaled unknowns where x and ∇f
-// are both O(1): r_i = min(|g_i|, distance to the bound the gradient pushes towards), max over i.
-double first_order_residual(const NlpObjective& f, const Vec& x, const Vec& lower, const Vec& upper) {
-  Vec g;
-  f.gradient(x, g);
-  double r = 0;
-  for (Index i = 0; i < x.size(); ++i) {
-    const double room = g[i] < 0 ? upper[i] - x[i] : x[i] - lower[i];
-    r = std::max(r, std::min(std::abs(g[i]), std::max(0.0, room)));
-  }
-  return r;
-}
-
 std::string short_number(double x) {
   std::ostringstream os;
   os << std::setprecision(3) << x;
@@ -484,7 +471,8 @@ OuterIteration ContactSolver::Impl::minimize(Run& run, size_t stage) {
   const Vec c = gamma3(run.zs);
   rec.change_u = rel_change(c, run.prev_c);
   run.prev_c = c;
-  rec.grad_norm = first_order_residual(*scaled, run.zs, prob.lower, prob.upper);
+  // The backend's kkt_norm is nlp's first_order_residual at zs, on the same scaled problem.
+  rec.grad_norm = rec.backend.kkt_norm;
   return rec;
 }
 

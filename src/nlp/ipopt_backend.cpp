@@ -90,19 +90,6 @@ SolveStatus map_status(Ipopt::ApplicationReturnStatus s) {
   }
 }
 
-/// ‖x − P(x − ∇f(x))‖∞ with P the projection onto [lower, upper]: zero exactly at a first-order
-/// point of the bound-constrained problem. Computed here, not taken from Ipopt, so every backend
-/// reports the same measure and it does not depend on Ipopt's multipliers or scaling. For an
-/// interior-point iterate, component i is min(x_i − l_i, ∂_i f) where ∂_i f > 0, and both factors
-/// of the final complementarity (x_i − l_i)·z_i ≈ μ can be ≈ √μ at a weakly active bound, so
-/// this can be well above Ipopt's dual infeasibility (both are logged at debug level).
-double projected_gradient_norm(const NlpProblem& problem, const Vec& x) {
-  Vec g;
-  problem.f->gradient(x, g);
-  const Vec step = (x - g).cwiseMax(problem.lower).cwiseMin(problem.upper);
-  return x.size() == 0 ? 0.0 : (x - step).cwiseAbs().maxCoeff();
-}
-
 // One Set*Value, checked (OptionsList returns false for an unknown name, a wrong type or a value
 // outside the registered range or list).
 void set_checked(bool ok, const std::string& name, const std::string& value, ExitCode code) {
@@ -185,7 +172,9 @@ class IpoptBackend final : public NlpBackend {
  public:
   std::string name() const override { return "ipopt"; }
   bool uses_hessian() const override { return true; }
-  SolveResult minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) override;
+
+ protected:
+  SolveResult do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) override;
 
  private:
   Vec m_z_L;             ///< lower-bound multipliers of the last successful solve (empty: none)
@@ -193,32 +182,10 @@ class IpoptBackend final : public NlpBackend {
   double m_scale = 1.0;  ///< gradient scale G of the last successful solve (see top of file)
 };
 
-SolveResult IpoptBackend::minimize(const NlpProblem& problem, Vec& x,
-                                   const BackendOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
-  if (problem.f == nullptr) throw Error("ipopt: NlpProblem has no objective", EXIT_INTERNAL);
+// The problem is checked, x is inside the bounds and n ≥ 1 (NlpBackend::minimize).
+SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) {
   const Index n = problem.f->size();
-  if (problem.lower.size() != n || problem.upper.size() != n || x.size() != n)
-    throw Error("ipopt: sizes differ: n = " + std::to_string(n) + ", lower " +
-                    std::to_string(problem.lower.size()) + ", upper " +
-                    std::to_string(problem.upper.size()) + ", x " + std::to_string(x.size()),
-                EXIT_INTERNAL);
-  for (Index i = 0; i < n; ++i)
-    if (!(problem.lower[i] <= problem.upper[i]))  // also catches NaN bounds
-      throw Error("ipopt: empty bounds at unknown " + std::to_string(i) + ": [" +
-                      std::to_string(problem.lower[i]) + ", " + std::to_string(problem.upper[i]) +
-                      "]",
-                  EXIT_INPUT);
-  x = x.cwiseMax(problem.lower).cwiseMin(problem.upper);
-
   SolveResult result;
-  if (n == 0) {  // Ipopt rejects an empty problem (too few degrees of freedom); nothing to do
-    result.status = SolveStatus::CONVERGED;
-    result.f = problem.f->value(x);
-    result.message = "ipopt: empty problem (n = 0)";
-    return result;
-  }
-
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   // Exceptions from our objective (e.g. hemicontact::Error) reach the caller instead of becoming
   // NonIpopt_Exception_Thrown.
@@ -289,7 +256,6 @@ SolveResult IpoptBackend::minimize(const NlpProblem& problem, Vec& x,
   result.message = std::string("ipopt: ") + status_name(status);
   result.evaluations = r.f_evaluations;
   result.f = r.finalized ? r.f : problem.f->value(x);
-  result.kkt_norm = projected_gradient_norm(problem, x);
   const Ipopt::SmartPtr<Ipopt::SolveStatistics> stats = app->Statistics();
   result.iterations =
       Ipopt::IsValid(stats) ? stats->IterationCount() : std::max(0, r.callbacks - 1);
@@ -298,7 +264,7 @@ SolveResult IpoptBackend::minimize(const NlpProblem& problem, Vec& x,
     stats->Infeasibilities(dual_inf, constr_viol, compl_inf, kkt);
     log_debug() << "ipopt: " << status_name(status) << " after " << result.iterations
                 << " iterations, f = " << result.f << ", unscaled dual_inf " << dual_inf
-                << ", compl " << compl_inf << ", projected gradient " << result.kkt_norm;
+                << ", compl " << compl_inf;
   }
 
   // Keep the multipliers only from a usable solve: after a failure they describe a bad point and
@@ -311,7 +277,6 @@ SolveResult IpoptBackend::minimize(const NlpProblem& problem, Vec& x,
     m_z_L.resize(0);
     m_z_U.resize(0);
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }
 

@@ -96,16 +96,6 @@ constexpr double COND_MAX = 1 / (100 * EPS);  // a step implying cond(H_FF) abov
 
 enum class LinearSolver { AUTO, CHOLMOD, DENSE };
 
-/// r = max_i min(|g_i|, room towards the bound that −g_i points to): the driver's measure.
-double first_order_residual(const Vec& x, const Vec& g, const Vec& lower, const Vec& upper) {
-  double r = 0;
-  for (Index i = 0; i < x.size(); ++i) {
-    const double room = g[i] < 0 ? upper[i] - x[i] : x[i] - lower[i];
-    r = std::max(r, std::min(std::abs(g[i]), std::max(0.0, room)));
-  }
-  return r;
-}
-
 /// Solves H_FF d_F = −g_F for the free unknowns, d_B = 0, by CHOLMOD on a fixed pattern or by a
 /// dense LLᵀ. Keeps CHOLMOD's symbolic analysis while the pattern does not change.
 class FreeSetSolver {
@@ -335,32 +325,23 @@ class NewtonBackend final : public NlpBackend {
  public:
   std::string name() const override { return "newton"; }
   bool uses_hessian() const override { return true; }
-  SolveResult minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) override;
+
+ protected:
+  SolveResult do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) override;
 
  private:
   FreeSetSolver m_solver;  // keeps CHOLMOD's analysis across calls on the same pattern
 };
 
-SolveResult NewtonBackend::minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) {
+// The problem is checked, x is inside the bounds and n ≥ 1 (NlpBackend::minimize).
+SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) {
   const auto t0 = clk::now();
-  if (problem.f == nullptr) throw Error("newton: NlpProblem has no objective", EXIT_INTERNAL);
   const NlpObjective& f = *problem.f;
   const Index n = f.size();
-  if (problem.lower.size() != n || problem.upper.size() != n || x.size() != n)
-    throw Error("newton: sizes differ: n = " + std::to_string(n) + ", lower " +
-                    std::to_string(problem.lower.size()) + ", upper " + std::to_string(problem.upper.size()) +
-                    ", x " + std::to_string(x.size()),
-                EXIT_INTERNAL);
-  for (Index i = 0; i < n; ++i)
-    if (!(problem.lower[i] <= problem.upper[i]))  // also catches NaN bounds
-      throw Error("newton: empty bounds at unknown " + std::to_string(i) + ": [" +
-                      std::to_string(problem.lower[i]) + ", " + std::to_string(problem.upper[i]) + "]",
-                  EXIT_INPUT);
   const NewtonOptions opt = parse_options(options);
   const LinearSolver ls = opt.linear_solver;
   const Vec& lo = problem.lower;
   const Vec& up = problem.upper;
-  x = x.cwiseMax(lo).cwiseMin(up);
 
   SolveResult result;
   int exact_steps = 0, shifted = 0, halvings = 0;  // statistics for the message
@@ -378,11 +359,6 @@ SolveResult NewtonBackend::minimize(const NlpProblem& problem, Vec& x, const Bac
     return result;
   };
   m_solver.reset_counters();
-  if (n == 0) {
-    result.f = f.value(x);
-    result.evaluations = 1;
-    return finish(SolveStatus::CONVERGED, "empty problem (n = 0)");
-  }
 
   const SpMat& pattern = f.hessian_pattern();
   if (pattern.rows() != n || pattern.cols() != n)

@@ -256,14 +256,11 @@ double parse_positive(const std::string& key, const std::string& s) {
   return v;
 }
 
-/// r = max_i min(|g_i|, distance to the bound −g_i points to): the driver's measure.
+/// r = max_i min(|g_i|, distance to the bound −g_i points to): the shared first-order residual
+/// (nlp/backend.hpp) on NLopt's raw arrays.
 double first_order_residual(const double* x, const double* g, const Vec& lower, const Vec& upper) {
-  double r = 0.0;
-  for (Index i = 0; i < lower.size(); ++i) {
-    const double room = g[i] < 0 ? upper[i] - x[i] : x[i] - lower[i];
-    r = std::max(r, std::min(std::abs(g[i]), std::max(0.0, room)));
-  }
-  return r;
+  const Index n = lower.size();
+  return hemicontact::first_order_residual(Eigen::Map<const Vec>(x, n), Eigen::Map<const Vec>(g, n), lower, upper);
 }
 
 /// The objective callback's state: counts, the first-order stop, the best point seen, and an
@@ -373,7 +370,9 @@ class NloptBackend final : public NlpBackend {
       : m_spec(std::move(spec)), m_local(local), m_global(global) {}
   std::string name() const override { return "nlopt:" + m_spec; }
   bool uses_hessian() const override { return false; }
-  SolveResult minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) override;
+
+ protected:
+  SolveResult do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) override;
 
  private:
   Extra parse_extra(const BackendOptions& options, const LocalAlgorithm*& local) const;
@@ -440,23 +439,11 @@ nlopt::opt NloptBackend::make_local(const LocalAlgorithm& a, const Extra& e, uns
   return opt;
 }
 
-SolveResult NloptBackend::minimize(const NlpProblem& problem, Vec& x,
-                                   const BackendOptions& options) {
+// The problem is checked, x is inside the bounds and n ≥ 1 (NlpBackend::minimize).
+SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) {
   const auto t0 = clk::now();
   const std::string who = name();
-  if (problem.f == nullptr) throw Error(who + ": NlpProblem has no objective", EXIT_INTERNAL);
   const Index n = problem.f->size();
-  if (problem.lower.size() != n || problem.upper.size() != n || x.size() != n)
-    throw Error(who + ": sizes differ: n = " + std::to_string(n) + ", lower " +
-                    std::to_string(problem.lower.size()) + ", upper " +
-                    std::to_string(problem.upper.size()) + ", x " + std::to_string(x.size()),
-                EXIT_INTERNAL);
-  for (Index i = 0; i < n; ++i)
-    if (!(problem.lower[i] <= problem.upper[i]))  // also catches NaN bounds
-      throw Error(who + ": empty bounds at unknown " + std::to_string(i) + ": [" +
-                      std::to_string(problem.lower[i]) + ", " + std::to_string(problem.upper[i]) +
-                      "]",
-                  EXIT_INPUT);
   if (!(options.tol > 0))
     throw Error(who + ": tol must be > 0 (got " + std::to_string(options.tol) + ")", EXIT_INPUT);
   const LocalAlgorithm* local = nullptr;
@@ -467,16 +454,8 @@ SolveResult NloptBackend::minimize(const NlpProblem& problem, Vec& x,
                     (m_global ? "a global search" : "SLSQP's dense O(n^2) memory, O(n^3) time") +
                     "); use solver.formulation = condensed, or another backend",
                 EXIT_INPUT);
-  x = x.cwiseMax(problem.lower).cwiseMin(problem.upper);
 
   SolveResult result;
-  if (n == 0) {
-    result.status = SolveStatus::CONVERGED;
-    result.f = problem.f->value(x);
-    result.message = who + ": empty problem (n = 0)";
-    return result;
-  }
-
   const int maxeval =
       extra.maxeval > 0
           ? extra.maxeval

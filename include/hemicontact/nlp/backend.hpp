@@ -46,7 +46,21 @@ struct BackendOptions {
   std::map<std::string, std::string> extra;
 };
 
+/// @brief The first-order residual of min f subject to lower ≤ x ≤ upper at x, one definition for
+/// every backend and the driver: r = max_i min(|g_i|, room towards the bound that −g_i points to),
+/// with g = ∇f(x). Zero exactly at a first-order point; it equals ‖x − P(x − g)‖∞ (P: the
+/// projection onto the box) and is in the units of g.
+double first_order_residual(const Vec& x, const Vec& g, const Vec& lower, const Vec& upper);
+/// @return first_order_residual at @p x of @p problem (one gradient evaluation).
+double first_order_residual(const NlpProblem& problem, const Vec& x);
+
 /// An NLP solver for bound-constrained problems.
+///
+/// minimize() is the one entry point and does what every backend needs (template method): it checks
+/// the problem (an objective, sizes, non-empty bounds), projects the start onto the bounds, answers
+/// an empty problem (n = 0) itself, times the run, and sets SolveResult::kkt_norm to
+/// first_order_residual() at the returned x, so that kkt_norm means the same for every backend.
+/// A backend implements do_minimize(): the algorithm and its own verdict.
 class NlpBackend {
  public:
   virtual ~NlpBackend() = default;
@@ -57,7 +71,14 @@ class NlpBackend {
   /// Minimize from the warm start @p x (projected onto the bounds first); x receives the result.
   /// @param problem objective and bounds; @param x in: start, out: final iterate;
   /// @param options tolerances and pass-through options.
-  virtual SolveResult minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) = 0;
+  /// @throws Error naming the backend for a malformed problem (EXIT_INTERNAL) or empty bounds
+  ///         (EXIT_INPUT), and whatever do_minimize throws for bad options.
+  SolveResult minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options);
+
+ protected:
+  /// The algorithm, on a checked problem with n ≥ 1 unknowns and x inside the bounds. Sets status,
+  /// iterations, evaluations, f and message (kkt_norm and seconds are minimize()'s).
+  virtual SolveResult do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) = 0;
 };
 
 /// Create a backend by name ("ipopt", "newton", "nlopt:LD_LBFGS", ...).
