@@ -41,7 +41,17 @@ void prepare_output_dir(const std::string& dir, bool overwrite, const std::vecto
     if (!fs::is_directory(p, ec)) input_error(name + ": exists and is not a directory");
     // Results: a report.json, or files an earlier run listed (an interrupted run leaves a manifest
     // with the files it got to write; one that failed before writing any left it empty).
-    const std::vector<std::string> ours = output_files(dir);
+    std::vector<std::string> ours = output_files(dir);
+    // A result set of a version before the manifest: its marker file (report.json, or a study's
+    // JSON) says an earlier run of the tool wrote there, and then the names this run writes are
+    // the names that run wrote.
+    if (!fs::exists(manifest, ec))
+      for (const char* marker : {"report.json", "convergence.json", "minima.json"})
+        if (fs::exists(p / marker, ec)) {
+          for (const std::string& f : will_write)
+            if (fs::exists(p / f, ec)) ours.push_back(f);
+          break;
+        }
     const bool has_results = fs::exists(p / "report.json", ec) || !ours.empty();
     if (!overwrite && has_results)
       input_error(name + " already holds results (" +

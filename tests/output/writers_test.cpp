@@ -713,6 +713,17 @@ TEST(OutputDir, ForceReplacesExactlyTheFilesOfTheEarlierRun) {
   EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(out, true, {"gamma3.csv"}); }),
                   "'gamma3.csv' exists and was not written by hemicontact");
   EXPECT_EQ(read_text(out + "/gamma3.csv"), "the user's own\n");
+
+  // A result set from a version before the manifest (report.json, no manifest): the files this run
+  // writes are the ones that run wrote, so --force replaces them; other files stay.
+  const std::string old = dir / "old";
+  fs::create_directories(old);
+  for (const char* f : {"report.json", "solution.vtu", "gamma3.csv", "notes.txt"}) std::ofstream(old + "/" + f) << f;
+  EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(old, false, {"report.json", "solution.vtu"}); }),
+                  "already holds results (report.json)");
+  prepare_output_dir(old, true, {"report.json", "solution.vtu", "gamma3.csv"});
+  for (const char* f : {"report.json", "solution.vtu", "gamma3.csv"}) EXPECT_FALSE(fs::exists(old + "/" + f)) << f;
+  EXPECT_EQ(read_text(old + "/notes.txt"), "notes.txt");
 }
 
 }  // namespace
