@@ -195,7 +195,7 @@ TEST(SceneSchemaErrors, UnknownKeyHintFromElsewhereOrList) {
   EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "did you mean 'contact.friction.mu'?");
   s = minimal_scene();
   s["output"]["zzzzzz"] = true;
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "(allowed here: vtu, csv, plot)");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "(allowed here: vtu, vtu_format, csv, plot)");
   s = minimal_scene();
   s["solver"]["continuation/eps_start"] = 1e-3;  // a '/' in a key must not address a row
   EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "unknown key 'solver.continuation/eps_start'");
