@@ -14,9 +14,9 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <nlohmann/json.hpp>
@@ -67,13 +67,20 @@ Args parse(int argc, char** argv) {
     const std::string k = argv[i];
     if (i + 1 >= argc) usage("missing value after " + k);
     const std::string v = argv[++i];
-    if (k == "--scene") a.scene = v;
-    else if (k == "--nx") a.nx = std::stoi(v);
-    else if (k == "--ny") a.ny = std::stoi(v);
-    else if (k == "--nz") a.nz = std::stoi(v);
-    else if (k == "--backend") a.backend = v;
-    else if (k == "--set") a.overrides.push_back(v);
-    else if (k == "--out") a.out = v;
+    if (k == "--scene")
+      a.scene = v;
+    else if (k == "--nx")
+      a.nx = std::stoi(v);
+    else if (k == "--ny")
+      a.ny = std::stoi(v);
+    else if (k == "--nz")
+      a.nz = std::stoi(v);
+    else if (k == "--backend")
+      a.backend = v;
+    else if (k == "--set")
+      a.overrides.push_back(v);
+    else if (k == "--out")
+      a.out = v;
     else if (k == "--phases") {
       a.phases.clear();
       std::stringstream ss(v);
@@ -81,7 +88,8 @@ Args parse(int argc, char** argv) {
         if (p != "linear" && p != "contact") usage("unknown phase '" + p + "'");
         a.phases.push_back(p);
       }
-    } else usage("unknown option " + k);
+    } else
+      usage("unknown option " + k);
   }
   return a;
 }

@@ -19,13 +19,13 @@
 #include <hemicontact/check/contact_status.hpp>
 #include <hemicontact/contact/mollified_law.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/energy/elastic_energy.hpp>
 #include <hemicontact/energy/total_energy.hpp>
 #include <hemicontact/fem/assembly.hpp>
 #include <hemicontact/fem/condensation.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <benchmark/benchmark.h>
@@ -97,7 +97,8 @@ std::unique_ptr<EnergySetup> make_energy(const Model& md, bool condensed) {
   }
   const auto layout = std::make_shared<const NodalLayout>(nd, e->energy->hessian_pattern());
   if (md.normal_law)
-    e->energy->add(std::make_shared<NormalComplianceEnergy>(layout, std::make_shared<const MollifiedLaw>(md.normal_law, 1e-6 * U)));
+    e->energy->add(std::make_shared<NormalComplianceEnergy>(
+        layout, std::make_shared<const MollifiedLaw>(md.normal_law, 1e-6 * U)));
   if (md.friction) e->energy->add(std::make_shared<FrictionEnergy>(layout, 1e-6 * U, lambda));
   return e;
 }

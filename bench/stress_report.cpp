@@ -25,8 +25,8 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <nlohmann/json.hpp>
@@ -95,10 +95,10 @@ Outcome run(const std::vector<std::string>& overrides, const std::string& scene 
     o.status = sol.status;
     o.counts = sol.status_counts();
     o.finite = sol.u.allFinite() && std::isfinite(sol.energy);
-    o.outcome = sol.ok()                        ? "certified"
-                : !sol.fixed_point_converged    ? "not converged: fixed point"
-                : !sol.backend_ok               ? "not converged: backend"
-                                                : "certificate failed";
+    o.outcome = sol.ok()                     ? "certified"
+                : !sol.fixed_point_converged ? "not converged: fixed point"
+                : !sol.backend_ok            ? "not converged: backend"
+                                             : "certificate failed";
   } catch (const Error& e) {
     o.input_error = e.code() == EXIT_INPUT;
     o.outcome = o.input_error ? "input error" : "error (exit " + std::to_string(e.code()) + ")";
@@ -154,8 +154,8 @@ std::vector<CaseRow> run_cases(int n) {
     return o.finite && !o.outcome.empty() && (o.ok ? o.certificate <= 1e-8 : !o.message.empty());
   };
   const auto add = [&](std::string name, std::string checked, bool p, std::string measured, Outcome o) {
-    rows.push_back({std::move(name), std::move(checked), pass(p) + (measured.empty() ? "" : " (" + measured + ")"),
-                    std::move(o)});
+    rows.push_back(
+        {std::move(name), std::move(checked), pass(p) + (measured.empty() ? "" : " (" + measured + ")"), std::move(o)});
     std::fprintf(stderr, "  %-34s %-5s %s  %.2f s\n", rows.back().name.c_str(), pass(p).c_str(),
                  rows.back().o.outcome.c_str(), rows.back().o.seconds);
   };
@@ -164,10 +164,10 @@ std::vector<CaseRow> run_cases(int n) {
   const Outcome ref = run(base({}));
   add("fig2 (reference)", "certified", ref.ok, "", ref);
   for (double s : {1e-6, 1e-3, 1e3, 1e6}) {
-    const Outcome o = run(base({"loads.scale=" + stress::num(s), "material.E=" + stress::num(2000 * s),
-                                "contact.normal_law.c1=" + stress::num(100 * s),
-                                "contact.normal_law.c2=" + stress::num(-100 * s),
-                                "contact.normal_law.c3=" + stress::num(400 * s)}));
+    const Outcome o =
+        run(base({"loads.scale=" + stress::num(s), "material.E=" + stress::num(2000 * s),
+                  "contact.normal_law.c1=" + stress::num(100 * s), "contact.normal_law.c2=" + stress::num(-100 * s),
+                  "contact.normal_law.c3=" + stress::num(400 * s)}));
     const double d = rel_diff(o.u, ref.u);
     add("loads, E, c_i × " + g3(s), "same u as fig2: max|Δu|/max|u| ≤ 1e-7, same statuses",
         o.ok && d <= 1e-7 && o.status.size() == ref.status.size(), "Δu " + g3(d), o);
@@ -175,7 +175,8 @@ std::vector<CaseRow> run_cases(int n) {
   for (double L : {1e-3, 1e3}) {
     // Lengths × L with stresses unchanged: tractions and p_ν values stay, f0 (force/volume) and
     // c_i (traction/length) scale as 1/L, r_i and g as L; then u_L(Lx) = L u(x).
-    std::vector<std::string> o{"mesh.x=[0," + stress::num(L) + "]", "mesh.y=[0," + stress::num(L) + "]",
+    std::vector<std::string> o{"mesh.x=[0," + stress::num(L) + "]",
+                               "mesh.y=[0," + stress::num(L) + "]",
                                "loads.body_force=[0," + stress::num(-500 / L) + "]",
                                "contact.gap=" + stress::num(0.15 * L),
                                "contact.normal_law.c1=" + stress::num(100 / L),
@@ -204,10 +205,10 @@ std::vector<CaseRow> run_cases(int n) {
   }
   for (double E : {1e-3, 1e9}) {
     const double s = E / 2000;
-    const Outcome o = run(base({"material.E=" + stress::num(E), "loads.scale=" + stress::num(s),
-                                "contact.normal_law.c1=" + stress::num(100 * s),
-                                "contact.normal_law.c2=" + stress::num(-100 * s),
-                                "contact.normal_law.c3=" + stress::num(400 * s)}));
+    const Outcome o =
+        run(base({"material.E=" + stress::num(E), "loads.scale=" + stress::num(s),
+                  "contact.normal_law.c1=" + stress::num(100 * s), "contact.normal_law.c2=" + stress::num(-100 * s),
+                  "contact.normal_law.c3=" + stress::num(400 * s)}));
     const double d = rel_diff(o.u, ref.u);
     add("E = " + g3(E) + ", loads and c_i scaled", "same u as fig2 (≤ 1e-7)", o.ok && d <= 1e-7, "Δu " + g3(d), o);
   }
@@ -226,8 +227,9 @@ std::vector<CaseRow> run_cases(int n) {
     // A linear stiff layer without obstacle: penetration σ/c1, so once c1 ≫ E (the layer much
     // stiffer than the body: here c1 ≥ 500 E) the distance decays like 1/c1; before, it only
     // has to decrease.
-    const Outcome o = run(base({"contact.gap=null", frictionless, "contact.normal_law.c1=" + stress::num(c1),
-                                "contact.normal_law.c2=" + stress::num(c1), "contact.normal_law.c3=" + stress::num(c1)}));
+    const Outcome o =
+        run(base({"contact.gap=null", frictionless, "contact.normal_law.c1=" + stress::num(c1),
+                  "contact.normal_law.c2=" + stress::num(c1), "contact.normal_law.c3=" + stress::num(c1)}));
     const double d = rel_diff(o.u, sig.u);
     const double order = std::isnan(prev) ? NAN : std::log10(d / prev) / std::log10(c1 / prev_c);
     const bool asymptotic = c1 >= 1e6;
@@ -290,8 +292,8 @@ std::vector<CaseRow> run_cases(int n) {
     add("aspect 100:1 (" + std::to_string(100 * ny) + "×" + std::to_string(ny) + ")", "certified", o.ok, "", o);
     const Outcome t = run({"mesh.n=null", "mesh.x=[0,0.01]", "mesh.nx=" + std::to_string(ny),
                            "mesh.ny=" + std::to_string(100 * ny), "check.smallness=false"});
-    add("aspect 1:100 (" + std::to_string(ny) + "×" + std::to_string(100 * ny) + ")", "certified or honest",
-        honest(t), t.outcome, t);
+    add("aspect 1:100 (" + std::to_string(ny) + "×" + std::to_string(100 * ny) + ")", "certified or honest", honest(t),
+        t.outcome, t);
   }
   return rows;
 }
@@ -330,13 +332,11 @@ std::vector<ThetaRow> run_theta(int n) {
   for (double cs : {0.1, 1.0, 10.0})
     for (double mu : {1.0, 3.0, 5.0, 8.0, 12.0, 20.0})
       for (double theta : {1.0, 0.75, 0.5, 0.25}) {
-        const Outcome o = run({"mesh.n=" + std::to_string(n), "check.smallness=false", "contact.gap=null",
-                               "boundary.gamma2=[]", "loads.body_force=[20000,-500]",
-                               "contact.normal_law.c1=" + stress::num(100 * cs),
-                               "contact.normal_law.c2=" + stress::num(-100 * cs),
-                               "contact.normal_law.c3=" + stress::num(400 * cs),
-                               "contact.friction.mu=" + stress::num(mu),
-                               "solver.fixed_point.relaxation=" + stress::num(theta)});
+        const Outcome o =
+            run({"mesh.n=" + std::to_string(n), "check.smallness=false", "contact.gap=null", "boundary.gamma2=[]",
+                 "loads.body_force=[20000,-500]", "contact.normal_law.c1=" + stress::num(100 * cs),
+                 "contact.normal_law.c2=" + stress::num(-100 * cs), "contact.normal_law.c3=" + stress::num(400 * cs),
+                 "contact.friction.mu=" + stress::num(mu), "solver.fixed_point.relaxation=" + stress::num(theta)});
         rows.push_back({mu, cs, theta, o});
         std::fprintf(stderr, "  c×%-4s mu %-4s theta %-4s: %-28s rho %-7s outer %3d  %.2f s\n", g3(cs).c_str(),
                      g3(mu).c_str(), g3(theta).c_str(), o.outcome.c_str(), g3(o.rho).c_str(), o.outer, o.seconds);
@@ -353,7 +353,8 @@ void write(const fs::path& p, const std::string& text) {
 }
 
 std::string cases_csv(const std::vector<CaseRow>& rows) {
-  std::string t = "case,checked,verdict,outcome,certificate,outer_iterations,backend_iterations,contraction,seconds,message\n";
+  std::string t =
+      "case,checked,verdict,outcome,certificate,outer_iterations,backend_iterations,contraction,seconds,message\n";
   for (const auto& r : rows)
     t += csv_quote(r.name) + "," + csv_quote(r.checked) + "," + csv_quote(r.verdict) + "," + csv_quote(r.o.outcome) +
          "," + g3(r.o.certificate) + "," + std::to_string(r.o.outer) + "," + std::to_string(r.o.backend_iterations) +
@@ -362,9 +363,10 @@ std::string cases_csv(const std::vector<CaseRow>& rows) {
 }
 
 std::string cases_md(const std::vector<CaseRow>& rows, int n) {
-  std::string t = "### Stress cases (fig2 scene, n = " + std::to_string(n) +
-                  " unless stated)\n\n| case | checked | verdict | outcome | certificate | outer it. | backend it. | time (s) |\n"
-                  "|---|---|---|---|---|---|---|---|\n";
+  std::string t =
+      "### Stress cases (fig2 scene, n = " + std::to_string(n) +
+      " unless stated)\n\n| case | checked | verdict | outcome | certificate | outer it. | backend it. | time (s) |\n"
+      "|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows)
     t += "| " + md_cell(r.name) + " | " + md_cell(r.checked) + " | " + md_cell(r.verdict) + " | " +
          md_cell(r.o.outcome) + " | " + g3(r.o.certificate) + " | " + std::to_string(r.o.outer) + " | " +
@@ -399,25 +401,29 @@ std::string random_md(const std::vector<RandomRow>& rows, int n_min, int n_max, 
     total += r.o.seconds;
     slowest = std::max(slowest, r.o.seconds);
   }
-  std::string t = "### Randomized scenes (" + std::to_string(rows.size()) + " seeds, n = " + std::to_string(n_min) +
-                  ".." + std::to_string(n_max) + ", " +
-                  (max_iter > 0 ? "solver.max_iter = " + std::to_string(max_iter) : std::string("default solver budgets")) +
-                  ")\n\n| outcome | scenes |\n|---|---|\n";
+  std::string t =
+      "### Randomized scenes (" + std::to_string(rows.size()) + " seeds, n = " + std::to_string(n_min) + ".." +
+      std::to_string(n_max) + ", " +
+      (max_iter > 0 ? "solver.max_iter = " + std::to_string(max_iter) : std::string("default solver budgets")) +
+      ")\n\n| outcome | scenes |\n|---|---|\n";
   for (const auto& [k, v] : count) t += "| " + k + " | " + std::to_string(v) + " |\n";
-  t += "\nNon-finite u or energy: " + std::to_string(nonfinite) + ". Largest certificate among certified: " +
-       g3(worst_certified) + ". Total time " + g3(total) + " s, slowest scene " + g3(slowest) + " s.\n";
-  t += "\nScenes not certified (random.csv's `command` column reruns each one):\n\n| seed | E | loads | μ | g | ε | outcome | message |\n|---|---|---|---|---|---|---|---|\n";
+  t += "\nNon-finite u or energy: " + std::to_string(nonfinite) +
+       ". Largest certificate among certified: " + g3(worst_certified) + ". Total time " + g3(total) +
+       " s, slowest scene " + g3(slowest) + " s.\n";
+  t += "\nScenes not certified (random.csv's `command` column reruns each one):\n\n| seed | E | loads | μ | g | ε | "
+       "outcome | message |\n|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     if (r.o.ok) continue;
-    t += "| " + std::to_string(r.s.seed) + " | " + g3(r.s.E) + " | " + g3(r.s.load_scale) + " | " + g3(r.s.mu) +
-         " | " + (r.s.gap_none ? std::string("none") : g3(r.s.g)) + " | " + g3(r.s.eps) + " | " + md_cell(r.o.outcome) +
-         " | " + md_cell(r.o.message.substr(0, 160)) + " |\n";
+    t += "| " + std::to_string(r.s.seed) + " | " + g3(r.s.E) + " | " + g3(r.s.load_scale) + " | " + g3(r.s.mu) + " | " +
+         (r.s.gap_none ? std::string("none") : g3(r.s.g)) + " | " + g3(r.s.eps) + " | " + md_cell(r.o.outcome) + " | " +
+         md_cell(r.o.message.substr(0, 160)) + " |\n";
   }
   return t;
 }
 
 std::string theta_csv(const std::vector<ThetaRow>& rows) {
-  std::string t = "c_scale,mu,theta,outcome,contraction,outer_iterations,backend_iterations,certificate,seconds,message\n";
+  std::string t =
+      "c_scale,mu,theta,outcome,contraction,outer_iterations,backend_iterations,certificate,seconds,message\n";
   for (const auto& r : rows)
     t += g3(r.c_scale) + "," + g3(r.mu) + "," + g3(r.theta) + "," + csv_quote(r.o.outcome) + "," + g3(r.o.rho) + "," +
          std::to_string(r.o.outer) + "," + std::to_string(r.o.backend_iterations) + "," + g3(r.o.certificate) + "," +
@@ -426,12 +432,13 @@ std::string theta_csv(const std::vector<ThetaRow>& rows) {
 }
 
 std::string theta_md(const std::vector<ThetaRow>& rows, int n) {
-  std::string t = "### Outer fixed point: relaxation θ vs μ and the layer's stiffness (sliding scene, n = " +
-                  std::to_string(n) +
-                  ")\n\nEach cell: ✓ certified / ✗ not; outer iterations; ρ = estimated contraction factor "
-                  "(geometric mean of ‖Δλ^{k+1}‖/‖Δλ^k‖ at the final ε); pred. = max(1 − θ, |1 − θ(1 + a)|) with a = ρ at "
-                  "θ = 1 when that run converged (the relaxed map's factor for a Jacobian spectrum in [−a, 0]; "
-                  "best θ* = 2/(2 + a)). (stall): the solver's no-contraction stop; (cap): max_iters reached.\n\n| c_i × | μ | θ = 1 | θ = 0.75 | θ = 0.5 | θ = 0.25 |\n|---|---|---|---|---|---|\n";
+  std::string t =
+      "### Outer fixed point: relaxation θ vs μ and the layer's stiffness (sliding scene, n = " + std::to_string(n) +
+      ")\n\nEach cell: ✓ certified / ✗ not; outer iterations; ρ = estimated contraction factor "
+      "(geometric mean of ‖Δλ^{k+1}‖/‖Δλ^k‖ at the final ε); pred. = max(1 − θ, |1 − θ(1 + a)|) with a = ρ at "
+      "θ = 1 when that run converged (the relaxed map's factor for a Jacobian spectrum in [−a, 0]; "
+      "best θ* = 2/(2 + a)). (stall): the solver's no-contraction stop; (cap): max_iters reached.\n\n| c_i × | μ | θ = "
+      "1 | θ = 0.75 | θ = 0.5 | θ = 0.25 |\n|---|---|---|---|---|---|\n";
   for (size_t i = 0; i + 3 < rows.size(); i += 4) {
     t += "| " + g3(rows[i].c_scale) + " | " + g3(rows[i].mu) + " |";
     // Prediction from the plain loop's factor a (only when θ = 1 converged, so that a is the
@@ -442,10 +449,12 @@ std::string theta_md(const std::vector<ThetaRow>& rows, int n) {
       const double th = rows[j].theta;
       const std::string pred =
           j == i || std::isnan(a) ? "" : " (pred. " + g3(std::max(1 - th, std::abs(1 - th * (1 + a)))) + ")";
-      const std::string why = o.ok ? "" : o.outcome == "not converged: fixed point"
-                                              ? (o.message.find("does not contract") != std::string::npos ? " (stall)" : " (cap)")
-                                              : " (" + o.outcome + ")";
-      t += " " + std::string(o.ok ? "✓" : "✗") + why + " " + std::to_string(o.outer) + " it, ρ " + g3(o.rho) + pred + " |";
+      const std::string why = o.ok ? ""
+                              : o.outcome == "not converged: fixed point"
+                                  ? (o.message.find("does not contract") != std::string::npos ? " (stall)" : " (cap)")
+                                  : " (" + o.outcome + ")";
+      t += " " + std::string(o.ok ? "✓" : "✗") + why + " " + std::to_string(o.outer) + " it, ρ " + g3(o.rho) + pred +
+           " |";
     }
     t += "\n";
   }
@@ -465,22 +474,32 @@ int main(int argc, char** argv) {
         if (i + 1 >= argc) throw Error(a + " needs a value", EXIT_USAGE);
         return argv[++i];
       };
-      if (a == "--out") out = value();
-      else if (a == "--parts") parts = value();
-      else if (a == "--n") n = std::stoi(value());
-      else if (a == "--seeds") seeds = std::stoi(value());
-      else if (a == "--n-min") n_min = std::stoi(value());
-      else if (a == "--n-max") n_max = std::stoi(value());
-      else if (a == "--n-theta") n_theta = std::stoi(value());
-      else if (a == "--max-iter") max_iter = std::stoi(value());
-      else throw Error("unknown option " + a, EXIT_USAGE);
+      if (a == "--out")
+        out = value();
+      else if (a == "--parts")
+        parts = value();
+      else if (a == "--n")
+        n = std::stoi(value());
+      else if (a == "--seeds")
+        seeds = std::stoi(value());
+      else if (a == "--n-min")
+        n_min = std::stoi(value());
+      else if (a == "--n-max")
+        n_max = std::stoi(value());
+      else if (a == "--n-theta")
+        n_theta = std::stoi(value());
+      else if (a == "--max-iter")
+        max_iter = std::stoi(value());
+      else
+        throw Error("unknown option " + a, EXIT_USAGE);
     }
     if (out.empty()) throw Error("missing --out DIR", EXIT_USAGE);
   } catch (const std::exception& e) {
-    std::fprintf(stderr,
-                 "hemicontact_stress_report: %s\nusage: hemicontact_stress_report --out DIR [--parts cases,random,theta] "
-                 "[--n 64] [--seeds 300] [--n-min 8] [--n-max 16] [--n-theta 16] [--max-iter 500]\n",
-                 e.what());
+    std::fprintf(
+        stderr,
+        "hemicontact_stress_report: %s\nusage: hemicontact_stress_report --out DIR [--parts cases,random,theta] "
+        "[--n 64] [--seeds 300] [--n-min 8] [--n-max 16] [--n-theta 16] [--max-iter 500]\n",
+        e.what());
     return EXIT_USAGE;
   }
   set_log_level(LogLevel::QUIET);

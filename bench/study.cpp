@@ -19,12 +19,12 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/nlp/backend.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -240,9 +240,9 @@ struct Case {
   int level = 0;
   BackendSpec backend;
   std::string eps;
-  bool study = true;      // one of the requested runs
-  bool reference = false; // the scene's reference run (may also be a study run)
-  std::string status;     // pre-run verdict: "" (to run), "unavailable", "skipped"
+  bool study = true;       // one of the requested runs
+  bool reference = false;  // the scene's reference run (may also be a study run)
+  std::string status;      // pre-run verdict: "" (to run), "unavailable", "skipped"
   std::string note;
 
   std::string stem() const {
@@ -265,8 +265,8 @@ std::string scene_file(const StudyOptions& o, const std::string& name) {
   if (name.size() > 5 && name.substr(name.size() - 5) == ".json") return name;
   for (const auto& p : {o.problems + "/sofonea2017-" + name + ".json", o.problems + "/" + name + ".json"})
     if (fs::exists(p)) return p;
-  usage_error("scene '" + name + "': neither " + o.problems + "/sofonea2017-" + name + ".json nor " + o.problems +
-              "/" + name + ".json exists");
+  usage_error("scene '" + name + "': neither " + o.problems + "/sofonea2017-" + name + ".json nor " + o.problems + "/" +
+              name + ".json exists");
 }
 
 std::vector<std::string> overrides(const StudyOptions& o, const Case& c) {
@@ -340,7 +340,8 @@ double self_peak_rss_mb() {
     const SolveOptions opt = solve_options_from_scene(scene);
     const Solution sol = solve(md, opt);
     std::ofstream(base + ".u.bin", std::ios::binary)
-        .write(reinterpret_cast<const char*>(sol.u.data()), static_cast<std::streamsize>(sol.u.size() * sizeof(double)));
+        .write(reinterpret_cast<const char*>(sol.u.data()),
+               static_cast<std::streamsize>(sol.u.size() * sizeof(double)));
     int backend_iters = 0;
     for (const auto& h : sol.history) backend_iters += h.backend.iterations;
     st["u_size"] = sol.u.size();
@@ -420,9 +421,12 @@ Result run_case(const StudyOptions& o, const Case& c, const std::string& runs) {
     // The certificate decides (as in the CLI): a backend that reported failure but whose polished
     // answer is certified is "ok (backend failed)"; an uncertified one keeps the backend's verdict.
     const bool certified = cert <= o.cert_tol, backend_ok = r.stats.value("backend_ok", false);
-    if (!r.stats.value("fixed_point_converged", false)) r.status = "not_converged";
-    else if (!certified) r.status = backend_ok ? "uncertified" : "backend_failed";
-    else r.status = backend_ok ? "ok" : "ok(backend_failed)";
+    if (!r.stats.value("fixed_point_converged", false))
+      r.status = "not_converged";
+    else if (!certified)
+      r.status = backend_ok ? "uncertified" : "backend_failed";
+    else
+      r.status = backend_ok ? "ok" : "ok(backend_failed)";
   }
   return r;
 }
@@ -501,22 +505,23 @@ void write_csv(const std::string& path, const std::vector<Case>& cases, const st
     const json& s = r.stats;
     const double solve_s = num(s, "solve_s"), linear_s = num(s, "linear_s");
     const auto count = [&](const char* k) {
-      return s.contains("status_counts") && s["status_counts"].contains(k) ? std::to_string(s["status_counts"][k].get<int>())
-                                                                           : std::string();
+      return s.contains("status_counts") && s["status_counts"].contains(k)
+                 ? std::to_string(s["status_counts"][k].get<int>())
+                 : std::string();
     };
     const auto inum = [&](const char* k) { return s.contains(k) ? std::to_string(s[k].get<long>()) : std::string(); };
     const std::string role = c.study && c.reference ? "study+reference" : c.reference ? "reference" : "study";
     out << c.scene << "," << role << "," << c.level << "," << fmt(num(s, "h"), 8) << "," << inum("dofs") << ","
         << inum("gamma3_nodes") << "," << csv_field(c.backend.backend) << "," << c.backend.formulation << ","
         << s.value("formulation", "") << "," << c.eps << "," << r.status << ","
-        << (r.exit_code >= 0 ? std::to_string(r.exit_code) : "") << "," << fmt(r.wall) << ","
-        << fmt(num(s, "build_s")) << "," << fmt(linear_s) << "," << fmt(solve_s) << "," << fmt(solve_s / linear_s)
-        << "," << fmt(num(s, "backend_s")) << "," << fmt(r.cpu) << "," << fmt(r.rss_mb, 5) << ","
+        << (r.exit_code >= 0 ? std::to_string(r.exit_code) : "") << "," << fmt(r.wall) << "," << fmt(num(s, "build_s"))
+        << "," << fmt(linear_s) << "," << fmt(solve_s) << "," << fmt(solve_s / linear_s) << ","
+        << fmt(num(s, "backend_s")) << "," << fmt(r.cpu) << "," << fmt(r.rss_mb, 5) << ","
         << fmt(num(s, "linear_rss_mb"), 5) << "," << inum("outer_iters") << "," << inum("backend_iters") << ","
         << fmt(num(s, "cert_max_residual"), 4) << "," << count("separated") << "," << count("compliance") << ","
         << count("contact") << "," << count("stick") << "," << count("slip+") << "," << count("slip-") << ","
-        << fmt(num(s, "energy"), 12) << "," << fmt(num(s, "energy_norm"), 12) << "," << fmt(r.rel_error, 6)
-        << "," << s.value("polish", "") << "," << csv_field(r.message) << "\n";
+        << fmt(num(s, "energy"), 12) << "," << fmt(num(s, "energy_norm"), 12) << "," << fmt(r.rel_error, 6) << ","
+        << s.value("polish", "") << "," << csv_field(r.message) << "\n";
   }
 }
 
@@ -527,11 +532,12 @@ void print_table(const std::vector<Case>& cases, const std::vector<Result>& resu
   for (const auto& c : cases) bw = std::max(bw, static_cast<int>(c.backend.label().size()) + 2);
   for (const auto& scene : scenes) {
     std::cout << "\n" << scene << "\n";
-    std::cout << std::left << std::setw(5) << "L" << std::right << std::setw(8) << "dofs" << "  " << std::left
-              << std::setw(bw) << "backend:form" << std::setw(7) << "eps" << std::setw(15) << "status" << std::right
-              << std::setw(9) << "wall s" << std::setw(9) << "solve s" << std::setw(9) << "lin s" << std::setw(8)
-              << "ratio" << std::setw(8) << "RSS MB" << std::setw(6) << "outer" << std::setw(7) << "b.it"
-              << std::setw(10) << "cert" << std::setw(10) << "rel.err" << "\n";
+    std::cout << std::left << std::setw(5) << "L" << std::right << std::setw(8) << "dofs"
+              << "  " << std::left << std::setw(bw) << "backend:form" << std::setw(7) << "eps" << std::setw(15)
+              << "status" << std::right << std::setw(9) << "wall s" << std::setw(9) << "solve s" << std::setw(9)
+              << "lin s" << std::setw(8) << "ratio" << std::setw(8) << "RSS MB" << std::setw(6) << "outer"
+              << std::setw(7) << "b.it" << std::setw(10) << "cert" << std::setw(10) << "rel.err"
+              << "\n";
     for (size_t i = 0; i < cases.size(); ++i) {
       const Case& c = cases[i];
       if (c.scene != scene) continue;
@@ -539,19 +545,21 @@ void print_table(const std::vector<Case>& cases, const std::vector<Result>& resu
       const json& s = r.stats;
       const auto col = [](double v, int w, int prec, bool sci = false) {
         std::ostringstream os;
-        if (!std::isfinite(v)) os << std::setw(w) << "-";
-        else if (sci) os << std::setw(w) << std::scientific << std::setprecision(prec) << v;
-        else os << std::setw(w) << std::fixed << std::setprecision(prec) << v;
+        if (!std::isfinite(v))
+          os << std::setw(w) << "-";
+        else if (sci)
+          os << std::setw(w) << std::scientific << std::setprecision(prec) << v;
+        else
+          os << std::setw(w) << std::fixed << std::setprecision(prec) << v;
         return os.str();
       };
       const double solve_s = num(s, "solve_s"), lin = num(s, "linear_s");
       std::cout << std::left << std::setw(5) << (std::to_string(c.level) + (c.reference ? "*" : "")) << std::right
                 << std::setw(8) << (s.contains("dofs") ? std::to_string(s["dofs"].get<long>()) : "-") << "  "
-                << std::left << std::setw(bw) << c.backend.label() << std::setw(7) << c.eps << std::setw(15)
-                << r.status << std::right << col(r.wall, 9, 3) << col(solve_s, 9, 3) << col(lin, 9, 4)
-                << col(solve_s / lin, 8, 1) << col(r.rss_mb, 8, 1) << col(num(s, "outer_iters"), 6, 0)
-                << col(num(s, "backend_iters"), 7, 0) << col(num(s, "cert_max_residual"), 10, 1, true)
-                << col(r.rel_error, 10, 2, true) << "\n";
+                << std::left << std::setw(bw) << c.backend.label() << std::setw(7) << c.eps << std::setw(15) << r.status
+                << std::right << col(r.wall, 9, 3) << col(solve_s, 9, 3) << col(lin, 9, 4) << col(solve_s / lin, 8, 1)
+                << col(r.rss_mb, 8, 1) << col(num(s, "outer_iters"), 6, 0) << col(num(s, "backend_iters"), 7, 0)
+                << col(num(s, "cert_max_residual"), 10, 1, true) << col(r.rel_error, 10, 2, true) << "\n";
     }
   }
   std::cout << "(* = reference run; ratio = solve s / lin s, lin = sparse Cholesky factor+solve of the linear "

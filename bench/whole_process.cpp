@@ -124,8 +124,8 @@ PlainTimes plain_linear(const json& scene) {
   std::vector<long> colptr(n + 1, 0);
   for (long q = 0; q < n_free_nodes; ++q) {
     const long cnt = 2 * static_cast<long>(nbr[q].size());
-    colptr[2 * q + 1] = colptr[2 * q] + cnt - 1;       // column 2q: rows up to 2q
-    colptr[2 * q + 2] = colptr[2 * q + 1] + cnt;       // column 2q+1: rows up to 2q+1
+    colptr[2 * q + 1] = colptr[2 * q] + cnt - 1;  // column 2q: rows up to 2q
+    colptr[2 * q + 2] = colptr[2 * q + 1] + cnt;  // column 2q+1: rows up to 2q+1
   }
   cholmod_common cc;
   cholmod_l_start(&cc);
@@ -263,8 +263,9 @@ Child run_plain(const json& scene) {
   return fork_run([&]() {
     try {
       const PlainTimes t = plain_linear(scene);
-      const json j = {{"mesh", t.mesh}, {"assemble", t.assemble}, {"analyse", t.analyse}, {"factor", t.factor},
-                      {"solve", t.solve}, {"dofs", t.dofs}, {"nnz_upper", t.nnz}, {"max_u", t.max_u}, {"f_u", t.f_u}};
+      const json j = {{"mesh", t.mesh},     {"assemble", t.assemble}, {"analyse", t.analyse},
+                      {"factor", t.factor}, {"solve", t.solve},       {"dofs", t.dofs},
+                      {"nnz_upper", t.nnz}, {"max_u", t.max_u},       {"f_u", t.f_u}};
       std::fputs(j.dump().c_str(), stdout);
       return 0;
     } catch (const std::exception& e) {
@@ -278,8 +279,9 @@ Child run_cli(const Args& a, int level, const std::string& backend, const fs::pa
   return fork_run([&]() {
     const int null = ::open("/dev/null", O_WRONLY);
     dup2(null, 1);
-    std::vector<std::string> argv_s = {a.cli, "solve", a.scene, "--set", "mesh.n=" + std::to_string(level),
-                                       "--backend", backend, "--out", out.string(), "--force", "--quiet"};
+    std::vector<std::string> argv_s = {a.cli,       "solve", a.scene, "--set",      "mesh.n=" + std::to_string(level),
+                                       "--backend", backend, "--out", out.string(), "--force",
+                                       "--quiet"};
     std::vector<char*> argv;
     for (auto& s : argv_s) argv.push_back(s.data());
     argv.push_back(nullptr);
@@ -301,14 +303,19 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    if (s == "--scene") a.scene = value();
+    if (s == "--scene")
+      a.scene = value();
     else if (s == "--levels") {
       a.levels.clear();
       for (const auto& t : split(value())) a.levels.push_back(std::stoi(t));
-    } else if (s == "--backends") a.backends = split(value());
-    else if (s == "--cli") a.cli = value();
-    else if (s == "--out") a.out = value();
-    else if (s == "--repeats") a.repeats = std::stoi(value());
+    } else if (s == "--backends")
+      a.backends = split(value());
+    else if (s == "--cli")
+      a.cli = value();
+    else if (s == "--out")
+      a.out = value();
+    else if (s == "--repeats")
+      a.repeats = std::stoi(value());
     else {
       std::fprintf(stderr,
                    "usage: hemicontact_whole_process [--scene FILE] [--levels 256,1024] [--backends ipopt,newton] "
@@ -333,8 +340,12 @@ int main(int argc, char** argv) {
                 pt.is_null() ? 0L : pt["dofs"].get<long>(), plain.wall, plain.peak_mb, "1.00", plain.code,
                 pt.value("mesh", 0.0), pt.value("assemble", 0.0), pt.value("analyse", 0.0), pt.value("factor", 0.0),
                 pt.value("solve", 0.0));
-    rows.push_back({{"n", level}, {"program", "plain"}, {"wall", plain.wall}, {"peak_mb", plain.peak_mb},
-                    {"exit", plain.code}, {"phases", pt}});
+    rows.push_back({{"n", level},
+                    {"program", "plain"},
+                    {"wall", plain.wall},
+                    {"peak_mb", plain.peak_mb},
+                    {"exit", plain.code},
+                    {"phases", pt}});
     for (const auto& backend : a.backends) {
       const fs::path out = fs::path(a.out) / ("solve_n" + std::to_string(level) + "_" + backend);
       double best = 1e300;
@@ -355,8 +366,12 @@ int main(int argc, char** argv) {
         }
       std::printf("%-6d %-10s %9s %8.2f %9.0f %8.2f %7d %s\n", level, backend.c_str(), "", solve.wall, solve.peak_mb,
                   solve.wall / plain.wall, solve.code, phases.c_str());
-      rows.push_back({{"n", level}, {"program", "hemicontact solve --backend " + backend}, {"wall", solve.wall},
-                      {"peak_mb", solve.peak_mb}, {"exit", solve.code}, {"ratio", solve.wall / plain.wall},
+      rows.push_back({{"n", level},
+                      {"program", "hemicontact solve --backend " + backend},
+                      {"wall", solve.wall},
+                      {"peak_mb", solve.peak_mb},
+                      {"exit", solve.code},
+                      {"ratio", solve.wall / plain.wall},
                       {"timings", timings}});
       std::fflush(stdout);
     }

@@ -10,9 +10,14 @@ ContactState contact_state(const Model& md, const Vec& u) {
   const Index n = md.contact.size();
   ContactState s;
   s.residual = md.internal_force(u) - md.f;  // K u − f for a linear law (MODEL.md §4)
-  s.u_nu.resize(n); s.u_tau.resize(n); s.sigma_nu.resize(n); s.sigma_tau.resize(n);
-  s.xi.resize(n); s.lambda.resize(n);
-  s.u_tau_vec.resize(n, d); s.sigma_tau_vec.resize(n, d);
+  s.u_nu.resize(n);
+  s.u_tau.resize(n);
+  s.sigma_nu.resize(n);
+  s.sigma_tau.resize(n);
+  s.xi.resize(n);
+  s.lambda.resize(n);
+  s.u_tau_vec.resize(n, d);
+  s.sigma_tau_vec.resize(n, d);
   for (Index k = 0; k < n; ++k) {
     const int v = md.contact.node[k];
     const Vec nu = md.contact.normal.row(k).transpose();
@@ -81,13 +86,19 @@ std::vector<NodeStatus> classify(const Model& md, const ContactState& s, double 
   const double t = tol * U;
   for (Index k = 0; k < md.contact.size(); ++k) {
     NodeStatus& st = out[k];
-    if (s.u_nu[k] >= md.contact.g[k] - t) st.normal = NormalStatus::CONTACT;
-    else if (s.u_nu[k] <= t) st.normal = NormalStatus::SEPARATED;
-    else st.normal = NormalStatus::COMPLIANCE;
+    if (s.u_nu[k] >= md.contact.g[k] - t)
+      st.normal = NormalStatus::CONTACT;
+    else if (s.u_nu[k] <= t)
+      st.normal = NormalStatus::SEPARATED;
+    else
+      st.normal = NormalStatus::COMPLIANCE;
     const double y = md.dim() == 2 ? std::abs(s.u_tau[k]) : s.u_tau[k];
-    if (y <= t) st.tangential = TangentialStatus::STICK;
-    else if (md.dim() == 2) st.tangential = s.u_tau[k] > 0 ? TangentialStatus::SLIP_PLUS : TangentialStatus::SLIP_MINUS;
-    else st.tangential = TangentialStatus::SLIP;
+    if (y <= t)
+      st.tangential = TangentialStatus::STICK;
+    else if (md.dim() == 2)
+      st.tangential = s.u_tau[k] > 0 ? TangentialStatus::SLIP_PLUS : TangentialStatus::SLIP_MINUS;
+    else
+      st.tangential = TangentialStatus::SLIP;
   }
   return out;
 }
@@ -110,7 +121,10 @@ CertificateReport certify(const Model& md, const Vec& u, const ContactState& s, 
   CertificateResidual feas{"feasibility"}, normal{"normal"}, compl_{"complementarity"}, cone{"friction_cone"},
       slip{"slip_direction"}, eq{"equilibrium"};
   const auto take = [](CertificateResidual& c, double v, Index at) {
-    if (v > c.value || std::isnan(v)) { c.value = std::isnan(v) ? INF : v; c.worst = at; }
+    if (v > c.value || std::isnan(v)) {
+      c.value = std::isnan(v) ? INF : v;
+      c.worst = at;
+    }
   };
   // std::max(0, NaN) and std::min(x, NaN) drop the NaN: these keep it, so that take() reads a
   // non-finite state as an infinite residual, never as a pass.

@@ -3,14 +3,14 @@
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/scene/config.hpp>
+#include <hemicontact/nlp/backend.hpp>
 #include <hemicontact/output/csv_writer.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
-#include <hemicontact/nlp/backend.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -118,8 +118,8 @@ std::string command_help(const std::string& command) {
 bool wants_help(const std::vector<std::string>& args) {
   // Options that take a value: their value is never a request for help (--set description=-h).
   static const std::vector<std::string> with_value = {
-      "--out",    "--set",  "--backend",  "--magnification", "--levels",          "--reference", "--starts",
-      "--seed",   "--box",  "--backends", "--start",         "--load-path-steps", "--group-tol"};
+      "--out",  "--set", "--backend",  "--magnification", "--levels",          "--reference", "--starts",
+      "--seed", "--box", "--backends", "--start",         "--load-path-steps", "--group-tol"};
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "-h" || args[i] == "--help") return true;
     if (std::find(with_value.begin(), with_value.end(), args[i]) != with_value.end()) ++i;
@@ -135,17 +135,26 @@ SceneArgs parse_scene_args(const std::vector<std::string>& args, const std::vect
       if (i + 1 >= args.size()) throw UsageError("option " + s + " needs a value");
       return args[++i];
     };
-    if (s == "--out") a.out = value();
-    else if (s == "--set") a.overrides.push_back(value());
-    else if (s == "--backend") a.overrides.push_back("solver.backend=" + value());
-    else if (s == "--force") a.force = true;
-    else if (s == "--quiet") a.quiet = true;
-    else if (s == "--plot") a.plot = true;
+    if (s == "--out")
+      a.out = value();
+    else if (s == "--set")
+      a.overrides.push_back(value());
+    else if (s == "--backend")
+      a.overrides.push_back("solver.backend=" + value());
+    else if (s == "--force")
+      a.force = true;
+    else if (s == "--quiet")
+      a.quiet = true;
+    else if (s == "--plot")
+      a.plot = true;
     else if (s.rfind("--", 0) == 0 && std::find(extra_keys.begin(), extra_keys.end(), s) != extra_keys.end())
       a.extra.emplace_back(s, value());
-    else if (s.rfind("--", 0) == 0) throw UsageError("unknown option " + s);
-    else if (a.scene.empty()) a.scene = s;
-    else throw UsageError("unexpected argument '" + s + "'");
+    else if (s.rfind("--", 0) == 0)
+      throw UsageError("unknown option " + s);
+    else if (a.scene.empty())
+      a.scene = s;
+    else
+      throw UsageError("unexpected argument '" + s + "'");
   }
   if (a.scene.empty()) throw UsageError("missing SCENE.json");
   if (a.out.empty()) a.out = "out/" + std::filesystem::path(a.scene).stem().string();
@@ -201,8 +210,7 @@ int cmd_solve(const std::vector<std::string>& args) {
     return opt.allow_not_converged ? EXIT_OK : EXIT_NOT_CONVERGED;
   }
   if (!sol.certificate.passed) {
-    log_warn() << "certificate failed: max residual " << sol.certificate.max_residual << " > "
-               << sol.certificate.tol;
+    log_warn() << "certificate failed: max residual " << sol.certificate.max_residual << " > " << sol.certificate.tol;
     return EXIT_CERTIFICATE;
   }
   if (!sol.backend_ok) log_warn() << sol.message;

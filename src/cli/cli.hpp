@@ -14,12 +14,12 @@ struct UsageError : std::runtime_error {
 
 /// Parsed common options of the commands that take a scene.
 struct SceneArgs {
-  std::string scene;                   ///< SCENE.json
-  std::string out;                     ///< --out DIR (default: out/<scene stem>)
-  std::vector<std::string> overrides;  ///< --set path=value, in order; --backend NAME adds one
-  bool force = false;                  ///< --force: overwrite existing results
-  bool quiet = false;                  ///< --quiet: warnings only on stderr
-  bool plot = false;                   ///< --plot: also write pictures
+  std::string scene;                                       ///< SCENE.json
+  std::string out;                                         ///< --out DIR (default: out/<scene stem>)
+  std::vector<std::string> overrides;                      ///< --set path=value, in order; --backend NAME adds one
+  bool force = false;                                      ///< --force: overwrite existing results
+  bool quiet = false;                                      ///< --quiet: warnings only on stderr
+  bool plot = false;                                       ///< --plot: also write pictures
   std::vector<std::pair<std::string, std::string>> extra;  ///< command-specific --key value pairs
 };
 

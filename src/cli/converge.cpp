@@ -13,13 +13,13 @@
 // (scripts/plot_convergence.py). Exit code 3 (4) when a solve did not converge (certify).
 #include "cli.hpp"
 
-#include <hemicontact/output/study_writers.hpp>
-#include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/convergence.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/output/output_dir.hpp>
+#include <hemicontact/output/study_writers.hpp>
+#include <hemicontact/output/vtk_writer.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -76,10 +76,10 @@ int cmd_converge(const std::vector<std::string>& args) {
   std::fputs(convergence_table(st).c_str(), stdout);
   std::printf("results in %s\n", a.out.c_str());
 
-  const bool plot_failed = (a.plot || scene.at("output").at("plot").get<bool>()) &&
-                           run_plot_script("plot_convergence.py", {(out / "convergence.csv").string(), "--out",
-                                                                   (out / "convergence.png").string(), "--title",
-                                                                   name}) != 0;
+  const bool plot_failed =
+      (a.plot || scene.at("output").at("plot").get<bool>()) &&
+      run_plot_script("plot_convergence.py", {(out / "convergence.csv").string(), "--out",
+                                              (out / "convergence.png").string(), "--title", name}) != 0;
   if (std::filesystem::exists(out / "convergence.png")) record_output_file((out / "convergence.png").string());
   if (!st.ok()) {
     std::string not_converged, not_certified;

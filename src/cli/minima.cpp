@@ -18,14 +18,14 @@
 // found, 3 when no run converged, 4 when runs converged but none certified.
 #include "cli.hpp"
 
-#include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/minima.hpp>
+#include <hemicontact/output/output_dir.hpp>
+#include <hemicontact/output/study_writers.hpp>
+#include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
-#include <hemicontact/output/output_dir.hpp>
-#include <hemicontact/output/vtk_writer.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -67,12 +67,18 @@ int cmd_minima(const std::vector<std::string>& args) {
   MinimaOptions mo;
   std::vector<std::string> start_files;
   for (const auto& [key, value] : a.extra) {
-    if (key == "--starts") mo.starts = static_cast<int>(parse_int(key, value, 0));
-    else if (key == "--seed") mo.seed = static_cast<unsigned>(parse_int(key, value, 0));
-    else if (key == "--group-tol") mo.group_tol = parse_positive(key, value);
-    else if (key == "--box") mo.box = parse_positive(key, value);
-    else if (key == "--load-path-steps") mo.load_path_steps = static_cast<int>(parse_int(key, value, 0));
-    else if (key == "--start") start_files.push_back(value);
+    if (key == "--starts")
+      mo.starts = static_cast<int>(parse_int(key, value, 0));
+    else if (key == "--seed")
+      mo.seed = static_cast<unsigned>(parse_int(key, value, 0));
+    else if (key == "--group-tol")
+      mo.group_tol = parse_positive(key, value);
+    else if (key == "--box")
+      mo.box = parse_positive(key, value);
+    else if (key == "--load-path-steps")
+      mo.load_path_steps = static_cast<int>(parse_int(key, value, 0));
+    else if (key == "--start")
+      start_files.push_back(value);
     else if (key == "--backends") {
       mo.backends.clear();
       std::stringstream ss(value);
@@ -124,8 +130,8 @@ int cmd_minima(const std::vector<std::string>& args) {
   if (md.contact.size() == 0)
     log_info() << "minima: no Gamma3 nodes, so no minima.png (the problem is linear elasticity: one solution)";
   else if (!r.solutions.empty()) {
-    const int code = run_plot_script("plot_minima.py", {(out / "minima.json").string(), "--out",
-                                                        (out / "minima.png").string(), "--title", name});
+    const int code = run_plot_script(
+        "plot_minima.py", {(out / "minima.json").string(), "--out", (out / "minima.png").string(), "--title", name});
     // The scripts exit with 2 exactly when matplotlib is missing (after saying so themselves).
     if (code != 0)
       log_warn() << "minima: " << (out / "minima.png").string() << " was not drawn"

@@ -11,14 +11,14 @@
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <vector>
 
 namespace hemicontact::cli {

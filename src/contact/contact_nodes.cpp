@@ -24,10 +24,13 @@ double Gap::at(const Eigen::Ref<const Eigen::RowVectorXd>& x) const {
 std::string Gap::describe() const {
   std::ostringstream os;
   if (points.empty()) {
-    if (constant == INF) os << "g = inf (no rigid obstacle)";
-    else os << "g = " << constant;
+    if (constant == INF)
+      os << "g = inf (no rigid obstacle)";
+    else
+      os << "g = " << constant;
   } else {
-    os << "g piecewise linear in " << "xyz"[axis] << " through " << points.size() << " points";
+    os << "g piecewise linear in "
+       << "xyz"[axis] << " through " << points.size() << " points";
   }
   return os.str();
 }

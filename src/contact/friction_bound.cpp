@@ -29,8 +29,7 @@ double table_value(const PiecewiseLinearLaw& f, double r) {
   const auto& s = f.slopes();
   if (r < rk.front()) return left.front() + s.front() * (r - rk.front());
   if (r >= rk.back()) return right.back() + s.back() * (r - rk.back());
-  const std::size_t k =
-      static_cast<std::size_t>(std::upper_bound(rk.begin(), rk.end(), r) - rk.begin()) - 1;
+  const std::size_t k = static_cast<std::size_t>(std::upper_bound(rk.begin(), rk.end(), r) - rk.begin()) - 1;
   return right[k] + s[k + 1] * (r - rk[k]);
 }
 
@@ -42,8 +41,7 @@ double max_abs_slope(const PiecewiseLinearLaw& f) {
 
 }  // namespace
 
-void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale,
-                              const std::string& context) {
+void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale, const std::string& context) {
   if (scale == 0.0) return;  // F_b ≡ 0 satisfies (15c) whatever f is.
   const std::string zero_rule = " but (15c) requires F_b(r) = 0 for r <= 0";
   const std::string sign_rule = " but (15c) requires F_b(r) >= 0 for r >= 0";
@@ -54,14 +52,13 @@ void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale,
   // r ≤ 0. With slope_left = 0 and zero values at every breakpoint ≤ 0 and at 0 itself, the
   // piecewise-linear F_b vanishes on all of (−∞, 0].
   if (f.slope_left() != 0.0)
-    input_error(context + ": F_b has slope " + num(scale * f.slope_left()) +
-                " left of r = " + num(rk.front()) + " (slope_left)" + zero_rule);
+    input_error(context + ": F_b has slope " + num(scale * f.slope_left()) + " left of r = " + num(rk.front()) +
+                " (slope_left)" + zero_rule);
   for (std::size_t k = 0; k < rk.size() && rk[k] <= 0.0; ++k) {
     if (left[k] != 0.0)
-      input_error(context + ": F_b(" + num(rk[k]) + (left[k] != right[k] ? "^-" : "") +
-                  ") = " + num(scale * left[k]) + zero_rule);
-    if (right[k] != 0.0)
-      input_error(context + ": F_b(" + num(rk[k]) + ") = " + num(scale * right[k]) + zero_rule);
+      input_error(context + ": F_b(" + num(rk[k]) + (left[k] != right[k] ? "^-" : "") + ") = " + num(scale * left[k]) +
+                  zero_rule);
+    if (right[k] != 0.0) input_error(context + ": F_b(" + num(rk[k]) + ") = " + num(scale * right[k]) + zero_rule);
   }
   const double v0 = table_value(f, 0.0);
   if (v0 != 0.0) input_error(context + ": F_b(0) = " + num(scale * v0) + zero_rule);
@@ -71,27 +68,22 @@ void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale,
   for (std::size_t k = 0; k < rk.size(); ++k) {
     if (rk[k] <= 0.0) continue;
     if (left[k] < 0.0)
-      input_error(context + ": F_b(" + num(rk[k]) + (left[k] != right[k] ? "^-" : "") +
-                  ") = " + num(scale * left[k]) + sign_rule);
-    if (right[k] < 0.0)
-      input_error(context + ": F_b(" + num(rk[k]) + ") = " + num(scale * right[k]) + sign_rule);
+      input_error(context + ": F_b(" + num(rk[k]) + (left[k] != right[k] ? "^-" : "") + ") = " + num(scale * left[k]) +
+                  sign_rule);
+    if (right[k] < 0.0) input_error(context + ": F_b(" + num(rk[k]) + ") = " + num(scale * right[k]) + sign_rule);
   }
   if (f.slope_right() < 0.0)
     input_error(context + ": F_b decreases with slope " + num(scale * f.slope_right()) +
-                " beyond r = " + num(rk.back()) + " (slope_right), so it becomes negative" +
-                sign_rule);
+                " beyond r = " + num(rk.back()) + " (slope_right), so it becomes negative" + sign_rule);
 }
 
 // ---------------------------------------------------------------- CoulombLayerBound
 
-CoulombLayerBound::CoulombLayerBound(double mu, std::shared_ptr<const PiecewiseLinearLaw> p,
-                                     const std::string& context)
+CoulombLayerBound::CoulombLayerBound(double mu, std::shared_ptr<const PiecewiseLinearLaw> p, const std::string& context)
     : m_mu(mu), m_law(std::move(p)) {
   if (!(std::isfinite(mu) && mu >= 0.0))
-    input_error(context + ".mu: friction coefficient must be a finite number >= 0 (got " + num(mu) +
-                ")");
-  if (!m_law)
-    input_error(context + ".type: 'coulomb_layer' (F_b = mu p_nu, eq. (34)) needs a normal law");
+    input_error(context + ".mu: friction coefficient must be a finite number >= 0 (got " + num(mu) + ")");
+  if (!m_law) input_error(context + ".type: 'coulomb_layer' (F_b = mu p_nu, eq. (34)) needs a normal law");
   try {
     check_friction_bound_15c(*m_law, m_mu, context);
   } catch (const Error& e) {
@@ -120,8 +112,7 @@ std::string CoulombLayerBound::describe() const {
 
 TrescaBound::TrescaBound(double bound, const std::string& context) : m_bound(bound) {
   if (!(std::isfinite(bound) && bound >= 0.0))
-    input_error(context + ".bound: Tresca slip bound must be a finite number >= 0 (got " +
-                num(bound) + ")");
+    input_error(context + ".bound: Tresca slip bound must be a finite number >= 0 (got " + num(bound) + ")");
 }
 
 double TrescaBound::F(double /*r*/) const { return m_bound; }
@@ -134,8 +125,7 @@ std::string TrescaBound::describe() const { return "tresca F_b = " + num(m_bound
 
 // ---------------------------------------------------------------- TableBound
 
-TableBound::TableBound(PiecewiseLinearLaw table, const std::string& context)
-    : m_table(std::move(table)) {
+TableBound::TableBound(PiecewiseLinearLaw table, const std::string& context) : m_table(std::move(table)) {
   check_friction_bound_15c(m_table, 1.0, context);
 }
 
@@ -155,8 +145,7 @@ bool TableBound::depends_on_u_nu() const {
 
 std::string TableBound::describe() const {
   const double L = lipschitz();
-  return "table F_b, L_Fb = " + (std::isinf(L) ? std::string("inf") : num(L)) + ": " +
-         m_table.describe();
+  return "table F_b, L_Fb = " + (std::isinf(L) ? std::string("inf") : num(L)) + ": " + m_table.describe();
 }
 
 }  // namespace hemicontact

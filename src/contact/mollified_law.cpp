@@ -63,8 +63,7 @@ double smooth_step_integral(double x, double eps) {
 
 }  // namespace mollifier
 
-MollifiedLaw::MollifiedLaw(std::shared_ptr<const PiecewiseLinearLaw> law, double eps_nu,
-                           const std::string& context)
+MollifiedLaw::MollifiedLaw(std::shared_ptr<const PiecewiseLinearLaw> law, double eps_nu, const std::string& context)
     : m_law(std::move(law)), m_eps(eps_nu) {
   if (!m_law) throw Error(context + ": MollifiedLaw needs a normal law (got null)", EXIT_INTERNAL);
   if (!(std::isfinite(eps_nu) && eps_nu > 0.0)) {
@@ -85,8 +84,7 @@ double MollifiedLaw::antiderivative(double r) const {
   double v = m_law->affine_intercept() * r + 0.5 * m_law->slope_left() * r * r;
   for (std::size_t k = 0; k < rk.size(); ++k) {
     const double x = r - rk[k];
-    v += ds[k] * mollifier::smooth_ramp_integral(x, m_eps) +
-         jk[k] * mollifier::smooth_step_integral(x, m_eps);
+    v += ds[k] * mollifier::smooth_ramp_integral(x, m_eps) + jk[k] * mollifier::smooth_step_integral(x, m_eps);
   }
   return v;
 }
@@ -182,8 +180,7 @@ double MollifiedLaw::j_error_bound() const {
 
 std::string MollifiedLaw::describe() const {
   std::ostringstream os;
-  os << "mollified (eps_nu = " << m_eps << ", alpha_jnu = " << one_sided_lipschitz() << ") of "
-     << m_law->describe();
+  os << "mollified (eps_nu = " << m_eps << ", alpha_jnu = " << one_sided_lipschitz() << ") of " << m_law->describe();
   return os.str();
 }
 

@@ -32,8 +32,7 @@ double ramp(double x) { return x > 0.0 ? x : 0.0; }
 }  // namespace
 
 PiecewiseLinearLaw::PiecewiseLinearLaw(std::vector<Point> points, std::optional<double> slope_left,
-                                       std::optional<double> slope_right,
-                                       const std::string& context)
+                                       std::optional<double> slope_right, const std::string& context)
     : m_points(std::move(points)) {
   const std::string key = context + ".points";
   if (m_points.empty()) input_error(key + ": at least one point [r, p] is required");
@@ -51,14 +50,12 @@ PiecewiseLinearLaw::PiecewiseLinearLaw(std::vector<Point> points, std::optional<
     }
     const double r_prev = m_points[i - 1][0];
     if (r < r_prev)
-      input_error(at + ": r decreases (" + num(r) + " after " + num(r_prev) +
-                  "): p_nu must be a function of r");
+      input_error(at + ": r decreases (" + num(r) + " after " + num(r_prev) + "): p_nu must be a function of r");
     if (r == r_prev) {
       // A second point at the same r is the right limit of a jump; a third one would leave
       // the value of p between the two limits undefined, so it is rejected.
       if (i >= 2 && m_points[i - 2][0] == r)
-        input_error(at + ": r = " + num(r) +
-                    " appears three times; a jump is exactly two points with the same r");
+        input_error(at + ": r = " + num(r) + " appears three times; a jump is exactly two points with the same r");
       m_p_right.back() = p;
       continue;
     }
@@ -74,19 +71,16 @@ PiecewiseLinearLaw::PiecewiseLinearLaw(std::vector<Point> points, std::optional<
     // Two distinct but nearly equal r with different p give an overflowing slope: a jump
     // must be written as two equal r, not as a steep segment.
     if (!std::isfinite(s))
-      input_error(key + "[" + std::to_string(k + 1) +
-                  "]: slope of the segment from r = " + num(m_r[k]) + " to r = " + num(m_r[k + 1]) +
-                  " is not finite (write a jump as two points with equal r)");
+      input_error(key + "[" + std::to_string(k + 1) + "]: slope of the segment from r = " + num(m_r[k]) +
+                  " to r = " + num(m_r[k + 1]) + " is not finite (write a jump as two points with equal r)");
     segment.push_back(s);
   }
   // null slopes continue the neighbouring segment; a table with one distinct r has none,
   // and then p is constant on each side of it.
   const double sl = slope_left.value_or(segment.empty() ? 0.0 : segment.front());
   const double sr = slope_right.value_or(segment.empty() ? 0.0 : segment.back());
-  if (!std::isfinite(sl))
-    input_error(context + ".slope_left: must be finite (got " + num(sl) + ")");
-  if (!std::isfinite(sr))
-    input_error(context + ".slope_right: must be finite (got " + num(sr) + ")");
+  if (!std::isfinite(sl)) input_error(context + ".slope_left: must be finite (got " + num(sl) + ")");
+  if (!std::isfinite(sr)) input_error(context + ".slope_right: must be finite (got " + num(sr) + ")");
 
   m_slopes.reserve(nb + 1);
   m_slopes.push_back(sl);
@@ -102,20 +96,14 @@ PiecewiseLinearLaw::PiecewiseLinearLaw(std::vector<Point> points, std::optional<
 
 PiecewiseLinearLaw PiecewiseLinearLaw::paper(double c1, double c2, double c3, double r1, double r2,
                                              const std::string& context) {
-  const std::pair<const char*, double> values[] = {
-      {"c1", c1}, {"c2", c2}, {"c3", c3}, {"r1", r1}, {"r2", r2}};
+  const std::pair<const char*, double> values[] = {{"c1", c1}, {"c2", c2}, {"c3", c3}, {"r1", r1}, {"r2", r2}};
   for (const auto& [name, v] : values)
-    if (!std::isfinite(v))
-      input_error(context + "." + name + ": must be finite (got " + num(v) + ")");
-  if (!(r1 > 0.0))
-    input_error(context + ".r1: (32) requires 0 < r1 < r2 (got r1 = " + num(r1) + ")");
+    if (!std::isfinite(v)) input_error(context + "." + name + ": must be finite (got " + num(v) + ")");
+  if (!(r1 > 0.0)) input_error(context + ".r1: (32) requires 0 < r1 < r2 (got r1 = " + num(r1) + ")");
   if (!(r2 > r1))
-    input_error(context + ".r2: (32) requires 0 < r1 < r2 (got r1 = " + num(r1) +
-                ", r2 = " + num(r2) + ")");
-  PiecewiseLinearLaw law({{0.0, 0.0}, {r1, c1 * r1}, {r2, c1 * r1 + c2 * (r2 - r1)}}, 0.0, c3,
-                         context);
-  law.m_origin = "paper (32) c1=" + num(c1) + " c2=" + num(c2) + " c3=" + num(c3) +
-                 " r1=" + num(r1) + " r2=" + num(r2);
+    input_error(context + ".r2: (32) requires 0 < r1 < r2 (got r1 = " + num(r1) + ", r2 = " + num(r2) + ")");
+  PiecewiseLinearLaw law({{0.0, 0.0}, {r1, c1 * r1}, {r2, c1 * r1 + c2 * (r2 - r1)}}, 0.0, c3, context);
+  law.m_origin = "paper (32) c1=" + num(c1) + " c2=" + num(c2) + " c3=" + num(c3) + " r1=" + num(r1) + " r2=" + num(r2);
   return law;
 }
 

@@ -2,9 +2,9 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <algorithm>
@@ -129,8 +129,9 @@ std::vector<int> parse_levels(const std::string& text) {
     }
     const size_t m = r.size();
     if (m < 2 || i + 1 >= tok.size() || r[m - 1] <= r[m - 2] || r[m - 1] % r[m - 2] != 0)
-      throw Error("--levels '" + text + "': '...' needs two increasing levels with an integer ratio before it and "
-                  "one level after it, e.g. 4,8,...,128",
+      throw Error("--levels '" + text +
+                      "': '...' needs two increasing levels with an integer ratio before it and "
+                      "one level after it, e.g. 4,8,...,128",
                   EXIT_USAGE);
     const long q = r[m - 1] / r[m - 2];
     const int last = parse_level(tok[i + 1]);
@@ -193,8 +194,8 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
       Pu = prolongate(md.mesh, sol.u, ref.mesh);
       lvl.nested = is_nested(md.mesh, ref.mesh);
       if (!lvl.nested)
-        log_warn() << "convergence: the n = " << L << " mesh is not nested in the reference mesh ("
-                   << md.mesh.origin << "): its error includes the interpolation onto the reference mesh";
+        log_warn() << "convergence: the n = " << L << " mesh is not nested in the reference mesh (" << md.mesh.origin
+                   << "): its error includes the interpolation onto the reference mesh";
     }
     lvl.error = energy_norm_difference(ref.K, ref_sol.u, Pu) / ref_norm;
     lvl.order = NaN;
@@ -211,7 +212,10 @@ RateFit fit_rate(const ConvergenceStudy& study, int max_levels) {
   const double hR = study.reference.h;
   std::vector<double> h, e;
   for (const auto& l : study.levels)
-    if (l.error > 0 && l.h > hR) { h.push_back(l.h); e.push_back(l.error); }
+    if (l.error > 0 && l.h > hR) {
+      h.push_back(l.h);
+      e.push_back(l.error);
+    }
   const size_t m = std::min(h.size(), static_cast<size_t>(std::max(max_levels, 2)));
   RateFit fit;
   if (m < 2) return fit;
@@ -241,8 +245,10 @@ RateFit fit_rate(const ConvergenceStudy& study, int max_levels) {
   const double phi = 0.5 * (std::sqrt(5.0) - 1);
   for (int it = 0; it < 60; ++it) {
     const double x1 = b - phi * (b - a), x2 = a + phi * (b - a);
-    if (sse(x1) < sse(x2)) b = x2;
-    else a = x1;
+    if (sse(x1) < sse(x2))
+      b = x2;
+    else
+      a = x1;
   }
   fit.alpha = 0.5 * (a + b);
   fit.C = std::exp(log_c(fit.alpha));

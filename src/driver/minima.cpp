@@ -132,8 +132,8 @@ SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, cons
     return c;
   }
   if (c.kept > mopt.max_dense) {
-    c.note = "free subspace of " + std::to_string(c.kept) + " unknowns exceeds max_dense = " +
-             std::to_string(mopt.max_dense) + " (use the condensed formulation)";
+    c.note = "free subspace of " + std::to_string(c.kept) +
+             " unknowns exceeds max_dense = " + std::to_string(mopt.max_dense) + " (use the condensed formulation)";
     return c;
   }
   SpMat H = f.hessian_pattern();
@@ -191,8 +191,8 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
     r.certificate = sol.certificate.max_residual;
     r.seconds = secs;
     r.message = sol.message;
-    log_info() << "minima: " << backend << " from " << start << ": energy " << fmt(sol.energy, 10)
-               << ", certificate " << fmt(sol.certificate.max_residual, 3) << (r.certified ? "" : " (NOT certified)");
+    log_info() << "minima: " << backend << " from " << start << ": energy " << fmt(sol.energy, 10) << ", certificate "
+               << fmt(sol.certificate.max_residual, 3) << (r.certified ? "" : " (NOT certified)");
     R.runs.push_back(r);
     if (r.certified) cands.push_back({static_cast<int>(R.runs.size()) - 1, std::move(sol)});
   };
@@ -201,8 +201,10 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
     SolveOptions o = opt;
     o.backend = name;
     const bool first = !solver;
-    if (first) solver = std::make_unique<ContactSolver>(md, o);
-    else solver->set_backend(name);
+    if (first)
+      solver = std::make_unique<ContactSolver>(md, o);
+    else
+      solver->set_backend(name);
     ContactSolver& S = *solver;
     auto t = clk::now();
     Solution zero = S.solve(nullptr);
@@ -285,10 +287,13 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   for (int i = 0; i < static_cast<int>(cands.size()); ++i) {
     int g = -1;
     for (int q = 0; q < static_cast<int>(groups.size()) && g < 0; ++q)
-      if (energy_distance(md, cands[static_cast<size_t>(i)].sol.u, cands[static_cast<size_t>(groups[q][0])].sol.u) <= thr)
+      if (energy_distance(md, cands[static_cast<size_t>(i)].sol.u, cands[static_cast<size_t>(groups[q][0])].sol.u) <=
+          thr)
         g = q;
-    if (g < 0) groups.push_back({i});
-    else groups[static_cast<size_t>(g)].push_back(i);
+    if (g < 0)
+      groups.push_back({i});
+    else
+      groups[static_cast<size_t>(g)].push_back(i);
   }
   for (const auto& members : groups) {
     int best = members[0];
@@ -304,8 +309,8 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
       ds.starts.push_back(R.runs[static_cast<size_t>(run)].start);
       ++ds.backends[R.runs[static_cast<size_t>(run)].backend];
       if (R.norm_scale > 0)
-        ds.spread = std::max(ds.spread, energy_distance(md, cands[static_cast<size_t>(i)].sol.u, ds.solution.u) /
-                                            R.norm_scale);
+        ds.spread =
+            std::max(ds.spread, energy_distance(md, cands[static_cast<size_t>(i)].sol.u, ds.solution.u) / R.norm_scale);
     }
     R.solutions.push_back(std::move(ds));
   }
@@ -347,7 +352,8 @@ std::vector<Vec> read_gamma3_starts(const json& js, const Model& md, const std::
       return v;
     }
     if (!s.is_array() || static_cast<Index>(s.size()) != nc)
-      input_error(context + where + ": expected " + std::to_string(nc) + " entries [u_nu, u_tau] (one per Gamma3 node)");
+      input_error(context + where + ": expected " + std::to_string(nc) +
+                  " entries [u_nu, u_tau] (one per Gamma3 node)");
     for (Index k = 0; k < nc; ++k) {
       const json& e = s[static_cast<size_t>(k)];
       if (!e.is_array() || static_cast<int>(e.size()) != d)

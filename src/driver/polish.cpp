@@ -71,8 +71,8 @@ void accept_if_better(const Model& md, const Condensation& cond, const SolveOpti
 //   slip:            R_τ = S_τ (x − y) + w F_b(x_ν) t,  t = x_τ/|x_τ|   (eq. (6))
 // with ∂t/∂x_τ = (I − t tᵀ)/|x_τ| and ∂F_b/∂x_ν the slope of F_b's branch (F_b is piecewise linear:
 // a central difference over a step far below the branch width is exact up to round-off).
-PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, const SolveOptions& opt,
-                                 const Solution& s0, Vec& x_C, double load_scale, Vec* candidate) {
+PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& s0,
+                                 Vec& x_C, double load_scale, Vec* candidate) {
   PolishResult r;
   const int d = 3;
   const Index nc = md.contact.size(), m = cond.m();
@@ -150,8 +150,8 @@ PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, cons
 }
 
 // 2D: the status system is linear for fixed λ (file comment of polish.hpp).
-PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, const SolveOptions& opt,
-                                 const Solution& s0, Vec& x_C, double load_scale, Vec* candidate) {
+PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& s0,
+                                 Vec& x_C, double load_scale, Vec* candidate) {
   PolishResult r;
   const int d = 2;
   const Index nc = md.contact.size(), m = cond.m();
@@ -223,8 +223,8 @@ PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, cons
 //    slipped one way in the guess and came out the other way sticks.
 // @p start is moved to the candidate, with a small tangential start on newly slipping 3D nodes
 // (the slip direction t = x_τ/|x_τ| needs x_τ ≠ 0).
-Solution next_guess(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& g,
-                    const Vec& c, double load_scale, Vec& start) {
+Solution next_guess(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& g, const Vec& c,
+                    double load_scale, Vec& start) {
   Solution n = evaluate_condensed(md, cond, opt, c, load_scale);
   start = c;
   const int d = md.dim();
@@ -303,7 +303,10 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
     if (round == 0) {
       first = r;
       before = r.before;
-      if (r.accepted) { x_C = x; return r; }
+      if (r.accepted) {
+        x_C = x;
+        return r;
+      }
       if (coarse_tol > opt.status_tol) {
         SolveOptions o = opt;
         o.status_tol = coarse_tol;

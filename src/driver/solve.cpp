@@ -6,11 +6,11 @@
 #include <hemicontact/contact/mollified_law.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/polish.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/energy/elastic_energy.hpp>
 #include <hemicontact/energy/nonlinear_elastic_energy.hpp>
 #include <hemicontact/energy/total_energy.hpp>
-#include <hemicontact/driver/polish.hpp>
 #include <hemicontact/fem/condensation.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
 
@@ -62,11 +62,10 @@ std::string contraction_text(const std::vector<OuterIteration>& history) {
 // The progress line of one minimization (stderr).
 std::string outer_line(const OuterIteration& rec, int stage, const std::string& backend) {
   std::ostringstream os;
-  os << "outer " << rec.k << " (stage " << stage << ", eps_tau " << std::setprecision(2) << rec.eps_tau
-     << ", eps_nu " << rec.eps_nu << "): " << backend << " " << to_string(rec.backend.status) << " in "
-     << rec.backend.iterations << " it, " << std::setprecision(3) << rec.backend.seconds
-     << " s; |dx_G3|/|x_G3| = " << std::setprecision(2) << rec.change_u << ", |dlambda|/|lambda| = "
-     << rec.change_lambda << ", first-order residual " << rec.grad_norm;
+  os << "outer " << rec.k << " (stage " << stage << ", eps_tau " << std::setprecision(2) << rec.eps_tau << ", eps_nu "
+     << rec.eps_nu << "): " << backend << " " << to_string(rec.backend.status) << " in " << rec.backend.iterations
+     << " it, " << std::setprecision(3) << rec.backend.seconds << " s; |dx_G3|/|x_G3| = " << std::setprecision(2)
+     << rec.change_u << ", |dlambda|/|lambda| = " << rec.change_lambda << ", first-order residual " << rec.grad_norm;
   if (std::isfinite(rec.contraction)) os << ", contraction rho = " << rec.contraction;
   return os.str();
 }
@@ -89,8 +88,8 @@ std::string fixed_point_cap(const SolveOptions& opt, double change, const std::v
 std::string fixed_point_stall(const SolveOptions& opt, double change, const std::vector<OuterIteration>& history) {
   return "fixed point lambda = F_b(u_nu) does not contract: the change (" + short_number(change) +
          ") has not decreased for " + std::to_string(opt.stall_iters) + " outer iterations (contraction factor " +
-         contraction_text(history) + ", " + theta_text(opt) +
-         "); try a smaller solver.fixed_point.relaxation, e.g. " + short_number(0.5 * opt.relaxation);
+         contraction_text(history) + ", " + theta_text(opt) + "); try a smaller solver.fixed_point.relaxation, e.g. " +
+         short_number(0.5 * opt.relaxation);
 }
 }  // namespace
 
@@ -99,12 +98,12 @@ namespace {
 // What the continuation / fixed-point loop works on: an energy in the solver's unknowns z, the
 // bounds, where each Γ3 node's (ν, τ) unknowns are in z, and the map back to the reduced x.
 struct Formulation {
-  std::string name;                          // "full" or "condensed"
-  std::unique_ptr<TotalEnergy> energy;       // Π_λ(z), unscaled
-  NodalDofs nd;                              // Γ3 node k: z[nd.first[k] + c]
-  Vec lower, upper;                          // bounds on z
-  Vec z_free;                                // the unconstrained elastic solution, in z
-  std::shared_ptr<const Condensation> cond;  // condensed only (shared: the elastic term holds its S)
+  std::string name;                           // "full" or "condensed"
+  std::unique_ptr<TotalEnergy> energy;        // Π_λ(z), unscaled
+  NodalDofs nd;                               // Γ3 node k: z[nd.first[k] + c]
+  Vec lower, upper;                           // bounds on z
+  Vec z_free;                                 // the unconstrained elastic solution, in z
+  std::shared_ptr<const Condensation> cond;   // condensed only (shared: the elastic term holds its S)
   std::shared_ptr<const NodalLayout> layout;  // Γ3 nodes' blocks in the energy's Hessian pattern
   std::shared_ptr<NormalComplianceEnergy> normal;
   std::shared_ptr<FrictionEnergy> friction;
@@ -201,8 +200,8 @@ struct ContactSolver::Impl {
   const Model* model;  // the model the answers are evaluated on (a load-scaled copy: set_loads)
   SolveOptions opt;
   std::unique_ptr<NlpBackend> backend;
-  bool linear = false;                    // no contact law and no obstacle: one linear solve
-  Vec x_linear;                           // its answer
+  bool linear = false;  // no contact law and no obstacle: one linear solve
+  Vec x_linear;         // its answer
   Formulation F;
   SmallnessReport smallness;
   std::map<std::string, double> setup_timings;
@@ -211,7 +210,7 @@ struct ContactSolver::Impl {
   std::unique_ptr<ScaledObjective> scaled;
   NlpProblem prob;
   std::vector<std::pair<double, double>> schedule;  // (eps_tau, eps_nu), relative
-  bool lagged = false;  // λ = F_b(u_ν) depends on the answer: the outer fixed point runs
+  bool lagged = false;                              // λ = F_b(u_ν) depends on the answer: the outer fixed point runs
   Impl(const Model& m, const SolveOptions& o) : model(&m), opt(o) {}
 
   /// One solve from a start: the answer being built and the iterate in scaled unknowns zs = z/U_s.
@@ -263,22 +262,21 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
     const SmallnessReport& r = I.smallness;
     if (r.computed)
       log_info() << "smallness (21): L_Fb/lambda_1 + alpha_j/lambda_1nu = " << r.L_Fb << "/" << r.lambda_1 << " + "
-                 << r.alpha_j << "/" << r.lambda_1nu << " = " << r.lhs << (r.holds ? " < " : " >= ") << "m_F = " << r.m_F
-                 << ": uniqueness guaranteed: " << (r.holds ? "yes" : "no");
+                 << r.alpha_j << "/" << r.lambda_1nu << " = " << r.lhs << (r.holds ? " < " : " >= ")
+                 << "m_F = " << r.m_F << ": uniqueness guaranteed: " << (r.holds ? "yes" : "no");
   }
 
   I.F = make_formulation(md, opt, I.setup_timings);
   Formulation& F = I.F;
   I.lagged = md.friction && md.friction->depends_on_u_nu();
   if (!md.material->is_linear()) {
-    const std::string why = "condensation: nonlinear material, static condensation is not exact (formulation " +
-                            F.name + ")";
+    const std::string why =
+        "condensation: nonlinear material, static condensation is not exact (formulation " + F.name + ")";
     log_info() << why;
     I.skipped.push_back(why);
   }
   log_info() << "formulation " << F.name << ": " << F.energy->size() << " unknowns ("
-             << I.setup_timings["factorization_total"] << " s to factor"
-             << (F.cond ? " and condense" : "") << ")";
+             << I.setup_timings["factorization_total"] << " s to factor" << (F.cond ? " and condense" : "") << ")";
   if (!md.normal_law) I.skipped.push_back("normal_compliance: no soft layer (contact.normal_law.type = none)");
   if (!md.friction) I.skipped.push_back("friction: frictionless (contact.friction.type = none)");
   if (md.friction && !md.friction->depends_on_u_nu()) I.skipped.push_back("fixed_point: F_b does not depend on u_nu");
@@ -477,8 +475,7 @@ OuterIteration ContactSolver::Impl::minimize(Run& run, size_t stage) {
 }
 
 // λ ← (1−θ)λ + θ F_b(u_ν), with the change and (when @p measure_contraction) the contraction ρ_k.
-void ContactSolver::Impl::relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction,
-                                       double& prev_delta) {
+void ContactSolver::Impl::relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta) {
   const Vec lam_old = F.friction->lambda();
   const Vec lam = (1 - opt.relaxation) * lam_old + opt.relaxation * friction_bounds(run.zs);
   rec.change_lambda = rel_change(lam, lam_old);
@@ -503,8 +500,8 @@ void ContactSolver::Impl::polish(Run& run) {
     const auto t1 = clk::now();
     sol.polish = polish_condensed(*model, *F.cond, opt, z, F.load_scale);
     sol.timings["polish"] = since(t1);
-    log_info() << "polish: " << (sol.polish.accepted ? "accepted" : "rejected") << ", certificate "
-               << sol.polish.before << " -> " << sol.polish.after << " in " << sol.polish.iterations
+    log_info() << "polish: " << (sol.polish.accepted ? "accepted" : "rejected") << ", certificate " << sol.polish.before
+               << " -> " << sol.polish.after << " in " << sol.polish.iterations
                << (model->dim() == 3 ? " Newton iterations" : " lambda iterations")
                << (sol.polish.note.empty() ? "" : " (" + sol.polish.note + ")");
   } else if (!F.cond) {

@@ -77,9 +77,10 @@ void TotalEnergy::gradient(const Vec& x, Vec& g) const {
 
 void TotalEnergy::hessian(const Vec& x, SpMat& H, Psd psd) const {
   // H must carry exactly the fixed pattern (ElasticEnergy adds K's values by position).
-  const bool same = H.rows() == m_n && H.cols() == m_n && H.isCompressed() && H.nonZeros() == m_pattern.nonZeros() &&
-                    std::equal(m_pattern.outerIndexPtr(), m_pattern.outerIndexPtr() + m_n + 1, H.outerIndexPtr()) &&
-                    std::equal(m_pattern.innerIndexPtr(), m_pattern.innerIndexPtr() + m_pattern.nonZeros(), H.innerIndexPtr());
+  const bool same =
+      H.rows() == m_n && H.cols() == m_n && H.isCompressed() && H.nonZeros() == m_pattern.nonZeros() &&
+      std::equal(m_pattern.outerIndexPtr(), m_pattern.outerIndexPtr() + m_n + 1, H.outerIndexPtr()) &&
+      std::equal(m_pattern.innerIndexPtr(), m_pattern.innerIndexPtr() + m_pattern.nonZeros(), H.innerIndexPtr());
   if (!same) H = m_pattern;
   std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
   for (const auto& t : m_terms) t->add_hessian(x, H, psd);

@@ -22,9 +22,9 @@ NodalLayout::NodalLayout(NodalDofs dofs, const SpMat& pattern) : m_dofs(std::mov
   const int d = m_dofs.dim;
   if (d != 2 && d != 3) throw Error("NodalLayout: d = " + std::to_string(d) + ", expected 2 or 3", EXIT_INTERNAL);
   if (m_dofs.w.size() != m_dofs.size())
-    throw Error("NodalLayout: " + std::to_string(m_dofs.size()) + " nodes but " + std::to_string(m_dofs.w.size()) +
-                    " weights",
-                EXIT_INTERNAL);
+    throw Error(
+        "NodalLayout: " + std::to_string(m_dofs.size()) + " nodes but " + std::to_string(m_dofs.w.size()) + " weights",
+        EXIT_INTERNAL);
   if (pattern.rows() != pattern.cols() || !pattern.isCompressed())
     throw Error("NodalLayout: the Hessian pattern must be square and compressed", EXIT_INTERNAL);
   m_n = pattern.rows();
@@ -34,9 +34,9 @@ NodalLayout::NodalLayout(NodalDofs dofs, const SpMat& pattern) : m_dofs(std::mov
   for (Index k = 0; k < m_dofs.size(); ++k) {
     const Index f = m_dofs.first[k];
     if (f < 0 || f + d > m_n)
-      throw Error("NodalLayout: node " + std::to_string(k) + " has components outside the " + std::to_string(m_n) +
-                      " unknowns",
-                  EXIT_INTERNAL);
+      throw Error(
+          "NodalLayout: node " + std::to_string(k) + " has components outside the " + std::to_string(m_n) + " unknowns",
+          EXIT_INTERNAL);
     for (int a = 0; a < d; ++a)
       for (int b = 0; b <= a; ++b) m_pos[k * m_block + a * (a + 1) / 2 + b] = find_position(pattern, f + a, f + b);
   }
@@ -94,8 +94,8 @@ void NodalTerm::add_hessian(const Vec& x, SpMat& H, Psd psd) const {
           // Nodal blocks lie inside K's pattern (a node's components share every element), so this
           // is a pattern built without them: a bug, not an input error.
           throw Error(name() + ": node " + std::to_string(k) + " adds to Hessian entry (" +
-                          std::to_string(L.dofs().first[k] + a) + ", " +
-                          std::to_string(L.dofs().first[k] + b) + ") absent from the pattern",
+                          std::to_string(L.dofs().first[k] + a) + ", " + std::to_string(L.dofs().first[k] + b) +
+                          ") absent from the pattern",
                       EXIT_INTERNAL);
         }
       }

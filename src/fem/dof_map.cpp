@@ -4,8 +4,7 @@
 
 namespace hemicontact {
 
-DofMap::DofMap(const Mesh& mesh, const std::vector<bool>& clamped, const ContactNodes& contact)
-    : m_dim(mesh.dim) {
+DofMap::DofMap(const Mesh& mesh, const std::vector<bool>& clamped, const ContactNodes& contact) : m_dim(mesh.dim) {
   const int d = mesh.dim;
   const Index N = mesh.num_nodes();
   std::vector<Index> contact_index(N, -1);
@@ -85,8 +84,12 @@ SpMat DofMap::reduce(const SpMat& A) const {
   for (Index j = 0; j < B.cols(); ++j)
     for (int p = outer[j]; p < outer[j + 1];) {
       const int node = inner[p] / d, q = is_rot[node];
-      if (q < 0) { ++p; continue; }
-      if (inner[p] % d != 0 || p + d > outer[j + 1] || inner[p + d - 1] != inner[p] + d - 1) return reduce_by_products(A);
+      if (q < 0) {
+        ++p;
+        continue;
+      }
+      if (inner[p] % d != 0 || p + d > outer[j + 1] || inner[p + d - 1] != inner[p] + d - 1)
+        return reduce_by_products(A);
       Vec r = rot[q].transpose() * Eigen::Map<const Vec>(val + p, d);
       Eigen::Map<Vec>(val + p, d) = r;
       p += d;

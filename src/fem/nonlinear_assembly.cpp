@@ -35,9 +35,8 @@ void for_each_cell(const Mesh& m, const Vec& u, Fn&& fn) {
 template <int D>
 double energy_d(const Mesh& m, const Material& mat, const Vec& u) {
   double s = 0;
-  for_each_cell<D>(m, u, [&](Index, double vol, const auto&, const auto&, const Vec& eps) {
-    s += vol * mat.energy_density(eps);
-  });
+  for_each_cell<D>(
+      m, u, [&](Index, double vol, const auto&, const auto&, const Vec& eps) { s += vol * mat.energy_density(eps); });
   return s;
 }
 

@@ -144,7 +144,8 @@ Vec prolongate(const Mesh& coarse, const Vec& u_coarse, const Mesh& fine) {
       os << "prolongate: fine node " << a << " at (";
       for (int k = 0; k < d; ++k) os << (k ? ", " : "") << x[k];
       os << ") lies in no cell of the coarse mesh";
-      if (best >= 0) os << " (nearest candidate: cell " << best << ", smallest barycentric coordinate " << best_min << ")";
+      if (best >= 0)
+        os << " (nearest candidate: cell " << best << ", smallest barycentric coordinate " << best_min << ")";
       throw Error(os.str());
     }
     for (int v = 0; v <= d; ++v) out.segment(d * a, d) += best_lam[v] * u_coarse.segment(d * coarse.cells(best, v), d);

@@ -52,9 +52,7 @@ double Hencky::dmu(double s) const {
 
 // Φ(s) = μ_∞ s + 2Δ s_0 (√(1 + s/s_0) − 1), written as 2Δ s/(√(1 + s/s_0) + 1) to avoid the
 // cancellation of √(1 + x) − 1 at small strains (the energy must be accurate to FD-test it).
-double Hencky::Phi(double s) const {
-  return m_mu_inf * s + 2 * (m_mu0 - m_mu_inf) * s / (std::sqrt(1 + s / m_s0) + 1);
-}
+double Hencky::Phi(double s) const { return m_mu_inf * s + 2 * (m_mu0 - m_mu_inf) * s / (std::sqrt(1 + s / m_s0) + 1); }
 
 Vec Hencky::dev_voigt(const Vec& strain, double& tr) const {
   const int d = m_dim, nv = voigt_size(d);

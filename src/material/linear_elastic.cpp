@@ -41,7 +41,10 @@ double LinearElastic::L_F() const { return std::max(m_b, m_b + dim() * m_a); }
 
 std::string LinearElastic::describe() const {
   std::ostringstream os;
-  os << "linear elastic, " << (m_mode == PlaneMode::STRESS ? "plane stress" : m_mode == PlaneMode::STRAIN ? "plane strain" : "3D")
+  os << "linear elastic, "
+     << (m_mode == PlaneMode::STRESS   ? "plane stress"
+         : m_mode == PlaneMode::STRAIN ? "plane strain"
+                                       : "3D")
      << ", E = " << m_E << ", nu = " << m_nu;
   return os.str();
 }

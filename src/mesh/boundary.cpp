@@ -26,7 +26,9 @@ SideAxes side_axes(const BoundarySelector& s, int dim) {
   if (s.side == "bottom") return {d3 ? 2 : 1, false, 0};
   if (s.side == "top") return {d3 ? 2 : 1, true, 0};
   if (s.side == "front" || s.side == "back") {
-    if (!d3) input_error(s.context + ".side: '" + s.side + "' (y = min/max) exists on 3D meshes only; in 2D use left, right, bottom, top");
+    if (!d3)
+      input_error(s.context + ".side: '" + s.side +
+                  "' (y = min/max) exists on 3D meshes only; in 2D use left, right, bottom, top");
     return {1, s.side == "back", 2};
   }
   input_error(s.context + ".side: unknown side '" + s.side + "' (expected left, right, bottom, top" +
@@ -34,8 +36,8 @@ SideAxes side_axes(const BoundarySelector& s, int dim) {
 }
 
 // Does facet f lie on the bounding-box side, with its midpoint in [from, to)?
-bool selects(const Mesh& m, Index f, const BoundarySelector& s, const SideAxes& a, const RowMat& lo,
-             const RowMat& hi, double tol) {
+bool selects(const Mesh& m, Index f, const BoundarySelector& s, const SideAxes& a, const RowMat& lo, const RowMat& hi,
+             double tol) {
   const double target = a.at_max ? hi(0, a.axis) : lo(0, a.axis);
   for (int v = 0; v < m.dim; ++v)
     if (std::abs(m.points(m.facets(f, v), a.axis) - target) > tol) return false;
@@ -49,8 +51,7 @@ bool selects(const Mesh& m, Index f, const BoundarySelector& s, const SideAxes& 
 std::vector<Index> select_facets(const Mesh& m, const BoundarySelector& s) {
   const RowMat lo = m.points.colwise().minCoeff(), hi = m.points.colwise().maxCoeff();
   const double tol = 1e-9 * (hi - lo).maxCoeff();
-  if (s.side.empty() == s.physical.empty())
-    input_error(s.context + ": give exactly one of 'side' and 'physical'");
+  if (s.side.empty() == s.physical.empty()) input_error(s.context + ": give exactly one of 'side' and 'physical'");
   if (s.from >= s.to) input_error(s.context + ": empty interval [from, to)");
   std::vector<Index> chosen;
   if (!s.side.empty()) {

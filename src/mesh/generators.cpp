@@ -65,13 +65,22 @@ Mesh make_rectangle(const RectangleSpec& s) {
     for (int i = 0; i < nx; ++i) {
       const int a = grid(i, j), b = grid(i + 1, j), cc = grid(i + 1, j + 1), d = grid(i, j + 1);
       switch (column[i]) {
-        case Diagonal::RIGHT: tri(a, b, cc); tri(a, cc, d); break;
-        case Diagonal::LEFT: tri(a, b, d); tri(b, cc, d); break;
+        case Diagonal::RIGHT:
+          tri(a, b, cc);
+          tri(a, cc, d);
+          break;
+        case Diagonal::LEFT:
+          tri(a, b, d);
+          tri(b, cc, d);
+          break;
         default: {
           m.points(centre, 0) = s.x0 + (i + 0.5) * hx;
           m.points(centre, 1) = s.y0 + (j + 0.5) * hy;
           const int e = static_cast<int>(centre++);
-          tri(a, b, e); tri(b, cc, e); tri(cc, d, e); tri(d, a, e);
+          tri(a, b, e);
+          tri(b, cc, e);
+          tri(cc, d, e);
+          tri(d, a, e);
         }
       }
     }
@@ -84,14 +93,17 @@ Mesh make_rectangle(const RectangleSpec& s) {
     for (int j = 1; j < ny; ++j)
       for (int i = 1; i < nx; ++i) {
         double a, b;
-        do { a = U(rng); b = U(rng); } while (a * a + b * b > 1);
+        do {
+          a = U(rng);
+          b = U(rng);
+        } while (a * a + b * b > 1);
         m.points(grid(i, j), 0) += s.perturb * hx * a;
         m.points(grid(i, j), 1) += s.perturb * hy * b;
       }
   }
   std::ostringstream os;
-  os << "rectangle [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "] " << nx << "x" << ny
-     << " " << to_string(s.diagonal);
+  os << "rectangle [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "] " << nx << "x" << ny << " "
+     << to_string(s.diagonal);
   if (s.perturb > 0) os << " perturbed " << s.perturb;
   m.origin = os.str();
   extract_boundary_facets(m);
@@ -176,15 +188,19 @@ Mesh make_box(const BoxSpec& s) {
         for (int i = 1; i < nx; ++i) {
           const int v = grid(i, j, k);
           double a, b, c;
-          do { a = U(rng); b = U(rng); c = U(rng); } while (a * a + b * b + c * c > 1);
+          do {
+            a = U(rng);
+            b = U(rng);
+            c = U(rng);
+          } while (a * a + b * b + c * c > 1);
           m.points(v, 0) += s.perturb * hx * a;
           m.points(v, 1) += s.perturb * hy * b;
           m.points(v, 2) += s.perturb * hz * c;
         }
   }
   std::ostringstream os;
-  os << "box [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "]x[" << s.z0 << "," << s.z1 << "] "
-     << nx << "x" << ny << "x" << nz << " " << to_string(s.pattern);
+  os << "box [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "]x[" << s.z0 << "," << s.z1 << "] " << nx
+     << "x" << ny << "x" << nz << " " << to_string(s.pattern);
   if (s.perturb > 0) os << " perturbed " << s.perturb;
   m.origin = os.str();
   extract_boundary_facets(m);

@@ -71,8 +71,7 @@ Mesh read_model(const std::string& path) {
     dim = 2;
     gmsh::model::mesh::getElements(types, elem_tags, elem_nodes, 2, -1);
   }
-  if (types.empty())
-    input_error(where + "no triangles or tetrahedra (was the mesh generated, e.g. with gmsh -2?)");
+  if (types.empty()) input_error(where + "no triangles or tetrahedra (was the mesh generated, e.g. with gmsh -2?)");
   const int cell_type = dim == 2 ? 2 : 4, facet_type = dim == 2 ? 1 : 2, nv = dim + 1;
   std::vector<std::size_t> cell_nodes;  // Gmsh node tags, nv per cell
   for (std::size_t t = 0; t < types.size(); ++t) {
@@ -151,8 +150,8 @@ Mesh read_model(const std::string& path) {
       gmsh::model::mesh::getElements(types, elem_tags, elem_nodes, gdim, ent);
       for (std::size_t t = 0; t < types.size(); ++t) {
         if (types[t] != facet_type)
-          input_error(where + "physical group '" + name + "' contains " + element_name(types[t]) +
-                      " elements; only " + (dim == 2 ? "2-node lines" : "3-node triangles") + " are supported");
+          input_error(where + "physical group '" + name + "' contains " + element_name(types[t]) + " elements; only " +
+                      (dim == 2 ? "2-node lines" : "3-node triangles") + " are supported");
         const auto& nodes = elem_nodes[t];
         for (std::size_t e = 0; e + dim <= nodes.size(); e += dim) {
           int v[3] = {-1, -1, -1};

@@ -117,8 +117,7 @@ bool parse_int(const std::string& s, int& out) {
   errno = 0;
   char* end = nullptr;
   const long v = std::strtol(s.c_str(), &end, 10);
-  if (errno != 0 || *end != '\0' || v < std::numeric_limits<int>::min() ||
-      v > std::numeric_limits<int>::max())
+  if (errno != 0 || *end != '\0' || v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
     return false;
   out = static_cast<int>(v);
   return true;
@@ -134,30 +133,24 @@ bool parse_double(const std::string& s, double& out) {
 /// A pass-through option from BackendOptions::extra. The registered option type decides the
 /// setter, so "bound_push" = "1" reaches SetNumericValue although "1" also parses as an int;
 /// only an unregistered type falls back to trying int, then double, then string.
-void set_passthrough(Ipopt::IpoptApplication& app, const std::string& name,
-                     const std::string& value) {
+void set_passthrough(Ipopt::IpoptApplication& app, const std::string& name, const std::string& value) {
   Ipopt::OptionsList& o = *app.Options();
   const Ipopt::SmartPtr<const Ipopt::RegisteredOption> reg = app.RegOptions()->GetOption(name);
-  if (!Ipopt::IsValid(reg))
-    throw Error("ipopt: unknown option '" + name + "' (value '" + value + "')", EXIT_INPUT);
+  if (!Ipopt::IsValid(reg)) throw Error("ipopt: unknown option '" + name + "' (value '" + value + "')", EXIT_INPUT);
   int i = 0;
   double d = 0.0;
   switch (reg->Type()) {
     case Ipopt::OT_Integer:
       if (!parse_int(value, i))
-        throw Error("ipopt: option '" + name + "' expects an integer, got '" + value + "'",
-                    EXIT_INPUT);
+        throw Error("ipopt: option '" + name + "' expects an integer, got '" + value + "'", EXIT_INPUT);
       set_checked(o.SetIntegerValue(name, i), name, value, EXIT_INPUT);
       return;
     case Ipopt::OT_Number:
       if (!parse_double(value, d))
-        throw Error("ipopt: option '" + name + "' expects a number, got '" + value + "'",
-                    EXIT_INPUT);
+        throw Error("ipopt: option '" + name + "' expects a number, got '" + value + "'", EXIT_INPUT);
       set_checked(o.SetNumericValue(name, d), name, value, EXIT_INPUT);
       return;
-    case Ipopt::OT_String:
-      set_checked(o.SetStringValue(name, value), name, value, EXIT_INPUT);
-      return;
+    case Ipopt::OT_String: set_checked(o.SetStringValue(name, value), name, value, EXIT_INPUT); return;
     default: {
       const bool ok = parse_int(value, i)      ? o.SetIntegerValue(name, i)
                       : parse_double(value, d) ? o.SetNumericValue(name, d)
@@ -246,8 +239,8 @@ SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
   o.GetNumericValue("nlp_lower_bound_inf", setup.lower_inf, "");
   o.GetNumericValue("nlp_upper_bound_inf", setup.upper_inf, "");
   Ipopt::SmartPtr<IpoptTnlp> tnlp = new IpoptTnlp(problem, std::move(setup));
-  log_debug() << "ipopt: n = " << n << ", " << (warm ? "warm" : "cold") << " start, tol "
-              << options.tol << " relative to G = " << scale << ", max_iter " << options.max_iter;
+  log_debug() << "ipopt: n = " << n << ", " << (warm ? "warm" : "cold") << " start, tol " << options.tol
+              << " relative to G = " << scale << ", max_iter " << options.max_iter;
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
 
   const IpoptTnlp::Result& r = tnlp->result();
@@ -257,14 +250,12 @@ SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
   result.evaluations = r.f_evaluations;
   result.f = r.finalized ? r.f : problem.f->value(x);
   const Ipopt::SmartPtr<Ipopt::SolveStatistics> stats = app->Statistics();
-  result.iterations =
-      Ipopt::IsValid(stats) ? stats->IterationCount() : std::max(0, r.callbacks - 1);
+  result.iterations = Ipopt::IsValid(stats) ? stats->IterationCount() : std::max(0, r.callbacks - 1);
   if (Ipopt::IsValid(stats)) {
     Ipopt::Number dual_inf = 0, constr_viol = 0, compl_inf = 0, kkt = 0;
     stats->Infeasibilities(dual_inf, constr_viol, compl_inf, kkt);
-    log_debug() << "ipopt: " << status_name(status) << " after " << result.iterations
-                << " iterations, f = " << result.f << ", unscaled dual_inf " << dual_inf
-                << ", compl " << compl_inf;
+    log_debug() << "ipopt: " << status_name(status) << " after " << result.iterations << " iterations, f = " << result.f
+                << ", unscaled dual_inf " << dual_inf << ", compl " << compl_inf;
   }
 
   // Keep the multipliers only from a usable solve: after a failure they describe a bad point and

@@ -43,9 +43,9 @@ class IpoptTnlp final : public Ipopt::TNLP {
 
   /// How a run starts: everything the backend decides before handing the problem to Ipopt.
   struct Setup {
-    Vec x;    ///< starting point, already projected onto [lower, upper], size n
-    Vec z_L;  ///< lower-bound multipliers for warm_start_init_point (empty: estimate)
-    Vec z_U;  ///< upper-bound multipliers for warm_start_init_point (empty: estimate)
+    Vec x;                     ///< starting point, already projected onto [lower, upper], size n
+    Vec z_L;                   ///< lower-bound multipliers for warm_start_init_point (empty: estimate)
+    Vec z_U;                   ///< upper-bound multipliers for warm_start_init_point (empty: estimate)
     double obj_scaling = 1.0;  ///< objective factor for nlp_scaling_method = user-scaling
     double lower_inf = -1e19;  ///< value meaning "no lower bound" (Ipopt's nlp_lower_bound_inf)
     double upper_inf = 1e19;   ///< value meaning "no upper bound" (Ipopt's nlp_upper_bound_inf)
@@ -66,48 +66,40 @@ class IpoptTnlp final : public Ipopt::TNLP {
   /// @name Ipopt::TNLP interface (see IpTNLP.hpp for the contract of each method)
   ///@{
   /// n unknowns, m = 0 constraints, nnz of the Hessian pattern, C-style (0-based) indices.
-  bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g,
-                    Ipopt::Index& nnz_h_lag, IndexStyleEnum& index_style) override;
+  bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
+                    IndexStyleEnum& index_style) override;
   /// Variable bounds; ±INF become ∓/± the configured Ipopt infinity.
-  bool get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u, Ipopt::Index m,
-                       Ipopt::Number* g_l, Ipopt::Number* g_u) override;
+  bool get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u, Ipopt::Index m, Ipopt::Number* g_l,
+                       Ipopt::Number* g_u) override;
   /// Objective scaling only (user-scaling); x is not scaled and there are no constraints.
-  bool get_scaling_parameters(Ipopt::Number& obj_scaling, bool& use_x_scaling, Ipopt::Index n,
-                              Ipopt::Number* x_scaling, bool& use_g_scaling, Ipopt::Index m,
-                              Ipopt::Number* g_scaling) override;
+  bool get_scaling_parameters(Ipopt::Number& obj_scaling, bool& use_x_scaling, Ipopt::Index n, Ipopt::Number* x_scaling,
+                              bool& use_g_scaling, Ipopt::Index m, Ipopt::Number* g_scaling) override;
   /// The projected start; bound multipliers too when warm_start_init_point asks for them.
-  bool get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z,
-                          Ipopt::Number* z_L, Ipopt::Number* z_U, Ipopt::Index m, bool init_lambda,
-                          Ipopt::Number* lambda) override;
+  bool get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z, Ipopt::Number* z_L,
+                          Ipopt::Number* z_U, Ipopt::Index m, bool init_lambda, Ipopt::Number* lambda) override;
   /// f(x); false (an evaluation error Ipopt backtracks from) if it is not finite.
-  bool eval_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x,
-              Ipopt::Number& obj_value) override;
+  bool eval_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number& obj_value) override;
   /// ∇f(x); false if any entry is not finite.
-  bool eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x,
-                   Ipopt::Number* grad_f) override;
+  bool eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number* grad_f) override;
   /// No constraints (m = 0): nothing to evaluate.
-  bool eval_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m,
-              Ipopt::Number* g) override;
+  bool eval_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m, Ipopt::Number* g) override;
   /// No constraints (m = 0): an empty Jacobian.
-  bool eval_jac_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m,
-                  Ipopt::Index nele_jac, Ipopt::Index* iRow, Ipopt::Index* jCol,
-                  Ipopt::Number* values) override;
+  bool eval_jac_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m, Ipopt::Index nele_jac,
+                  Ipopt::Index* iRow, Ipopt::Index* jCol, Ipopt::Number* values) override;
   /// Structure (values == nullptr) or obj_factor·∇²f(x) (lower triangle), same fixed order.
-  bool eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number obj_factor,
-              Ipopt::Index m, const Ipopt::Number* lambda, bool new_lambda, Ipopt::Index nele_hess,
-              Ipopt::Index* iRow, Ipopt::Index* jCol, Ipopt::Number* values) override;
+  bool eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number obj_factor, Ipopt::Index m,
+              const Ipopt::Number* lambda, bool new_lambda, Ipopt::Index nele_hess, Ipopt::Index* iRow,
+              Ipopt::Index* jCol, Ipopt::Number* values) override;
   /// Copies x, z_L, z_U and f into result().
-  void finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ipopt::Number* x,
-                         const Ipopt::Number* z_L, const Ipopt::Number* z_U, Ipopt::Index m,
-                         const Ipopt::Number* g, const Ipopt::Number* lambda,
+  void finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ipopt::Number* x, const Ipopt::Number* z_L,
+                         const Ipopt::Number* z_U, Ipopt::Index m, const Ipopt::Number* g, const Ipopt::Number* lambda,
                          Ipopt::Number obj_value, const Ipopt::IpoptData* ip_data,
                          Ipopt::IpoptCalculatedQuantities* ip_cq) override;
   /// One debug log line per iteration (iter, f, inf_du, mu, regularization); never stops Ipopt.
   bool intermediate_callback(Ipopt::AlgorithmMode mode, Ipopt::Index iter, Ipopt::Number obj_value,
-                             Ipopt::Number inf_pr, Ipopt::Number inf_du, Ipopt::Number mu,
-                             Ipopt::Number d_norm, Ipopt::Number regularization_size,
-                             Ipopt::Number alpha_du, Ipopt::Number alpha_pr, Ipopt::Index ls_trials,
-                             const Ipopt::IpoptData* ip_data,
+                             Ipopt::Number inf_pr, Ipopt::Number inf_du, Ipopt::Number mu, Ipopt::Number d_norm,
+                             Ipopt::Number regularization_size, Ipopt::Number alpha_du, Ipopt::Number alpha_pr,
+                             Ipopt::Index ls_trials, const Ipopt::IpoptData* ip_data,
                              Ipopt::IpoptCalculatedQuantities* ip_cq) override;
   ///@}
 

@@ -99,8 +99,7 @@ std::vector<Entry> registry() {
 #else
   const Factory ipopt = nullptr;
 #endif
-  r.push_back({"ipopt", "ipopt",
-               "Ipopt interior point, exact Hessian, bound multipliers kept for warm starts",
+  r.push_back({"ipopt", "ipopt", "Ipopt interior point, exact Hessian, bound multipliers kept for warm starts",
                "install coinor-libipopt-dev and rebuild", ipopt});
 
   // NLopt: one entry (and one line in `hemicontact backends`) per supported algorithm, then the
@@ -142,8 +141,7 @@ std::string list_available() {
 std::unique_ptr<NlpBackend> make_backend(const std::string& name) {
   for (const Entry& e : registry()) {
     if (!matches(e, name)) continue;
-    if (e.create == nullptr)
-      throw Error("backend '" + name + "' was not compiled in (" + e.missing + ")", EXIT_INPUT);
+    if (e.create == nullptr) throw Error("backend '" + name + "' was not compiled in (" + e.missing + ")", EXIT_INPUT);
     return e.create(name);
   }
   throw Error("unknown backend '" + name + "'; available: " + list_available(), EXIT_INPUT);

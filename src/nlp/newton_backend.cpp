@@ -107,8 +107,8 @@ class FreeSetSolver {
   /// Prepare for @p pattern (lower triangle); a no-op, keeping the analysis, if it is the same
   /// object with the same index arrays as last time. @param dense use the dense LLᵀ.
   void set_pattern(const SpMat& pattern, bool dense) {
-    const bool same = &pattern == m_key && pattern.rows() == m_H.rows() &&
-                      pattern.nonZeros() == m_H.nonZeros() && dense == m_dense && same_indices(pattern, m_H);
+    const bool same = &pattern == m_key && pattern.rows() == m_H.rows() && pattern.nonZeros() == m_H.nonZeros() &&
+                      dense == m_dense && same_indices(pattern, m_H);
     if (same) return;
     m_key = &pattern;
     m_dense = dense;
@@ -120,8 +120,8 @@ class FreeSetSolver {
     for (Index j = 0; j < m_H.outerSize(); ++j)
       for (SpMat::InnerIterator it(m_H, j); it; ++it)
         if (it.row() < it.col())
-          throw Error("newton: the Hessian pattern has an entry above the diagonal (" +
-                          std::to_string(it.row()) + ", " + std::to_string(it.col()) + ")",
+          throw Error("newton: the Hessian pattern has an entry above the diagonal (" + std::to_string(it.row()) +
+                          ", " + std::to_string(it.col()) + ")",
                       EXIT_INTERNAL);
     if (m_dense) return;
     // A = H's pattern ∪ the diagonal (the identity rows and the shift need every (i, i)).
@@ -222,8 +222,8 @@ class FreeSetSolver {
     if (!m_analyzed) {
       const auto t0 = clk::now();
       m_llt.analyzePattern(m_A);
-      log_debug() << "newton: CHOLMOD analysis of n = " << m_A.rows() << ", nnz = " << m_A.nonZeros()
-                  << " (lower) in " << since(t0) << " s";
+      log_debug() << "newton: CHOLMOD analysis of n = " << m_A.rows() << ", nnz = " << m_A.nonZeros() << " (lower) in "
+                  << since(t0) << " s";
       m_analyzed = true;
       ++m_analyses;
     }
@@ -349,9 +349,9 @@ SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const 
     result.status = status;
     std::ostringstream m;
     m << "newton: " << why << " (" << m_solver.factorizations() << " factorizations ["
-      << (m_solver.dense() ? "dense" : "cholmod") << ", " << m_solver.seconds() << " s], "
-      << m_solver.analyses() << " analyses; Hessian exact " << exact_steps << ", clamped "
-      << result.iterations - exact_steps << ", shifted " << shifted << "; " << halvings << " halvings)";
+      << (m_solver.dense() ? "dense" : "cholmod") << ", " << m_solver.seconds() << " s], " << m_solver.analyses()
+      << " analyses; Hessian exact " << exact_steps << ", clamped " << result.iterations - exact_steps << ", shifted "
+      << shifted << "; " << halvings << " halvings)";
     result.message = m.str();
     result.seconds = since(t0);
     log_debug() << result.message << "; " << result.iterations << " iterations, " << result.evaluations
@@ -362,8 +362,8 @@ SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const 
 
   const SpMat& pattern = f.hessian_pattern();
   if (pattern.rows() != n || pattern.cols() != n)
-    throw Error("newton: Hessian pattern is " + std::to_string(pattern.rows()) + "×" +
-                    std::to_string(pattern.cols()) + " for n = " + std::to_string(n),
+    throw Error("newton: Hessian pattern is " + std::to_string(pattern.rows()) + "×" + std::to_string(pattern.cols()) +
+                    " for n = " + std::to_string(n),
                 EXIT_INTERNAL);
   const bool dense_pattern = pattern.nonZeros() == n * (n + 1) / 2;
   m_solver.set_pattern(pattern, ls == LinearSolver::DENSE || (ls == LinearSolver::AUTO && dense_pattern));
@@ -421,8 +421,8 @@ SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const 
     if (!found) {
       const double scale = m_solver.free_diagonal_max(binding);
       for (delta = std::max(SHIFT_FIRST, shift_last / 10); delta <= SHIFT_LAST; delta *= 10) {
-        log_debug() << "newton: iteration " << k << ": H_FF is not (numerically) positive definite; shift "
-                    << delta << "·" << scale;
+        log_debug() << "newton: iteration " << k << ": H_FF is not (numerically) positive definite; shift " << delta
+                    << "·" << scale;
         if ((found = direction(delta * scale))) break;
       }
       if (!found)
@@ -469,8 +469,8 @@ SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const 
     }
     // Per-iteration progress: debug level, or info with solver.print_level > 0.
     LogStream(options.print_level > 0 ? LogLevel::INFO : LogLevel::DEBUG)
-        << "newton " << k << ": f " << fx << " -> " << ft << ", r " << r << ", |B| " << nb << ", |d_F| "
-        << dF_norm << ", alpha " << alpha << ", H " << (exact ? "exact" : "clamped")
+        << "newton " << k << ": f " << fx << " -> " << ft << ", r " << r << ", |B| " << nb << ", |d_F| " << dF_norm
+        << ", alpha " << alpha << ", H " << (exact ? "exact" : "clamped")
         << (delta > 0 ? ", shift " + std::to_string(delta) : std::string());
     x.swap(xt);
     fx = ft;

@@ -147,8 +147,7 @@ const LocalAlgorithm LOCAL_ALGORITHMS[] = {
      "NLopt truncated Newton, preconditioned (Luksan), local, gradient, bounds"},
     {"LD_TNEWTON_RESTART", nlopt::LD_TNEWTON_RESTART, true, false,
      "NLopt truncated Newton with restarts (Luksan), local, gradient, bounds"},
-    {"LD_TNEWTON", nlopt::LD_TNEWTON, true, false,
-     "NLopt truncated Newton (Luksan), local, gradient, bounds"},
+    {"LD_TNEWTON", nlopt::LD_TNEWTON, true, false, "NLopt truncated Newton (Luksan), local, gradient, bounds"},
 };
 
 /// The global searches, "nlopt:NAME" or "nlopt:NAME+LOCAL".
@@ -174,8 +173,7 @@ struct Refusal {
 };
 
 const Refusal REFUSED[] = {
-    {"LD_LBFGS_NOCEDAL",
-     "not part of NLopt 2.7 (Nocedal's code was removed for its license); use nlopt:LD_LBFGS"},
+    {"LD_LBFGS_NOCEDAL", "not part of NLopt 2.7 (Nocedal's code was removed for its license); use nlopt:LD_LBFGS"},
     {"LN_NEWUOA", "derivative-free, and it ignores bound constraints (u_nu <= g is a bound)"},
     {"LN_PRAXIS", "derivative-free, and it takes bounds only as f = +inf outside the box"},
     {"LD_AUGLAG",
@@ -184,14 +182,18 @@ const Refusal REFUSED[] = {
     {"LD_AUGLAG_EQ",
      "an augmented-Lagrangian wrapper for nonlinear equality constraints; the contact problem "
      "has bounds only, so use a local algorithm directly (e.g. nlopt:LD_LBFGS)"},
-    {"AUGLAG", "an augmented-Lagrangian wrapper for nonlinear constraints; the problem has bounds "
-               "only, so use a local algorithm directly (e.g. nlopt:LD_LBFGS)"},
-    {"AUGLAG_EQ", "an augmented-Lagrangian wrapper for nonlinear constraints; the problem has "
-                  "bounds only, so use a local algorithm directly (e.g. nlopt:LD_LBFGS)"},
-    {"GD_STOGO", "branch-and-bound on a finite box, exponential in n (hundreds of unknowns "
-                 "here); use nlopt:G_MLSL_LDS"},
-    {"GD_STOGO_RAND", "branch-and-bound on a finite box, exponential in n (hundreds of unknowns "
-                      "here); use nlopt:G_MLSL_LDS"},
+    {"AUGLAG",
+     "an augmented-Lagrangian wrapper for nonlinear constraints; the problem has bounds "
+     "only, so use a local algorithm directly (e.g. nlopt:LD_LBFGS)"},
+    {"AUGLAG_EQ",
+     "an augmented-Lagrangian wrapper for nonlinear constraints; the problem has "
+     "bounds only, so use a local algorithm directly (e.g. nlopt:LD_LBFGS)"},
+    {"GD_STOGO",
+     "branch-and-bound on a finite box, exponential in n (hundreds of unknowns "
+     "here); use nlopt:G_MLSL_LDS"},
+    {"GD_STOGO_RAND",
+     "branch-and-bound on a finite box, exponential in n (hundreds of unknowns "
+     "here); use nlopt:G_MLSL_LDS"},
     {"GD_MLSL", "MLSL with an unnamed default local algorithm; use nlopt:G_MLSL+LOCAL"},
     {"GD_MLSL_LDS", "MLSL with an unnamed default local algorithm; use nlopt:G_MLSL_LDS+LOCAL"},
     {"LN_", "derivative-free (uses f only; the contact energy has a cheap exact gradient)"},
@@ -241,8 +243,7 @@ long parse_count(const std::string& key, const std::string& s, long min) {
   char* end = nullptr;
   const long v = s.empty() ? 0 : std::strtol(s.c_str(), &end, 10);
   if (s.empty() || errno != 0 || *end != '\0' || v < min || v > std::numeric_limits<int>::max())
-    throw Error("nlopt: option '" + key + "' expects an integer >= " + std::to_string(min) +
-                    ", got '" + s + "'",
+    throw Error("nlopt: option '" + key + "' expects an integer >= " + std::to_string(min) + ", got '" + s + "'",
                 EXIT_INPUT);
   return v;
 }
@@ -251,8 +252,7 @@ double parse_positive(const std::string& key, const std::string& s) {
   char* end = nullptr;
   const double v = s.empty() ? 0 : std::strtod(s.c_str(), &end);
   if (s.empty() || errno != 0 || *end != '\0' || !(v > 0) || !std::isfinite(v))
-    throw Error("nlopt: option '" + key + "' expects a finite number > 0, got '" + s + "'",
-                EXIT_INPUT);
+    throw Error("nlopt: option '" + key + "' expects a finite number > 0, got '" + s + "'", EXIT_INPUT);
   return v;
 }
 
@@ -269,7 +269,7 @@ struct Evaluator {
   const NlpProblem* problem = nullptr;
   Vec x, g;  // scratch
   double tol = 0.0;
-  double sigma = 1.0;  // NLopt sees σ·f (Luksan's gradient test, see top of file)
+  double sigma = 1.0;   // NLopt sees σ·f (Luksan's gradient test, see top of file)
   int print_level = 0;  // >= 2: log every evaluation with a gradient
   bool stop_on_tol = true;
   double f_start = INF;
@@ -293,8 +293,7 @@ struct Evaluator {
       e.problem->f->gradient(e.x, e.g);
       for (unsigned i = 0; i < n; ++i) grad[i] = e.sigma * e.g[Index(i)];
       const double r = first_order_residual(xp, e.g.data(), e.problem->lower, e.problem->upper);
-      if (e.print_level >= 2)
-        log_info() << "nlopt: evaluation " << e.evaluations << ": f = " << f << ", r = " << r;
+      if (e.print_level >= 2) log_info() << "nlopt: evaluation " << e.evaluations << ": f = " << f << ", r = " << r;
       if (std::isfinite(f) && f <= e.f_best) {
         e.f_best = f;
         e.r_best = r;
@@ -388,9 +387,7 @@ Extra NloptBackend::parse_extra(const BackendOptions& options, const LocalAlgori
   local = m_local;
   const auto only = [&](const std::string& key, bool applies, const char* who) {
     if (!applies)
-      throw Error("nlopt: option '" + key + "' does not apply to " + name() + " (only to " + who +
-                      ")",
-                  EXIT_INPUT);
+      throw Error("nlopt: option '" + key + "' does not apply to " + name() + " (only to " + who + ")", EXIT_INPUT);
   };
   for (const auto& [key, value] : options.extra) {
     if (key == "maxeval") {
@@ -417,9 +414,7 @@ Extra NloptBackend::parse_extra(const BackendOptions& options, const LocalAlgori
     const LocalAlgorithm* a = find_local(e.local_algorithm);
     if (a == nullptr) refuse(e.local_algorithm, "local ");
     if (m_local != nullptr && a != m_local)
-      throw Error("nlopt: option local_algorithm = " + e.local_algorithm + " contradicts " +
-                      name(),
-                  EXIT_INPUT);
+      throw Error("nlopt: option local_algorithm = " + e.local_algorithm + " contradicts " + name(), EXIT_INPUT);
     local = a;
   }
   if (local == nullptr) local = find_local("LD_LBFGS");
@@ -444,23 +439,19 @@ SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
   const auto t0 = clk::now();
   const std::string who = name();
   const Index n = problem.f->size();
-  if (!(options.tol > 0))
-    throw Error(who + ": tol must be > 0 (got " + std::to_string(options.tol) + ")", EXIT_INPUT);
+  if (!(options.tol > 0)) throw Error(who + ": tol must be > 0 (got " + std::to_string(options.tol) + ")", EXIT_INPUT);
   const LocalAlgorithm* local = nullptr;
   const Extra extra = parse_extra(options, local);
   if ((local->dense || m_global != nullptr) && n > DENSE_MAX_N)
-    throw Error(who + ": refused for n = " + std::to_string(n) + " unknowns (limit " +
-                    std::to_string(DENSE_MAX_N) + ": " +
-                    (m_global ? "a global search" : "SLSQP's dense O(n^2) memory, O(n^3) time") +
+    throw Error(who + ": refused for n = " + std::to_string(n) + " unknowns (limit " + std::to_string(DENSE_MAX_N) +
+                    ": " + (m_global ? "a global search" : "SLSQP's dense O(n^2) memory, O(n^3) time") +
                     "); use solver.formulation = condensed, or another backend",
                 EXIT_INPUT);
 
   SolveResult result;
-  const int maxeval =
-      extra.maxeval > 0
-          ? extra.maxeval
-          : int(std::min<long>(long(EVALS_PER_ITERATION) * std::max(1, options.max_iter),
-                               std::numeric_limits<int>::max()));
+  const int maxeval = extra.maxeval > 0 ? extra.maxeval
+                                        : int(std::min<long>(long(EVALS_PER_ITERATION) * std::max(1, options.max_iter),
+                                                             std::numeric_limits<int>::max()));
   Evaluator ev;
   ev.problem = &problem;
   ev.tol = options.tol;
@@ -481,8 +472,7 @@ SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
       if (!std::isfinite(hi[i])) hi[i] = x[i] + extra.box_radius, ++replaced;
     }
     if (replaced > 0)
-      note << "; MLSL box: " << replaced << " infinite bounds replaced by the warm start +- "
-           << extra.box_radius;
+      note << "; MLSL box: " << replaced << " infinite bounds replaced by the warm start +- " << extra.box_radius;
     nlopt::srand(MLSL_SEED);
     nlopt::opt global(m_global->id, unsigned(n));
     nlopt::opt loc = make_local(*local, extra, unsigned(n));
@@ -501,8 +491,8 @@ SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
     ev.f_start = problem.f->value(Eigen::Map<const Vec>(xv.data(), n));
     ++ev.evaluations;
     ev.stop_on_tol = true;
-    note << "; global phase " << result_name(global_run.result) << " after "
-         << global_evaluations << " evaluations, best f = " << ev.f_start;
+    note << "; global phase " << result_name(global_run.result) << " after " << global_evaluations
+         << " evaluations, best f = " << ev.f_start;
   }
 
   const int before_local = ev.evaluations;
@@ -516,8 +506,8 @@ SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
       xv[size_t(i)] = std::min(std::max(xv[size_t(i)], problem.lower[i]), problem.upper[i]);
     r = run(opt, ev, xv);
     // Luksan's own gradient test ended the run above tol: once more from there, scaled.
-    if (ev.stopped || !local->luksan || pass > 0 || r.result != nlopt::SUCCESS ||
-        options.tol >= LUKSAN_TOLG || ev.evaluations - before_local >= maxeval)
+    if (ev.stopped || !local->luksan || pass > 0 || r.result != nlopt::SUCCESS || options.tol >= LUKSAN_TOLG ||
+        ev.evaluations - before_local >= maxeval)
       break;
     ev.sigma = LUKSAN_TOLG / options.tol;
     note << "; restarted with f scaled by " << ev.sigma << " past Luksan's |g| <= 1e-8 test";
@@ -548,7 +538,7 @@ SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
 
   const double acceptable = ACCEPTABLE_FACTOR * options.tol;
   const auto by_residual = [&]() {
-    return r_final <= options.tol ? SolveStatus::CONVERGED
+    return r_final <= options.tol  ? SolveStatus::CONVERGED
            : r_final <= acceptable ? SolveStatus::ACCEPTABLE
                                    : SolveStatus::FAILED;
   };
@@ -564,13 +554,10 @@ SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
       case nlopt::FTOL_REACHED:
       case nlopt::XTOL_REACHED:
       case nlopt::ROUNDOFF_LIMITED:
-      case nlopt::FORCED_STOP:
-        result.status = by_residual();
-        break;
+      case nlopt::FORCED_STOP: result.status = by_residual(); break;
       case nlopt::MAXEVAL_REACHED:
       case nlopt::MAXTIME_REACHED:
-        result.status =
-            r_final <= options.tol ? SolveStatus::CONVERGED : SolveStatus::MAX_ITERATIONS;
+        result.status = r_final <= options.tol ? SolveStatus::CONVERGED : SolveStatus::MAX_ITERATIONS;
         break;
       case nlopt::FAILURE:  // Luksan: a line search that found no decrease (see top of file)
         result.status = local->luksan ? by_residual() : SolveStatus::FAILED;
@@ -627,8 +614,7 @@ std::unique_ptr<NlpBackend> make_nlopt_backend(const std::string& algorithm) {
   const std::string head = algorithm.substr(0, plus);
   if (const LocalAlgorithm* a = find_local(head)) {
     if (plus != std::string::npos)
-      throw Error("nlopt: '" + algorithm + "': only G_MLSL_LDS / G_MLSL take a '+LOCAL' algorithm",
-                  EXIT_INPUT);
+      throw Error("nlopt: '" + algorithm + "': only G_MLSL_LDS / G_MLSL take a '+LOCAL' algorithm", EXIT_INPUT);
     return std::make_unique<NloptBackend>(algorithm, a, nullptr);
   }
   if (const GlobalAlgorithm* g = find_global(head)) {

@@ -38,8 +38,7 @@ void write_gamma3_csv(const std::string& path, const Model& md, const Solution& 
       out += ',';
       put(out, md.mesh.points(cn.node[k], c));
     }
-    for (double v : {cn.w[k], cn.g[k], s.u_nu[k], s.u_tau[k], s.sigma_nu[k], s.sigma_tau[k], s.xi[k],
-                     s.lambda[k]}) {
+    for (double v : {cn.w[k], cn.g[k], s.u_nu[k], s.u_tau[k], s.sigma_nu[k], s.sigma_tau[k], s.xi[k], s.lambda[k]}) {
       out += ',';
       put(out, v);
     }

@@ -55,7 +55,8 @@ void prepare_output_dir(const std::string& dir, bool overwrite, const std::vecto
     const bool has_results = fs::exists(p / "report.json", ec) || !ours.empty();
     if (!overwrite && has_results)
       input_error(name + " already holds results (" +
-                  (fs::exists(p / "report.json", ec) ? std::string("report.json") : ours.front() + ", listed in " + OUTPUT_MANIFEST) +
+                  (fs::exists(p / "report.json", ec) ? std::string("report.json")
+                                                     : ours.front() + ", listed in " + OUTPUT_MANIFEST) +
                   "); pass --force to replace them");
     // The files this run will write must be ours to replace: a user's own file of the same name
     // is never overwritten, not even with --force.

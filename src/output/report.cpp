@@ -46,9 +46,7 @@ std::map<std::string, double> merged_timings(const Model& md, const Solution& so
 // NaN marks "not measured"; JSON has no NaN, so it is written as null explicitly.
 json finite_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-bool report_ok(const Solution& sol) {
-  return sol.ok();
-}
+bool report_ok(const Solution& sol) { return sol.ok(); }
 
 // "  " + words joined by ", ", wrapped before @p width columns; continuation lines indented.
 std::string wrap(const std::vector<std::string>& words, size_t indent, size_t width) {
@@ -72,15 +70,13 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
   const Index nc = cn.size();
   const int d = md.dim();
   if (s.u_nu.size() != nc || static_cast<Index>(sol.status.size()) != nc)
-    throw Error("make_report: the solution does not match the model (was evaluate_solution() called?)",
-                EXIT_INTERNAL);
+    throw Error("make_report: the solution does not match the model (was evaluate_solution() called?)", EXIT_INTERNAL);
 
   json r;
   r["scene"] = md.scene;
   r["version"] = HEMICONTACT_VERSION;
-  r["mesh"] = {{"origin", md.mesh.origin},        {"dim", d},
-               {"nodes", md.mesh.num_nodes()},    {"cells", md.mesh.num_cells()},
-               {"gamma3_nodes", nc},              {"h", md.mesh.max_edge_length()}};
+  r["mesh"] = {{"origin", md.mesh.origin},     {"dim", d},           {"nodes", md.mesh.num_nodes()},
+               {"cells", md.mesh.num_cells()}, {"gamma3_nodes", nc}, {"h", md.mesh.max_edge_length()}};
   r["dofs"] = md.dofs.n_free();
   r["material"] = {{"description", md.material->describe()},
                    {"m_F", md.material->m_F()},
@@ -90,10 +86,8 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
                {"friction", md.friction ? json(md.friction->describe()) : json(nullptr)},
                {"gap", md.gap.describe()}};
   const BackendTotals bt = backend_totals(sol);
-  r["backend"] = {{"name", sol.backend},
-                  {"iterations", bt.iterations},
-                  {"evaluations", bt.evaluations},
-                  {"seconds", bt.seconds}};
+  r["backend"] = {
+      {"name", sol.backend}, {"iterations", bt.iterations}, {"evaluations", bt.evaluations}, {"seconds", bt.seconds}};
   r["energy"] = sol.energy;
   r["energy_norm"] = sol.energy_norm;
   r["a_uu"] = sol.a_uu;
@@ -189,12 +183,14 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
   r["formulation"] = sol.formulation;
   {
     const SmallnessReport& q = sol.smallness;
-    r["smallness"] = {{"computed", q.computed}, {"m_F", q.m_F}, {"L_Fb", q.L_Fb}, {"alpha_j", q.alpha_j},
-                      {"lambda_1", q.lambda_1}, {"lambda_1nu", q.lambda_1nu}, {"lhs", q.lhs},
-                      {"uniqueness_guaranteed", q.computed && q.holds}, {"seconds", q.seconds}};
+    r["smallness"] = {{"computed", q.computed}, {"m_F", q.m_F},
+                      {"L_Fb", q.L_Fb},         {"alpha_j", q.alpha_j},
+                      {"lambda_1", q.lambda_1}, {"lambda_1nu", q.lambda_1nu},
+                      {"lhs", q.lhs},           {"uniqueness_guaranteed", q.computed && q.holds},
+                      {"seconds", q.seconds}};
   }
-  r["polish"] = {{"attempted", sol.polish.attempted}, {"accepted", sol.polish.accepted},
-                 {"iterations", sol.polish.iterations}, {"certificate_before", sol.polish.before},
+  r["polish"] = {{"attempted", sol.polish.attempted},     {"accepted", sol.polish.accepted},
+                 {"iterations", sol.polish.iterations},   {"certificate_before", sol.polish.before},
                  {"certificate_after", sol.polish.after}, {"note", sol.polish.note}};
   r["scales"] = {{"x_scale", sol.x_scale}, {"f_scale", sol.f_scale}};
   r["timings"] = merged_timings(md, sol);
@@ -229,18 +225,18 @@ std::string summary_table(const Model& md, const Solution& sol) {
   std::string out;
   const Index nc = md.contact.size();
   out += row("mesh", (md.mesh.origin.empty() ? std::string() : md.mesh.origin + ": ") +
-                         std::to_string(md.mesh.num_nodes()) + " nodes, " +
-                         std::to_string(md.mesh.num_cells()) + " cells, " + std::to_string(nc) +
-                         " gamma3 nodes, h = " + fmt(md.mesh.max_edge_length()));
+                         std::to_string(md.mesh.num_nodes()) + " nodes, " + std::to_string(md.mesh.num_cells()) +
+                         " cells, " + std::to_string(nc) + " gamma3 nodes, h = " + fmt(md.mesh.max_edge_length()));
   out += row("dofs", std::to_string(md.dofs.n_free()));
   const BackendTotals bt = backend_totals(sol);
   out += row("backend", (sol.backend.empty() ? std::string("(none)") : sol.backend) + ": " +
-                            std::to_string(sol.history.size()) + " minimizations, " +
-                            std::to_string(bt.iterations) + " iterations, " +
-                            std::to_string(bt.evaluations) + " evaluations, " + fmt(bt.seconds, 3) + " s");
-  out += row("energy", fmt(sol.energy, 10) + "  (" + std::string(md.material->is_linear() ? "a(u,u)/2" : "int W(eps(u))") + " = " + fmt(sol.elastic_energy) + ", f(u) = " +
-                           fmt(sol.f_u) + ", j = " + fmt(sol.j_term) + ", friction = " +
-                           fmt(sol.friction_term) + ")");
+                            std::to_string(sol.history.size()) + " minimizations, " + std::to_string(bt.iterations) +
+                            " iterations, " + std::to_string(bt.evaluations) + " evaluations, " + fmt(bt.seconds, 3) +
+                            " s");
+  out +=
+      row("energy", fmt(sol.energy, 10) + "  (" + std::string(md.material->is_linear() ? "a(u,u)/2" : "int W(eps(u))") +
+                        " = " + fmt(sol.elastic_energy) + ", f(u) = " + fmt(sol.f_u) + ", j = " + fmt(sol.j_term) +
+                        ", friction = " + fmt(sol.friction_term) + ")");
   out += row("energy_norm", fmt(sol.energy_norm, 10));
   out += row("max_u_nu", fmt(sol.max_u_nu, 10));
 
@@ -274,8 +270,8 @@ std::string summary_table(const Model& md, const Solution& sol) {
   double worst_value = -1;
   for (const auto& e : c.residuals)
     if (e.value > worst_value) worst_value = e.value, worst = e.name;
-  out += row("certificate", std::string(c.passed ? "passed" : "FAILED") + ": max residual " +
-                                fmt(c.max_residual, 3) + (c.passed ? " <= " : " > ") + "tol " + fmt(c.tol, 3) +
+  out += row("certificate", std::string(c.passed ? "passed" : "FAILED") + ": max residual " + fmt(c.max_residual, 3) +
+                                (c.passed ? " <= " : " > ") + "tol " + fmt(c.tol, 3) +
                                 (worst.empty() ? std::string() : " (" + worst + ")"));
   if (sol.smallness.computed)
     out += row("(21)", "L_Fb/lambda_1 + alpha/lambda_1nu = " + fmt(sol.smallness.lhs, 4) +

@@ -71,7 +71,9 @@ nlohmann::json convergence_json(const ConvergenceStudy& study) {
   const RateFit fit = fit_rate(study);
   nlohmann::json rate = nullptr;
   if (fit.valid)
-    rate = {{"alpha", fit.alpha}, {"C", fit.C}, {"levels_used", fit.levels_used},
+    rate = {{"alpha", fit.alpha},
+            {"C", fit.C},
+            {"levels_used", fit.levels_used},
             {"max_rel_residual", fit.max_rel_residual},
             {"model", "error = C * sqrt(h^(2 alpha) - h_ref^(2 alpha))"}};
   return {{"reference", level_json(study.reference)},
@@ -145,14 +147,19 @@ std::string convergence_table(const ConvergenceStudy& study) {
 json minima_json(const Model& md, const MinimaReport& r) {
   json j;
   const MinimaOptions& o = r.options;
-  j["options"] = {{"starts", o.starts},       {"seed", o.seed},
-                  {"backends", o.backends},   {"group_tol", o.group_tol},
-                  {"box", o.box},             {"load_path_steps", o.load_path_steps},
-                  {"user_starts", o.user_starts.size()}, {"second_order_tol", o.second_order_tol}};
+  j["options"] = {{"starts", o.starts},
+                  {"seed", o.seed},
+                  {"backends", o.backends},
+                  {"group_tol", o.group_tol},
+                  {"box", o.box},
+                  {"load_path_steps", o.load_path_steps},
+                  {"user_starts", o.user_starts.size()},
+                  {"second_order_tol", o.second_order_tol}};
   const SmallnessReport& q = r.smallness;
-  j["smallness"] = {{"computed", q.computed}, {"m_F", q.m_F}, {"L_Fb", q.L_Fb}, {"alpha_j", q.alpha_j},
-                    {"lambda_1", q.lambda_1}, {"lambda_1nu", q.lambda_1nu}, {"lhs", q.lhs},
-                    {"uniqueness_guaranteed", q.computed && q.holds}};
+  j["smallness"] = {{"computed", q.computed}, {"m_F", q.m_F},
+                    {"L_Fb", q.L_Fb},         {"alpha_j", q.alpha_j},
+                    {"lambda_1", q.lambda_1}, {"lambda_1nu", q.lambda_1nu},
+                    {"lhs", q.lhs},           {"uniqueness_guaranteed", q.computed && q.holds}};
   j["x_scale"] = r.x_scale;
   j["norm_scale"] = r.norm_scale;
   j["seconds"] = r.seconds;
@@ -160,30 +167,42 @@ json minima_json(const Model& md, const MinimaReport& r) {
   j["certified_runs"] = r.certified_runs();
   j["runs"] = json::array();
   for (const auto& run : r.runs)
-    j["runs"].push_back({{"start", run.start},       {"backend", run.backend},     {"converged", run.converged},
-                         {"certified", run.certified}, {"energy", run.energy},     {"certificate", run.certificate},
-                         {"seconds", run.seconds},   {"solution", run.group},      {"message", run.message}});
+    j["runs"].push_back({{"start", run.start},
+                         {"backend", run.backend},
+                         {"converged", run.converged},
+                         {"certified", run.certified},
+                         {"energy", run.energy},
+                         {"certificate", run.certificate},
+                         {"seconds", run.seconds},
+                         {"solution", run.group},
+                         {"message", run.message}});
   j["solutions"] = json::array();
   for (size_t k = 0; k < r.solutions.size(); ++k) {
     const DistinctSolution& ds = r.solutions[k];
     const Solution& s = ds.solution;
     const SecondOrderCheck& c = ds.second_order;
-    json js = {{"index", k},
-               {"energy", s.energy},
-               {"energy_norm", s.energy_norm},
-               {"type", c.verdict},
-               {"second_order",
-                {{"verdict", c.verdict}, {"lambda_min", c.lambda_min}, {"scale", c.scale}, {"kept", c.kept},
-                 {"removed_contact", c.removed_contact}, {"removed_stick", c.removed_stick},
-                 {"degenerate", c.degenerate}, {"note", c.note}}},
-               {"status_counts", s.status_counts()},
-               {"certificate", {{"passed", s.certificate.passed}, {"max_residual", s.certificate.max_residual},
-                                {"tol", s.certificate.tol}}},
-               {"n_starts", ds.runs.size()},
-               {"starts", ds.starts},
-               {"backends", ds.backends},
-               {"spread", ds.spread},
-               {"max_u_nu", s.max_u_nu}};
+    json js = {
+        {"index", k},
+        {"energy", s.energy},
+        {"energy_norm", s.energy_norm},
+        {"type", c.verdict},
+        {"second_order",
+         {{"verdict", c.verdict},
+          {"lambda_min", c.lambda_min},
+          {"scale", c.scale},
+          {"kept", c.kept},
+          {"removed_contact", c.removed_contact},
+          {"removed_stick", c.removed_stick},
+          {"degenerate", c.degenerate},
+          {"note", c.note}}},
+        {"status_counts", s.status_counts()},
+        {"certificate",
+         {{"passed", s.certificate.passed}, {"max_residual", s.certificate.max_residual}, {"tol", s.certificate.tol}}},
+        {"n_starts", ds.runs.size()},
+        {"starts", ds.starts},
+        {"backends", ds.backends},
+        {"spread", ds.spread},
+        {"max_u_nu", s.max_u_nu}};
     json nodes = json::array();
     for (Index i = 0; i < md.contact.size(); ++i) {
       const auto p = md.mesh.points.row(md.contact.node[static_cast<size_t>(i)]);
@@ -219,12 +238,13 @@ void write_minima_csv(const std::string& path, const MinimaReport& r) {
     for (const auto& [b, n] : ds.backends) backends += (backends.empty() ? "" : " ") + b + ":" + std::to_string(n);
     for (int run : ds.runs) {
       const MinimaRun& m = r.runs[static_cast<size_t>(run)];
-      starts += (starts.empty() ? "" : " ") + (r.options.backends.size() > 1 ? m.backend + ":" : std::string()) + m.start;
+      starts +=
+          (starts.empty() ? "" : " ") + (r.options.backends.size() > 1 ? m.backend + ":" : std::string()) + m.start;
     }
     out << k << ',' << exact(ds.solution.energy) << ',' << exact(ds.solution.energy_norm) << ','
         << ds.second_order.verdict << ',' << exact(ds.second_order.lambda_min) << ','
-        << exact(ds.solution.certificate.max_residual) << ',' << ds.runs.size() << ",\"" << backends << "\",\"" << starts
-        << '"';
+        << exact(ds.solution.certificate.max_residual) << ',' << ds.runs.size() << ",\"" << backends << "\",\""
+        << starts << '"';
     const auto sc = ds.solution.status_counts();
     for (const auto& c : counts) out << ',' << (sc.count(c) ? sc.at(c) : 0);
     out << '\n';
@@ -241,7 +261,8 @@ std::string minima_table(const MinimaReport& r) {
   const auto abbrev = [](const std::map<std::string, int>& sc) {
     std::string a, b;
     for (const char* k : {"separated", "compliance", "contact"})
-      if (sc.count(k) && sc.at(k)) a += (a.empty() ? "" : " ") + std::string(k).substr(0, 4) + " " + std::to_string(sc.at(k));
+      if (sc.count(k) && sc.at(k))
+        a += (a.empty() ? "" : " ") + std::string(k).substr(0, 4) + " " + std::to_string(sc.at(k));
     for (const char* k : {"stick", "slip+", "slip-", "slip"})
       if (sc.count(k) && sc.at(k)) b += (b.empty() ? "" : " ") + std::string(k) + " " + std::to_string(sc.at(k));
     return a + " | " + b;
@@ -271,8 +292,8 @@ std::string minima_table(const MinimaReport& r) {
      << (r.local_minima() == 1 ? "um" : "a") << "; " << r.certified_runs() << " of " << r.runs.size()
      << " runs certified";
   if (r.smallness.computed)
-    os << "; (21): " << fmt(r.smallness.lhs, 4) << (r.smallness.holds ? " < " : " >= ") << "m_F = "
-       << fmt(r.smallness.m_F, 4) << ", uniqueness guaranteed: " << (r.smallness.holds ? "yes" : "no");
+    os << "; (21): " << fmt(r.smallness.lhs, 4) << (r.smallness.holds ? " < " : " >= ")
+       << "m_F = " << fmt(r.smallness.m_F, 4) << ", uniqueness guaranteed: " << (r.smallness.holds ? "yes" : "no");
   os << '\n';
   // Per backend: runs, converged (by the backend's own test), certified; then the uncertified
   // starts and the first verdict among them (cut), or the backend failures the certificate passed.

@@ -29,10 +29,8 @@ void put(std::string& out, double v) {
 
 void check_sizes(const Model& md, const Solution& sol) {
   const Index nc = md.contact.size();
-  if (sol.u.size() != md.dofs.n_full() || sol.state.u_nu.size() != nc ||
-      static_cast<Index>(sol.status.size()) != nc)
-    throw Error("write_vtu: the solution does not match the model (was evaluate_solution() called?)",
-                EXIT_INTERNAL);
+  if (sol.u.size() != md.dofs.n_full() || sol.state.u_nu.size() != nc || static_cast<Index>(sol.status.size()) != nc)
+    throw Error("write_vtu: the solution does not match the model (was evaluate_solution() called?)", EXIT_INTERNAL);
 }
 
 // One DataArray, kept as typed values until the file is laid out (ASCII inline, or binary in the
@@ -129,16 +127,19 @@ class VtuLayout {
     const size_t per_line = a.type == "Float64" ? static_cast<size_t>(a.comps) : (a.name == "connectivity" ? 4 : 20);
     for (size_t k = 0; k < n; ++k) {
       xml += (k % per_line == 0) ? "          " : " ";
-      if (a.type == "Float64") put(xml, a.f[k]);
-      else xml += std::to_string(a.i[k]);
+      if (a.type == "Float64")
+        put(xml, a.f[k]);
+      else
+        xml += std::to_string(a.i[k]);
       if ((k + 1) % per_line == 0 || k + 1 == n) xml += '\n';
     }
     xml += "        </DataArray>\n";
   }
   /// The whole file: the header's compressor attribute, the XML, then the appended block.
   std::string finish(const std::string& body) const {
-    std::string out = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-                      "byte_order=\"LittleEndian\" header_type=\"UInt64\"";
+    std::string out =
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+        "byte_order=\"LittleEndian\" header_type=\"UInt64\"";
     if (m_binary && HEMICONTACT_HAS_ZLIB) out += " compressor=\"vtkZLibDataCompressor\"";
     out += ">\n" + body;
     if (m_binary) out += "  <AppendedData encoding=\"raw\">\n   _" + m_appended + "\n  </AppendedData>\n";
@@ -186,9 +187,7 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol, Vt
     return [&, v_ptr = &v](Index a, int) { return k_of[a] < 0 ? 0.0 : (*v_ptr)[k_of[a]]; };
   };
   const auto tangential = [&](const RowMat& m) {
-    return [&, m_ptr = &m](Index a, int c) {
-      return (k_of[a] < 0 || c >= m_ptr->cols()) ? 0.0 : (*m_ptr)(k_of[a], c);
-    };
+    return [&, m_ptr = &m](Index a, int c) { return (k_of[a] < 0 || c >= m_ptr->cols()) ? 0.0 : (*m_ptr)(k_of[a], c); };
   };
 
   const RowMat strain = cell_strains(mesh, sol.u);

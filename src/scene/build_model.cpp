@@ -4,11 +4,11 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/fem/assembly.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/material/material_factory.hpp>
 #include <hemicontact/mesh/boundary.hpp>
 #include <hemicontact/mesh/generators.hpp>
 #include <hemicontact/mesh/gmsh_import.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -34,7 +34,8 @@ std::vector<BoundarySelector> selectors(const json& list, const std::string& nam
     b.from = number_or(s["from"], -INF);
     b.to = number_or(s["to"], INF);
     if (s.contains("components"))
-      for (const auto& c : s["components"]) b.components.push_back(static_cast<int>(std::string("xyz").find(c.get<std::string>())));
+      for (const auto& c : s["components"])
+        b.components.push_back(static_cast<int>(std::string("xyz").find(c.get<std::string>())));
     if (s.contains("traction")) {
       const auto t = s["traction"].get<std::vector<double>>();
       b.traction = scale * Eigen::Map<const Vec>(t.data(), static_cast<Index>(t.size()));
@@ -61,8 +62,8 @@ Gap make_gap(const json& g) {
   if (gap.points.empty()) input_error("contact.gap.points: empty table");
   for (size_t i = 0; i < gap.points.size(); ++i) {
     if (!(gap.points[i].second >= 0))
-      input_error("contact.gap.points[" + std::to_string(i) + "]: negative thickness g = " +
-                  std::to_string(gap.points[i].second));
+      input_error("contact.gap.points[" + std::to_string(i) +
+                  "]: negative thickness g = " + std::to_string(gap.points[i].second));
     if (i > 0 && !(gap.points[i].first > gap.points[i - 1].first))
       input_error("contact.gap.points[" + std::to_string(i) + "]: coordinates must increase");
   }
@@ -86,7 +87,12 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
                z = m.at("z").get<std::vector<double>>();
     if (x.size() != 2 || y.size() != 2 || z.size() != 2)
       input_error("mesh.x, mesh.y, mesh.z: each is an interval [a, b]");
-    s.x0 = x[0]; s.x1 = x[1]; s.y0 = y[0]; s.y1 = y[1]; s.z0 = z[0]; s.z1 = z[1];
+    s.x0 = x[0];
+    s.x1 = x[1];
+    s.y0 = y[0];
+    s.y1 = y[1];
+    s.z0 = z[0];
+    s.z1 = z[1];
     // validate_scene copies n into nx, ny and nz.
     s.nx = m.at("nx").get<int>();
     s.ny = m.at("ny").get<int>();
@@ -99,7 +105,10 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
     RectangleSpec s;
     const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>();
     if (x.size() != 2 || y.size() != 2) input_error("mesh.x, mesh.y: each is an interval [a, b]");
-    s.x0 = x[0]; s.x1 = x[1]; s.y0 = y[0]; s.y1 = y[1];
+    s.x0 = x[0];
+    s.x1 = x[1];
+    s.y0 = y[0];
+    s.y1 = y[1];
     s.nx = m.at("n").is_null() ? m.at("nx").get<int>() : m.at("n").get<int>();
     s.ny = m.at("n").is_null() ? m.at("ny").get<int>() : m.at("n").get<int>();
     s.diagonal = parse_diagonal(m.at("diagonal").get<std::string>());
@@ -154,9 +163,8 @@ Model build_model(const json& scene, Mesh mesh) {
   const auto t0 = clk::now();
   // A nonlinear law's K is its tangent at u = 0 (the small-strain stiffness): it sets the solver's
   // scales and the K(0) energy norm; equilibrium and energies use internal_force / elastic_energy.
-  md.K = md.material->is_linear()
-             ? assemble_stiffness(md.mesh, *md.material)
-             : assemble_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))));
+  md.K = md.material->is_linear() ? assemble_stiffness(md.mesh, *md.material)
+                                  : assemble_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))));
   const auto f0v = scene.at("loads").at("body_force").get<std::vector<double>>();
   if (static_cast<int>(f0v.size()) != d) input_error("loads.body_force: expected " + std::to_string(d) + " components");
   const Vec f0 = scene.at("loads").at("scale").get<double>() * Eigen::Map<const Vec>(f0v.data(), d);

@@ -55,15 +55,12 @@ std::string last_segment(const std::string& pointer) { return pointer.substr(poi
 std::string child_path(const std::string& path, const std::string& key) {
   return path.empty() ? key : path + "." + key;
 }
-std::string element_path(const std::string& path, std::size_t i) {
-  return path + "[" + std::to_string(i) + "]";
-}
+std::string element_path(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
 
 /// "/boundary/gamma2/*/traction" → "boundary.gamma2[*].traction".
 std::string dotted_from_pointer(const std::string& pointer) {
   std::string path;
-  for (const std::string& seg : split(pointer.substr(1), '/'))
-    path = seg == "*" ? path + "[*]" : child_path(path, seg);
+  for (const std::string& seg : split(pointer.substr(1), '/')) path = seg == "*" ? path + "[*]" : child_path(path, seg);
   return path;
 }
 
@@ -101,8 +98,7 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i)
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      d[i][j] =
-          std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
       if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
         d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
@@ -199,11 +195,10 @@ const SchemaIndex& schema_index();
 void validate_object(json& obj, const std::string& pointer, const std::string& path, const SchemaIndex& idx);
 
 /// Check @p v against row @p e; with @p recurse, also its keys / elements (injecting defaults).
-void check_value(json& v, const SchemaEntry& e, const std::string& path, const SchemaIndex& idx,
-                 bool recurse) {
+void check_value(json& v, const SchemaEntry& e, const std::string& path, const SchemaIndex& idx, bool recurse) {
   const std::vector<std::string> alternatives = split(e.type, '|');
-  const auto hit = std::find_if(alternatives.begin(), alternatives.end(),
-                                [&](const std::string& t) { return matches(v, t); });
+  const auto hit =
+      std::find_if(alternatives.begin(), alternatives.end(), [&](const std::string& t) { return matches(v, t); });
   if (hit == alternatives.end()) {
     std::vector<std::string> shown;
     for (const std::string& t : alternatives) shown.push_back(t == "object*" ? "object" : t);
@@ -228,8 +223,7 @@ void check_value(json& v, const SchemaEntry& e, const std::string& path, const S
   } else if (v.is_array()) {
     const auto element = idx.by_pointer.find(e.pointer + "/*");
     if (element != idx.by_pointer.end())
-      for (std::size_t i = 0; i < v.size(); ++i)
-        check_value(v[i], *element->second, element_path(path, i), idx, true);
+      for (std::size_t i = 0; i < v.size(); ++i) check_value(v[i], *element->second, element_path(path, i), idx, true);
   }
 }
 
@@ -262,8 +256,7 @@ void validate_object(json& obj, const std::string& pointer, const std::string& p
     const std::string& k = item.key();
     const auto row = k == "*" ? idx.by_pointer.end() : idx.by_pointer.find(pointer + "/" + escape_segment(k));
     if (row == idx.by_pointer.end())
-      input_error("scene: unknown key '" + child_path(path, k) + "'" +
-                  unknown_key_hint(k, pointer, path, idx));
+      input_error("scene: unknown key '" + child_path(path, k) + "'" + unknown_key_hint(k, pointer, path, idx));
     check_value(item.value(), *row->second, child_path(path, k), idx, true);
   }
   const auto it = idx.children.find(pointer);
@@ -271,8 +264,7 @@ void validate_object(json& obj, const std::string& pointer, const std::string& p
   for (const SchemaEntry* c : it->second) {
     const std::string name = last_segment(c->pointer);
     if (obj.contains(name)) continue;
-    if (c->required)
-      input_error("scene: missing required key '" + child_path(path, name) + "' (" + c->doc + ")");
+    if (c->required) input_error("scene: missing required key '" + child_path(path, name) + "' (" + c->doc + ")");
     obj[name] = c->default_value;
     check_value(obj[name], *c, child_path(path, name), idx, true);  // a section's own defaults
   }
@@ -324,8 +316,7 @@ const SchemaIndex& schema_index() {
 // silently dump it as null in the report.
 void check_finite(const json& v, const std::string& path) {
   if (v.is_number_float() && !std::isfinite(v.get<double>()))
-    key_error(path,
-              std::string("number is not finite (") + (std::isnan(v.get<double>()) ? "nan" : "inf") + ")");
+    key_error(path, std::string("number is not finite (") + (std::isnan(v.get<double>()) ? "nan" : "inf") + ")");
   if (v.is_object())
     for (const auto& item : v.items()) check_finite(item.value(), child_path(path, item.key()));
   if (v.is_array())
@@ -341,8 +332,7 @@ void check_selectors(const json& boundary) {
       const bool side = !s.at("side").is_null(), physical = !s.at("physical").is_null();
       if (side && physical) key_error(path, "set exactly one of 'side' and 'physical', not both");
       if (!side && !physical)
-        key_error(path,
-                  "set exactly one of 'side' (a side of the bounding box) and 'physical' (a Gmsh group)");
+        key_error(path, "set exactly one of 'side' (a side of the bounding box) and 'physical' (a Gmsh group)");
       const json &from = s.at("from"), &to = s.at("to");
       if (from.is_number() && to.is_number() && !(from.get<double>() < to.get<double>()))
         key_error(path, "empty range [from, to) = [" + from.dump() + ", " + to.dump() + ")");
@@ -359,15 +349,15 @@ void check_points(const json& points, const std::string& path, bool nonnegative,
   if (points.empty()) key_error(path, "needs at least one point [x, " + y_name + "]");
   for (std::size_t i = 0; i < points.size(); ++i) {
     const json& p = points[i];
-    if (p.size() != 2)
-      key_error(element_path(path, i), "expected a pair [x, " + y_name + "], got " + p.dump());
+    if (p.size() != 2) key_error(element_path(path, i), "expected a pair [x, " + y_name + "], got " + p.dump());
     if (nonnegative && p[1].get<double>() < 0)
       key_error(element_path(path, i), "negative thickness " + y_name + " = " + p[1].dump());
     if (i == 0) continue;
     const double x = p[0].get<double>(), x_prev = points[i - 1][0].get<double>();
     if (allow_jumps ? x < x_prev : !(x > x_prev))
-      key_error(element_path(path, i), std::string("x must be ") + (allow_jumps ? "non-decreasing" : "strictly increasing") +
-                                           ", got " + p[0].dump() + " after " + points[i - 1][0].dump());
+      key_error(element_path(path, i), std::string("x must be ") +
+                                           (allow_jumps ? "non-decreasing" : "strictly increasing") + ", got " +
+                                           p[0].dump() + " after " + points[i - 1][0].dump());
   }
 }
 
@@ -378,8 +368,7 @@ void check_interval(const json& v, const std::string& path) {
 }
 
 void check_gap(const json& gap) {
-  if (gap.is_number() && gap.get<double>() < 0)
-    input_error("contact.gap: negative thickness g = " + gap.dump());
+  if (gap.is_number() && gap.get<double>() < 0) input_error("contact.gap: negative thickness g = " + gap.dump());
   if (gap.is_string() && gap.get<std::string>() != "inf")
     input_error("contact.gap: the only string allowed is \"inf\" (no rigid obstacle), got " + gap.dump());
   if (gap.is_object()) check_points(gap.at("points"), "contact.gap.points", true, "g");
@@ -392,11 +381,9 @@ void check_gap(const json& gap) {
 /// a newline, hence computed here.
 std::string describe_parse_error(const std::string& text, const json::parse_error& e) {
   const std::size_t offset = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
-  const std::size_t line =
-      1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + offset, '\n'));
+  const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + offset, '\n'));
   const std::size_t line_start = offset == 0 ? 0 : text.rfind('\n', offset - 1);
-  const std::size_t column =
-      line_start == std::string::npos || offset == 0 ? offset + 1 : offset - line_start;
+  const std::size_t column = line_start == std::string::npos || offset == 0 ? offset + 1 : offset - line_start;
   std::string what = e.what();
   const std::size_t colon = what.find(": ", what.find("parse error"));
   if (colon != std::string::npos) what = what.substr(colon + 2);
@@ -416,8 +403,7 @@ json parse_rejecting_duplicates(const std::string& text, const std::string& file
     using E = json::parse_event_t;
     const bool element = event == E::object_start || event == E::array_start || event == E::value;
     if (element && !stack.empty() && stack.back().is_array) ++stack.back().index;
-    if (event == E::object_start || event == E::array_start)
-      stack.push_back({event == E::array_start, 0, {}, {}});
+    if (event == E::object_start || event == E::array_start) stack.push_back({event == E::array_start, 0, {}, {}});
     if (event == E::object_end || event == E::array_end) stack.pop_back();
     if (event == E::key) {
       const std::string k = parsed.get<std::string>();
@@ -526,8 +512,7 @@ void apply_override(json& scene, const std::string& assignment) {
       cur = &(*cur)[seg];  // creates the intermediate object
       path = child_path(path, seg);
     } else {
-      input_error("--set '" + assignment + "': cannot set a key inside '" + path + "', which is " +
-                  show(*cur));
+      input_error("--set '" + assignment + "': cannot set a key inside '" + path + "', which is " + show(*cur));
     }
   }
   *cur = std::move(value);
@@ -625,8 +610,8 @@ std::string table(const std::vector<const SchemaEntry*>& rows) {
     std::vector<std::string> allowed;
     for (const std::string& o : e->options) allowed.push_back(code(o));
     if (e->min || e->max) allowed.push_back(code(range_text(*e)));
-    t += "| " + cell(code(dotted_from_pointer(e->pointer))) + " | " + cell(code(e->type)) + " | " +
-         cell(def) + " | " + cell(join(allowed, ", ")) + " | " + cell(e->doc) + " |\n";
+    t += "| " + cell(code(dotted_from_pointer(e->pointer))) + " | " + cell(code(e->type)) + " | " + cell(def) + " | " +
+         cell(join(allowed, ", ")) + " | " + cell(e->doc) + " |\n";
   }
   return t;
 }

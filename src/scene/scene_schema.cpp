@@ -30,8 +30,7 @@ SchemaEntry key(std::string pointer, std::string type, json default_value, std::
 }
 
 /// A key that must be present whenever its parent is (no default).
-SchemaEntry required(std::string pointer, std::string type, std::string doc,
-                     std::vector<std::string> options = {}) {
+SchemaEntry required(std::string pointer, std::string type, std::string doc, std::vector<std::string> options = {}) {
   SchemaEntry e = key(std::move(pointer), std::move(type), json(), std::move(doc), std::move(options));
   e.required = true;
   return e;
@@ -65,8 +64,7 @@ SchemaEntry at_most(SchemaEntry e, double hi) {
 
 // The three boundary parts share one selector shape; generating their rows keeps the three
 // copies identical instead of writing (and later editing) them three times.
-void add_selector(std::vector<SchemaEntry>& t, const std::string& gamma, const std::string& doc,
-                  bool with_traction) {
+void add_selector(std::vector<SchemaEntry>& t, const std::string& gamma, const std::string& doc, bool with_traction) {
   const std::string p = "/boundary/" + gamma;
   // Without a clamped part the elastic problem is not coercive, so Γ1 has no default.
   t.push_back(gamma == "gamma1" ? required(p, "array", doc) : key(p, "array", json::array(), doc));
@@ -143,18 +141,16 @@ std::vector<SchemaEntry> build_scene_schema() {
                                  "naming it (lower perturb or change `seed`)."),
                              0),
                     0.5));
-  t.push_back(at_least(
-      key("/mesh/seed", "integer", 1, "Seed of the random perturbation (same seed, same mesh)."), 0));
+  t.push_back(at_least(key("/mesh/seed", "integer", 1, "Seed of the random perturbation (same seed, same mesh)."), 0));
 
   // ------------------------------------------------------------------ material
   t.push_back(section("/material", "Constitutive law F (paper eq. (12); MODEL.md §1)."));
-  t.push_back(
-      key("/material/model", "string", "linear_elastic",
-          "linear_elastic: linear isotropic elasticity. hencky: nonlinear Hencky-type law "
-          "W = (K/2)(tr ε)² + Φ(|dev ε|²) whose shear modulus μ(s) = μ_∞ + (μ_0 − μ_∞)/√(1 + s/eps_ref²) "
-          "falls (or rises) from μ_0 to μ_∞ = shear_ratio·μ_0 (plane strain and 3D only; "
-          "include/hemicontact/material/hencky.hpp).",
-          {"linear_elastic", "hencky"}));
+  t.push_back(key("/material/model", "string", "linear_elastic",
+                  "linear_elastic: linear isotropic elasticity. hencky: nonlinear Hencky-type law "
+                  "W = (K/2)(tr ε)² + Φ(|dev ε|²) whose shear modulus μ(s) = μ_∞ + (μ_0 − μ_∞)/√(1 + s/eps_ref²) "
+                  "falls (or rises) from μ_0 to μ_∞ = shear_ratio·μ_0 (plane strain and 3D only; "
+                  "include/hemicontact/material/hencky.hpp).",
+                  {"linear_elastic", "hencky"}));
   t.push_back(above(required("/material/E", "number",
                              "Young's modulus E (hencky: of the small-strain limit; bulk modulus "
                              "E/(3(1 − 2 nu)), μ_0 = E/(2(1 + nu)))."),
@@ -181,8 +177,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                     0));
 
   // ------------------------------------------------------------------ boundary
-  t.push_back(
-      section("/boundary", "The split of ∂Ω into Γ1, Γ2, Γ3 (MODEL.md §1), as lists of facet selectors."));
+  t.push_back(section("/boundary", "The split of ∂Ω into Γ1, Γ2, Γ3 (MODEL.md §1), as lists of facet selectors."));
   add_selector(t, "gamma1", "Γ1, clamped (u = 0): list of selectors.", false);
   add_selector(t, "gamma2", "Γ2, traction f2: list of selectors, each with its traction.", true);
   add_selector(t, "gamma3", "Γ3, contact with the foundation: list of selectors.", false);
@@ -192,8 +187,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                "`{\"side\": \"front\", \"components\": [\"y\"]}`). A roller on a Γ3 node must be "
                "tangent to Γ3. Γ1 is still required (coercivity).",
                false);
-  t.push_back(required("/boundary/rollers/*/components", "array",
-                       "The components held at zero, e.g. [\"y\"]."));
+  t.push_back(required("/boundary/rollers/*/components", "array", "The components held at zero, e.g. [\"y\"]."));
   t.push_back(required("/boundary/rollers/*/components/*", "string", "A component name.", {"x", "y", "z"}));
 
   // ------------------------------------------------------------------ loads
@@ -208,8 +202,8 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "Thickness g ≥ 0 of the soft layer (eq. (5)): a number (constant); null or "
                   "\"inf\" (no rigid obstacle); or {\"along\": \"x\", \"points\": [[x, g], ...]}, "
                   "piecewise linear in one coordinate."));
-  t.push_back(required("/contact/gap/along", "string",
-                       "Object form of gap: the coordinate g is a function of.", {"x", "y", "z"}));
+  t.push_back(required("/contact/gap/along", "string", "Object form of gap: the coordinate g is a function of.",
+                       {"x", "y", "z"}));
   t.push_back(required("/contact/gap/points", "number[][]",
                        "Object form of gap: [[coordinate, g], ...], coordinates strictly "
                        "increasing, g ≥ 0."));
@@ -220,33 +214,33 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "table: piecewise linear through `points`.",
                   {"none", "paper", "table"}));
   t.push_back(key("/contact/normal_law/c1", "number|null", nullptr, "Slope of p_ν on (0, r1] (32)."));
-  t.push_back(
-      key("/contact/normal_law/c2", "number|null", nullptr, "Slope on (r1, r2) (32); negative = softening."));
+  t.push_back(key("/contact/normal_law/c2", "number|null", nullptr, "Slope on (r1, r2) (32); negative = softening."));
   t.push_back(key("/contact/normal_law/c3", "number|null", nullptr, "Slope for r ≥ r2 (32)."));
   t.push_back(key("/contact/normal_law/r1", "number|null", nullptr, "First kink of p_ν (32)."));
   t.push_back(key("/contact/normal_law/r2", "number|null", nullptr, "Second kink of p_ν (32)."));
   t.push_back(key("/contact/normal_law/points", "number[][]|null", nullptr,
-                  "type table: [[r, p_ν(r)], ...], r non-decreasing; a repeated r is a jump of p_ν at r (∂j_ν is then the interval between the one-sided limits). Null slopes continue the first/last segment."));
+                  "type table: [[r, p_ν(r)], ...], r non-decreasing; a repeated r is a jump of p_ν at r (∂j_ν is then "
+                  "the interval between the one-sided limits). Null slopes continue the first/last segment."));
   t.push_back(key("/contact/normal_law/slope_left", "number|null", nullptr,
                   "type table: slope of p_ν before the first point."));
-  t.push_back(key("/contact/normal_law/slope_right", "number|null", nullptr,
-                  "type table: slope of p_ν after the last point."));
+  t.push_back(
+      key("/contact/normal_law/slope_right", "number|null", nullptr, "type table: slope of p_ν after the last point."));
 
   t.push_back(section("/contact/friction", "Friction bound F_b (eqs. (6), (34))."));
   t.push_back(key("/contact/friction/type", "string", "none",
                   "none: frictionless; coulomb_layer: F_b = μ p_ν(u_ν) (34); tresca: F_b = "
                   "bound; table: piecewise linear F_b(u_ν) through `points`.",
                   {"none", "coulomb_layer", "tresca", "table"}));
-  t.push_back(at_least(
-      key("/contact/friction/mu", "number|null", nullptr, "Friction coefficient μ in F_b = μ p_ν (34)."), 0));
   t.push_back(
-      at_least(key("/contact/friction/bound", "number|null", nullptr, "type tresca: the constant F_b."), 0));
+      at_least(key("/contact/friction/mu", "number|null", nullptr, "Friction coefficient μ in F_b = μ p_ν (34)."), 0));
+  t.push_back(at_least(key("/contact/friction/bound", "number|null", nullptr, "type tresca: the constant F_b."), 0));
   t.push_back(key("/contact/friction/points", "number[][]|null", nullptr,
-                  "type table: [[u_ν, F_b(u_ν)], ...], u_ν non-decreasing (a repeated u_ν is a jump). Null slope_left means 0, as (15c) requires."));
-  t.push_back(key("/contact/friction/slope_left", "number|null", nullptr,
-                  "type table: slope of F_b before the first point."));
-  t.push_back(key("/contact/friction/slope_right", "number|null", nullptr,
-                  "type table: slope of F_b after the last point."));
+                  "type table: [[u_ν, F_b(u_ν)], ...], u_ν non-decreasing (a repeated u_ν is a jump). Null slope_left "
+                  "means 0, as (15c) requires."));
+  t.push_back(
+      key("/contact/friction/slope_left", "number|null", nullptr, "type table: slope of F_b before the first point."));
+  t.push_back(
+      key("/contact/friction/slope_right", "number|null", nullptr, "type table: slope of F_b after the last point."));
 
   // ------------------------------------------------------------------ solver
   // ε's and tolerances are relative to the displacement scale U so that one scene works at any
@@ -269,15 +263,17 @@ std::vector<SchemaEntry> build_scene_schema() {
                         "Backend first-order tolerance, on the nondimensionalized problem "
                         "(unknowns / U_s, energy / (‖f‖∞ U_s))."),
                     0));
-  t.push_back(at_least(key("/solver/max_iter", "integer", D.backend_options.max_iter, "Backend iterations per solve."), 1));
-  t.push_back(at_least(key("/solver/print_level", "integer", D.backend_options.print_level, "Backend verbosity (0 = silent)."), 0));
+  t.push_back(
+      at_least(key("/solver/max_iter", "integer", D.backend_options.max_iter, "Backend iterations per solve."), 1));
+  t.push_back(at_least(
+      key("/solver/print_level", "integer", D.backend_options.print_level, "Backend verbosity (0 = silent)."), 0));
   t.push_back(key("/solver/options", "object*", json::object(),
                   "Passed verbatim to the backend (e.g. Ipopt's mu_strategy); not checked here."));
   t.push_back(above(key("/solver/eps_tau", "number", D.eps_tau,
                         "Final friction smoothing width ε_τ, relative to the displacement scale U."),
                     0));
-  t.push_back(above(
-      key("/solver/eps_nu", "number", D.eps_nu, "Final width ε_ν of the mollified p_ν, relative to U."), 0));
+  t.push_back(
+      above(key("/solver/eps_nu", "number", D.eps_nu, "Final width ε_ν of the mollified p_ν, relative to U."), 0));
   t.push_back(section("/solver/continuation", "Continuation in ε_τ, ε_ν with warm starts."));
   t.push_back(above(key("/solver/continuation/eps_start", "number", D.eps_start, "First ε, relative to U."), 0));
   t.push_back(below(above(key("/solver/continuation/factor", "number", D.eps_factor,
@@ -303,14 +299,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                               "one for stall_iters outer iterations in a row → stop and say so."),
                           0),
                     1));
-  t.push_back(at_least(key("/solver/fixed_point/stall_iters", "integer", D.stall_iters,
-                           "See stall_ratio."),
-                       1));
+  t.push_back(at_least(key("/solver/fixed_point/stall_iters", "integer", D.stall_iters, "See stall_ratio."), 1));
 
   // ------------------------------------------------------------------ check
   t.push_back(section("/check", "Acceptance of the computed solution (MODEL.md §3, §4)."));
   t.push_back(above(
-      key("/check/certificate_tol", "number", D.certificate_tol, "Largest normalized certificate residual accepted."), 0));
+      key("/check/certificate_tol", "number", D.certificate_tol, "Largest normalized certificate residual accepted."),
+      0));
   t.push_back(above(
       key("/check/status_tol", "number", D.status_tol, "Relative to U: decides stick / contact / separated."), 0));
   t.push_back(key("/check/smallness", "boolean", D.smallness,

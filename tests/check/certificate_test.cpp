@@ -71,8 +71,8 @@ TEST(Certificate, SolvedSceneHasEveryResidualAtRoundoff) {
   // The scales of the header: U = max nodal |u|, F = max |f|, S = max(F/w̄, max λ, max |ξ|).
   EXPECT_EQ(r.length_scale, f.sol.u.cwiseAbs().maxCoeff());
   EXPECT_EQ(r.force_scale, f.md.f.cwiseAbs().maxCoeff());
-  const double S = std::max({r.force_scale / f.md.contact.w.mean(), f.sol.state.lambda.maxCoeff(),
-                             f.sol.state.xi.cwiseAbs().maxCoeff()});
+  const double S = std::max(
+      {r.force_scale / f.md.contact.w.mean(), f.sol.state.lambda.maxCoeff(), f.sol.state.xi.cwiseAbs().maxCoeff()});
   EXPECT_EQ(r.traction_scale, S);
 }
 
@@ -83,8 +83,7 @@ TEST(Certificate, EachResidualIsItsFormula) {
   const CertificateReport r0 = certify_state(f.sol.state);
   const double U = r0.length_scale, S = r0.traction_scale, F = r0.force_scale;
   const Index contact = node_where(f.sol, [](const NodeStatus& s) { return s.normal == NormalStatus::CONTACT; });
-  const Index compliance =
-      node_where(f.sol, [](const NodeStatus& s) { return s.normal == NormalStatus::COMPLIANCE; });
+  const Index compliance = node_where(f.sol, [](const NodeStatus& s) { return s.normal == NormalStatus::COMPLIANCE; });
   const Index slipping =
       node_where(f.sol, [](const NodeStatus& s) { return s.tangential == TangentialStatus::SLIP_PLUS; });
 
@@ -134,8 +133,8 @@ TEST(Certificate, EachResidualIsItsFormula) {
     ContactState s = f.sol.state;
     Index j = -1;
     for (Index v = 0; v < f.md.mesh.num_nodes() && j < 0; ++v)
-      if (!f.md.clamped[v] && std::find(f.md.contact.node.begin(), f.md.contact.node.end(), v) ==
-                                  f.md.contact.node.end())
+      if (!f.md.clamped[v] &&
+          std::find(f.md.contact.node.begin(), f.md.contact.node.end(), v) == f.md.contact.node.end())
         j = 2 * v + 1;
     ASSERT_GE(j, 0);
     s.residual[j] = 0.375 * F;

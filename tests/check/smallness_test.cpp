@@ -1,12 +1,12 @@
 // The smallness condition (21): its discrete eigenvalues against an independent dense computation,
 // their convergence under refinement, and the verdict on the paper's scene and a softened one.
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/check/smallness.hpp>
 #include <hemicontact/fem/assembly.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 using namespace hemicontact;
 using json = nlohmann::json;
@@ -72,9 +72,10 @@ TEST(Smallness, PaperSceneIsUniqueSteepSofteningIsNot) {
   EXPECT_NEAR(r.lhs, 80.0 / r.lambda_1 + 100.0 / r.lambda_1nu, 1e-12 * r.lhs);
   EXPECT_TRUE(r.holds);
   // A layer whose resistance drops from 10 to 0 over 1e-4 past r1: α = 1e5 ≫ m_F λ_{1ν,ν}.
-  const SmallnessReport soft = evaluate_smallness(paper_model(
-      16, {"contact.normal_law={\"type\":\"table\",\"points\":[[0,0],[0.1,10],[0.1001,0]],\"slope_left\":0,\"slope_right\":0}",
-           "contact.friction={\"type\":\"none\"}"}));
+  const SmallnessReport soft =
+      evaluate_smallness(paper_model(16, {"contact.normal_law={\"type\":\"table\",\"points\":[[0,0],[0.1,10],[0.1001,0]"
+                                          "],\"slope_left\":0,\"slope_right\":0}",
+                                          "contact.friction={\"type\":\"none\"}"}));
   EXPECT_NEAR(soft.alpha_j, 1e5, 1e-6);
   EXPECT_EQ(soft.L_Fb, 0.0);
   EXPECT_FALSE(soft.holds);

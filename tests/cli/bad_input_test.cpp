@@ -12,12 +12,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <ostream>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -66,9 +66,9 @@ class BadInputBattery : public ::testing::TestWithParam<BadInput> {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::temp_directory_path() / ("hemicontact_bad_" + std::string(info->name()).substr(
-                                                                 std::string(info->name()).rfind('/') + 1) +
-                                       "_" + std::to_string(::getpid()));
+    dir = fs::temp_directory_path() /
+          ("hemicontact_bad_" + std::string(info->name()).substr(std::string(info->name()).rfind('/') + 1) + "_" +
+           std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
   }
@@ -89,8 +89,8 @@ TEST_P(BadInputBattery, ExitCode2AndMessageNamesTheKeyOrElement) {
   if (c.text) text = c.text(text);
   const fs::path scene = dir / "scene.json";
   std::ofstream(scene) << text;
-  const auto r = hemicontact::test::run_cli(dir, "solve " + scene.string() + " --out " + (dir / "out").string() +
-                                                     " --quiet " + c.args);
+  const auto r = hemicontact::test::run_cli(
+      dir, "solve " + scene.string() + " --out " + (dir / "out").string() + " --quiet " + c.args);
   EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
   EXPECT_EQ(r.err.rfind("hemicontact: error: ", 0), 0u) << r.err;
   EXPECT_EQ(hemicontact::test::lines_of(r.err).size(), 1u) << r.err;  // one line, no backtrace
@@ -208,10 +208,12 @@ TEST(FixedPointCli, NonContractionExits3AndRelaxationSucceeds) {
   const fs::path dir = fs::temp_directory_path() / ("hemicontact_fp_cli_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const std::string args = "solve " HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json --quiet --force "
+  const std::string args = "solve " HEMICONTACT_SOURCE_DIR
+                           "/problems/sofonea2017-fig2.json --quiet --force "
                            "--set mesh.n=16 --set check.smallness=false --set contact.gap=null "
                            "--set boundary.gamma2=[] --set loads.body_force=[20000,-500] "
-                           "--set contact.friction.mu=8 --out " + (dir / "out").string();
+                           "--set contact.friction.mu=8 --out " +
+                           (dir / "out").string();
   const auto r = hemicontact::test::run_cli(dir, args);
   EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
   EXPECT_NE(r.err.find("fixed point lambda = F_b(u_nu) does not contract"), std::string::npos) << r.err;

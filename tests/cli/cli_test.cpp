@@ -9,13 +9,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -27,21 +27,19 @@ using hemicontact::test::lines_of;
 using hemicontact::test::matplotlib_available;
 using hemicontact::test::slurp;
 
-
 // Runs the CLI with stdout/stderr captured in files of a per-test scratch directory.
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::temp_directory_path() / ("hemicontact_cli_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    dir =
+        fs::temp_directory_path() / ("hemicontact_cli_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
   }
   void TearDown() override { fs::remove_all(dir); }
 
-  CliRun run(const std::string& args) const {
-    return hemicontact::test::run_cli(dir, args);
-  }
+  CliRun run(const std::string& args) const { return hemicontact::test::run_cli(dir, args); }
 
   // A small valid scene (the paper's, n = 4), as JSON to be modified by each test.
   static json scene() {

@@ -8,13 +8,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -27,8 +27,6 @@ using hemicontact::test::lines_of;
 using hemicontact::test::matplotlib_available;
 using hemicontact::test::slurp;
 
-
-
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> r;
   std::stringstream ss(s);
@@ -37,13 +35,13 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return r;
 }
 
-
 // Runs the CLI with stdout/stderr captured in files of a per-test scratch directory.
 class ConvergeCli : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::temp_directory_path() / ("hemicontact_converge_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    dir = fs::temp_directory_path() /
+          ("hemicontact_converge_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     std::ifstream in(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json");
@@ -64,7 +62,8 @@ class ConvergeCli : public ::testing::Test {
 
 TEST_F(ConvergeCli, WritesCsvJsonAndTable) {
   const fs::path out = dir / "conv";
-  const ConvergeOutcome r = cli("converge " + scene + " --levels 4,8 --reference 16 --out " + out.string() + " --quiet");
+  const ConvergeOutcome r =
+      cli("converge " + scene + " --levels 4,8 --reference 16 --out " + out.string() + " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
   // CSV: a header and one row per level, coarse to fine; errors decrease; the first order is empty.
   const auto rows = lines_of(slurp(out / "convergence.csv"));
@@ -100,7 +99,8 @@ TEST_F(ConvergeCli, WritesCsvJsonAndTable) {
   EXPECT_NE(r.out.find("(reference)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("rel.error"), std::string::npos) << r.out;
   // No overwrite without --force.
-  const ConvergeOutcome again = cli("converge " + scene + " --levels 4,8 --reference 16 --out " + out.string() + " --quiet");
+  const ConvergeOutcome again =
+      cli("converge " + scene + " --levels 4,8 --reference 16 --out " + out.string() + " --quiet");
   EXPECT_EQ(again.code, hemicontact::EXIT_INPUT);
   EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
 }
@@ -143,7 +143,8 @@ TEST_F(ConvergeCli, PlotWithoutMatplotlibStillWritesTheCsv) {
 TEST_F(ConvergeCli, PlotDrawsTheFigure) {
   if (!matplotlib_available()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
   const fs::path out = dir / "plot";
-  const ConvergeOutcome r = cli("converge " + scene + " --levels 4,8 --reference 16 --quiet --plot --out " + out.string());
+  const ConvergeOutcome r =
+      cli("converge " + scene + " --levels 4,8 --reference 16 --quiet --plot --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
   ASSERT_TRUE(fs::exists(out / "convergence.png")) << r.out << r.err;
   EXPECT_GT(fs::file_size(out / "convergence.png"), 10000u);

@@ -9,13 +9,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -28,14 +28,12 @@ using hemicontact::test::lines_of;
 using hemicontact::test::matplotlib_available;
 using hemicontact::test::slurp;
 
-
-
-
 class MinimaCli : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::temp_directory_path() / ("hemicontact_minima_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    dir = fs::temp_directory_path() /
+          ("hemicontact_minima_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     scene = std::string(HEMICONTACT_SOURCE_DIR) + "/problems/minima-one-node.json";
@@ -59,7 +57,8 @@ TEST_F(MinimaCli, WritesTableCsvJsonVtuAndPicture) {
   // CSV: header + one row per distinct solution, lowest energy first.
   const auto rows = lines_of(slurp(out / "minima.csv"));
   ASSERT_EQ(rows.size(), 5u) << slurp(out / "minima.csv");
-  EXPECT_EQ(rows[0].rfind("k,energy,energy_norm,type,lambda_min,certificate,n_starts,backends,starts", 0), 0u) << rows[0];
+  EXPECT_EQ(rows[0].rfind("k,energy,energy_norm,type,lambda_min,certificate,n_starts,backends,starts", 0), 0u)
+      << rows[0];
   for (size_t k = 1; k < rows.size(); ++k) EXPECT_NE(rows[k].find(",local minimum,"), std::string::npos) << rows[k];
   // JSON: the solutions with their Γ3 nodes, the runs, the smallness verdict.
   const json js = json::parse(slurp(out / "minima.json"));
@@ -99,8 +98,9 @@ TEST_F(MinimaCli, StartFilesAndReportNodes) {
   std::ofstream(dir / "pairs.json") << pairs.dump();
   std::ofstream(dir / "report.json") << json{{"nodes", last["nodes"]}}.dump();
   const fs::path out2 = dir / "b";
-  const MinimaOutcome r = cli("minima " + scene + " --starts 0 --load-path-steps 0 --start " + (dir / "pairs.json").string() +
-                              " --start " + (dir / "report.json").string() + " --out " + out2.string() + " --quiet");
+  const MinimaOutcome r =
+      cli("minima " + scene + " --starts 0 --load-path-steps 0 --start " + (dir / "pairs.json").string() + " --start " +
+          (dir / "report.json").string() + " --out " + out2.string() + " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
   const json js = json::parse(slurp(out2 / "minima.json"));
   int users = 0;
@@ -108,7 +108,8 @@ TEST_F(MinimaCli, StartFilesAndReportNodes) {
     if (run["start"].get<std::string>().rfind("user-", 0) == 0) {
       ++users;
       ASSERT_TRUE(run["certified"].get<bool>());
-      EXPECT_NEAR(run["energy"].get<double>(), last["energy"].get<double>(), 1e-9 * std::abs(last["energy"].get<double>()));
+      EXPECT_NEAR(run["energy"].get<double>(), last["energy"].get<double>(),
+                  1e-9 * std::abs(last["energy"].get<double>()));
     }
   EXPECT_EQ(users, 2);
 }

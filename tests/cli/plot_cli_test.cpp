@@ -6,13 +6,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -24,13 +24,12 @@ using hemicontact::test::lines_of;
 using hemicontact::test::matplotlib_available;
 using hemicontact::test::slurp;
 
-
-
 class PlotCli : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::temp_directory_path() / ("hemicontact_plot_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    dir = fs::temp_directory_path() /
+          ("hemicontact_plot_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     std::ifstream in(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json");
@@ -60,8 +59,8 @@ TEST_F(PlotCli, SolvePlotWritesFig2) {
   EXPECT_GT(fs::file_size(out / "fig2.png"), 20000u);
   EXPECT_EQ(r.err.find("--plot"), std::string::npos) << r.err;
   // A given magnification is used; output.plot = true asks for the picture too.
-  const PlotOutcome m = cli("solve " + scene + " --quiet --force --set output.plot=true --magnification 2 --out " +
-                            out.string());
+  const PlotOutcome m =
+      cli("solve " + scene + " --quiet --force --set output.plot=true --magnification 2 --out " + out.string());
   ASSERT_EQ(m.code, 0) << m.err;
   EXPECT_TRUE(fs::exists(out / "fig2.png"));
 }
@@ -75,8 +74,8 @@ TEST_F(PlotCli, BadMagnificationIsAUsageError) {
 
 TEST_F(PlotCli, MissingPythonWarnsButTheSolveSucceeds) {
   const fs::path out = dir / "res";
-  const PlotOutcome r =
-      cli("solve " + scene + " --quiet --plot --out " + out.string(), "HEMICONTACT_PYTHON=" + (dir / "no-python3").string());
+  const PlotOutcome r = cli("solve " + scene + " --quiet --plot --out " + out.string(),
+                            "HEMICONTACT_PYTHON=" + (dir / "no-python3").string());
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(out / "report.json"));
   EXPECT_FALSE(fs::exists(out / "fig2.png"));
@@ -86,8 +85,8 @@ TEST_F(PlotCli, MissingPythonWarnsButTheSolveSucceeds) {
 
 TEST_F(PlotCli, ScriptsAreFoundThroughHemicontactScripts) {
   const fs::path out = dir / "res";
-  const PlotOutcome r =
-      cli("solve " + scene + " --quiet --plot --out " + out.string(), "HEMICONTACT_SCRIPTS=" + (dir / "nowhere").string());
+  const PlotOutcome r = cli("solve " + scene + " --quiet --plot --out " + out.string(),
+                            "HEMICONTACT_SCRIPTS=" + (dir / "nowhere").string());
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("plot_fig2.py not found"), std::string::npos) << r.err;
 }

@@ -22,8 +22,7 @@ namespace {
 using hemicontact::test::expect_input_error;
 
 std::shared_ptr<const PiecewiseLinearLaw> paper_ptr() {
-  return std::make_shared<const PiecewiseLinearLaw>(
-      PiecewiseLinearLaw::paper(100, -100, 400, 0.1, 0.15));
+  return std::make_shared<const PiecewiseLinearLaw>(PiecewiseLinearLaw::paper(100, -100, 400, 0.1, 0.15));
 }
 
 TEST(FrictionCoulomb, PaperBoundIsMuTimesP) {
@@ -45,8 +44,8 @@ TEST(FrictionCoulomb, PaperBoundIsMuTimesP) {
 }
 
 TEST(FrictionCoulomb, JumpingLawIsNotLipschitz) {
-  const auto law = std::make_shared<const PiecewiseLinearLaw>(PiecewiseLinearLaw(
-      {{-0.05, 0.0}, {0.0, 0.0}, {0.1, 10.0}, {0.1, 4.0}, {0.2, 6.0}}, 0.0, 50.0));
+  const auto law = std::make_shared<const PiecewiseLinearLaw>(
+      PiecewiseLinearLaw({{-0.05, 0.0}, {0.0, 0.0}, {0.1, 10.0}, {0.1, 4.0}, {0.2, 6.0}}, 0.0, 50.0));
   const CoulombLayerBound fb(0.5, law);
   EXPECT_EQ(fb.lipschitz(), INF);
   EXPECT_NEAR(fb.F(0.1), 2.0, 1e-13);  // right limit: 0.5 · 4
@@ -55,17 +54,16 @@ TEST(FrictionCoulomb, JumpingLawIsNotLipschitz) {
 TEST(FrictionCoulomb, RejectsBadMuAndNullLaw) {
   expect_input_error([] { CoulombLayerBound(-0.1, paper_ptr()); }, {"contact.friction.mu"});
   expect_input_error([] { CoulombLayerBound(NAN, paper_ptr()); }, {"contact.friction.mu"});
-  expect_input_error([] { CoulombLayerBound(0.2, nullptr); },
-                     {"contact.friction.type", "normal law"});
+  expect_input_error([] { CoulombLayerBound(0.2, nullptr); }, {"contact.friction.type", "normal law"});
 }
 
 TEST(FrictionCoulomb, RejectsNormalLawViolating15c) {
   // p_ν < 0 for r < 0 (an adhesive layer): μ p_ν breaks (15c); the message says where to look.
-  const auto law = std::make_shared<const PiecewiseLinearLaw>(
-      PiecewiseLinearLaw({{-0.1, -1.0}, {0.0, 0.0}, {0.1, 10.0}}, 0.0, 0.0));
-  expect_input_error([&] { CoulombLayerBound(0.2, law); },
-                     {"contact.friction: F_b(-0.1) = -0.2 but (15c) requires F_b(r) = 0 for r <= 0",
-                      "(34)", "contact.normal_law"});
+  const auto law =
+      std::make_shared<const PiecewiseLinearLaw>(PiecewiseLinearLaw({{-0.1, -1.0}, {0.0, 0.0}, {0.1, 10.0}}, 0.0, 0.0));
+  expect_input_error(
+      [&] { CoulombLayerBound(0.2, law); },
+      {"contact.friction: F_b(-0.1) = -0.2 but (15c) requires F_b(r) = 0 for r <= 0", "(34)", "contact.normal_law"});
   // ... but μ = 0 makes F_b ≡ 0, which satisfies (15c).
   EXPECT_NO_THROW(CoulombLayerBound(0.0, law));
 }
@@ -108,9 +106,8 @@ TEST_P(FrictionTableValidation, Rejects15cViolations) {
   SCOPED_TRACE(bad.name);
   expect_input_error(
       [&] {
-        TableBound(
-            PiecewiseLinearLaw(bad.points, bad.slope_left, bad.slope_right, "contact.friction"),
-            "contact.friction");
+        TableBound(PiecewiseLinearLaw(bad.points, bad.slope_left, bad.slope_right, "contact.friction"),
+                   "contact.friction");
       },
       bad.message_parts);
 }
@@ -120,56 +117,45 @@ const std::string SIGN_RULE = "but (15c) requires F_b(r) >= 0 for r >= 0";
 
 INSTANTIATE_TEST_SUITE_P(
     FrictionTables, FrictionTableValidation,
-    ::testing::Values(Bad15c{"value_at_negative_r",
-                             {{-0.1, 0.3}, {0.0, 0.0}, {0.1, 1.0}},
-                             0.0,
-                             0.0,
-                             {"contact.friction: F_b(-0.1) = 0.3 " + ZERO_RULE}},
-                      Bad15c{"slope_left",
-                             {{0.0, 0.0}, {0.1, 1.0}},
-                             2.0,
-                             0.0,
-                             {"contact.friction", "slope_left", ZERO_RULE}},
-                      Bad15c{"value_at_zero",
-                             {{0.0, 0.5}, {0.1, 1.0}},
-                             0.0,
-                             0.0,
-                             {"contact.friction: F_b(0) = 0.5 " + ZERO_RULE}},
-                      Bad15c{"jump_at_zero",
-                             {{0.0, 0.0}, {0.0, 1.0}, {0.1, 1.0}},
-                             0.0,
-                             0.0,
-                             {"contact.friction: F_b(0) = 1 " + ZERO_RULE}},
-                      Bad15c{"zero_inside_segment",
-                             {{-0.1, 0.0}, {0.1, 1.0}},
-                             0.0,
-                             0.0,
-                             {"contact.friction: F_b(0) = 0.5 " + ZERO_RULE}},
-                      Bad15c{"all_negative_rising",
-                             {{-0.2, 0.0}, {-0.1, 0.0}},
-                             0.0,
-                             1.0,
-                             {"contact.friction: F_b(0) = 0.1 " + ZERO_RULE}},
-                      Bad15c{"first_point_positive",
-                             {{0.1, 0.2}, {0.2, 1.0}},
-                             0.0,
-                             0.0,
-                             {"contact.friction: F_b(0) = 0.2 " + ZERO_RULE}},
-                      Bad15c{"negative_value",
-                             {{0.0, 0.0}, {0.1, -1.0}, {0.2, 1.0}},
-                             0.0,
-                             0.0,
-                             {"contact.friction: F_b(0.1) = -1 " + SIGN_RULE}},
-                      Bad15c{"negative_after_drop",
-                             {{0.0, 0.0}, {0.1, 1.0}, {0.1, -0.5}, {0.2, 1.0}},
-                             0.0,
-                             0.0,
-                             {"contact.friction: F_b(0.1) = -0.5 " + SIGN_RULE}},
-                      Bad15c{"slope_right",
-                             {{0.0, 0.0}, {0.1, 1.0}},
-                             0.0,
-                             -20.0,
-                             {"contact.friction", "slope_right", SIGN_RULE}}),
+    ::testing::Values(
+        Bad15c{"value_at_negative_r",
+               {{-0.1, 0.3}, {0.0, 0.0}, {0.1, 1.0}},
+               0.0,
+               0.0,
+               {"contact.friction: F_b(-0.1) = 0.3 " + ZERO_RULE}},
+        Bad15c{"slope_left", {{0.0, 0.0}, {0.1, 1.0}}, 2.0, 0.0, {"contact.friction", "slope_left", ZERO_RULE}},
+        Bad15c{"value_at_zero", {{0.0, 0.5}, {0.1, 1.0}}, 0.0, 0.0, {"contact.friction: F_b(0) = 0.5 " + ZERO_RULE}},
+        Bad15c{"jump_at_zero",
+               {{0.0, 0.0}, {0.0, 1.0}, {0.1, 1.0}},
+               0.0,
+               0.0,
+               {"contact.friction: F_b(0) = 1 " + ZERO_RULE}},
+        Bad15c{"zero_inside_segment",
+               {{-0.1, 0.0}, {0.1, 1.0}},
+               0.0,
+               0.0,
+               {"contact.friction: F_b(0) = 0.5 " + ZERO_RULE}},
+        Bad15c{"all_negative_rising",
+               {{-0.2, 0.0}, {-0.1, 0.0}},
+               0.0,
+               1.0,
+               {"contact.friction: F_b(0) = 0.1 " + ZERO_RULE}},
+        Bad15c{"first_point_positive",
+               {{0.1, 0.2}, {0.2, 1.0}},
+               0.0,
+               0.0,
+               {"contact.friction: F_b(0) = 0.2 " + ZERO_RULE}},
+        Bad15c{"negative_value",
+               {{0.0, 0.0}, {0.1, -1.0}, {0.2, 1.0}},
+               0.0,
+               0.0,
+               {"contact.friction: F_b(0.1) = -1 " + SIGN_RULE}},
+        Bad15c{"negative_after_drop",
+               {{0.0, 0.0}, {0.1, 1.0}, {0.1, -0.5}, {0.2, 1.0}},
+               0.0,
+               0.0,
+               {"contact.friction: F_b(0.1) = -0.5 " + SIGN_RULE}},
+        Bad15c{"slope_right", {{0.0, 0.0}, {0.1, 1.0}}, 0.0, -20.0, {"contact.friction", "slope_right", SIGN_RULE}}),
     [](const ::testing::TestParamInfo<Bad15c>& info) { return info.param.name; });
 
 TEST(FrictionTable, AcceptsBoundaryCases) {

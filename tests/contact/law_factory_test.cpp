@@ -23,9 +23,8 @@ using hemicontact::test::expect_input_error;
 
 /// contact.normal_law as scene/config delivers it: every key present, unused ones null.
 json normal_law_obj(const json& set) {
-  json obj = {{"type", nullptr},   {"c1", nullptr},         {"c2", nullptr},
-              {"c3", nullptr},     {"r1", nullptr},         {"r2", nullptr},
-              {"points", nullptr}, {"slope_left", nullptr}, {"slope_right", nullptr}};
+  json obj = {{"type", nullptr}, {"c1", nullptr},     {"c2", nullptr},         {"c3", nullptr},         {"r1", nullptr},
+              {"r2", nullptr},   {"points", nullptr}, {"slope_left", nullptr}, {"slope_right", nullptr}};
   if (set.is_object()) obj.update(set);
   return obj;
 }
@@ -39,8 +38,7 @@ json friction_obj(const json& set) {
 }
 
 json paper_json() {
-  return normal_law_obj(
-      {{"type", "paper"}, {"c1", 100}, {"c2", -100}, {"c3", 400}, {"r1", 0.1}, {"r2", 0.15}});
+  return normal_law_obj({{"type", "paper"}, {"c1", 100}, {"c2", -100}, {"c3", 400}, {"r1", 0.1}, {"r2", 0.15}});
 }
 
 TEST(LawFactory, PaperAndEquivalentTableAgree) {
@@ -48,12 +46,10 @@ TEST(LawFactory, PaperAndEquivalentTableAgree) {
   ASSERT_TRUE(paper);
   // The same law written as a table, twice: explicit end slopes, and null slope_left with an
   // extra point on the flat part so that "continue the first segment" gives slope 0.
-  const auto table = make_normal_law(normal_law_obj({{"type", "table"},
-                                                     {"points", {{0, 0}, {0.1, 10}, {0.15, 5}}},
-                                                     {"slope_left", 0},
-                                                     {"slope_right", 400}}));
-  const auto table_nulls = make_normal_law(normal_law_obj(
-      {{"type", "table"}, {"points", {{-1, 0}, {0, 0}, {0.1, 10}, {0.15, 5}, {0.2, 25}}}}));
+  const auto table = make_normal_law(normal_law_obj(
+      {{"type", "table"}, {"points", {{0, 0}, {0.1, 10}, {0.15, 5}}}, {"slope_left", 0}, {"slope_right", 400}}));
+  const auto table_nulls = make_normal_law(
+      normal_law_obj({{"type", "table"}, {"points", {{-1, 0}, {0, 0}, {0.1, 10}, {0.15, 5}, {0.2, 25}}}}));
   ASSERT_TRUE(table && table_nulls);
   for (int i = 0; i <= 1000; ++i) {
     const double r = -0.5 + 1.0 * i / 1000.0;
@@ -70,8 +66,7 @@ TEST(LawFactory, PaperAndEquivalentTableAgree) {
 }
 
 TEST(LawFactory, NullSlopesAndNone) {
-  const auto law = make_normal_law(
-      normal_law_obj({{"type", "table"}, {"points", {{0, 0}, {0.1, 1}, {0.2, 3}}}}));
+  const auto law = make_normal_law(normal_law_obj({{"type", "table"}, {"points", {{0, 0}, {0.1, 1}, {0.2, 3}}}}));
   EXPECT_NEAR(law->slope_left(), 10.0, 1e-12);
   EXPECT_NEAR(law->slope_right(), 20.0, 1e-12);
   EXPECT_EQ(make_normal_law(normal_law_obj({{"type", "none"}})), nullptr);
@@ -94,29 +89,17 @@ TEST_P(LawFactoryErrors, NamesTheKey) {
 INSTANTIATE_TEST_SUITE_P(
     LawFactoryCases, LawFactoryErrors,
     ::testing::Values(
-        BadJson{"unknown_type",
-                normal_law_obj({{"type", "cubic"}}),
-                {"contact.normal_law.type", "cubic"}},
+        BadJson{"unknown_type", normal_law_obj({{"type", "cubic"}}), {"contact.normal_law.type", "cubic"}},
         BadJson{"missing_type", normal_law_obj({}), {"contact.normal_law.type"}},
         BadJson{"missing_c1",
-                normal_law_obj(
-                    {{"type", "paper"}, {"c2", -100}, {"c3", 400}, {"r1", 0.1}, {"r2", 0.15}}),
+                normal_law_obj({{"type", "paper"}, {"c2", -100}, {"c3", 400}, {"r1", 0.1}, {"r2", 0.15}}),
                 {"contact.normal_law.c1", "required"}},
-        BadJson{"c1_string",
-                normal_law_obj({{"type", "paper"},
-                                {"c1", "100"},
-                                {"c2", -100},
-                                {"c3", 400},
-                                {"r1", 0.1},
-                                {"r2", 0.15}}),
-                {"contact.normal_law.c1", "number"}},
+        BadJson{
+            "c1_string",
+            normal_law_obj({{"type", "paper"}, {"c1", "100"}, {"c2", -100}, {"c3", 400}, {"r1", 0.1}, {"r2", 0.15}}),
+            {"contact.normal_law.c1", "number"}},
         BadJson{"bad_kinks",
-                normal_law_obj({{"type", "paper"},
-                                {"c1", 100},
-                                {"c2", -100},
-                                {"c3", 400},
-                                {"r1", 0.2},
-                                {"r2", 0.15}}),
+                normal_law_obj({{"type", "paper"}, {"c1", 100}, {"c2", -100}, {"c3", 400}, {"r1", 0.2}, {"r2", 0.15}}),
                 {"contact.normal_law.r2"}},
         BadJson{"points_with_paper",
                 [] {
@@ -131,9 +114,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadJson{"slope_with_none",
                 normal_law_obj({{"type", "none"}, {"slope_right", 1}}),
                 {"contact.normal_law.slope_right", "not used by type 'none'"}},
-        BadJson{"missing_points",
-                normal_law_obj({{"type", "table"}}),
-                {"contact.normal_law.points", "required"}},
+        BadJson{"missing_points", normal_law_obj({{"type", "table"}}), {"contact.normal_law.points", "required"}},
         BadJson{"point_not_pair",
                 normal_law_obj({{"type", "table"}, {"points", {{0, 0}, {0.1, 1, 2}}}}),
                 {"contact.normal_law.points[1]", "[r, value]"}},
@@ -154,21 +135,19 @@ TEST(FrictionFactory, BuildsEachType) {
   const auto law = make_normal_law(paper_json());
   EXPECT_EQ(make_friction_bound(friction_obj({{"type", "none"}}), law), nullptr);
 
-  const auto coulomb =
-      make_friction_bound(friction_obj({{"type", "coulomb_layer"}, {"mu", 0.2}}), law);
+  const auto coulomb = make_friction_bound(friction_obj({{"type", "coulomb_layer"}, {"mu", 0.2}}), law);
   ASSERT_TRUE(coulomb);
   for (double r : {-0.1, 0.05, 0.12, 0.2}) EXPECT_NEAR(coulomb->F(r), 0.2 * law->p(r), 1e-14);
   EXPECT_TRUE(coulomb->depends_on_u_nu());
 
-  const auto tresca =
-      make_friction_bound(friction_obj({{"type", "tresca"}, {"bound", 1.0}}), nullptr);
+  const auto tresca = make_friction_bound(friction_obj({{"type", "tresca"}, {"bound", 1.0}}), nullptr);
   ASSERT_TRUE(tresca);
   EXPECT_EQ(tresca->F(-1.0), 1.0);
   EXPECT_FALSE(tresca->depends_on_u_nu());
 
   // null slope_left → 0 for friction tables ((15c)), null slope_right → last segment.
-  const auto table = make_friction_bound(
-      friction_obj({{"type", "table"}, {"points", {{0, 0}, {0.1, 1}, {0.2, 1.5}}}}), nullptr);
+  const auto table =
+      make_friction_bound(friction_obj({{"type", "table"}, {"points", {{0, 0}, {0.1, 1}, {0.2, 1.5}}}}), nullptr);
   ASSERT_TRUE(table);
   EXPECT_EQ(table->F(-1.0), 0.0);
   EXPECT_NEAR(table->F(0.3), 2.0, 1e-13);
@@ -190,24 +169,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadJson{"nolaw_coulomb",
                 friction_obj({{"type", "coulomb_layer"}, {"mu", 0.2}}),
                 {"contact.friction.type", "needs a normal law"}},
-        BadJson{"unknown_type",
-                friction_obj({{"type", "coulomb"}}),
-                {"contact.friction.type", "coulomb"}},
-        BadJson{"missing_mu",
-                friction_obj({{"type", "coulomb_layer"}}),
-                {"contact.friction.mu", "required"}},
-        BadJson{"negative_mu",
-                friction_obj({{"type", "coulomb_layer"}, {"mu", -0.2}}),
-                {"contact.friction.mu"}},
+        BadJson{"unknown_type", friction_obj({{"type", "coulomb"}}), {"contact.friction.type", "coulomb"}},
+        BadJson{"missing_mu", friction_obj({{"type", "coulomb_layer"}}), {"contact.friction.mu", "required"}},
+        BadJson{"negative_mu", friction_obj({{"type", "coulomb_layer"}, {"mu", -0.2}}), {"contact.friction.mu"}},
         BadJson{"mu_with_tresca",
                 friction_obj({{"type", "tresca"}, {"bound", 1}, {"mu", 0.2}}),
                 {"contact.friction.mu", "not used by type 'tresca'"}},
-        BadJson{"missing_bound",
-                friction_obj({{"type", "tresca"}}),
-                {"contact.friction.bound", "required"}},
-        BadJson{"negative_bound",
-                friction_obj({{"type", "tresca"}, {"bound", -1}}),
-                {"contact.friction.bound"}},
+        BadJson{"missing_bound", friction_obj({{"type", "tresca"}}), {"contact.friction.bound", "required"}},
+        BadJson{"negative_bound", friction_obj({{"type", "tresca"}, {"bound", -1}}), {"contact.friction.bound"}},
         BadJson{"points_with_none",
                 friction_obj({{"type", "none"}, {"points", {{0, 0}}}}),
                 {"contact.friction.points", "not used by type 'none'"}},

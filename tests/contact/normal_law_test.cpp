@@ -42,8 +42,7 @@ PiecewiseLinearLaw paper_law() { return PiecewiseLinearLaw::paper(100, -100, 400
 /// Layer that gives way: p rises with slope 100 to 10 at r = 0.1, drops to 4 (J = -6), then
 /// slope 20 to (0.2, 6) and slope 50 beyond. Satisfies (15c), α = +INF (downward jump).
 PiecewiseLinearLaw dropping_law() {
-  return PiecewiseLinearLaw({{-0.05, 0.0}, {0.0, 0.0}, {0.1, 10.0}, {0.1, 4.0}, {0.2, 6.0}}, 0.0,
-                            50.0);
+  return PiecewiseLinearLaw({{-0.05, 0.0}, {0.0, 0.0}, {0.1, 10.0}, {0.1, 4.0}, {0.2, 6.0}}, 0.0, 50.0);
 }
 
 /// Monotone law with an upward jump at 0 (a pre-stressed layer): α = 0.
@@ -55,24 +54,18 @@ enum class LawKind { Paper, Dropping, Monotone };
 
 PiecewiseLinearLaw make_law(LawKind kind) {
   switch (kind) {
-    case LawKind::Paper:
-      return paper_law();
-    case LawKind::Dropping:
-      return dropping_law();
-    case LawKind::Monotone:
-      return monotone_law();
+    case LawKind::Paper: return paper_law();
+    case LawKind::Dropping: return dropping_law();
+    case LawKind::Monotone: return monotone_law();
   }
   return paper_law();
 }
 
 std::string kind_name(LawKind kind) {
   switch (kind) {
-    case LawKind::Paper:
-      return "paper";
-    case LawKind::Dropping:
-      return "dropping";
-    case LawKind::Monotone:
-      return "monotone";
+    case LawKind::Paper: return "paper";
+    case LawKind::Dropping: return "dropping";
+    case LawKind::Monotone: return "monotone";
   }
   return "?";
 }
@@ -132,8 +125,7 @@ TEST(LawPaper, RejectsBadKinks) {
                      {"contact.normal_law.r1", "0 < r1 < r2"});
   expect_input_error([] { PiecewiseLinearLaw::paper(100, -100, 400, 0.2, 0.15); },
                      {"contact.normal_law.r2", "0 < r1 < r2"});
-  expect_input_error([] { PiecewiseLinearLaw::paper(100, NAN, 400, 0.1, 0.15); },
-                     {"contact.normal_law.c2"});
+  expect_input_error([] { PiecewiseLinearLaw::paper(100, NAN, 400, 0.1, 0.15); }, {"contact.normal_law.c2"});
 }
 
 // ---------------------------------------------------------------- tables: jumps, α, defaults
@@ -199,27 +191,16 @@ class LawTableValidation : public ::testing::TestWithParam<BadTable> {};
 TEST_P(LawTableValidation, RejectsWithKeyInMessage) {
   const BadTable& bad = GetParam();
   SCOPED_TRACE(bad.name);
-  expect_input_error(
-      [&] {
-        PiecewiseLinearLaw(bad.points, bad.slope_left, bad.slope_right, "contact.normal_law");
-      },
-      bad.message_parts);
+  expect_input_error([&] { PiecewiseLinearLaw(bad.points, bad.slope_left, bad.slope_right, "contact.normal_law"); },
+                     bad.message_parts);
 }
 
 INSTANTIATE_TEST_SUITE_P(
     LawTables, LawTableValidation,
     ::testing::Values(
         BadTable{"empty", {}, 0.0, 0.0, {"contact.normal_law.points", "at least one point"}},
-        BadTable{"nan_p",
-                 {{0.0, 0.0}, {0.1, NAN}},
-                 0.0,
-                 0.0,
-                 {"contact.normal_law.points[1]", "finite"}},
-        BadTable{"inf_r",
-                 {{-INF, 0.0}, {0.1, 1.0}},
-                 0.0,
-                 0.0,
-                 {"contact.normal_law.points[0]", "finite"}},
+        BadTable{"nan_p", {{0.0, 0.0}, {0.1, NAN}}, 0.0, 0.0, {"contact.normal_law.points[1]", "finite"}},
+        BadTable{"inf_r", {{-INF, 0.0}, {0.1, 1.0}}, 0.0, 0.0, {"contact.normal_law.points[0]", "finite"}},
         BadTable{"decreasing",
                  {{0.0, 0.0}, {0.1, 1.0}, {0.2, 2.0}, {0.1, 3.0}},
                  0.0,
@@ -231,16 +212,8 @@ INSTANTIATE_TEST_SUITE_P(
                  0.0,
                  0.0,
                  {"contact.normal_law.points[3]", "three times"}},
-        BadTable{"slope_left_inf",
-                 {{0.0, 0.0}, {0.1, 1.0}},
-                 INF,
-                 0.0,
-                 {"contact.normal_law.slope_left"}},
-        BadTable{"slope_right_nan",
-                 {{0.0, 0.0}, {0.1, 1.0}},
-                 0.0,
-                 NAN,
-                 {"contact.normal_law.slope_right"}},
+        BadTable{"slope_left_inf", {{0.0, 0.0}, {0.1, 1.0}}, INF, 0.0, {"contact.normal_law.slope_left"}},
+        BadTable{"slope_right_nan", {{0.0, 0.0}, {0.1, 1.0}}, 0.0, NAN, {"contact.normal_law.slope_right"}},
         BadTable{"overflowing_segment",
                  {{0.0, 0.0}, {1e-320, 1e300}},
                  0.0,
@@ -300,8 +273,7 @@ DerivativeBounds bounds(const PiecewiseLinearLaw& exact, double eps) {
 double p_summands(const PiecewiseLinearLaw& exact, double eps, double r) {
   double s = std::abs(exact.affine_intercept()) + std::abs(exact.slope_left() * r);
   for (std::size_t k = 0; k < exact.breakpoints().size(); ++k)
-    s += std::abs(exact.slope_changes()[k]) * (std::abs(r - exact.breakpoints()[k]) + eps) +
-         std::abs(exact.jumps()[k]);
+    s += std::abs(exact.slope_changes()[k]) * (std::abs(r - exact.breakpoints()[k]) + eps) + std::abs(exact.jumps()[k]);
   return s;
 }
 
@@ -320,9 +292,8 @@ double j_summands(const PiecewiseLinearLaw& exact, double eps, double r) {
 
 /// Composite Simpson of p over [a, b] split at @p cuts; each piece gets left value
 /// p_plus(a_i) and right value p_minus(b_i), so jumps at the cuts are integrated correctly.
-double simpson(const std::function<double(double)>& p_right,
-               const std::function<double(double)>& p_left, double a, double b,
-               std::vector<double> cuts, int n = 8) {
+double simpson(const std::function<double(double)>& p_right, const std::function<double(double)>& p_left, double a,
+               double b, std::vector<double> cuts, int n = 8) {
   if (a == b) return 0.0;
   const double sign = a < b ? 1.0 : -1.0;
   const double lo = std::min(a, b), hi = std::max(a, b);
@@ -413,10 +384,10 @@ TEST_P(LawQuadratureAndFd, DerivativesMatchFiniteDifferences) {
     // (n ≤ 2·#breakpoints + 3 additions), and the difference quotient divides 2 of them by 2h;
     // r ± h is itself rounded (≤ u|r|/2 each), which perturbs the quotient by |f′|·u|r|/h.
     const double n_add = 2.0 * exact.breakpoints().size() + 3.0;
-    const double tol_p = h * h / 6 * b.d2p + n_add * U * j_summands(exact, eps, r) / h +
-                         std::abs(law->p(r)) * U * std::abs(r) / h;
-    const double tol_dp = h * h / 6 * b.d3p + n_add * U * p_summands(exact, eps, r) / h +
-                          std::abs(law->dp(r)) * U * std::abs(r) / h;
+    const double tol_p =
+        h * h / 6 * b.d2p + n_add * U * j_summands(exact, eps, r) / h + std::abs(law->p(r)) * U * std::abs(r) / h;
+    const double tol_dp =
+        h * h / 6 * b.d3p + n_add * U * p_summands(exact, eps, r) / h + std::abs(law->dp(r)) * U * std::abs(r) / h;
     EXPECT_NEAR(dj[0], law->p(r), tol_p);
     EXPECT_NEAR(ddj[0], law->dp(r), tol_dp);
     ++checked;
@@ -426,8 +397,7 @@ TEST_P(LawQuadratureAndFd, DerivativesMatchFiniteDifferences) {
 }
 
 INSTANTIATE_TEST_SUITE_P(LawKinds, LawQuadratureAndFd,
-                         ::testing::Combine(::testing::Values(LawKind::Paper, LawKind::Dropping,
-                                                              LawKind::Monotone),
+                         ::testing::Combine(::testing::Values(LawKind::Paper, LawKind::Dropping, LawKind::Monotone),
                                             ::testing::Values(0.0, 1e-8, 1e-6, 1e-3, 1e-1)),
                          law_param_name);
 
@@ -482,8 +452,7 @@ TEST_P(LawMollified, ContinuousAtWindowEdges) {
 }
 
 INSTANTIATE_TEST_SUITE_P(LawKinds, LawMollified,
-                         ::testing::Combine(::testing::Values(LawKind::Paper, LawKind::Dropping,
-                                                              LawKind::Monotone),
+                         ::testing::Combine(::testing::Values(LawKind::Paper, LawKind::Dropping, LawKind::Monotone),
                                             ::testing::Values(1e-8, 1e-6, 1e-3, 1e-1)),
                          law_param_name);
 
@@ -530,8 +499,7 @@ TEST(LawMollifiedBounds, OneSidedLipschitz) {
 TEST(LawMollifiedBounds, RejectsBadEps) {
   for (double eps : {0.0, -1e-3, double(NAN), INF}) {
     SCOPED_TRACE("eps = " + std::to_string(eps));
-    expect_input_error([&] { MollifiedLaw(paper_law(), eps, "solver.eps_nu"); },
-                       {"solver.eps_nu", "eps_nu must be"});
+    expect_input_error([&] { MollifiedLaw(paper_law(), eps, "solver.eps_nu"); }, {"solver.eps_nu", "eps_nu must be"});
   }
 }
 
@@ -544,8 +512,8 @@ TEST(LawMollifiedBounds, MollifierPrimitivesMatchExactOutsideWindow) {
     EXPECT_EQ(smooth_step(x, eps), x > 0 ? 1.0 : 0.0);
     EXPECT_EQ(smooth_step_integral(x, eps), std::max(0.0, x));
     // The ramp's antiderivative carries the documented excess ε²/6 beyond the window.
-    EXPECT_NEAR(smooth_ramp_integral(x, eps),
-                0.5 * std::max(0.0, x) * std::max(0.0, x) + (x > 0 ? eps * eps / 6 : 0.0), 1e-16);
+    EXPECT_NEAR(smooth_ramp_integral(x, eps), 0.5 * std::max(0.0, x) * std::max(0.0, x) + (x > 0 ? eps * eps / 6 : 0.0),
+                1e-16);
   }
   EXPECT_DOUBLE_EQ(smooth_ramp(0.0, eps), eps / 4);
   EXPECT_DOUBLE_EQ(smooth_step(0.0, eps), 0.5);

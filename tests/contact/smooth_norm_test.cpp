@@ -91,8 +91,7 @@ TEST_P(SmoothNormScalar, DerivativesMatchFiniteDifferences) {
     const double g = test::fd_gradient([&](const Vec& v) { return f0(v[0], eps); }, x, h)[0];
     const double d = test::fd_gradient([&](const Vec& v) { return f1(v[0], eps); }, x, h)[0];
     // f0‴ = −2/ε² inside, 0 outside; f1‴ = 0 inside (f1 is quadratic) and outside.
-    EXPECT_NEAR(g, f1(y, eps),
-                step * step / 3 / (eps * eps) + 8 * U * (y + eps) / step + U * y / step);
+    EXPECT_NEAR(g, f1(y, eps), step * step / 3 / (eps * eps) + 8 * U * (y + eps) / step + U * y / step);
     EXPECT_NEAR(d, df1(y, eps), 8 * U * 2.0 / step + df1(y, eps) * U * y / step);
   }
 }
@@ -139,11 +138,9 @@ void check_vector_case(double eps) {
       // more derivative (÷ min(ε, y)) for the gradient; round-off as in the file comment.
       const double m = std::min(eps, y);
       const double f3 = 2 / (eps * eps) + 6 / (y * y);
-      EXPECT_TRUE(test::near_rel(g_fd, g, 0.0,
-                                 step * step / 6 * f3 + 8 * U * (y + eps) / step + U * y / step));
-      EXPECT_TRUE(test::near_rel(
-          H_fd, H, 0.0,
-          step * step / 6 * f3 * 6 / m + 8 * U * 2.0 / step + (2 / eps) * U * y / step));
+      EXPECT_TRUE(test::near_rel(g_fd, g, 0.0, step * step / 6 * f3 + 8 * U * (y + eps) / step + U * y / step));
+      EXPECT_TRUE(
+          test::near_rel(H_fd, H, 0.0, step * step / 6 * f3 * 6 / m + 8 * U * 2.0 / step + (2 / eps) * U * y / step));
       // Symmetric, positive semidefinite (eigenvalues f1/y and f1′, both ≥ 0).
       EXPECT_TRUE(test::near_rel(H, H.transpose(), 0.0, 0.0));
       const Eigen::SelfAdjointEigenSolver<Mat> es(H);
@@ -157,8 +154,7 @@ void check_vector_case(double eps) {
   const V zero = V::Zero();
   EXPECT_DOUBLE_EQ(smooth_norm(zero, eps), eps / 3);
   EXPECT_EQ(smooth_norm_gradient(zero, eps), zero);
-  EXPECT_TRUE(
-      test::near_rel(smooth_norm_hessian(zero, eps), (2 / eps) * Mat::Identity(K, K), 0.0, 0.0));
+  EXPECT_TRUE(test::near_rel(smooth_norm_hessian(zero, eps), (2 / eps) * Mat::Identity(K, K), 0.0, 0.0));
   const V tiny = V::Constant(1e-300);
   const Mat Ht = smooth_norm_hessian(tiny, eps);
   EXPECT_TRUE(Ht.allFinite());

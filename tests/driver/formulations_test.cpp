@@ -1,7 +1,7 @@
 // Fast path (static condensation onto Γ3 + exact polish) against the full-space formulation, and
 // skipping of what a scene does not need.
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
@@ -48,11 +48,11 @@ INSTANTIATE_TEST_SUITE_P(PaperScenes, Formulations,
 
 // No soft layer: no j_ν term is assembled (and said so); a pure Signorini problem with friction.
 TEST(Skipping, NoLayerNoNormalComplianceTerm) {
-  const Solution s = run("sofonea2017-fig2", {"mesh.n=8", "contact.normal_law.type=none",
-                                              "contact.normal_law.c1=null", "contact.normal_law.c2=null",
-                                              "contact.normal_law.c3=null", "contact.normal_law.r1=null",
-                                              "contact.normal_law.r2=null", "contact.friction.type=tresca",
-                                              "contact.friction.mu=null", "contact.friction.bound=1"});
+  const Solution s =
+      run("sofonea2017-fig2",
+          {"mesh.n=8", "contact.normal_law.type=none", "contact.normal_law.c1=null", "contact.normal_law.c2=null",
+           "contact.normal_law.c3=null", "contact.normal_law.r1=null", "contact.normal_law.r2=null",
+           "contact.friction.type=tresca", "contact.friction.mu=null", "contact.friction.bound=1"});
   ASSERT_TRUE(s.backend_ok) << s.message;
   EXPECT_TRUE(s.certificate.passed) << s.certificate.max_residual;
   bool no_j = false, no_loop = false;

@@ -2,10 +2,10 @@
 // and certified in the full space by both backends, condensation refused, and — with a constant
 // shear modulus (μ_∞ = μ_0) — the same solution as the linear plane-strain law.
 
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/mesh/mesh.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include "support/expect_error.hpp"
 
@@ -60,15 +60,15 @@ TEST(HenckyScene, SolvesCertifiedWithBothBackends) {
 // amplification while a wrong factor anywhere in the law (O(1)) or a missed ε33 term (O(ν)) fails.
 TEST(HenckyScene, ConstantShearModulusReproducesLinearPlaneStrain) {
   const Solution h = solve_scene({"mesh.n=16", "solver.backend=newton", "material.shear_ratio=1"});
-  const Solution l = solve_scene({"mesh.n=16", "solver.backend=newton", "solver.formulation=full",
-                                  "material.model=linear_elastic", "material.shear_ratio=null",
-                                  "material.eps_ref=null"});
+  const Solution l =
+      solve_scene({"mesh.n=16", "solver.backend=newton", "solver.formulation=full", "material.model=linear_elastic",
+                   "material.shear_ratio=null", "material.eps_ref=null"});
   ASSERT_TRUE(h.ok()) << h.message;
   ASSERT_TRUE(l.ok()) << l.message;
   const double U = l.u.cwiseAbs().maxCoeff();
   const double du = (h.u - l.u).cwiseAbs().maxCoeff();
-  std::printf("[ hencky   ] mu constant vs linear plane strain: max|du|/max|u| = %.3e, energies %.12g, %.12g\n",
-              du / U, h.energy, l.energy);
+  std::printf("[ hencky   ] mu constant vs linear plane strain: max|du|/max|u| = %.3e, energies %.12g, %.12g\n", du / U,
+              h.energy, l.energy);
   EXPECT_LE(du, 1e-12 * U);
   EXPECT_NEAR(h.energy, l.energy, 1e-12 * std::abs(l.energy));
   EXPECT_NEAR(h.elastic_energy, 0.5 * l.a_uu, 1e-12 * l.a_uu);
@@ -104,11 +104,14 @@ Mesh kuhn_cube(int n) {
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
         for (const auto& p : perms) {
-          const auto corner = [&](int bits) { return id(i + (bits & 1), j + ((bits >> 1) & 1), k + ((bits >> 2) & 1)); };
+          const auto corner = [&](int bits) {
+            return id(i + (bits & 1), j + ((bits >> 1) & 1), k + ((bits >> 2) & 1));
+          };
           const int a = p[0], b = a | p[1];
           m.cells.row(c) << corner(0), corner(a), corner(b), corner(7);
           Eigen::Matrix3d J;
-          for (int q = 0; q < 3; ++q) J.col(q) = (m.points.row(m.cells(c, q + 1)) - m.points.row(m.cells(c, 0))).transpose();
+          for (int q = 0; q < 3; ++q)
+            J.col(q) = (m.points.row(m.cells(c, q + 1)) - m.points.row(m.cells(c, 0))).transpose();
           if (J.determinant() < 0) std::swap(m.cells(c, 1), m.cells(c, 2));
           ++c;
         }

@@ -21,9 +21,9 @@
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
+#include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -146,7 +146,9 @@ std::vector<Stationary> enumerate_one_cell(const Model& md) {
   return out;
 }
 
-double rel_dist(const Vec& a, const Vec& b) { return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff()); }
+double rel_dist(const Vec& a, const Vec& b) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
+}
 
 // ---------------------------------------------------------------- (c): exactly the known minima
 
@@ -187,7 +189,8 @@ TEST(Minima, OneNodeFindsExactlyTheKnownMinima) {
     int match = -1;
     for (size_t i = 0; i < exact.size(); ++i)
       if (rel_dist(ds.solution.x, exact[i].x) <= 1e-7) match = static_cast<int>(i);
-    ASSERT_GE(match, 0) << "solution with energy " << ds.solution.energy << " is not a stationary point of the enumeration";
+    ASSERT_GE(match, 0) << "solution with energy " << ds.solution.energy
+                        << " is not a stationary point of the enumeration";
     ++found[static_cast<size_t>(match)];
     const Stationary& e = exact[static_cast<size_t>(match)];
     EXPECT_NEAR(ds.solution.energy, e.energy, 1e-9 * std::abs(e.energy) + 1e-9);

@@ -2,8 +2,8 @@
 // the Fig. 2 status pattern, the printed scene's all-compliance answer, the certificate, mirror
 // symmetry, skipping of the outer loop without friction, and the certificate catching violations.
 #include <hemicontact/check/certificate.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
@@ -67,8 +67,10 @@ TEST_P(Fig2Pattern, StatusesCertificateSymmetry) {
       continue;
     }
     EXPECT_EQ(st.tangential, k < centre ? TangentialStatus::SLIP_MINUS : TangentialStatus::SLIP_PLUS);
-    if (st.normal == NormalStatus::COMPLIANCE) (k < centre ? compliance_left : compliance_right)++;
-    else EXPECT_EQ(st.normal, NormalStatus::CONTACT);
+    if (st.normal == NormalStatus::COMPLIANCE)
+      (k < centre ? compliance_left : compliance_right)++;
+    else
+      EXPECT_EQ(st.normal, NormalStatus::CONTACT);
   }
   // "A few" end nodes: at least the end node, and compliance only at the ends (contiguous runs).
   EXPECT_GE(compliance_left, 1);

@@ -3,12 +3,12 @@
 // agreeing, the 3D output columns, and the 3D scene checks (plane, n → nz).
 #include <hemicontact/check/certificate.hpp>
 #include <hemicontact/check/contact_status.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/output/csv_writer.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include "../support/cli_runner.hpp"
 #include "../support/expect_error.hpp"
@@ -148,8 +148,8 @@ TEST(Scene3D, ReportAndCsvCarryTheSlipDirection) {
   write_vtu(vtu.string(), s.md, s.sol);
   std::ifstream v(vtu);
   const std::string text((std::istreambuf_iterator<char>(v)), std::istreambuf_iterator<char>());
-  for (const char* name : {"\"slip_dir\" NumberOfComponents=\"3\"", "\"slip_angle_deg\"", "\"status_normal\"",
-                           "\"status_tangential\""})
+  for (const char* name :
+       {"\"slip_dir\" NumberOfComponents=\"3\"", "\"slip_angle_deg\"", "\"status_normal\"", "\"status_tangential\""})
     EXPECT_NE(text.find(name), std::string::npos) << name;
   std::filesystem::remove(vtu);
 }
@@ -175,10 +175,11 @@ TEST(Scene3D, CliPlotDrawsTheStatusMap) {
   std::mt19937 rng(std::random_device{}());
   const auto dir = std::filesystem::temp_directory_path() / ("hemicontact_scene3d_plot_" + std::to_string(rng()));
   std::filesystem::create_directories(dir);
-  const auto r = hemicontact::test::run_cli(
-      dir, "solve " HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json --set mesh.n=4 --quiet --plot --out " +
-               (dir / "res").string(),
-      "HEMICONTACT_SCRIPTS=" HEMICONTACT_SOURCE_DIR "/scripts");
+  const auto r = hemicontact::test::run_cli(dir,
+                                            "solve " HEMICONTACT_SOURCE_DIR
+                                            "/problems/sofonea2017-3d.json --set mesh.n=4 --quiet --plot --out " +
+                                                (dir / "res").string(),
+                                            "HEMICONTACT_SCRIPTS=" HEMICONTACT_SOURCE_DIR "/scripts");
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(dir / "res" / "status3d.png")) << r.out << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "res" / "fig2.png"));

@@ -33,13 +33,13 @@
 // backend tolerance (solver.tol, on the scaled problem) separates the numerical from the hand
 // solution. Each case runs through three pipelines (SingleNode param, see solver_block).
 
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/mesh/mesh.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
-#include <Eigen/LU>
 #include <gtest/gtest.h>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
@@ -54,10 +54,10 @@ using json = nlohmann::json;
 // ---------------------------------------------------------------- data of every case
 constexpr double E = 1000, POISSON = 0.25, AREA = 0.5;
 constexpr double C1 = 100, C2 = -100, C3 = 400, R1 = 0.1, R2 = 0.15, MU = 0.2;
-const double W = std::sqrt(5.0) / 2;                                // (|AC| + |BC|)/2
-const double K_NU = AREA * E / (1 - POISSON * POISSON);             // |T| E/(1−ν²)
-const double K_TAU = AREA * E / (2 * (1 + POISSON));                // |T| E/(2(1+ν))
-constexpr double TOL = 1e-8;                                        // certificate tolerance
+const double W = std::sqrt(5.0) / 2;                     // (|AC| + |BC|)/2
+const double K_NU = AREA * E / (1 - POISSON * POISSON);  // |T| E/(1−ν²)
+const double K_TAU = AREA * E / (2 * (1 + POISSON));     // |T| E/(2(1+ν))
+constexpr double TOL = 1e-8;                             // certificate tolerance
 
 /// p_ν of (32), by hand.
 double p_hand(double r) {
@@ -279,7 +279,7 @@ TEST_P(SingleNode, ComplianceStick) {
   Case c;
   c.F_nu = (K_NU + W * C1) * target;
   c.F_tau = -0.5 * W * MU * p_hand(target);  // half the bound
-  c.gap = 0.15;                               // the paper's g, not reached
+  c.gap = 0.15;                              // the paper's g, not reached
   Expected e;
   e.u_nu = c.F_nu / (K_NU + W * C1);
   ASSERT_GT(e.u_nu, 0.2 * R1);

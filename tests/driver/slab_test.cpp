@@ -10,8 +10,8 @@
 // that the gap is small on a coarse mesh and shrinks when h is halved.
 #include <hemicontact/check/contact_status.hpp>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
@@ -37,16 +37,18 @@ json slab_scene(int dim, int n, int ny, double nu = 0.0, bool rollers = false) {
   if (dim == 2) {
     s["mesh"] = {{"type", "rectangle"}, {"n", n}, {"diagonal", "right"}};
     s["boundary"] = {{"gamma1", {{{"side", "top"}}}},
-                     {"gamma2", {{{"side", "left"}, {"from", 0.5}, {"traction", {F2, 0}}},
-                                 {{"side", "right"}, {"from", 0.5}, {"traction", {-F2, 0}}}}},
+                     {"gamma2",
+                      {{{"side", "left"}, {"from", 0.5}, {"traction", {F2, 0}}},
+                       {{"side", "right"}, {"from", 0.5}, {"traction", {-F2, 0}}}}},
                      {"gamma3", {{{"side", "bottom"}}}}};
     s["loads"] = {{"body_force", {0, -F0}}};
   } else {
     s["mesh"] = {{"type", "box"}, {"nx", n}, {"ny", ny}, {"nz", n}, {"y", {0, t}}, {"pattern", "kuhn"}};
     s["material"].erase("plane");
     s["boundary"] = {{"gamma1", {{{"side", "top"}}}},
-                     {"gamma2", {{{"side", "left"}, {"from", 0.5}, {"traction", {F2, 0, 0}}},
-                                 {{"side", "right"}, {"from", 0.5}, {"traction", {-F2, 0, 0}}}}},
+                     {"gamma2",
+                      {{{"side", "left"}, {"from", 0.5}, {"traction", {F2, 0, 0}}},
+                       {{"side", "right"}, {"from", 0.5}, {"traction", {-F2, 0, 0}}}}},
                      {"gamma3", {{{"side", "bottom"}}}}};
     s["loads"] = {{"body_force", {0, 0, -F0}}};
     if (rollers)
@@ -140,9 +142,10 @@ TEST(Slab, MatchesPlaneStrainAndTheGapShrinksWithH) {
     EXPECT_GT(counts.at("compliance"), 0);
     gaps[l] = compare(s2, s3, double(ny) / n);
     const Gap3D2D& g = gaps[l];
-    std::printf("slab n = %d: |du_nu|/U = %.3e, |du_tau|/U = %.3e, |u_y|/U = %.3e, energy rel. %.3e, "
-                "statuses compared at %d of %d nodes, mismatches %d\n",
-                n, g.u_nu, g.u_tau, g.u_y, g.energy, g.compared, int(s3.md.contact.size()), g.status_mismatches);
+    std::printf(
+        "slab n = %d: |du_nu|/U = %.3e, |du_tau|/U = %.3e, |u_y|/U = %.3e, energy rel. %.3e, "
+        "statuses compared at %d of %d nodes, mismatches %d\n",
+        n, g.u_nu, g.u_tau, g.u_y, g.energy, g.compared, int(s3.md.contact.size()), g.status_mismatches);
     EXPECT_EQ(g.status_mismatches, 0) << "n = " << n;
     // Both discretizations are within O(h) of the same continuum solution (energy norm), so their
     // gap is O(h): relative to U it must stay below h/2 (measured: at most 0.25 h, the u_y of the
@@ -176,12 +179,14 @@ TEST(Slab, RollersMatchPlaneStrainWithPoisson) {
     }
     // Γ3 nodes hold u_y = 0 through their rotated frames: zero up to the frames' round-off.
     const double U = s3.sol.u.cwiseAbs().maxCoeff();
-    for (Index v = 0; v < s3.md.mesh.num_nodes(); ++v) EXPECT_LE(std::abs(s3.sol.u[3 * v + 1]), 1e-14 * U) << "node " << v;
+    for (Index v = 0; v < s3.md.mesh.num_nodes(); ++v)
+      EXPECT_LE(std::abs(s3.sol.u[3 * v + 1]), 1e-14 * U) << "node " << v;
     gaps[l] = compare(s2, s3, double(ny) / n);
     const Gap3D2D& g = gaps[l];
-    std::printf("roller slab n = %d: |du_nu|/U = %.3e, |du_tau|/U = %.3e, energy rel. %.3e, statuses compared "
-                "at %d of %d nodes, mismatches %d\n",
-                n, g.u_nu, g.u_tau, g.energy, g.compared, int(s3.md.contact.size()), g.status_mismatches);
+    std::printf(
+        "roller slab n = %d: |du_nu|/U = %.3e, |du_tau|/U = %.3e, energy rel. %.3e, statuses compared "
+        "at %d of %d nodes, mismatches %d\n",
+        n, g.u_nu, g.u_tau, g.energy, g.compared, int(s3.md.contact.size()), g.status_mismatches);
     EXPECT_EQ(g.status_mismatches, 0) << "n = " << n;
     const double h = 1.0 / n;
     for (double v : {g.u_nu, g.u_tau, g.energy}) EXPECT_LE(v, 0.5 * h) << "n = " << n;
@@ -235,8 +240,8 @@ TEST(Rollers, HalfOfTheSymmetricFig2IsTheFullSolution) {
   const json full_scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json",
                                      {"mesh.n=" + std::to_string(n), "check.smallness=false"});
   json half = full_scene;
-  half["mesh"] = {{"type", "rectangle"}, {"x", {0, 0.5}}, {"y", {0, 1}}, {"nx", n / 2}, {"ny", n},
-                  {"diagonal", "right"}};  // the symmetric mesh's left half
+  half["mesh"] = {{"type", "rectangle"}, {"x", {0, 0.5}}, {"y", {0, 1}},
+                  {"nx", n / 2},         {"ny", n},       {"diagonal", "right"}};  // the symmetric mesh's left half
   half["boundary"]["gamma2"] = {{{"side", "left"}, {"from", 0.5}, {"traction", {8000, 0}}}};
   half["boundary"]["rollers"] = {{{"side", "right"}, {"components", {"x"}}}};
   half = validate_scene(half);
@@ -273,7 +278,7 @@ TEST(Rollers, QuarterOfTheSymmetric3DScene) {
                                      {"mesh.n=" + std::to_string(n), "check.smallness=false"});
   json q = full_scene;
   q["mesh"] = {{"type", "box"}, {"x", {0, 0.5}}, {"y", {0, 0.5}}, {"z", {0, 1}},
-               {"nx", n / 2}, {"ny", n / 2}, {"nz", n}, {"pattern", "kuhn"}};
+               {"nx", n / 2},   {"ny", n / 2},   {"nz", n},       {"pattern", "kuhn"}};
   q["boundary"]["gamma2"] = {{{"side", "left"}, {"from", 0.5}, {"traction", {8000, 0, 0}}}};
   q["boundary"]["rollers"] = {{{"side", "right"}, {"components", {"x"}}}, {{"side", "back"}, {"components", {"y"}}}};
   q = validate_scene(q);

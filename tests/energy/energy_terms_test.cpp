@@ -43,8 +43,8 @@
 #include <Eigen/Eigenvalues>
 #include "support/fd_check.hpp"
 
-#include <gtest/gtest.h>
 #include <gtest/gtest-spi.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cfloat>
@@ -64,22 +64,22 @@ namespace {
 constexpr double C1 = 100, C2 = -100, C3 = 400, R1 = 0.1, R2 = 0.15;
 constexpr double KINKS[] = {0.0, R1, R2};
 
-constexpr double kRtol = 1e-5;                  // truncation part (file comment)
-constexpr double kRound = 64 * DBL_EPSILON;     // round-off part (file comment)
-constexpr double kIdentity = 1e-12;             // two evaluations of the same formula
+constexpr double kRtol = 1e-5;               // truncation part (file comment)
+constexpr double kRound = 64 * DBL_EPSILON;  // round-off part (file comment)
+constexpr double kIdentity = 1e-12;          // two evaluations of the same formula
 
 // ---------------------------------------------------------------- the hand-built problem
 
 /// n_int interior dofs then nc contact nodes of dim components (ν, τ[, τ2]), as DofMap orders them.
 struct Problem {
   int dim = 2;
-  double eps = 1e-2;           ///< ε_ν = ε_τ (absolute)
+  double eps = 1e-2;  ///< ε_ν = ε_τ (absolute)
   Index n_int = 5, nc = 4, n = 0;
-  SpMat K;                     ///< symmetric, diagonally dominant (SPD), full storage
-  SpMat blocks;                ///< lower pattern of the nodal d×d blocks only (values 0)
+  SpMat K;       ///< symmetric, diagonally dominant (SPD), full storage
+  SpMat blocks;  ///< lower pattern of the nodal d×d blocks only (values 0)
   Vec f;
   NodalDofs nodes;
-  Vec lambda;                  ///< frozen friction bounds; the last node has λ = 0
+  Vec lambda;  ///< frozen friction bounds; the last node has λ = 0
   std::shared_ptr<const PiecewiseLinearLaw> exact;
   std::shared_ptr<const MollifiedLaw> law;
   double h_int = 1e-6, h_nu = 0, h_tau = 0;  ///< h_nu: the step inside windows
@@ -588,8 +588,8 @@ TEST_P(EnergyFd, Total) {
   EXPECT_EQ(total.size(), p_.n);
   EXPECT_TRUE(same_pattern(total.hessian_pattern(), c.el->lower()));
   const Fn fn = of_objective(total);
-  const Fn parts[] = {of_term(*c.el, c.el->lower()), of_term(*c.load, c.el->lower()),
-                      of_term(*c.normal, c.el->lower()), of_term(*c.friction, c.el->lower())};
+  const Fn parts[] = {of_term(*c.el, c.el->lower()), of_term(*c.load, c.el->lower()), of_term(*c.normal, c.el->lower()),
+                      of_term(*c.friction, c.el->lower())};
   for (const Sample& s : composite_points(p_)) {
     SCOPED_TRACE(s.what);
     const Scales sc = magnitudes(p_, {true, true, true, true}, s.x);
@@ -733,7 +733,8 @@ TEST_P(EnergyFd, PatternFixedAcrossCalls) {
   Composite c(p_);
   const ScaledObjective scaled(*c.total, 0.05, 3.0);
   std::mt19937 rng(17);
-  for (const NlpObjective* o : {static_cast<const NlpObjective*>(c.total.get()), static_cast<const NlpObjective*>(&scaled)}) {
+  for (const NlpObjective* o :
+       {static_cast<const NlpObjective*>(c.total.get()), static_cast<const NlpObjective*>(&scaled)}) {
     const SpMat& P = o->hessian_pattern();
     EXPECT_TRUE(P.isCompressed());
     for (int c2 = 0; c2 < P.outerSize(); ++c2)
@@ -756,7 +757,6 @@ TEST_P(EnergyFd, PatternFixedAcrossCalls) {
     }
   }
 }
-
 
 // ---------------------------------------------------------------- the check can fail
 
@@ -781,7 +781,8 @@ class BuggyTerm : public EnergyTerm {
     m_t->add_hessian(x, L, psd);
     if (m_bug == Bug::HESSIAN_1E3) Eigen::Map<Vec>(L.valuePtr(), L.nonZeros()) *= 1 + 1e-3;
     if (m_bug == Bug::EXACT_LAW_HESSIAN)
-      for (Index k = 0; k < m_p.nc; ++k) L.coeffRef(m_p.nu(k), m_p.nu(k)) = m_p.nodes.w[k] * m_p.exact->dp(x[m_p.nu(k)]);
+      for (Index k = 0; k < m_p.nc; ++k)
+        L.coeffRef(m_p.nu(k), m_p.nu(k)) = m_p.nodes.w[k] * m_p.exact->dp(x[m_p.nu(k)]);
     Eigen::Map<Vec>(H.valuePtr(), H.nonZeros()) += Eigen::Map<const Vec>(L.valuePtr(), L.nonZeros());
   }
 
@@ -827,8 +828,10 @@ TEST_P(EnergyFd, CheckFlagsWrongDerivatives) {
     }
     // A 1e-4 gradient error shows everywhere; the 2D friction Hessian vanishes when every node
     // slides with |u_τ| ≥ ε, so a scaled Hessian shows only at points with some |u_τ| < ε.
-    if (bug == Bug::GRADIENT_1E4) EXPECT_EQ(flagged_f, static_cast<int>(xs.size()));
-    else EXPECT_GT(flagged_f, 0);
+    if (bug == Bug::GRADIENT_1E4)
+      EXPECT_EQ(flagged_f, static_cast<int>(xs.size()));
+    else
+      EXPECT_GT(flagged_f, 0);
   }
   // Using the exact law's p_ν, p_ν′ instead of the mollified ones is caught inside the windows.
   for (Bug bug : {Bug::EXACT_LAW_GRADIENT, Bug::EXACT_LAW_HESSIAN}) {

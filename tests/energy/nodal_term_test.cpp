@@ -44,8 +44,8 @@ struct Scene {
   NodalDofs nodes;
   Vec g, lambda;
   std::vector<bool> roller;
-  SpMat K_pattern;    ///< lower: tridiagonal couplings + full nodal blocks (like K's)
-  SpMat blocks;       ///< lower: the nodal blocks only
+  SpMat K_pattern;  ///< lower: tridiagonal couplings + full nodal blocks (like K's)
+  SpMat blocks;     ///< lower: the nodal blocks only
   std::shared_ptr<const MollifiedLaw> law;
   Index nu(Index k) const { return nodes.first[k]; }
 };
@@ -107,7 +107,8 @@ Vec make_point(const Scene& s, std::mt19937& rng) {
     do
       for (int a = 0; a + 1 < s.dim; ++a) dir[a] = 2 * u01(rng) - 1;
     while (dir.norm() < 0.1);
-    x.segment(s.nu(k) + 1, s.dim - 1) = s.roller[static_cast<size_t>(k)] ? Vec(Vec::Zero(s.dim - 1)) : Vec(y * dir.normalized());
+    x.segment(s.nu(k) + 1, s.dim - 1) =
+        s.roller[static_cast<size_t>(k)] ? Vec(Vec::Zero(s.dim - 1)) : Vec(y * dir.normalized());
   }
   return x;
 }
@@ -212,8 +213,8 @@ TEST_P(NodalTermEnergy, PatternCacheEqualsTripletAssembly) {
         // Each entry is 0 + the same kernel values in the same order both ways: equal exactly.
         EXPECT_EQ(dense(H), dense(T));
         // Each term alone, too.
-        for (const NodalTerm* term : {static_cast<const NodalTerm*>(sum.normal.get()),
-                                      static_cast<const NodalTerm*>(sum.friction.get())}) {
+        for (const NodalTerm* term :
+             {static_cast<const NodalTerm*>(sum.normal.get()), static_cast<const NodalTerm*>(sum.friction.get())}) {
           Triplets tt;
           term->add_hessian_triplets(x, tt, psd);
           SpMat Tt(s_.n, s_.n);

@@ -3,13 +3,13 @@
 // 2D (the hencky paper scene on a coarse mesh) and 3D (a cube of 6 tetrahedra); and for a linear
 // material the term equals ½ xᵀ K x exactly (same K as the assembly).
 
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/energy/nonlinear_elastic_energy.hpp>
 #include <hemicontact/energy/total_energy.hpp>
 #include <hemicontact/fem/assembly.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/material/hencky.hpp>
 #include <hemicontact/material/linear_elastic.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include "support/fd_check.hpp"
 

@@ -179,7 +179,9 @@ TEST_P(PatchTest, SymmetricAndDefiniteAfterClamping) {
 
 INSTANTIATE_TEST_SUITE_P(AllDiagonals, PatchTest,
                          ::testing::Values(Diagonal::RIGHT, Diagonal::LEFT, Diagonal::SYMMETRIC, Diagonal::CROSSED),
-                         [](const ::testing::TestParamInfo<Diagonal>& info) { return std::string(to_string(info.param)); });
+                         [](const ::testing::TestParamInfo<Diagonal>& info) {
+                           return std::string(to_string(info.param));
+                         });
 
 // Σ_a φ_a = 1 and Σ_a x_a φ_a = x for P1, so the assembled body force has total f0 |Ω| and first
 // moment f0 ∫Ω x, exactly up to summation round-off (1e-13 relative for a few hundred terms).

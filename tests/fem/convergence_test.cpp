@@ -68,7 +68,11 @@ BoundarySpec clamp_all_sides() {
 // (a few ulps of values ≤ 0.5, hence 1e-15).
 TEST(DunavantRule, ExactToDegreeFour) {
   const auto& q = test::dunavant4();
-  const auto fact = [](int n) { double f = 1; for (int k = 2; k <= n; ++k) f *= k; return f; };
+  const auto fact = [](int n) {
+    double f = 1;
+    for (int k = 2; k <= n; ++k) f *= k;
+    return f;
+  };
   for (int i = 0; i <= 4; ++i)
     for (int j = 0; i + j <= 4; ++j) {
       double s = 0;
@@ -128,8 +132,8 @@ TEST_P(Convergence, ObservedOrders) {
   for (size_t k = 0; k < ns.size(); ++k) {
     const double oe = k ? std::log2(e_energy[k - 1] / e_energy[k]) : NAN;
     const double ol = k ? std::log2(e_l2[k - 1] / e_l2[k]) : NAN;
-    std::printf("[ orders   ] %-9s %3d  %.5e  %5.3f   %.5e  %5.3f\n", to_string(diag), ns[k], e_energy[k], oe,
-                e_l2[k], ol);
+    std::printf("[ orders   ] %-9s %3d  %.5e  %5.3f   %.5e  %5.3f\n", to_string(diag), ns[k], e_energy[k], oe, e_l2[k],
+                ol);
     if (k) {
       EXPECT_LT(e_energy[k], e_energy[k - 1]) << "n = " << ns[k];
       EXPECT_LT(e_l2[k], e_l2[k - 1]) << "n = " << ns[k];
@@ -143,4 +147,6 @@ TEST_P(Convergence, ObservedOrders) {
 
 INSTANTIATE_TEST_SUITE_P(AllDiagonals, Convergence,
                          ::testing::Values(Diagonal::RIGHT, Diagonal::LEFT, Diagonal::SYMMETRIC, Diagonal::CROSSED),
-                         [](const ::testing::TestParamInfo<Diagonal>& info) { return std::string(to_string(info.param)); });
+                         [](const ::testing::TestParamInfo<Diagonal>& info) {
+                           return std::string(to_string(info.param));
+                         });

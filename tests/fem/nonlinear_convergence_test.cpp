@@ -6,10 +6,10 @@
 //   m_F‖ε(u − u_h)‖² ≤ (F(ε u) − F(ε u_h), ε(u − v_h)) ≤ L_F‖ε(u − u_h)‖ ‖ε(u − v_h)‖,
 // i.e. Céa's lemma with constant L_F/m_F, and the interpolation error of u* ∈ H² is O(h).
 
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/material/hencky.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include "support/fem_problem.hpp"
 #include "support/manufactured.hpp"
@@ -31,7 +31,8 @@ namespace {
 nlohmann::json manufactured_scene(int n) {
   nlohmann::json s = {
       {"mesh", {{"n", n}, {"diagonal", "crossed"}}},
-      {"material", {{"model", "hencky"}, {"E", 2000}, {"nu", 0.4}, {"plane", "strain"}, {"shear_ratio", 0.3}, {"eps_ref", 0.5}}},
+      {"material",
+       {{"model", "hencky"}, {"E", 2000}, {"nu", 0.4}, {"plane", "strain"}, {"shear_ratio", 0.3}, {"eps_ref", 0.5}}},
       {"boundary", {{"gamma1", {{{"side", "left"}}, {{"side", "right"}}, {{"side", "bottom"}}, {{"side", "top"}}}}}},
       {"solver", {{"backend", "newton"}}}};
   return validate_scene(s);

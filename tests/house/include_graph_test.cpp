@@ -31,10 +31,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::map<std::string, int> LAYER = {
-    {"core", 0},    {"config", 0},  {"mesh", 1},  {"material", 1}, {"nlp", 1},     {"contact", 2},
-    {"fem", 3},     {"energy", 4},  {"problem", 5}, {"check", 6},  {"scene", 7},   {"driver", 8},
-    {"output", 9},  {"cli", 10}};
+const std::map<std::string, int> LAYER = {{"core", 0},    {"config", 0}, {"mesh", 1},   {"material", 1}, {"nlp", 1},
+                                          {"contact", 2}, {"fem", 3},    {"energy", 4}, {"problem", 5},  {"check", 6},
+                                          {"scene", 7},   {"driver", 8}, {"output", 9}, {"cli", 10}};
 
 struct Edge {
   std::string from, to, file;
@@ -86,9 +85,8 @@ TEST(House, IncludesPointDownOnly) {
     ASSERT_TRUE(LAYER.count(e.from)) << e.file;
     ASSERT_TRUE(LAYER.count(e.to)) << e.file << " includes unknown folder " << e.to;
     if (e.from == e.to) continue;
-    EXPECT_LT(LAYER.at(e.to), LAYER.at(e.from))
-        << e.file << ": " << e.from << " (layer " << LAYER.at(e.from) << ") includes " << e.to << " (layer "
-        << LAYER.at(e.to) << ")";
+    EXPECT_LT(LAYER.at(e.to), LAYER.at(e.from)) << e.file << ": " << e.from << " (layer " << LAYER.at(e.from)
+                                                << ") includes " << e.to << " (layer " << LAYER.at(e.to) << ")";
   }
 }
 

@@ -9,8 +9,8 @@
 #include "support/expect_error.hpp"
 #include "support/fd_check.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include <random>
 
@@ -23,8 +23,12 @@ constexpr double E = 2000, NU = 0.4;
 
 // Strain (Voigt, engineering shears) → Frobenius coordinates: shears carry the factor 1/√2 there
 // (|ε|² = Σ ε_ii² + 2 Σ ε_ij² = Σ v_i² + ½ Σ γ_ij²); stresses σ_ij carry √2. Then ⟨σ, ε⟩ = σ_voigt·ε_voigt.
-double strain_norm(const Vec& v, int d) { return std::sqrt(v.head(d).squaredNorm() + 0.5 * v.tail(v.size() - d).squaredNorm()); }
-double stress_norm(const Vec& s, int d) { return std::sqrt(s.head(d).squaredNorm() + 2 * s.tail(s.size() - d).squaredNorm()); }
+double strain_norm(const Vec& v, int d) {
+  return std::sqrt(v.head(d).squaredNorm() + 0.5 * v.tail(v.size() - d).squaredNorm());
+}
+double stress_norm(const Vec& s, int d) {
+  return std::sqrt(s.head(d).squaredNorm() + 2 * s.tail(s.size() - d).squaredNorm());
+}
 
 // The tangent as an operator on symmetric tensors with the Frobenius inner product: Ĉ = S C S,
 // S = diag(1, .., √2, ..) (stress coordinates × √2 on shears, strain coordinates ÷ √2).
@@ -48,8 +52,8 @@ struct Case {
   double shear_ratio, eps_ref;
 };
 
-const Case kCases[] = {{"Soft2D", 2, 0.3, 0.01}, {"Stiff2D", 2, 2.5, 0.05}, {"Soft3D", 3, 0.3, 0.01},
-                       {"Stiff3D", 3, 2.5, 0.05}};
+const Case kCases[] = {
+    {"Soft2D", 2, 0.3, 0.01}, {"Stiff2D", 2, 2.5, 0.05}, {"Soft3D", 3, 0.3, 0.01}, {"Stiff3D", 3, 2.5, 0.05}};
 
 class HenckyLaw : public ::testing::TestWithParam<Case> {};
 
@@ -90,7 +94,8 @@ TEST_P(HenckyLaw, MonotoneAndLipschitzConstants) {
   for (double scale : {0.1, 1.0, 10.0, 100.0}) {
     for (int k = 0; k < 200; ++k) {
       const Vec a = random_strain(rng, d, scale * c.eps_ref);
-      const Vec b = (k % 2) ? random_strain(rng, d, scale * c.eps_ref) : Vec(a + random_strain(rng, d, 1e-3 * scale * c.eps_ref));
+      const Vec b =
+          (k % 2) ? random_strain(rng, d, scale * c.eps_ref) : Vec(a + random_strain(rng, d, 1e-3 * scale * c.eps_ref));
       const Vec ds = law.stress(a) - law.stress(b), de = a - b;
       const double n2 = std::pow(strain_norm(de, d), 2);
       const double mono = ds.dot(de) / n2, lip = stress_norm(ds, d) / strain_norm(de, d);
@@ -103,7 +108,8 @@ TEST_P(HenckyLaw, MonotoneAndLipschitzConstants) {
       EXPECT_LE(es.eigenvalues().maxCoeff(), LF * (1 + 1e-12));
     }
   }
-  std::printf("[ constants] %s: m_F = %.6g (sampled min %.6g), L_F = %.6g (sampled max %.6g)\n", c.name, mF, lo, LF, hi);
+  std::printf("[ constants] %s: m_F = %.6g (sampled min %.6g), L_F = %.6g (sampled max %.6g)\n", c.name, mF, lo, LF,
+              hi);
   // Sharpness: pure shear γ12 at s = 0 and s ≫ s_0 (μ → μ_0 and μ → μ_∞); the spectrum's extremes
   // there are the bounds (to O(√(s_0/s)) at the far end).
   double eig_lo = INF, eig_hi = 0;
@@ -170,7 +176,8 @@ TEST(Hencky, ClosedFormConstants) {
 }
 
 TEST(Hencky, FactoryErrorsNameTheKey) {
-  nlohmann::json m = {{"model", "hencky"}, {"E", E}, {"nu", NU}, {"plane", "stress"}, {"shear_ratio", 0.5}, {"eps_ref", 0.02}};
+  nlohmann::json m = {{"model", "hencky"},  {"E", E},         {"nu", NU}, {"plane", "stress"},
+                      {"shear_ratio", 0.5}, {"eps_ref", 0.02}};
   test::expect_input_error([&] { make_material(m, 2); }, {"material.plane", "plane strain"});
   EXPECT_EQ(make_material(m, 3)->dim(), 3);  // plane is irrelevant in 3D
   m["plane"] = "strain";

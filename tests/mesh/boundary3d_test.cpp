@@ -18,8 +18,8 @@
 #include <string>
 
 using namespace hemicontact;
-using hemicontact::test::side;
 using hemicontact::test::expect_input_error;
+using hemicontact::test::side;
 
 namespace {
 
@@ -27,7 +27,9 @@ Mesh box(int nx, int ny, int nz) {
   BoxSpec s;
   s.x1 = 2.0;  // distinct extents, so a wrong axis would select a wrong area
   s.y1 = 3.0;
-  s.nx = nx; s.ny = ny; s.nz = nz;
+  s.nx = nx;
+  s.ny = ny;
+  s.nz = nz;
   s.pattern = BoxPattern::SYMMETRIC;
   return make_box(s);
 }
@@ -50,9 +52,14 @@ Vec e(double x, double y, double z) { return (Vec(3) << x, y, z).finished(); }
 // Each of the six sides, alone as Γ3 with the opposite side (or another) clamped, has the area and
 // outward normal of its face of [0,2]×[0,3]×[0,1].
 TEST(Boundary3D, SixSidesSelectTheirFaces) {
-  struct Case { const char* side; const char* clamp; double area; Vec normal; };
-  const Case cases[] = {{"left", "right", 3.0, e(-1, 0, 0)},  {"right", "left", 3.0, e(1, 0, 0)},
-                        {"front", "back", 2.0, e(0, -1, 0)},  {"back", "front", 2.0, e(0, 1, 0)},
+  struct Case {
+    const char* side;
+    const char* clamp;
+    double area;
+    Vec normal;
+  };
+  const Case cases[] = {{"left", "right", 3.0, e(-1, 0, 0)}, {"right", "left", 3.0, e(1, 0, 0)},
+                        {"front", "back", 2.0, e(0, -1, 0)}, {"back", "front", 2.0, e(0, 1, 0)},
                         {"bottom", "top", 6.0, e(0, 0, -1)}, {"top", "bottom", 6.0, e(0, 0, 1)}};
   for (const auto& c : cases) {
     Mesh m = box(4, 2, 3);

@@ -54,8 +54,12 @@ class BoxTiling : public ::testing::TestWithParam<std::tuple<BoxPattern, int>> {
 TEST_P(BoxTiling, VolumeConformityOrientation) {
   const auto [pattern, n] = GetParam();
   BoxSpec s;
-  s.x1 = 2.0; s.y0 = -1.0; s.z1 = 0.5;
-  s.nx = n; s.ny = n + 2; s.nz = n + 1;
+  s.x1 = 2.0;
+  s.y0 = -1.0;
+  s.z1 = 0.5;
+  s.nx = n;
+  s.ny = n + 2;
+  s.nz = n + 1;
   s.pattern = pattern;
   const Mesh m = make_box(s);
   EXPECT_EQ(m.num_cells(), 6 * s.nx * s.ny * s.nz);
@@ -88,7 +92,9 @@ INSTANTIATE_TEST_SUITE_P(BothPatterns, BoxTiling,
 TEST(Box, SymmetricPatternIsMirrorSymmetric) {
   for (BoxPattern p : {BoxPattern::SYMMETRIC, BoxPattern::KUHN}) {
     BoxSpec s;
-    s.nx = 4; s.ny = 6; s.nz = 3;
+    s.nx = 4;
+    s.ny = 6;
+    s.nz = 3;
     s.pattern = p;
     const Mesh m = make_box(s);
     const auto grid = [&](int i, int j, int k) { return (k * (s.ny + 1) + j) * (s.nx + 1) + i; };
@@ -105,16 +111,17 @@ TEST(Box, SymmetricPatternIsMirrorSymmetric) {
           for (int i = 0; i <= s.nx; ++i)
             image[grid(i, j, k)] = axis == 0 ? grid(s.nx - i, j, k) : grid(i, s.ny - j, k);
       // The node map is the geometric reflection.
-      for (Index v = 0; v < m.num_nodes(); ++v)
-        EXPECT_NEAR(m.points(image[v], axis), 1.0 - m.points(v, axis), 1e-15);
+      for (Index v = 0; v < m.num_nodes(); ++v) EXPECT_NEAR(m.points(image[v], axis), 1.0 - m.points(v, axis), 1e-15);
       int mapped = 0;
       for (const auto& t : cells) {
         std::array<int, 4> r{image[t[0]], image[t[1]], image[t[2]], image[t[3]]};
         std::sort(r.begin(), r.end());
         mapped += cells.count(r) ? 1 : 0;
       }
-      if (p == BoxPattern::SYMMETRIC) EXPECT_EQ(mapped, static_cast<int>(cells.size())) << "axis " << axis;
-      else EXPECT_LT(mapped, static_cast<int>(cells.size())) << "axis " << axis;
+      if (p == BoxPattern::SYMMETRIC)
+        EXPECT_EQ(mapped, static_cast<int>(cells.size())) << "axis " << axis;
+      else
+        EXPECT_LT(mapped, static_cast<int>(cells.size())) << "axis " << axis;
     }
   }
 }
@@ -123,7 +130,9 @@ TEST(Box, SymmetricPatternIsMirrorSymmetric) {
 // (x_{i+1}, z_{k+1}): the slab test relies on it to compare with make_rectangle's RIGHT mesh.
 TEST(Box, KuhnFrontFaceIsTheRightDiagonal) {
   BoxSpec s;
-  s.nx = 3; s.ny = 2; s.nz = 4;
+  s.nx = 3;
+  s.ny = 2;
+  s.nz = 4;
   const Mesh m = make_box(s);
   int checked = 0;
   for (Index f = 0; f < m.num_facets(); ++f) {

@@ -22,8 +22,8 @@ namespace {
 
 std::string data(const std::string& name) { return std::string(HEMICONTACT_SOURCE_DIR) + "/tests/data/" + name; }
 
-#define SKIP_WITHOUT_GMSH()                                                                       \
-  do {                                                                                            \
+#define SKIP_WITHOUT_GMSH()                                                                        \
+  do {                                                                                             \
     if (!HEMICONTACT_HAS_GMSH) GTEST_SKIP() << "built without the Gmsh API (install libgmsh-dev)"; \
   } while (0)
 

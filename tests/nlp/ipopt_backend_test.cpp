@@ -26,10 +26,9 @@
 namespace hemicontact::test {
 namespace {
 
-#define HEMICONTACT_REQUIRE_IPOPT() \
-  if (!HEMICONTACT_HAS_IPOPT)       \
-  GTEST_SKIP() << "Ipopt backend not compiled in (install coinor-libipopt-dev and rebuild)"
-
+#define HEMICONTACT_REQUIRE_IPOPT()                                                                             \
+  if (!HEMICONTACT_HAS_IPOPT) GTEST_SKIP() << "Ipopt backend not compiled in (install coinor-libipopt-dev and " \
+                                              "rebuild)"
 
 /// Options for tests that compare with an exact answer to 1e-9. An interior point stops at a
 /// distance ≈ tol·G/z from an active bound (G = max(1, ‖∇f(x0)‖∞), z the multiplier), ~1e-9 for
@@ -79,9 +78,8 @@ TEST(MakeBackend, UnknownNameListsAvailable) {
 
 TEST(MakeBackend, AvailableBackendsMatchesBuild) {
   const auto list = available_backends();
-  const bool has_ipopt = std::any_of(list.begin(), list.end(), [](const auto& e) {
-    return e.first == "ipopt" && !e.second.empty();
-  });
+  const bool has_ipopt =
+      std::any_of(list.begin(), list.end(), [](const auto& e) { return e.first == "ipopt" && !e.second.empty(); });
   EXPECT_EQ(has_ipopt, bool(HEMICONTACT_HAS_IPOPT));
   for (const auto& [name, description] : list) {
     EXPECT_FALSE(description.empty()) << name;
@@ -100,8 +98,7 @@ TEST(MakeBackend, IpoptByNameOrNotCompiledInError) {
     make_backend("ipopt");
     FAIL() << "expected an Error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("was not compiled in (install coinor-libipopt-dev"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("was not compiled in (install coinor-libipopt-dev"), std::string::npos)
         << e.what();
   }
 }
@@ -130,8 +127,7 @@ TEST(TestProblems, DerivativesMatchFiniteDifferences) {
       SCOPED_TRACE("n = " + std::to_string(f->size()) + ", trial " + std::to_string(trial));
       Vec g;
       f->gradient(x, g);
-      EXPECT_TRUE(
-          near_rel(g, fd_gradient([f](const Vec& y) { return f->value(y); }, x), 1e-6, 1e-7));
+      EXPECT_TRUE(near_rel(g, fd_gradient([f](const Vec& y) { return f->value(y); }, x), 1e-6, 1e-7));
       const Mat J = fd_jacobian(
           [f](const Vec& y) {
             Vec gy;
@@ -174,8 +170,7 @@ TEST(IpoptBackend, BoxQpMatchesEnumeratedSolution) {
   const SolveResult r = backend->minimize(make_problem(f, q.lower, q.upper), x, accurate());
   EXPECT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_TRUE(r.ok());
-  EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9)
-      << "x = " << x.transpose() << "\nexact = " << exact.transpose();
+  EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9) << "x = " << x.transpose() << "\nexact = " << exact.transpose();
   EXPECT_NEAR(r.f, f.value(exact), 1e-9 * (1.0 + std::abs(f.value(exact))));
   EXPECT_LE(r.kkt_norm, 1e-8);
   EXPECT_GT(r.iterations, 0);
@@ -190,8 +185,7 @@ TEST(IpoptBackend, StartOutsideBoundsIsProjected) {
   const QuadraticObjective f(q.A, q.b);
   const Vec exact = solve_box_qp_by_enumeration(q.A, q.b, q.lower, q.upper);
   Vec x = Vec::Constant(6, 50.0);
-  const SolveResult r =
-      make_backend("ipopt")->minimize(make_problem(f, q.lower, q.upper), x, accurate());
+  const SolveResult r = make_backend("ipopt")->minimize(make_problem(f, q.lower, q.upper), x, accurate());
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9);
 }
@@ -216,7 +210,6 @@ TEST(IpoptBackend, FixedVariableAndWarmStartWithIt) {
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9);
 }
 
-
 class IpoptDoubleWell : public ::testing::TestWithParam<DoubleWellCase> {};
 
 TEST_P(IpoptDoubleWell, ReachesClosedFormMinimizer) {
@@ -226,20 +219,17 @@ TEST_P(IpoptDoubleWell, ReachesClosedFormMinimizer) {
   const Vec lower = (Vec(2) << c.lower_x, -INF).finished();
   const Vec upper = (Vec(2) << c.upper_x, INF).finished();
   Vec x = (Vec(2) << c.x0, c.y0).finished();
-  const SolveResult r =
-      make_backend("ipopt")->minimize(make_problem(f, lower, upper), x, accurate());
+  const SolveResult r = make_backend("ipopt")->minimize(make_problem(f, lower, upper), x, accurate());
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_NEAR(x[0], c.x_star, 1e-9);
   EXPECT_NEAR(x[1], c.y_star, 1e-9);
   EXPECT_LE(r.kkt_norm, 1e-8);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Cases, IpoptDoubleWell,
-    ::testing::ValuesIn(double_well_cases()),
-    [](const ::testing::TestParamInfo<DoubleWellCase>& info) {
-      return std::string(info.param.name);
-    });
+INSTANTIATE_TEST_SUITE_P(Cases, IpoptDoubleWell, ::testing::ValuesIn(double_well_cases()),
+                         [](const ::testing::TestParamInfo<DoubleWellCase>& info) {
+                           return std::string(info.param.name);
+                         });
 
 TEST(IpoptBackend, RosenbrockWithActiveBound) {
   HEMICONTACT_REQUIRE_IPOPT();
@@ -247,8 +237,7 @@ TEST(IpoptBackend, RosenbrockWithActiveBound) {
   const Vec lower = (Vec(2) << -1.5, -1.5).finished();
   const Vec upper = (Vec(2) << 0.5, 2.0).finished();
   Vec x = (Vec(2) << -1.2, 1.0).finished();  // the classic start
-  const SolveResult r =
-      make_backend("ipopt")->minimize(make_problem(f, lower, upper), x, accurate());
+  const SolveResult r = make_backend("ipopt")->minimize(make_problem(f, lower, upper), x, accurate());
   ASSERT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_NEAR(x[0], 0.5, 1e-9);
   EXPECT_NEAR(x[1], 0.25, 1e-9);
@@ -262,8 +251,8 @@ TEST(IpoptBackend, ChainedRosenbrockInactiveBounds) {
   const Index n = 10;
   const RosenbrockObjective f(n);
   Vec x = Vec::Constant(n, 0.5);
-  const SolveResult r = make_backend("ipopt")->minimize(
-      make_problem(f, Vec::Zero(n), Vec::Constant(n, 2.0)), x, accurate());
+  const SolveResult r =
+      make_backend("ipopt")->minimize(make_problem(f, Vec::Zero(n), Vec::Constant(n, 2.0)), x, accurate());
   ASSERT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_LE((x - Vec::Ones(n)).cwiseAbs().maxCoeff(), 1e-8);
 }
@@ -285,13 +274,12 @@ TEST(IpoptBackend, IpoptDerivativeTestPasses) {
     opt.extra["output_file"] = log;
     opt.extra["file_print_level"] = "4";  // J_WARNING: where the checker reports
     Vec x = Vec::Constant(n, 0.3);
-    const SolveResult r = make_backend("ipopt")->minimize(
-        make_problem(*f, Vec::Constant(n, -2.0), Vec::Constant(n, 2.0)), x, opt);
+    const SolveResult r =
+        make_backend("ipopt")->minimize(make_problem(*f, Vec::Constant(n, -2.0), Vec::Constant(n, 2.0)), x, opt);
     EXPECT_TRUE(r.ok()) << r.message;
     const std::string report = read_file(log);
-    EXPECT_NE(report.find("No errors detected by derivative checker"), std::string::npos)
-        << "n = " << n << ":\n"
-        << report;
+    EXPECT_NE(report.find("No errors detected by derivative checker"), std::string::npos) << "n = " << n << ":\n"
+                                                                                          << report;
   }
   std::remove(log.c_str());
 }
@@ -307,8 +295,7 @@ TEST(IpoptBackend, IpoptDerivativeTestCatchesWrongGradient) {
   opt.extra["file_print_level"] = "4";
   opt.max_iter = 5;  // the run itself is beside the point
   Vec x = Vec::Constant(2, 0.3);
-  make_backend("ipopt")->minimize(
-      make_problem(wrong, Vec::Constant(2, -2.0), Vec::Constant(2, 2.0)), x, opt);
+  make_backend("ipopt")->minimize(make_problem(wrong, Vec::Constant(2, -2.0), Vec::Constant(2, 2.0)), x, opt);
   const std::string report = read_file(log);
   EXPECT_NE(report.find("Derivative checker detected"), std::string::npos) << report;
   std::remove(log.c_str());
@@ -344,8 +331,7 @@ TEST(IpoptBackend, WarmStartAfterSmallChangeBeatsColdStart) {
   ASSERT_TRUE(backend->minimize(make_problem(f1, q.lower, q.upper), x, accurate()).ok());
   const SolveResult warm = backend->minimize(make_problem(f2, q.lower, q.upper), x, accurate());
   Vec x_cold = Vec::Zero(6);
-  const SolveResult cold =
-      make_backend("ipopt")->minimize(make_problem(f2, q.lower, q.upper), x_cold, accurate());
+  const SolveResult cold = make_backend("ipopt")->minimize(make_problem(f2, q.lower, q.upper), x_cold, accurate());
   ASSERT_TRUE(warm.ok() && cold.ok()) << warm.message << " / " << cold.message;
   EXPECT_LT(warm.iterations, cold.iterations);
   EXPECT_LE((x - exact2).cwiseAbs().maxCoeff(), 1e-9);
@@ -357,8 +343,8 @@ TEST(IpoptBackend, MaxIterationsIsReported) {
   Vec x = (Vec(2) << -1.2, 1.0).finished();
   BackendOptions opt;
   opt.max_iter = 3;
-  const SolveResult r = make_backend("ipopt")->minimize(
-      make_problem(f, Vec::Constant(2, -INF), Vec::Constant(2, INF)), x, opt);
+  const SolveResult r =
+      make_backend("ipopt")->minimize(make_problem(f, Vec::Constant(2, -INF), Vec::Constant(2, INF)), x, opt);
   EXPECT_EQ(r.status, SolveStatus::MAX_ITERATIONS) << r.message;
   EXPECT_FALSE(r.ok());
   EXPECT_EQ(r.iterations, 3);
@@ -399,8 +385,8 @@ TEST(IpoptBackend, PassThroughOptionsOfEachType) {
   opt.extra["obj_scaling_factor"] = "2";  // numeric although it parses as an integer
   opt.extra["mu_init"] = "1e-2";          // numeric
   Vec x = (Vec(2) << 0.3, 0.0).finished();
-  const SolveResult r = make_backend("ipopt")->minimize(
-      make_problem(f, Vec::Constant(2, -INF), (Vec(2) << 0.5, INF).finished()), x, opt);
+  const SolveResult r =
+      make_backend("ipopt")->minimize(make_problem(f, Vec::Constant(2, -INF), (Vec(2) << 0.5, INF).finished()), x, opt);
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_NEAR(x[0], 0.5, 1e-8);
 }
@@ -421,8 +407,8 @@ TEST(IpoptBackend, IgnoresIpoptOptFileInWorkingDirectory) {
   Vec x = (Vec(2) << -1.2, 1.0).finished();
   SolveResult r;
   try {
-    r = make_backend("ipopt")->minimize(
-        make_problem(f, Vec::Constant(2, -INF), Vec::Constant(2, INF)), x, BackendOptions{});
+    r = make_backend("ipopt")->minimize(make_problem(f, Vec::Constant(2, -INF), Vec::Constant(2, INF)), x,
+                                        BackendOptions{});
   } catch (...) {
     std::remove("ipopt.opt");
     EXPECT_EQ(::chdir(old_dir), 0);
@@ -441,10 +427,9 @@ TEST(IpoptBackend, ObjectiveExceptionsPropagate) {
   const DoubleWellObjective well;
   const ThrowingObjective f(well, 3);
   Vec x = Vec::Constant(2, 0.3);
-  EXPECT_THROW(
-      make_backend("ipopt")->minimize(
-          make_problem(f, Vec::Constant(2, -2.0), Vec::Constant(2, 2.0)), x, BackendOptions{}),
-      std::runtime_error);
+  EXPECT_THROW(make_backend("ipopt")->minimize(make_problem(f, Vec::Constant(2, -2.0), Vec::Constant(2, 2.0)), x,
+                                               BackendOptions{}),
+               std::runtime_error);
 }
 
 TEST(IpoptBackend, RejectsMismatchedSizesAndEmptyBounds) {
@@ -452,11 +437,9 @@ TEST(IpoptBackend, RejectsMismatchedSizesAndEmptyBounds) {
   const DoubleWellObjective f;
   const auto backend = make_backend("ipopt");
   Vec x = Vec::Zero(3);
-  EXPECT_THROW(backend->minimize(make_problem(f, Vec::Zero(2), Vec::Ones(2)), x, BackendOptions{}),
-               Error);
+  EXPECT_THROW(backend->minimize(make_problem(f, Vec::Zero(2), Vec::Ones(2)), x, BackendOptions{}), Error);
   x = Vec::Zero(2);
-  EXPECT_THROW(backend->minimize(make_problem(f, Vec::Ones(2), Vec::Zero(2)), x, BackendOptions{}),
-               Error);
+  EXPECT_THROW(backend->minimize(make_problem(f, Vec::Ones(2), Vec::Zero(2)), x, BackendOptions{}), Error);
 }
 
 }  // namespace

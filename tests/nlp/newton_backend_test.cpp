@@ -5,10 +5,10 @@
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/nlp/backend.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include "nlp/test_problems.hpp"
 
@@ -26,7 +26,6 @@ namespace {
 
 #define HEMICONTACT_REQUIRE_IPOPT_HERE() \
   if (!HEMICONTACT_HAS_IPOPT) GTEST_SKIP() << "Ipopt backend not compiled in: the comparison needs it"
-
 
 NlpProblem make_problem(const NlpObjective& f, const Vec& lower, const Vec& upper) {
   NlpProblem p;
@@ -126,8 +125,7 @@ TEST(NewtonBackend, BoxQpMatchesEnumeratedSolution) {
   Vec x = Vec::Zero(6);
   const SolveResult r = make_backend("newton")->minimize(make_problem(f, q.lower, q.upper), x, accurate());
   EXPECT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
-  EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-12)
-      << "x = " << x.transpose() << "\nexact = " << exact.transpose();
+  EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-12) << "x = " << x.transpose() << "\nexact = " << exact.transpose();
   EXPECT_NEAR(r.f, f.value(exact), 1e-12 * (1.0 + std::abs(f.value(exact))));
   EXPECT_LE(r.kkt_norm, 1e-12);
   EXPECT_EQ(r.kkt_norm, residual(f, x, q.lower, q.upper));
@@ -152,8 +150,7 @@ TEST(NewtonBackend, BoxQpFinishesInFewIterationsOnceTheActiveSetIsRight) {
       if (at_lower[size_t(i)]) x[i] = q.lower[i];
       if (at_upper[size_t(i)]) x[i] = q.upper[i];
     }
-    const SolveResult r =
-        make_backend("newton")->minimize(make_problem(f, q.lower, q.upper), x, accurate(ls));
+    const SolveResult r = make_backend("newton")->minimize(make_problem(f, q.lower, q.upper), x, accurate(ls));
     EXPECT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
     EXPECT_GE(r.iterations, 1);
     EXPECT_LE(r.iterations, 3);
@@ -179,8 +176,7 @@ TEST(NewtonBackend, FixedVariable) {
   for (const std::string ls : {"dense", "cholmod"}) {
     SCOPED_TRACE(ls);
     Vec x = Vec::Zero(6);
-    const SolveResult r =
-        make_backend("newton")->minimize(make_problem(f, q.lower, q.upper), x, accurate(ls));
+    const SolveResult r = make_backend("newton")->minimize(make_problem(f, q.lower, q.upper), x, accurate(ls));
     ASSERT_TRUE(r.ok()) << r.message;
     EXPECT_EQ(x[2], 0.3);
     EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-12);
@@ -214,10 +210,8 @@ TEST(NewtonBackend, SparseAndDensePatternsGiveTheSameAnswer) {
   const BoxQp q = make_box_qp();
   const QuadraticObjective f(q.A, q.b);
   Vec xc = Vec::Zero(6), xd = Vec::Zero(6);
-  const SolveResult rc =
-      make_backend("newton")->minimize(make_problem(f, q.lower, q.upper), xc, accurate("cholmod"));
-  const SolveResult rd =
-      make_backend("newton")->minimize(make_problem(f, q.lower, q.upper), xd, accurate("dense"));
+  const SolveResult rc = make_backend("newton")->minimize(make_problem(f, q.lower, q.upper), xc, accurate("cholmod"));
+  const SolveResult rd = make_backend("newton")->minimize(make_problem(f, q.lower, q.upper), xd, accurate("dense"));
   ASSERT_TRUE(rc.ok() && rd.ok()) << rc.message << " / " << rd.message;
   EXPECT_NE(rc.message.find("cholmod"), std::string::npos) << rc.message;
   EXPECT_LE((xc - xd).cwiseAbs().maxCoeff(), 1e-12);
@@ -247,7 +241,6 @@ TEST(NewtonBackend, CholmodAnalysisIsKeptWhileThePatternIsUnchanged) {
 }
 
 // ------------------------------------------------------------------ nonconvex and Rosenbrock
-
 
 class NewtonDoubleWell : public ::testing::TestWithParam<DoubleWellCase> {};
 
@@ -306,18 +299,17 @@ TEST_P(NewtonDoubleWell, AgreesWithIpopt) {
   HEMICONTACT_REQUIRE_IPOPT_HERE();
   const DoubleWellCase c = GetParam();
   const ClampedDoubleWell f;
-  const NlpProblem p =
-      make_problem(f, (Vec(2) << c.lower_x, -INF).finished(), (Vec(2) << c.upper_x, INF).finished());
+  const NlpProblem p = make_problem(f, (Vec(2) << c.lower_x, -INF).finished(), (Vec(2) << c.upper_x, INF).finished());
   Vec xn = (Vec(2) << c.x0, c.y0).finished(), xi = xn;
   ASSERT_TRUE(make_backend("newton")->minimize(p, xn, accurate()).ok());
   ASSERT_TRUE(make_backend("ipopt")->minimize(p, xi, accurate()).ok());
   EXPECT_LE((xn - xi).cwiseAbs().maxCoeff(), 1e-8) << xn.transpose() << " vs " << xi.transpose();
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Cases, NewtonDoubleWell,
-    ::testing::ValuesIn(double_well_cases()),
-    [](const ::testing::TestParamInfo<DoubleWellCase>& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(Cases, NewtonDoubleWell, ::testing::ValuesIn(double_well_cases()),
+                         [](const ::testing::TestParamInfo<DoubleWellCase>& info) {
+                           return std::string(info.param.name);
+                         });
 
 TEST(NewtonBackend, RosenbrockWithActiveBound) {
   const RosenbrockObjective f(2);
@@ -400,8 +392,8 @@ TEST(NewtonBackend, MaxIterationsIsRespected) {
     Vec x = (Vec(2) << -1.2, 1.0).finished();
     BackendOptions opt;
     opt.max_iter = cap;
-    const SolveResult r = make_backend("newton")->minimize(
-        make_problem(f, Vec::Constant(2, -INF), Vec::Constant(2, INF)), x, opt);
+    const SolveResult r =
+        make_backend("newton")->minimize(make_problem(f, Vec::Constant(2, -INF), Vec::Constant(2, INF)), x, opt);
     EXPECT_EQ(r.status, SolveStatus::MAX_ITERATIONS) << r.message;
     EXPECT_FALSE(r.ok());
     EXPECT_EQ(r.iterations, cap);
@@ -419,8 +411,8 @@ TEST(NewtonBackend, LineSearchFailureIsReported) {
   Vec x = q.A.llt().solve(q.b);  // the true unconstrained minimizer: every move increases f
   BackendOptions opt;
   opt.max_iter = 1000;
-  const SolveResult r = make_backend("newton")->minimize(
-      make_problem(wrong, Vec::Constant(6, -INF), Vec::Constant(6, INF)), x, opt);
+  const SolveResult r =
+      make_backend("newton")->minimize(make_problem(wrong, Vec::Constant(6, -INF), Vec::Constant(6, INF)), x, opt);
   EXPECT_EQ(r.status, SolveStatus::FAILED) << r.message;
   EXPECT_NE(r.message.find("line search"), std::string::npos) << r.message;
   // Steps of ~1e-11 may pass on the noise of f (the true change is ~α², below round-off), but
@@ -451,8 +443,8 @@ TEST(NewtonBackend, ObjectiveExceptionsPropagate) {
   const DoubleWellObjective well;
   const ThrowingObjective f(well, 3);
   Vec x = Vec::Constant(2, 0.3);
-  EXPECT_THROW(make_backend("newton")->minimize(
-                   make_problem(f, Vec::Constant(2, -2.0), Vec::Constant(2, 2.0)), x, BackendOptions{}),
+  EXPECT_THROW(make_backend("newton")->minimize(make_problem(f, Vec::Constant(2, -2.0), Vec::Constant(2, 2.0)), x,
+                                                BackendOptions{}),
                std::runtime_error);
 }
 

@@ -7,10 +7,10 @@
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/nlp/backend.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include "nlp/test_problems.hpp"
 
@@ -28,13 +28,12 @@ namespace hemicontact::test {
 namespace {
 
 #define HEMICONTACT_REQUIRE_NLOPT() \
-  if (!HEMICONTACT_HAS_NLOPT)       \
-  GTEST_SKIP() << "NLopt backends not compiled in (install libnlopt-cxx-dev and rebuild)"
+  if (!HEMICONTACT_HAS_NLOPT) GTEST_SKIP() << "NLopt backends not compiled in (install libnlopt-cxx-dev and rebuild)"
 
 /// The local algorithms the issue names, plus the other Luksan codes offered.
 const std::vector<std::string> NAMED_LOCAL = {"LD_MMA", "LD_CCSAQ", "LD_SLSQP", "LD_LBFGS"};
 const std::vector<std::string> ALL_LOCAL = {
-    "LD_MMA",  "LD_CCSAQ", "LD_SLSQP",   "LD_LBFGS",           "LD_VAR1",
+    "LD_MMA",  "LD_CCSAQ",   "LD_SLSQP",           "LD_LBFGS",           "LD_VAR1",
     "LD_VAR2", "LD_TNEWTON", "LD_TNEWTON_RESTART", "LD_TNEWTON_PRECOND", "LD_TNEWTON_PRECOND_RESTART"};
 
 NlpProblem make_problem(const NlpObjective& f, const Vec& lower, const Vec& upper) {
@@ -44,7 +43,6 @@ NlpProblem make_problem(const NlpObjective& f, const Vec& lower, const Vec& uppe
   p.upper = upper;
   return p;
 }
-
 
 /// f(x) = ½‖x‖² − 1ᵀx on a diagonal pattern, any n (the SLSQP size limit needs n > 3000 without
 /// a dense test matrix).
@@ -77,8 +75,8 @@ void expect_error(const std::string& name, const std::vector<std::string>& parts
 }
 
 /// Expects minimize() to throw an input Error whose message contains every @p part.
-void expect_minimize_error(const std::string& name, const NlpProblem& p, Vec x,
-                           const BackendOptions& opt, const std::vector<std::string>& parts) {
+void expect_minimize_error(const std::string& name, const NlpProblem& p, Vec x, const BackendOptions& opt,
+                           const std::vector<std::string>& parts) {
   SCOPED_TRACE(name);
   try {
     make_backend(name)->minimize(p, x, opt);
@@ -128,8 +126,7 @@ TEST(NloptBackend, ByNameOrNotCompiledInError) {
 TEST(NloptBackend, UnknownOrRefusedAlgorithmsSayWhy) {
   HEMICONTACT_REQUIRE_NLOPT();
   // Unknown: the message lists the supported names.
-  expect_error("nlopt:LD_BOGUS", {"LD_BOGUS", "unknown", "LD_MMA", "LD_CCSAQ", "LD_SLSQP",
-                                  "LD_LBFGS", "G_MLSL_LDS"});
+  expect_error("nlopt:LD_BOGUS", {"LD_BOGUS", "unknown", "LD_MMA", "LD_CCSAQ", "LD_SLSQP", "LD_LBFGS", "G_MLSL_LDS"});
   expect_error("nlopt:ld_mma", {"ld_mma", "unknown", "LD_MMA"});  // names are case-sensitive
   // Known to NLopt, refused with the reason.
   expect_error("nlopt:LN_COBYLA", {"LN_COBYLA", "derivative-free"});
@@ -150,8 +147,7 @@ TEST(NloptBackend, SlsqpRefusedAboveSizeLimit) {
   const NlpProblem p = make_problem(big, Vec::Constant(3001, -INF), Vec::Constant(3001, INF));
   expect_minimize_error("nlopt:LD_SLSQP", p, Vec::Zero(3001), BackendOptions{},
                         {"LD_SLSQP", "3001", "3000", "condensed"});
-  expect_minimize_error("nlopt:G_MLSL_LDS", p, Vec::Zero(3001), BackendOptions{},
-                        {"3001", "condensed"});
+  expect_minimize_error("nlopt:G_MLSL_LDS", p, Vec::Zero(3001), BackendOptions{}, {"3001", "condensed"});
   // The limit is SLSQP's: a first-order method takes the same problem (f = ½‖x − 1‖² − n/2).
   Vec x = Vec::Zero(3001);
   const SolveResult r = make_backend("nlopt:LD_LBFGS")->minimize(p, x, BackendOptions{});
@@ -171,12 +167,10 @@ TEST(NloptBackend, OptionsAreCheckedNotIgnored) {
   };
   expect_minimize_error("nlopt:LD_MMA", p, x0, with("mu_strategy", "adaptive"),
                         {"mu_strategy", "vector_storage", "maxeval"});
-  expect_minimize_error("nlopt:LD_MMA", p, x0, with("vector_storage", "5"),
-                        {"vector_storage", "LD_MMA"});
+  expect_minimize_error("nlopt:LD_MMA", p, x0, with("vector_storage", "5"), {"vector_storage", "LD_MMA"});
   expect_minimize_error("nlopt:LD_MMA", p, x0, with("box_radius", "1"), {"box_radius", "MLSL"});
   expect_minimize_error("nlopt:LD_LBFGS", p, x0, with("population", "10"), {"population"});
-  expect_minimize_error("nlopt:LD_LBFGS", p, x0, with("vector_storage", "5x"),
-                        {"vector_storage", "5x"});
+  expect_minimize_error("nlopt:LD_LBFGS", p, x0, with("vector_storage", "5x"), {"vector_storage", "5x"});
   expect_minimize_error("nlopt:LD_LBFGS", p, x0, with("maxeval", "0"), {"maxeval"});
   expect_minimize_error("nlopt:G_MLSL_LDS", p, x0, with("box_radius", "-1"), {"box_radius"});
   expect_minimize_error("nlopt:G_MLSL_LDS", p, x0, with("local_algorithm", "LN_BOBYQA"),
@@ -185,13 +179,13 @@ TEST(NloptBackend, OptionsAreCheckedNotIgnored) {
                         {"local_algorithm", "contradicts"});
   // Accepted values do what they say.
   Vec x = x0;
-  const SolveResult r =
-      make_backend("nlopt:LD_LBFGS")->minimize(p, x, with("vector_storage", "3"));
+  const SolveResult r = make_backend("nlopt:LD_LBFGS")->minimize(p, x, with("vector_storage", "3"));
   EXPECT_TRUE(r.ok()) << r.message;
   x = (Vec(2) << -1.2, 1.0).finished();
   const RosenbrockObjective rosen(2);
-  const SolveResult capped = make_backend("nlopt:LD_MMA")->minimize(
-      make_problem(rosen, Vec::Constant(2, -INF), Vec::Constant(2, INF)), x, with("maxeval", "7"));
+  const SolveResult capped =
+      make_backend("nlopt:LD_MMA")
+          ->minimize(make_problem(rosen, Vec::Constant(2, -INF), Vec::Constant(2, INF)), x, with("maxeval", "7"));
   EXPECT_EQ(capped.status, SolveStatus::MAX_ITERATIONS) << capped.message;
   EXPECT_NE(capped.message.find("MAXEVAL_REACHED"), std::string::npos) << capped.message;
   EXPECT_LE(capped.evaluations, 7 + 2);  // + f(x0) + the residual at the returned point
@@ -219,12 +213,12 @@ TEST_P(NloptLocal, BoxQpMatchesEnumeratedSolution) {
   BackendOptions opt;
   opt.tol = 1e-7;
   Vec x = Vec::Zero(6);
-  const SolveResult r =
-      make_backend("nlopt:" + GetParam())->minimize(make_problem(f, q.lower, q.upper), x, opt);
+  const SolveResult r = make_backend("nlopt:" + GetParam())->minimize(make_problem(f, q.lower, q.upper), x, opt);
   EXPECT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_LE(r.kkt_norm, opt.tol);
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), bound)
-      << "x = " << x.transpose() << "\nexact = " << exact.transpose() << "\n" << r.message;
+      << "x = " << x.transpose() << "\nexact = " << exact.transpose() << "\n"
+      << r.message;
   // f is flat at the minimizer: |f(x) − f*| <= ‖g‖‖x − x*‖ + L‖x − x*‖²/2 with |g_i| O(1) on
   // the active bounds.
   EXPECT_NEAR(r.f, f.value(exact), 1e-5);
@@ -236,8 +230,7 @@ TEST_P(NloptLocal, BoxQpMatchesEnumeratedSolution) {
 
   // A warm start at the answer stops at the first evaluation with a gradient (f(x0) + 1, or + 2
   // for an algorithm whose first call asks for f alone).
-  const SolveResult warm =
-      make_backend("nlopt:" + GetParam())->minimize(make_problem(f, q.lower, q.upper), x, opt);
+  const SolveResult warm = make_backend("nlopt:" + GetParam())->minimize(make_problem(f, q.lower, q.upper), x, opt);
   EXPECT_EQ(warm.status, SolveStatus::CONVERGED) << warm.message;
   EXPECT_LE(warm.evaluations, 3) << warm.message;
 }
@@ -253,8 +246,7 @@ TEST_P(NloptLocal, RosenbrockWithActiveBound) {
   Vec x = (Vec(2) << -1.2, 1.0).finished();
   BackendOptions opt;
   opt.tol = 1e-7;
-  const SolveResult r =
-      make_backend("nlopt:" + GetParam())->minimize(make_problem(f, lower, upper), x, opt);
+  const SolveResult r = make_backend("nlopt:" + GetParam())->minimize(make_problem(f, lower, upper), x, opt);
   EXPECT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_NEAR(x[0], 0.5, 1e-6) << r.message;
   EXPECT_NEAR(x[1], 0.25, 1e-6) << r.message;
@@ -270,8 +262,7 @@ TEST_P(NloptLocal, FixedVariableAndStartOutsideBounds) {
   BackendOptions opt;
   opt.tol = 1e-7;
   Vec x = Vec::Constant(6, 50.0);  // projected first
-  const SolveResult r =
-      make_backend("nlopt:" + GetParam())->minimize(make_problem(f, q.lower, q.upper), x, opt);
+  const SolveResult r = make_backend("nlopt:" + GetParam())->minimize(make_problem(f, q.lower, q.upper), x, opt);
   EXPECT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_EQ(x[2], 0.3);
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-6) << r.message;  // bound as in the QP test
@@ -291,8 +282,7 @@ TEST(NloptBackend, LuksanGradientTestDoesNotPreemptTol) {
   BackendOptions opt;
   opt.tol = 1e-10;
   Vec x = Vec::Zero(6);
-  const SolveResult r =
-      make_backend("nlopt:LD_LBFGS")->minimize(make_problem(f, q.lower, q.upper), x, opt);
+  const SolveResult r = make_backend("nlopt:LD_LBFGS")->minimize(make_problem(f, q.lower, q.upper), x, opt);
   EXPECT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-8) << r.message;
 }
@@ -306,8 +296,7 @@ TEST(NloptBackend, BelowRoundoffFloorIsAcceptableOrFailedWithReason) {
   BackendOptions opt;
   opt.tol = 1e-12;
   Vec x = Vec::Zero(6);
-  const SolveResult r =
-      make_backend("nlopt:LD_MMA")->minimize(make_problem(f, q.lower, q.upper), x, opt);
+  const SolveResult r = make_backend("nlopt:LD_MMA")->minimize(make_problem(f, q.lower, q.upper), x, opt);
   EXPECT_FALSE(r.status == SolveStatus::CONVERGED) << r.message;
   EXPECT_EQ(r.status, r.kkt_norm <= 1e3 * opt.tol ? SolveStatus::ACCEPTABLE : SolveStatus::FAILED);
   EXPECT_NE(r.message.find("stalled"), std::string::npos) << r.message;
@@ -323,8 +312,8 @@ TEST(NloptBackend, MaxIterMapsToEvaluationBudget) {
     Vec x = (Vec(2) << -1.2, 1.0).finished();
     BackendOptions opt;
     opt.max_iter = 2;
-    const SolveResult r = make_backend("nlopt:" + a)->minimize(
-        make_problem(f, Vec::Constant(2, -INF), Vec::Constant(2, INF)), x, opt);
+    const SolveResult r =
+        make_backend("nlopt:" + a)->minimize(make_problem(f, Vec::Constant(2, -INF), Vec::Constant(2, INF)), x, opt);
     EXPECT_EQ(r.status, SolveStatus::MAX_ITERATIONS) << r.message;
     EXPECT_FALSE(r.ok());
     EXPECT_NE(r.message.find("maxeval 20"), std::string::npos) << r.message;
@@ -363,8 +352,7 @@ TEST(NloptBackend, ObjectiveExceptionsPropagate) {
   for (const std::string a : {"LD_MMA", "LD_LBFGS", "G_MLSL_LDS"}) {
     Vec x = Vec::Constant(2, 0.3);
     EXPECT_THROW(make_backend("nlopt:" + a)
-                     ->minimize(make_problem(f, Vec::Constant(2, -2.0), Vec::Constant(2, 2.0)), x,
-                                BackendOptions{}),
+                     ->minimize(make_problem(f, Vec::Constant(2, -2.0), Vec::Constant(2, 2.0)), x, BackendOptions{}),
                  std::runtime_error)
         << a;
   }
@@ -375,11 +363,9 @@ TEST(NloptBackend, RejectsMismatchedSizesAndEmptyBounds) {
   const DoubleWellObjective f;
   const auto backend = make_backend("nlopt:LD_MMA");
   Vec x = Vec::Zero(3);
-  EXPECT_THROW(backend->minimize(make_problem(f, Vec::Zero(2), Vec::Ones(2)), x, BackendOptions{}),
-               Error);
+  EXPECT_THROW(backend->minimize(make_problem(f, Vec::Zero(2), Vec::Ones(2)), x, BackendOptions{}), Error);
   x = Vec::Zero(2);
-  EXPECT_THROW(backend->minimize(make_problem(f, Vec::Ones(2), Vec::Zero(2)), x, BackendOptions{}),
-               Error);
+  EXPECT_THROW(backend->minimize(make_problem(f, Vec::Ones(2), Vec::Zero(2)), x, BackendOptions{}), Error);
 }
 
 // ------------------------------------------------------------------ MLSL
@@ -414,8 +400,7 @@ TEST(NloptMlsl, FindsGlobalMinimumWhereLocalMethodDoesNot) {
     EXPECT_NEAR(x[0], -1.0, 1e-6) << global.message;
     EXPECT_NEAR(x[1], -0.5, 1e-6) << global.message;
     EXPECT_NEAR(global.f, 0.0, 1e-12);
-    EXPECT_NE(global.message.find("3 infinite bounds replaced"), std::string::npos)
-        << global.message;
+    EXPECT_NE(global.message.find("3 infinite bounds replaced"), std::string::npos) << global.message;
     EXPECT_GE(global.evaluations, 1000);  // the whole global budget, reported
     EXPECT_EQ(global.iterations, global.evaluations);
   }
@@ -444,10 +429,8 @@ struct Solved {
 
 Solved solve_scene(const std::string& name, const std::vector<std::string>& overrides) {
   const auto t0 = std::chrono::steady_clock::now();
-  const nlohmann::json scene =
-      load_scene(HEMICONTACT_SOURCE_DIR "/problems/" + name + ".json", overrides);
-  Solved s{build_model(scene, HEMICONTACT_SOURCE_DIR "/problems"), solve_options_from_scene(scene),
-           {}};
+  const nlohmann::json scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/" + name + ".json", overrides);
+  Solved s{build_model(scene, HEMICONTACT_SOURCE_DIR "/problems"), solve_options_from_scene(scene), {}};
   s.sol = solve(s.md, s.opt);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;
@@ -461,8 +444,7 @@ const Solved& reference(const std::string& scene, int n) {
   if (it == cache.end()) {
     const std::string backend = HEMICONTACT_HAS_IPOPT ? "ipopt" : "newton";
     it = cache
-             .emplace(key, solve_scene(scene, {"mesh.n=" + std::to_string(n),
-                                               "solver.formulation=condensed",
+             .emplace(key, solve_scene(scene, {"mesh.n=" + std::to_string(n), "solver.formulation=condensed",
                                                "solver.backend=" + backend}))
              .first;
   }
@@ -485,9 +467,7 @@ struct SceneCase {
   std::string backend;               // after "nlopt:"
   std::vector<std::string> options;  // extra overrides
 };
-void PrintTo(const SceneCase& c, std::ostream* os) {
-  *os << c.scene << " n=" << c.n << " nlopt:" << c.backend;
-}
+void PrintTo(const SceneCase& c, std::ostream* os) { *os << c.scene << " n=" << c.n << " nlopt:" << c.backend; }
 
 class NloptScenes : public ::testing::TestWithParam<SceneCase> {};
 
@@ -501,8 +481,7 @@ TEST_P(NloptScenes, SameStatusesAndSolutionAsReference) {
   ASSERT_TRUE(ref.sol.backend_ok && ref.sol.fixed_point_converged) << ref.sol.message;
   ASSERT_TRUE(ref.sol.certificate.passed) << ref.sol.message;
 
-  std::vector<std::string> overrides = {"mesh.n=" + std::to_string(c.n),
-                                        "solver.formulation=condensed",
+  std::vector<std::string> overrides = {"mesh.n=" + std::to_string(c.n), "solver.formulation=condensed",
                                         "solver.backend=nlopt:" + c.backend, NLOPT_SCENE_TOL};
   overrides.insert(overrides.end(), c.options.begin(), c.options.end());
   const Solved s = solve_scene(c.scene, overrides);
@@ -527,18 +506,18 @@ TEST_P(NloptScenes, SameStatusesAndSolutionAsReference) {
     EXPECT_EQ(s.sol.status[k].str(), ref.sol.status[k].str()) << "node " << k;
   const double U = ref.sol.u.cwiseAbs().maxCoeff();
   EXPECT_LE((s.sol.u - ref.sol.u).cwiseAbs().maxCoeff(), 1e-8 * U);
-  std::printf("[ nlopt    ] %s n=%d nlopt:%s: %zu minimizations, %d evaluations, %.2f s, "
-              "backend %s, certificate %.1e\n",
-              c.scene.c_str(), c.n, c.backend.c_str(), s.sol.history.size(), evaluations,
-              s.seconds, all_ok ? "converged" : "stopped above tol (polished)", s.sol.certificate.max_residual);
+  std::printf(
+      "[ nlopt    ] %s n=%d nlopt:%s: %zu minimizations, %d evaluations, %.2f s, "
+      "backend %s, certificate %.1e\n",
+      c.scene.c_str(), c.n, c.backend.c_str(), s.sol.history.size(), evaluations, s.seconds,
+      all_ok ? "converged" : "stopped above tol (polished)", s.sol.certificate.max_residual);
 }
 
 std::vector<SceneCase> scene_cases() {
   std::vector<SceneCase> v;
   for (const std::string scene : {"sofonea2017-fig2", "sofonea2017-printed"})
     for (const int n : {16, 32})
-      for (const std::string a : {"LD_MMA", "LD_CCSAQ", "LD_SLSQP", "LD_LBFGS"})
-        v.push_back({scene, n, a, {}});
+      for (const std::string a : {"LD_MMA", "LD_CCSAQ", "LD_SLSQP", "LD_LBFGS"}) v.push_back({scene, n, a, {}});
   // The global search on the condensed problem, with a budget of 1000 evaluations per
   // minimization (the default, 10·max_iter = 30000, costs ~1 s per minimization).
   v.push_back({"sofonea2017-fig2", 16, "G_MLSL_LDS", {"solver.options.maxeval=1000"}});
@@ -548,9 +527,8 @@ std::vector<SceneCase> scene_cases() {
 
 INSTANTIATE_TEST_SUITE_P(Paper, NloptScenes, ::testing::ValuesIn(scene_cases()),
                          [](const ::testing::TestParamInfo<SceneCase>& info) {
-                           std::string s = info.param.scene.substr(info.param.scene.find('-') + 1) +
-                                           "_n" + std::to_string(info.param.n) + "_" +
-                                           info.param.backend;
+                           std::string s = info.param.scene.substr(info.param.scene.find('-') + 1) + "_n" +
+                                           std::to_string(info.param.n) + "_" + info.param.backend;
                            std::replace(s.begin(), s.end(), '+', '_');
                            std::replace(s.begin(), s.end(), '-', '_');
                            return s;
@@ -561,8 +539,8 @@ INSTANTIATE_TEST_SUITE_P(Paper, NloptScenes, ::testing::ValuesIn(scene_cases()),
 // a message that names the backend and says why.
 TEST(NloptScenesDefaultTol, StallAtRoundoffFloorAndSaySo) {
   HEMICONTACT_REQUIRE_NLOPT();
-  const Solved s = solve_scene("sofonea2017-fig2", {"mesh.n=16", "solver.formulation=condensed",
-                                                    "solver.backend=nlopt:LD_MMA"});
+  const Solved s =
+      solve_scene("sofonea2017-fig2", {"mesh.n=16", "solver.formulation=condensed", "solver.backend=nlopt:LD_MMA"});
   EXPECT_FALSE(s.sol.backend_ok);
   ASSERT_FALSE(s.sol.history.empty());
   const SolveResult& last = s.sol.history.back().backend;

@@ -32,7 +32,6 @@ inline SpMat lower_pattern_from_mask(const Mat& mask) {
   return p;
 }
 
-
 /// @brief Base for small test objectives: the Hessian is given densely and scattered onto a fixed
 /// lower-triangular pattern chosen once (a structural mask), as hessian_pattern() requires.
 class DenseObjective : public NlpObjective {
@@ -93,8 +92,7 @@ inline Vec solve_box_qp_by_enumeration(const Mat& A, const Vec& b, const Vec& l,
     long code = c;
     for (Index i = 0; i < n; ++i, code /= 3) {
       state[i] = int(code % 3);
-      if ((state[i] == 1 && std::isinf(l[i])) || (state[i] == 2 && std::isinf(u[i])))
-        possible = false;
+      if ((state[i] == 1 && std::isinf(l[i])) || (state[i] == 2 && std::isinf(u[i]))) possible = false;
     }
     if (!possible) continue;
     Vec x = Vec::Zero(n);
@@ -182,8 +180,7 @@ class RosenbrockObjective : public DenseObjective {
   explicit RosenbrockObjective(Index n) : DenseObjective(tridiagonal_mask(n)) {}
   double value(const Vec& x) const override {
     double f = 0.0;
-    for (Index i = 0; i + 1 < x.size(); ++i)
-      f += 100.0 * std::pow(x[i + 1] - x[i] * x[i], 2) + std::pow(1.0 - x[i], 2);
+    for (Index i = 0; i + 1 < x.size(); ++i) f += 100.0 * std::pow(x[i + 1] - x[i] * x[i], 2) + std::pow(1.0 - x[i], 2);
     return f;
   }
   void gradient(const Vec& x, Vec& g) const override {
@@ -221,8 +218,7 @@ class RosenbrockObjective : public DenseObjective {
 class WrongGradientObjective : public NlpObjective {
  public:
   /// @param inner the correct objective (referenced); @param error added to ∂f/∂x_0.
-  WrongGradientObjective(const NlpObjective& inner, double error)
-      : m_inner(inner), m_error(error) {}
+  WrongGradientObjective(const NlpObjective& inner, double error) : m_inner(inner), m_error(error) {}
   Index size() const override { return m_inner.size(); }
   double value(const Vec& x) const override { return m_inner.value(x); }
   void gradient(const Vec& x, Vec& g) const override {
@@ -267,7 +263,6 @@ inline Mat full_hessian(const NlpObjective& f, const Vec& x) {
   return full;
 }
 
-
 /// A 6-unknown SPD box QP ½xᵀAx − bᵀx whose solution has lower, upper and inactive bounds, and some
 /// infinite bounds (unknown 3 has no lower bound, unknown 5 none at all). Shared by the backend tests.
 struct BoxQp {
@@ -291,7 +286,6 @@ inline BoxQp make_box_qp() {
   return q;
 }
 
-
 /// A start, bounds on x and the closed-form answer of DoubleWellObjective (shared by the backends).
 struct DoubleWellCase {
   const char* name;
@@ -300,8 +294,8 @@ struct DoubleWellCase {
   double x_star, y_star;  // closed-form answer
 };
 inline void PrintTo(const DoubleWellCase& c, std::ostream* os) {
-  *os << c.name << ": start (" << c.x0 << ", " << c.y0 << "), " << c.lower_x << " <= x <= " << c.upper_x
-      << ", answer (" << c.x_star << ", " << c.y_star << ")";
+  *os << c.name << ": start (" << c.x0 << ", " << c.y0 << "), " << c.lower_x << " <= x <= " << c.upper_x << ", answer ("
+      << c.x_star << ", " << c.y_star << ")";
 }
 /// The three cases every backend is run on:
 /// - upper_bound_active: start between the local maximum x = 0 and the bound, which is active

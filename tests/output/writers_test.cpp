@@ -18,8 +18,8 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -41,8 +41,7 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-#define EXPECT_CONTAINS(text, part) \
-  EXPECT_NE(std::string(text).find(part), std::string::npos) << "text: " << (text)
+#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << "text: " << (text)
 
 /// The scene of the brief: a 4×4 square on a soft layer with the paper's law (32).
 json test_scene(int n = 4) {
@@ -176,10 +175,14 @@ std::vector<double> appended_values(const std::string& block, size_t offset, con
       v.push_back(static_cast<double>(x));
     }
   };
-  if (type == "Float64") read(double());
-  else if (type == "Int64") read(std::int64_t());
-  else if (type == "Int32") read(std::int32_t());
-  else read(std::uint8_t());
+  if (type == "Float64")
+    read(double());
+  else if (type == "Int64")
+    read(std::int64_t());
+  else if (type == "Int32")
+    read(std::int32_t());
+  else
+    read(std::uint8_t());
   return v;
 }
 
@@ -304,14 +307,25 @@ TEST(VtkWriter, ArraysCountsAndValuesRoundTrip) {
   EXPECT_EQ(attribute_value(text, "NumberOfCells"), std::to_string(M));
 
   const auto arrays = parse_vtu_arrays(text);
-  const std::map<std::string, std::pair<Index, int>> expected = {
-      {"displacement", {N, 3}},  {"gamma3", {N, 1}},        {"u_nu", {N, 1}},
-      {"u_tau", {N, 1}},         {"sigma_nu", {N, 1}},      {"sigma_tau", {N, 1}},
-      {"xi", {N, 1}},            {"lambda", {N, 1}},        {"u_tau_vec", {N, 3}},
-      {"sigma_tau_vec", {N, 3}}, {"status_normal", {N, 1}}, {"status_tangential", {N, 1}},
-      {"strain", {M, 3}},        {"stress", {M, 3}},        {"von_mises", {M, 1}},
-      {"Points", {N, 3}},        {"connectivity", {3 * M, 1}}, {"offsets", {M, 1}},
-      {"types", {M, 1}}};
+  const std::map<std::string, std::pair<Index, int>> expected = {{"displacement", {N, 3}},
+                                                                 {"gamma3", {N, 1}},
+                                                                 {"u_nu", {N, 1}},
+                                                                 {"u_tau", {N, 1}},
+                                                                 {"sigma_nu", {N, 1}},
+                                                                 {"sigma_tau", {N, 1}},
+                                                                 {"xi", {N, 1}},
+                                                                 {"lambda", {N, 1}},
+                                                                 {"u_tau_vec", {N, 3}},
+                                                                 {"sigma_tau_vec", {N, 3}},
+                                                                 {"status_normal", {N, 1}},
+                                                                 {"status_tangential", {N, 1}},
+                                                                 {"strain", {M, 3}},
+                                                                 {"stress", {M, 3}},
+                                                                 {"von_mises", {M, 1}},
+                                                                 {"Points", {N, 3}},
+                                                                 {"connectivity", {3 * M, 1}},
+                                                                 {"offsets", {M, 1}},
+                                                                 {"types", {M, 1}}};
   for (const auto& [name, rc] : expected) {
     ASSERT_TRUE(arrays.count(name)) << "missing array " << name;
     EXPECT_EQ(arrays.at(name).comps, rc.second) << name;
@@ -449,9 +463,16 @@ TEST(CsvWriter, OneRowPerGamma3Node) {
     ASSERT_EQ(f.size(), 13u) << lines[k + 1];
     EXPECT_EQ(std::stol(f[0]), k);
     EXPECT_EQ(std::stoi(f[1]), md.contact.node[k]);
-    const double expect[] = {md.mesh.points(md.contact.node[k], 0), md.mesh.points(md.contact.node[k], 1),
-                             md.contact.w[k], md.contact.g[k], s.u_nu[k], s.u_tau[k], s.sigma_nu[k],
-                             s.sigma_tau[k], s.xi[k], s.lambda[k]};
+    const double expect[] = {md.mesh.points(md.contact.node[k], 0),
+                             md.mesh.points(md.contact.node[k], 1),
+                             md.contact.w[k],
+                             md.contact.g[k],
+                             s.u_nu[k],
+                             s.u_tau[k],
+                             s.sigma_nu[k],
+                             s.sigma_tau[k],
+                             s.xi[k],
+                             s.lambda[k]};
     for (int i = 0; i < 10; ++i) EXPECT_EQ(std::strtod(f[2 + i].c_str(), nullptr), expect[i]) << "column " << 2 + i;
     EXPECT_EQ(f[12], sol.status[k].str());
   }
@@ -465,10 +486,10 @@ TEST(Report, EveryKeyWithTheSolutionsValues) {
   const Model& md = fx.md;
   const Solution& sol = fx.sol;
   const json r = make_report(md, sol, fx.opt);
-  for (const char* key : {"scene", "version", "mesh", "dofs", "material", "laws", "backend", "energy",
-                          "energy_norm", "a_uu", "f_u", "j_term", "friction_term", "max_u_nu",
-                          "status_counts", "nodes", "certificate", "fixed_point", "skipped", "scales",
-                          "timings", "message", "ok"})
+  for (const char* key : {"scene",         "version",  "mesh",          "dofs",    "material",    "laws",
+                          "backend",       "energy",   "energy_norm",   "a_uu",    "f_u",         "j_term",
+                          "friction_term", "max_u_nu", "status_counts", "nodes",   "certificate", "fixed_point",
+                          "skipped",       "scales",   "timings",       "message", "ok"})
     EXPECT_TRUE(r.contains(key)) << key;
 
   EXPECT_EQ(r["scene"], fx.scene);
@@ -586,7 +607,7 @@ TEST(Report, WrittenFileIsValidJsonEvenWithNonFiniteNumbers) {
   write_report(dir / "report.json", r);
   const std::string text = read_text(dir / "report.json");
   EXPECT_EQ(text.back(), '\n');
-  EXPECT_CONTAINS(text, "{\n  \"");  // 2-space indent
+  EXPECT_CONTAINS(text, "{\n  \"");     // 2-space indent
   const json back = json::parse(text);  // throws on invalid JSON
   EXPECT_TRUE(back["fixed_point"]["history"][0]["change_lambda"].is_null());
   EXPECT_TRUE(back["fixed_point"]["history"][1]["eps_tau"].is_null());
@@ -719,7 +740,9 @@ TEST(OutputDir, ForceReplacesExactlyTheFilesOfTheEarlierRun) {
   const std::string old = dir / "old";
   fs::create_directories(old);
   for (const char* f : {"report.json", "solution.vtu", "gamma3.csv", "notes.txt"}) std::ofstream(old + "/" + f) << f;
-  EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(old, false, {"report.json", "solution.vtu"}); }),
+  EXPECT_CONTAINS(input_error_of([&] {
+                    prepare_output_dir(old, false, {"report.json", "solution.vtu"});
+                  }),
                   "already holds results (report.json)");
   prepare_output_dir(old, true, {"report.json", "solution.vtu", "gamma3.csv"});
   for (const char* f : {"report.json", "solution.vtu", "gamma3.csv"}) EXPECT_FALSE(fs::exists(old + "/" + f)) << f;

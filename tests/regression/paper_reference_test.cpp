@@ -1,8 +1,8 @@
 // The paper's example (MODEL.md §5) against an independent exact solution
 // (tests/data/paper-reference-small.json, a copy of shared/data/paper-reference-small.json):
 // n = 4, 8, 'right' mesh, loads as printed (s = 1) and × 1e6 (s = 1e6).
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
@@ -57,7 +57,8 @@ TEST_P(PaperReference, MatchesIndependentExactSolution) {
   constexpr double TOL_U = 1e-12, TOL_S = 1e-11, TOL_E = 1e-12;
   const double U = c["max_u_nu"].get<double>();
   const auto ux = c["bottom_ux"].get<std::vector<double>>(), uy = c["bottom_uy"].get<std::vector<double>>();
-  const auto sn = c["bottom_sigma_nu"].get<std::vector<double>>(), st = c["bottom_sigma_tau"].get<std::vector<double>>();
+  const auto sn = c["bottom_sigma_nu"].get<std::vector<double>>(),
+             st = c["bottom_sigma_tau"].get<std::vector<double>>();
   const auto statuses = c["statuses"].get<std::vector<std::string>>();
   ASSERT_EQ(md.contact.size(), static_cast<Index>(ux.size()));
   const double S = std::max(std::abs(*std::min_element(sn.begin(), sn.end())), 1e-300);
@@ -71,7 +72,8 @@ TEST_P(PaperReference, MatchesIndependentExactSolution) {
     EXPECT_NEAR(sol.state.sigma_tau[k], st[k], TOL_S * S);
     EXPECT_EQ(sol.status[k].str(), statuses[k]);
     err_u = std::max({err_u, std::abs(sol.u[2 * v] - ux[k]) / U, std::abs(sol.u[2 * v + 1] - uy[k]) / U});
-    err_s = std::max({err_s, std::abs(sol.state.sigma_nu[k] - sn[k]) / S, std::abs(sol.state.sigma_tau[k] - st[k]) / S});
+    err_s =
+        std::max({err_s, std::abs(sol.state.sigma_nu[k] - sn[k]) / S, std::abs(sol.state.sigma_tau[k] - st[k]) / S});
   }
   const auto rel = [](double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); };
   const double E = c["energy"].get<double>(), EN = c["energy_norm"].get<double>();
@@ -80,10 +82,10 @@ TEST_P(PaperReference, MatchesIndependentExactSolution) {
   EXPECT_LE(rel(sol.energy_norm, EN), TOL_E);
   EXPECT_LE(rel(sol.j_term, J), TOL_E);
   EXPECT_LE(rel(sol.friction_term, FR), TOL_E);
-  std::printf("[ reference] n=%d s=%g: max |du|/U %.1e, max |dsigma|/S %.1e, energy %.1e, energy_norm %.1e, "
-              "j %.1e, friction %.1e (relative)\n",
-              n, s, err_u, err_s, rel(sol.energy, E), rel(sol.energy_norm, EN), rel(sol.j_term, J),
-              rel(sol.friction_term, FR));
+  std::printf(
+      "[ reference] n=%d s=%g: max |du|/U %.1e, max |dsigma|/S %.1e, energy %.1e, energy_norm %.1e, "
+      "j %.1e, friction %.1e (relative)\n",
+      n, s, err_u, err_s, rel(sol.energy, E), rel(sol.energy_norm, EN), rel(sol.j_term, J), rel(sol.friction_term, FR));
   const auto counts = sol.status_counts();
   for (const auto& [key, val] : c["counts"].items()) EXPECT_EQ(counts.at(key), val.get<int>()) << key;
 }

@@ -25,8 +25,7 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-#define EXPECT_CONTAINS(text, part) \
-  EXPECT_NE(std::string(text).find(part), std::string::npos) << "message: " << (text)
+#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << "message: " << (text)
 
 /// The message of the Error thrown by @p f (and that it is an input error); "" if none.
 std::string input_error_of(const std::function<void()>& f) {
@@ -106,8 +105,7 @@ TEST(SceneSchema, EveryOptionalRowIsPresentAfterValidation) {
     SCOPED_TRACE(row.pointer);
     ASSERT_TRUE(e.contains(json::json_pointer(row.pointer)));
     if (!row.required) {
-      EXPECT_EQ(e[json::json_pointer(row.pointer)].is_object(),
-                row.type == "object" || row.type == "object*");
+      EXPECT_EQ(e[json::json_pointer(row.pointer)].is_object(), row.type == "object" || row.type == "object*");
     }
   }
 }
@@ -207,8 +205,7 @@ TEST(SceneSchemaErrors, WrongType) {
   EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
                   "scene key 'mesh.nx': expected integer, got string \"abc\"");
   s["mesh"]["nx"] = 2.5;
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
-                  "scene key 'mesh.nx': expected integer, got number 2.5");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "scene key 'mesh.nx': expected integer, got number 2.5");
   s["mesh"]["nx"] = 1e10;  // integral but beyond int
   EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "expected integer");
   s = minimal_scene();
@@ -274,8 +271,7 @@ TEST(SceneSchemaErrors, Ranges) {
 TEST(SceneSchemaErrors, NonFiniteNumbers) {
   json s = minimal_scene();
   s["material"]["E"] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
-                  "scene key 'material.E': number is not finite (nan)");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "scene key 'material.E': number is not finite (nan)");
   s = minimal_scene();
   s["solver"]["options"]["x"] = {1.0, std::numeric_limits<double>::infinity()};  // even in open objects
   EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "'solver.options.x[1]': number is not finite (inf)");
@@ -288,8 +284,7 @@ TEST(SceneSchemaErrors, SelectorNeedsExactlyOneOfSideAndPhysical) {
                   "scene key 'boundary.gamma2[1]': set exactly one of 'side' and 'physical', not both");
   s = paper_scene();
   s["boundary"]["gamma3"][0].erase("side");
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
-                  "scene key 'boundary.gamma3[0]': set exactly one of");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "scene key 'boundary.gamma3[0]': set exactly one of");
   s = paper_scene();
   s["boundary"]["gamma2"][0]["to"] = 0.5;  // from = 0.5
   EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
@@ -305,33 +300,28 @@ TEST(SceneSchemaErrors, Gap) {
   s["contact"]["gap"] = -0.1;
   EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "contact.gap: negative thickness g = -0.1");
   s["contact"]["gap"] = "infinite";
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
-                  "contact.gap: the only string allowed is \"inf\"");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "contact.gap: the only string allowed is \"inf\"");
   s["contact"]["gap"] = json::array({0.1});
   EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
                   "'contact.gap': expected number or string or object or null");
 
   json t = paper_scene();
   t["contact"]["gap"]["along"] = "r";
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }),
-                  "'contact.gap.along': \"r\" is not one of: x, y, z");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }), "'contact.gap.along': \"r\" is not one of: x, y, z");
   t = paper_scene();
   t["contact"]["gap"]["alnog"] = "x";
   EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }),
                   "unknown key 'contact.gap.alnog' (did you mean 'contact.gap.along'?)");
   t = paper_scene();
   t["contact"]["gap"]["points"] = {{0, 0.1}, {1, -0.1}};
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }),
-                  "'contact.gap.points[1]': negative thickness g = -0.1");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }), "'contact.gap.points[1]': negative thickness g = -0.1");
   t["contact"]["gap"]["points"] = {{0.5, 0.1}, {0.5, 0.1}};
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }),
-                  "'contact.gap.points[1]': x must be strictly increasing");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }), "'contact.gap.points[1]': x must be strictly increasing");
   t["contact"]["gap"]["points"] = {{0.5, 0.1, 3}};
   EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }), "'contact.gap.points[0]': expected a pair");
   t = paper_scene();
   t["contact"]["friction"]["points"] = {{1, 0}, {0, 1}};  // the law tables share the shape check
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }),
-                  "'contact.friction.points[1]': x must be non-decreasing");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }), "'contact.friction.points[1]': x must be non-decreasing");
   // ...but a repeated r is allowed there: it is a jump of the law.
   t = paper_scene();
   t["contact"]["normal_law"] = {{"type", "table"}, {"points", {{0, 0}, {0.1, 10}, {0.1, 2}}}};
@@ -350,7 +340,7 @@ TEST(SceneOverrides, NestedArrayAndOpenPaths) {
   apply_override(s, "solver.options.note=a=b");  // split at the first '='
   apply_override(s, "output.vtu=false");
   apply_override(s, "contact.gap=inf");
-  apply_override(s, "solver.options.deep.new.key=null");                        // intermediate objects are created
+  apply_override(s, "solver.options.deep.new.key=null");                   // intermediate objects are created
   apply_override(s, "boundary.gamma3.1={\"side\":\"top\",\"from\":0.9}");  // index == size appends
   const json e = validate_scene(s);
   EXPECT_EQ(e["mesh"]["n"], 128);
@@ -378,10 +368,8 @@ TEST(SceneOverrides, LaterOverrideWinsAndCreatesFromNothing) {
 
 TEST(SceneOverrides, MalformedAssignments) {
   json s = paper_scene();
-  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "mesh.n"); }),
-                  "--set 'mesh.n': expected path=value");
-  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "mesh..n=3"); }),
-                  "--set 'mesh..n=3': malformed path");
+  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "mesh.n"); }), "--set 'mesh.n': expected path=value");
+  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "mesh..n=3"); }), "--set 'mesh..n=3': malformed path");
   EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "=3"); }), "malformed path");
   EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "boundary.gamma2.7.from=0"); }),
                   "index 7 out of range ('boundary.gamma2' has 4 elements)");
@@ -395,12 +383,10 @@ TEST(SceneOverrides, MalformedAssignments) {
 TEST(SceneOverrides, OverrideToUnknownKeyIsReportedAsUnknown) {
   json s = paper_scene();
   apply_override(s, "mesh.nn=128");
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
-                  "unknown key 'mesh.nn' (did you mean 'mesh.n'?)");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "unknown key 'mesh.nn' (did you mean 'mesh.n'?)");
   s = paper_scene();
   apply_override(s, "mesh.n=abc");  // not JSON → a string → a type error, not silently 0
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
-                  "'mesh.n': expected integer or null, got string \"abc\"");
+  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "'mesh.n': expected integer or null, got string \"abc\"");
 }
 
 // ---------------------------------------------------------------- files
@@ -447,8 +433,8 @@ TEST_F(SceneFiles, MalformedJsonGivesLineAndColumn) {
 }
 
 TEST_F(SceneFiles, DuplicateKeyIsAnError) {
-  const std::string path = write(
-      "dup.json", R"({"boundary": {"gamma2": [{"side": "left"}, {"side": "left", "from": 0, "from": 1}]}})");
+  const std::string path =
+      write("dup.json", R"({"boundary": {"gamma2": [{"side": "left"}, {"side": "left", "from": 0, "from": 1}]}})");
   EXPECT_CONTAINS(input_error_of([&] { load_scene(path, {}); }), "duplicate key 'boundary.gamma2[1].from'");
   const std::string path2 = write("dup2.json", R"({"mesh": {"n": 2}, "mesh": {"n": 3}})");
   EXPECT_CONTAINS(input_error_of([&] { load_scene(path2, {}); }), "duplicate key 'mesh'");

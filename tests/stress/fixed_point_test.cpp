@@ -8,10 +8,10 @@
 // the contraction factor is proportional to μ. Measured: ρ ≈ 0.13 μ (0.39 at μ = 3, 0.66 at μ = 5);
 // at μ = 8 the iterates oscillate with ρ ≈ 1, and θ = 0.5 brings ρ to ≈ 0.48 (bench/stress_report
 // sweeps θ × μ).
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
-#include <hemicontact/scene/config.hpp>
 #include <hemicontact/output/report.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
 
@@ -31,8 +31,11 @@ struct Solved {
 };
 
 Solved solve_sliding(double mu, double theta) {
-  const std::vector<std::string> o{"mesh.n=16", "check.smallness=false", "contact.gap=null",
-                                   "boundary.gamma2=[]", "loads.body_force=[20000,-500]",
+  const std::vector<std::string> o{"mesh.n=16",
+                                   "check.smallness=false",
+                                   "contact.gap=null",
+                                   "boundary.gamma2=[]",
+                                   "loads.body_force=[20000,-500]",
                                    "contact.friction.mu=" + std::to_string(mu),
                                    "solver.fixed_point.relaxation=" + std::to_string(theta)};
   const nlohmann::json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o);

@@ -6,8 +6,8 @@
 #include "stress/random_scenes.hpp"
 
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
@@ -67,8 +67,7 @@ bool certified_or_honestly_not(unsigned seed) {
   again.u = s.u;
   evaluate_solution(md, opt, again);
   EXPECT_EQ(again.certificate.passed, s.certificate.passed);
-  EXPECT_NEAR(again.certificate.max_residual, s.certificate.max_residual,
-              1e-12 + 1e-9 * s.certificate.max_residual);
+  EXPECT_NEAR(again.certificate.max_residual, s.certificate.max_residual, 1e-12 + 1e-9 * s.certificate.max_residual);
   return s.ok();
 }
 
@@ -83,8 +82,10 @@ TEST(RandomScenes, CertifiedOrHonestlyNotConvergedWithAFloor) {
   int certified = 0;
   std::string failed;
   for (unsigned seed = 1; seed <= 24; ++seed) {
-    if (certified_or_honestly_not(seed)) ++certified;
-    else failed += " " + std::to_string(seed);
+    if (certified_or_honestly_not(seed))
+      ++certified;
+    else
+      failed += " " + std::to_string(seed);
   }
   std::printf("[ random   ] %d of 24 seeds certified; not certified:%s\n", certified, failed.c_str());
   EXPECT_GE(certified, CERTIFIED_MEASURED - MARGIN) << "not certified:" << failed;

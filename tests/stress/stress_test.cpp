@@ -2,8 +2,8 @@
 // converges with a passing certificate or reports non-convergence — never NaN, never a crash, never
 // an uncertified answer presented as converged.
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/driver/solve.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
@@ -30,8 +30,10 @@ Solution run(const std::vector<std::string>& overrides, Model* keep = nullptr) {
 void expect_honest(const Solution& s) {
   EXPECT_TRUE(s.u.allFinite());
   EXPECT_TRUE(std::isfinite(s.energy));
-  if (s.ok()) EXPECT_LE(s.certificate.max_residual, s.certificate.tol);
-  else EXPECT_FALSE(s.message.empty());
+  if (s.ok())
+    EXPECT_LE(s.certificate.max_residual, s.certificate.tol);
+  else
+    EXPECT_FALSE(s.message.empty());
 }
 
 }  // namespace
@@ -52,23 +54,21 @@ TEST_P(Stress, SolvesAndCertifies) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, Stress,
-    ::testing::Values(
-        StressCase{"g0", {"contact.gap=0"}},
-        StressCase{"gLarge", {"contact.gap=1e6"}},
-        StressCase{"noObstacle", {"contact.gap=null"}},
-        StressCase{"mu0", {"contact.friction.mu=0"}},
-        StressCase{"mu5", {"contact.friction.mu=5"}},
-        StressCase{"allSeparated", {"loads.body_force=[0,500]", "boundary.gamma2=[]"}},
-        StressCase{"stiffLayer", {"contact.normal_law.c1=1e8"}},
-        StressCase{"softLayer", {"contact.normal_law.c1=1e-2", "contact.normal_law.c2=-1e-2", "contact.normal_law.c3=4e-2"}},
-        StressCase{"nearlyIncompressible", {"material.plane=strain", "material.nu=0.499"}},
-        StressCase{"E1e9", {"material.E=1e9"}},
-        StressCase{"E1em3", {"material.E=1e-3"}},
-        StressCase{"epsLarge", {"solver.eps_tau=1e-2", "solver.eps_nu=1e-2"}},
-        StressCase{"epsTiny", {"solver.eps_tau=1e-12", "solver.eps_nu=1e-12"}},
-        StressCase{"distorted", {"mesh.perturb=0.3", "mesh.seed=7"}},
-        StressCase{"thinStrip", {"mesh.x=[0,100]", "mesh.nx=200", "mesh.ny=2", "mesh.n=null"}},
-        StressCase{"newtonFull", {"solver.backend=newton", "solver.formulation=full"}}),
+    ::testing::Values(StressCase{"g0", {"contact.gap=0"}}, StressCase{"gLarge", {"contact.gap=1e6"}},
+                      StressCase{"noObstacle", {"contact.gap=null"}}, StressCase{"mu0", {"contact.friction.mu=0"}},
+                      StressCase{"mu5", {"contact.friction.mu=5"}},
+                      StressCase{"allSeparated", {"loads.body_force=[0,500]", "boundary.gamma2=[]"}},
+                      StressCase{"stiffLayer", {"contact.normal_law.c1=1e8"}},
+                      StressCase{
+                          "softLayer",
+                          {"contact.normal_law.c1=1e-2", "contact.normal_law.c2=-1e-2", "contact.normal_law.c3=4e-2"}},
+                      StressCase{"nearlyIncompressible", {"material.plane=strain", "material.nu=0.499"}},
+                      StressCase{"E1e9", {"material.E=1e9"}}, StressCase{"E1em3", {"material.E=1e-3"}},
+                      StressCase{"epsLarge", {"solver.eps_tau=1e-2", "solver.eps_nu=1e-2"}},
+                      StressCase{"epsTiny", {"solver.eps_tau=1e-12", "solver.eps_nu=1e-12"}},
+                      StressCase{"distorted", {"mesh.perturb=0.3", "mesh.seed=7"}},
+                      StressCase{"thinStrip", {"mesh.x=[0,100]", "mesh.nx=200", "mesh.ny=2", "mesh.n=null"}},
+                      StressCase{"newtonFull", {"solver.backend=newton", "solver.formulation=full"}}),
     [](const ::testing::TestParamInfo<StressCase>& i) { return i.param.name; });
 
 // Scale invariance: loads × s with E and the layer's c_i × s gives the same u (units never matter).
@@ -77,10 +77,10 @@ TEST(StressScale, LoadsAndModuliScaledTogether) {
   for (double s : {1e-6, 1e4}) {
     SCOPED_TRACE("s = " + std::to_string(s));
     const std::string ss = std::to_string(s);
-    const Solution b = run({"loads.scale=" + ss, "material.E=" + std::to_string(2000 * s),
-                            "contact.normal_law.c1=" + std::to_string(100 * s),
-                            "contact.normal_law.c2=" + std::to_string(-100 * s),
-                            "contact.normal_law.c3=" + std::to_string(400 * s)});
+    const Solution b =
+        run({"loads.scale=" + ss, "material.E=" + std::to_string(2000 * s),
+             "contact.normal_law.c1=" + std::to_string(100 * s), "contact.normal_law.c2=" + std::to_string(-100 * s),
+             "contact.normal_law.c3=" + std::to_string(400 * s)});
     ASSERT_TRUE(b.ok()) << b.message;
     // Both exact to the certificate (1e-8 relative): u agrees to that level.
     EXPECT_LE((a.u - b.u).cwiseAbs().maxCoeff(), 1e-8 * a.u.cwiseAbs().maxCoeff());

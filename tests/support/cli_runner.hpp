@@ -2,12 +2,12 @@
 /// @file cli_runner.hpp  Running the built `hemicontact` program from tests: stdout/stderr captured
 /// in files of a scratch directory, exit code decoded. Shared by the tests/cli/*_test.cpp files.
 
+#include <sys/wait.h>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
 
 namespace hemicontact::test {

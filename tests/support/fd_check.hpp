@@ -45,9 +45,7 @@ inline Mat fd_jacobian(const std::function<Vec(const Vec&)>& g, const Vec& x, co
 }
 
 /// The relative steps h·max(1, |x_i|) of fd_gradient / fd_jacobian with a scalar @p h.
-inline Vec relative_steps(const Vec& x, double h) {
-  return (h * x.cwiseAbs().cwiseMax(1.0)).eval();
-}
+inline Vec relative_steps(const Vec& x, double h) { return (h * x.cwiseAbs().cwiseMax(1.0)).eval(); }
 
 /// Central-difference gradient of @p f at @p x with relative step @p h.
 inline Vec fd_gradient(const std::function<double(const Vec&)>& f, const Vec& x, double h = 1e-6) {
@@ -64,9 +62,8 @@ inline ::testing::AssertionResult near_rel(const Mat& a, const Mat& b, double rt
   const double scale = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
   const double err = (a - b).cwiseAbs().maxCoeff();
   if (err <= rtol * scale + atol) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "max |a-b| = " << err << " > " << rtol << "*" << scale
-                                       << " + " << atol << "\n a = " << a.transpose()
-                                       << "\n b = " << b.transpose();
+  return ::testing::AssertionFailure() << "max |a-b| = " << err << " > " << rtol << "*" << scale << " + " << atol
+                                       << "\n a = " << a.transpose() << "\n b = " << b.transpose();
 }
 
 }  // namespace hemicontact::test

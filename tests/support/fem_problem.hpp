@@ -38,8 +38,12 @@ inline const TriangleRule& dunavant4() {
     const double a = 0.44594849091596488632, wa = 0.22338158967801146570;
     const double b = 0.09157621350977074346, wb = 0.10995174365532186764;
     TriangleRule r;
-    r.bary = {{{1 - 2 * a, a, a}, {a, 1 - 2 * a, a}, {a, a, 1 - 2 * a},
-               {1 - 2 * b, b, b}, {b, 1 - 2 * b, b}, {b, b, 1 - 2 * b}}};
+    r.bary = {{{1 - 2 * a, a, a},
+               {a, 1 - 2 * a, a},
+               {a, a, 1 - 2 * a},
+               {1 - 2 * b, b, b},
+               {b, 1 - 2 * b, b},
+               {b, b, 1 - 2 * b}}};
     r.w = {wa, wa, wa, wb, wb, wb};
     return r;
   }();

@@ -17,9 +17,7 @@ inline double p(double t) { return t * (1 - t); }
 inline double dp(double t) { return 1 - 2 * t; }
 
 /// The exact displacement.
-inline Eigen::Vector2d u_exact(double x, double y) {
-  return {std::sin(PI * x) * std::sin(PI * y), C2 * p(x) * p(y)};
-}
+inline Eigen::Vector2d u_exact(double x, double y) { return {std::sin(PI * x) * std::sin(PI * y), C2 * p(x) * p(y)}; }
 
 /// ε(u) in Voigt form: (∂x u1, ∂y u2, ∂y u1 + ∂x u2).
 inline Eigen::Vector3d eps_exact(double x, double y) {

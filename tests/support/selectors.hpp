@@ -9,8 +9,7 @@ namespace hemicontact::test {
 
 /// @return a selector of side @p name (left, right, bottom, top; 3D also front, back) over
 /// [@p from, @p to) with error context @p context.
-inline BoundarySelector side(const std::string& name, const std::string& context, double from = -INF,
-                             double to = INF) {
+inline BoundarySelector side(const std::string& name, const std::string& context, double from = -INF, double to = INF) {
   BoundarySelector s;
   s.side = name;
   s.context = context;

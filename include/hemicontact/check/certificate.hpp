@@ -21,7 +21,6 @@
 namespace hemicontact {
 
 /// Compute the certificate. @param status_tol relative tolerance deciding slipping nodes.
-CertificateReport certify(const Model& model, const Vec& u, const ContactState& state, double tol,
-                          double status_tol);
+CertificateReport certify(const Model& model, const Vec& u, const ContactState& state, double tol, double status_tol);
 
 }  // namespace hemicontact

@@ -22,7 +22,7 @@ struct Gap {
   double constant = INF;                          ///< used when points is empty
   int axis = 0;                                   ///< coordinate of the table (0 = x, 1 = y, 2 = z)
   std::vector<std::pair<double, double>> points;  ///< (coordinate, g), increasing coordinate
-  /// @return g at the point @p x. 
+  /// @return g at the point @p x.
   double at(const Eigen::Ref<const Eigen::RowVectorXd>& x) const;
   /// @return true if g = +∞ everywhere (no bound constraint at all).
   bool is_infinite() const { return points.empty() && constant == INF; }

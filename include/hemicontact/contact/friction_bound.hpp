@@ -120,7 +120,6 @@ class TableBound : public FrictionBound {
 /// @param scale   factor (μ for (34), 1 for a table), ≥ 0
 /// @param context key path in the message, e.g. "contact.friction"
 /// @throws Error (EXIT_INPUT), e.g. "contact.friction: F_b(-0.1) = 0.3 but (15c) requires F_b(r) = 0 for r <= 0"
-void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale,
-                              const std::string& context);
+void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale, const std::string& context);
 
 }  // namespace hemicontact

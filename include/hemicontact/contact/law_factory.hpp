@@ -40,7 +40,7 @@ std::shared_ptr<const PiecewiseLinearLaw> make_normal_law(const nlohmann::json& 
 /// @param normal_law   the exact normal law (may be null; required by "coulomb_layer")
 /// @return the bound, or nullptr for type "none"
 /// @throws Error (EXIT_INPUT) naming "contact.friction.<key>", or (15c) violations
-std::shared_ptr<const FrictionBound> make_friction_bound(
-    const nlohmann::json& friction_obj, std::shared_ptr<const PiecewiseLinearLaw> normal_law);
+std::shared_ptr<const FrictionBound> make_friction_bound(const nlohmann::json& friction_obj,
+                                                         std::shared_ptr<const PiecewiseLinearLaw> normal_law);
 
 }  // namespace hemicontact

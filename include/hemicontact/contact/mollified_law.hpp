@@ -4,9 +4,11 @@
 /// PiecewiseLinearLaw writes \f$ p_\nu = a + b r + \sum_k \Delta s_k (r-r_k)_+ + \sum_k J_k H(r-r_k) \f$.
 /// MollifiedLaw replaces, inside the window |r − r_k| < ε (ε = eps_nu), each ramp by the
 /// C¹ quadratic ramp q_ε and each Heaviside step by the C¹ cubic smoothstep S_ε:
-/// \f[ q_\varepsilon(x) = \begin{cases} 0 & x \le -\varepsilon \\ \frac{(x+\varepsilon)^2}{4\varepsilon} & |x| < \varepsilon
+/// \f[ q_\varepsilon(x) = \begin{cases} 0 & x \le -\varepsilon \\ \frac{(x+\varepsilon)^2}{4\varepsilon} & |x| <
+/// \varepsilon
 ///     \\ x & x \ge \varepsilon \end{cases} \qquad
-///     S_\varepsilon(x) = \begin{cases} 0 & x \le -\varepsilon \\ t^2(3-2t),\ t = \frac{x+\varepsilon}{2\varepsilon} & |x| < \varepsilon
+///     S_\varepsilon(x) = \begin{cases} 0 & x \le -\varepsilon \\ t^2(3-2t),\ t = \frac{x+\varepsilon}{2\varepsilon} &
+///     |x| < \varepsilon
 ///     \\ 1 & x \ge \varepsilon \end{cases} \f]
 /// so that \f$ p_\varepsilon = a + b r + \sum_k \Delta s_k q_\varepsilon(r-r_k) + \sum_k J_k S_\varepsilon(r-r_k) \f$
 /// is C¹, \f$ j_\varepsilon(r) = \int_0^r p_\varepsilon \f$ is C², and all three are closed-form.
@@ -64,8 +66,7 @@ class MollifiedLaw : public NormalLaw {
   /// @param eps_nu  ε_ν > 0, the half-width of the windows around breakpoints
   /// @param context key path for the error message (e.g. "solver.eps_nu")
   /// @throws Error (EXIT_INPUT) if eps_nu is not a finite positive number or law is null
-  MollifiedLaw(std::shared_ptr<const PiecewiseLinearLaw> law, double eps_nu,
-               const std::string& context = "eps_nu");
+  MollifiedLaw(std::shared_ptr<const PiecewiseLinearLaw> law, double eps_nu, const std::string& context = "eps_nu");
   /// @brief Convenience overload: copies @p law into a shared pointer.
   /// @param law the exact law @param eps_nu ε_ν > 0 @param context key path for errors
   MollifiedLaw(const PiecewiseLinearLaw& law, double eps_nu, const std::string& context = "eps_nu");

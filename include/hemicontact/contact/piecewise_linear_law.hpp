@@ -40,8 +40,7 @@ class PiecewiseLinearLaw : public NormalLaw {
   ///                     (0 if all points share one r)
   /// @param context      key path used in error messages, e.g. "contact.normal_law"
   /// @throws Error (EXIT_INPUT) naming context + ".points[k]" / ".slope_left" / ".slope_right"
-  PiecewiseLinearLaw(std::vector<Point> points, std::optional<double> slope_left,
-                     std::optional<double> slope_right,
+  PiecewiseLinearLaw(std::vector<Point> points, std::optional<double> slope_left, std::optional<double> slope_right,
                      const std::string& context = "contact.normal_law");
 
   /// @brief The paper's law (32): p_ν = 0 for r ≤ 0, slope c1 on (0, r1], c2 on (r1, r2),

@@ -71,8 +71,8 @@ inline double df1(double y, double eps) {
 
 /// @brief \f$ (f_1'(y)\,y - f_1(y))/y^3 \f$, the coefficient of u uᵀ in the Hessian.
 ///
-/// Inner branch: \f$ ((2/\varepsilon - 2y/\varepsilon^2) y - 2y/\varepsilon + y^2/\varepsilon^2)/y^3 = -1/(\varepsilon^2 y) \f$,
-/// which grows like 1/y but is only ever used multiplied by u uᵀ (norm y²), giving a term of
+/// Inner branch: \f$ ((2/\varepsilon - 2y/\varepsilon^2) y - 2y/\varepsilon + y^2/\varepsilon^2)/y^3 =
+/// -1/(\varepsilon^2 y) \f$, which grows like 1/y but is only ever used multiplied by u uᵀ (norm y²), giving a term of
 /// norm y/ε² → 0. At y = 0 we return 0, the value of that product's limit (explicit branch).
 /// @param y a norm, y ≥ 0 @param eps ε > 0
 /// @return −1/(ε² y) for 0 < y < ε, −1/y³ for y ≥ ε, 0 at y = 0
@@ -101,8 +101,8 @@ double smooth_norm(const Eigen::MatrixBase<Derived>& u, double eps) {
 /// @param u slip vector @param eps ε > 0
 /// @return the gradient (same size as u)
 template <typename Derived>
-Eigen::Matrix<double, Derived::RowsAtCompileTime, 1> smooth_norm_gradient(
-    const Eigen::MatrixBase<Derived>& u, double eps) {
+Eigen::Matrix<double, Derived::RowsAtCompileTime, 1> smooth_norm_gradient(const Eigen::MatrixBase<Derived>& u,
+                                                                          double eps) {
   static_assert(Derived::ColsAtCompileTime == 1 && Derived::RowsAtCompileTime != Eigen::Dynamic,
                 "smooth_norm_gradient: u must be a fixed-size column vector");
   // f1_over_y is finite at y = 0, so the stick limit needs no branch: gradient = (2/ε)·0 = 0.

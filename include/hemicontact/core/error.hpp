@@ -21,8 +21,7 @@ class Error : public std::runtime_error {
  public:
   /// @param message one line naming the problem (e.g. "mesh: no Γ1 (clamped) facets")
   /// @param code    exit code the CLI returns for it
-  explicit Error(const std::string& message, ExitCode code = EXIT_INPUT)
-      : std::runtime_error(message), m_code(code) {}
+  explicit Error(const std::string& message, ExitCode code = EXIT_INPUT) : std::runtime_error(message), m_code(code) {}
   /// @return the exit code for this error.
   ExitCode code() const { return m_code; }
 

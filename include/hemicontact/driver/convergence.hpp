@@ -37,29 +37,29 @@ namespace hemicontact {
 
 /// One mesh of a convergence study (a level or the reference).
 struct ConvergenceLevel {
-  int n = 0;                  ///< cells per side (mesh.n)
-  double h = 0;               ///< the paper's h: longest side of the rectangle / n (1/n on the unit square)
-  double h_max = 0;           ///< longest edge of the mesh (√2·h for the right/left splits)
-  Index dofs = 0;             ///< free unknowns
-  double energy_norm = 0;     ///< ‖u_L‖_E = sqrt(a(u_L, u_L)) on the level's own mesh
-  double error = 0;           ///< ‖u_ref − P u_L‖_E / ‖u_ref‖_E (0 for the reference)
-  double order = 0;           ///< observed order against the previous level; NaN for the first
-  double seconds = 0;         ///< wall time of solve() (model assembly excluded)
+  int n = 0;               ///< cells per side (mesh.n)
+  double h = 0;            ///< the paper's h: longest side of the rectangle / n (1/n on the unit square)
+  double h_max = 0;        ///< longest edge of the mesh (√2·h for the right/left splits)
+  Index dofs = 0;          ///< free unknowns
+  double energy_norm = 0;  ///< ‖u_L‖_E = sqrt(a(u_L, u_L)) on the level's own mesh
+  double error = 0;        ///< ‖u_ref − P u_L‖_E / ‖u_ref‖_E (0 for the reference)
+  double order = 0;        ///< observed order against the previous level; NaN for the first
+  double seconds = 0;      ///< wall time of solve() (model assembly excluded)
   std::map<std::string, int> status_counts;  ///< Solution::status_counts()
-  double certificate_residual = 0;  ///< certificate max residual
-  bool converged = false;     ///< backend and outer fixed point converged
-  bool certified = false;     ///< certificate passed
-  bool ok = false;            ///< converged && certified
-  bool nested = true;         ///< P is the exact embedding of V_L into V_ref (checked numerically)
-  std::string message;        ///< the solve's verdict
+  double certificate_residual = 0;           ///< certificate max residual
+  bool converged = false;                    ///< backend and outer fixed point converged
+  bool certified = false;                    ///< certificate passed
+  bool ok = false;                           ///< converged && certified
+  bool nested = true;                        ///< P is the exact embedding of V_L into V_ref (checked numerically)
+  std::string message;                       ///< the solve's verdict
 };
 
 /// The result of run_convergence().
 struct ConvergenceStudy {
-  ConvergenceLevel reference;          ///< the reference mesh (error 0, order NaN)
+  ConvergenceLevel reference;            ///< the reference mesh (error 0, order NaN)
   std::vector<ConvergenceLevel> levels;  ///< the levels, coarse to fine
-  std::string backend;                 ///< NLP backend used
-  nlohmann::json scene;                ///< the effective scene of the reference solve
+  std::string backend;                   ///< NLP backend used
+  nlohmann::json scene;                  ///< the effective scene of the reference solve
 
   /// @return true when the reference and every level converged and were certified.
   bool ok() const;
@@ -77,11 +77,11 @@ struct ConvergenceStudy {
 /// With contact the identity is approximate (the solution set is not a linear space); the
 /// reported max_rel_residual says how well the model fits.
 struct RateFit {
-  double alpha = 0;            ///< fitted rate α
-  double C = 0;                ///< fitted constant (relative error at h = 1)
-  int levels_used = 0;         ///< number of (finest) levels in the fit
-  double max_rel_residual = 0; ///< max_L |model_L / e_L − 1| over the fitted levels
-  bool valid = false;          ///< false when fewer than 2 usable levels (error > 0, h > h_R)
+  double alpha = 0;             ///< fitted rate α
+  double C = 0;                 ///< fitted constant (relative error at h = 1)
+  int levels_used = 0;          ///< number of (finest) levels in the fit
+  double max_rel_residual = 0;  ///< max_L |model_L / e_L − 1| over the fitted levels
+  bool valid = false;           ///< false when fewer than 2 usable levels (error > 0, h > h_R)
 };
 
 /// @brief Fit e_L = C sqrt(h_L^{2α} − h_R^{2α}) (least squares in log e) to the @p max_levels

@@ -94,25 +94,25 @@ struct SecondOrderCheck {
 
 /// One run: a start, a backend, and what it gave.
 struct MinimaRun {
-  std::string start;        ///< "zero", "at-gap", "separated", "random-3", "load-up", "load-down", "user-1"
-  std::string backend;      ///< backend name
-  bool converged = false;   ///< backend_ok && fixed_point_converged
-  bool certified = false;   ///< certificate passed (whatever the backend said: the certificate is the judge)
-  double energy = 0;        ///< Π (unsmoothed) of the result
-  double certificate = 0;   ///< certificate max residual
-  double seconds = 0;       ///< wall time of this run (including its load path)
-  int group = -1;           ///< index into MinimaReport::solutions, −1 if not certified
-  std::string message;      ///< the solve's verdict
+  std::string start;       ///< "zero", "at-gap", "separated", "random-3", "load-up", "load-down", "user-1"
+  std::string backend;     ///< backend name
+  bool converged = false;  ///< backend_ok && fixed_point_converged
+  bool certified = false;  ///< certificate passed (whatever the backend said: the certificate is the judge)
+  double energy = 0;       ///< Π (unsmoothed) of the result
+  double certificate = 0;  ///< certificate max residual
+  double seconds = 0;      ///< wall time of this run (including its load path)
+  int group = -1;          ///< index into MinimaReport::solutions, −1 if not certified
+  std::string message;     ///< the solve's verdict
 };
 
 /// One distinct solution.
 struct DistinctSolution {
-  Solution solution;                      ///< representative: the member with the smallest certificate residual
-  SecondOrderCheck second_order;          ///< local minimum or saddle
-  std::vector<int> runs;                  ///< indices into MinimaReport::runs that reached it
-  std::vector<std::string> starts;        ///< their start labels (in run order)
-  std::map<std::string, int> backends;    ///< backend → how many of its starts reached it
-  double spread = 0;                      ///< max relative energy-norm distance of a member to the representative
+  Solution solution;                    ///< representative: the member with the smallest certificate residual
+  SecondOrderCheck second_order;        ///< local minimum or saddle
+  std::vector<int> runs;                ///< indices into MinimaReport::runs that reached it
+  std::vector<std::string> starts;      ///< their start labels (in run order)
+  std::map<std::string, int> backends;  ///< backend → how many of its starts reached it
+  double spread = 0;                    ///< max relative energy-norm distance of a member to the representative
 };
 
 /// Everything find_minima() found.

@@ -31,7 +31,6 @@
 
 namespace hemicontact {
 
-
 /// Polish the condensed unknowns @p x_C in place (kept unchanged if rejected); @p md carries the
 /// loads @p load_scale × those @p cond was built with (ContactSolver::set_loads).
 PolishResult polish_condensed(const Model& md, const Condensation& cond, const SolveOptions& opt, Vec& x_C,

@@ -24,7 +24,6 @@
 
 #include <string>
 
-
 #include <limits>
 #include <map>
 #include <memory>
@@ -82,6 +81,5 @@ Solution solve(const Model& model, const SolveOptions& options);
 
 /// @return the geometric mean of the defined contraction factors ρ_k of @p history (NaN if none).
 double contraction_estimate(const std::vector<OuterIteration>& history);
-
 
 }  // namespace hemicontact

@@ -17,9 +17,9 @@ namespace hemicontact {
 /// Where each Γ3 node's local components live in x, and its quadrature weight (NodalLayout adds
 /// where the node's Hessian block lies in a pattern).
 struct NodalDofs {
-  int dim = 2;                 ///< d: components per node (ν, τ[, τ2])
-  std::vector<Index> first;    ///< x index of component ν of node k; τ follow consecutively
-  Vec w;                       ///< nodal quadrature weights w_k
+  int dim = 2;               ///< d: components per node (ν, τ[, τ2])
+  std::vector<Index> first;  ///< x index of component ν of node k; τ follow consecutively
+  Vec w;                     ///< nodal quadrature weights w_k
   /// @return the number of nodes.
   Index size() const { return static_cast<Index>(first.size()); }
 };

@@ -60,8 +60,8 @@ class NodalLayout {
  private:
   NodalDofs m_dofs;
   Index m_n = 0, m_nnz = 0;
-  int m_block = 0;            ///< lower entries per block, d(d+1)/2
-  std::vector<Index> m_pos;   ///< node k, entry (a, b): m_pos[k·m_block + a(a+1)/2 + b]
+  int m_block = 0;           ///< lower entries per block, d(d+1)/2
+  std::vector<Index> m_pos;  ///< node k, entry (a, b): m_pos[k·m_block + a(a+1)/2 + b]
 };
 
 /// @brief A term Σ_k e_k(x_k) over the Γ3 nodes (ipc-toolkit's local/global split): derived terms

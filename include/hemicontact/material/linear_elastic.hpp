@@ -9,10 +9,10 @@ namespace hemicontact {
 enum class PlaneMode { STRESS, STRAIN, NONE_3D };
 
 /// σ = a tr(ε) I + b ε. In the paper's plane stress (§5):
-/// \f$(\mathcal F\tau)_{\alpha\beta} = \frac{E\kappa}{1-\kappa^2}(\tau_{11}+\tau_{22})\delta_{\alpha\beta} + \frac{E}{1+\kappa}\tau_{\alpha\beta}\f$,
-/// i.e. a = Eκ/(1−κ²), b = E/(1+κ); plane strain and 3D: a = λ = Eν/((1+ν)(1−2ν)), b = 2μ = E/(1+ν).
-/// As an operator on symmetric tensors its eigenvalues are b (deviatoric) and b + d·a (spherical),
-/// so m_F = min and L_F = max of the two.
+/// \f$(\mathcal F\tau)_{\alpha\beta} = \frac{E\kappa}{1-\kappa^2}(\tau_{11}+\tau_{22})\delta_{\alpha\beta} +
+/// \frac{E}{1+\kappa}\tau_{\alpha\beta}\f$, i.e. a = Eκ/(1−κ²), b = E/(1+κ); plane strain and 3D: a = λ =
+/// Eν/((1+ν)(1−2ν)), b = 2μ = E/(1+ν). As an operator on symmetric tensors its eigenvalues are b (deviatoric) and b +
+/// d·a (spherical), so m_F = min and L_F = max of the two.
 class LinearElastic : public Material {
  public:
   /// @param E Young's modulus (> 0); @param nu Poisson's ratio (−1 < ν < 0.5);

@@ -16,11 +16,11 @@ struct BoundarySelector {
   /// "left", "right" (x = min/max), "bottom", "top" (2D: y, 3D: z = min/max), "front", "back"
   /// (3D only: y = min/max); or empty
   std::string side;
-  std::string physical;  ///< name of a group in Mesh::facet_groups; or empty
-  double from = -INF;    ///< lower end of the half-open interval along the side
-  double to = INF;       ///< upper end (excluded)
-  Vec traction;          ///< Γ2 only: the constant traction f2 on the selected facets
-  std::string context;   ///< where it came from, for messages (e.g. "boundary.gamma2[1]")
+  std::string physical;         ///< name of a group in Mesh::facet_groups; or empty
+  double from = -INF;           ///< lower end of the half-open interval along the side
+  double to = INF;              ///< upper end (excluded)
+  Vec traction;                 ///< Γ2 only: the constant traction f2 on the selected facets
+  std::string context;          ///< where it came from, for messages (e.g. "boundary.gamma2[1]")
   std::vector<int> components;  ///< rollers only: the displacement components held at zero (0 = x, ...)
 };
 

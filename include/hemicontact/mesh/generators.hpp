@@ -23,12 +23,12 @@ const char* to_string(Diagonal d);
 
 /// Parameters of a structured rectangle mesh.
 struct RectangleSpec {
-  double x0 = 0, x1 = 1;               ///< x-interval
-  double y0 = 0, y1 = 1;               ///< y-interval
-  int nx = 8, ny = 8;                  ///< cells per direction
-  Diagonal diagonal = Diagonal::RIGHT; ///< cell split
-  double perturb = 0;                  ///< interior nodes moved by up to perturb·h (Euclidean, uniform in the disc/ball)
-  unsigned seed = 1;                   ///< seed of the perturbation
+  double x0 = 0, x1 = 1;                ///< x-interval
+  double y0 = 0, y1 = 1;                ///< y-interval
+  int nx = 8, ny = 8;                   ///< cells per direction
+  Diagonal diagonal = Diagonal::RIGHT;  ///< cell split
+  double perturb = 0;  ///< interior nodes moved by up to perturb·h (Euclidean, uniform in the disc/ball)
+  unsigned seed = 1;   ///< seed of the perturbation
 };
 
 /// Build the triangulation of [x0,x1]×[y0,y1]; boundary facets are extracted (parts NONE).
@@ -56,13 +56,13 @@ const char* to_string(BoxPattern p);
 
 /// Parameters of a structured box mesh.
 struct BoxSpec {
-  double x0 = 0, x1 = 1;                ///< x-interval
-  double y0 = 0, y1 = 1;                ///< y-interval
-  double z0 = 0, z1 = 1;                ///< z-interval
-  int nx = 4, ny = 4, nz = 4;           ///< cells per direction
-  BoxPattern pattern = BoxPattern::KUHN; ///< cell split
-  double perturb = 0;                   ///< interior nodes moved by up to perturb·h (Euclidean, uniform in the disc/ball)
-  unsigned seed = 1;                    ///< seed of the perturbation
+  double x0 = 0, x1 = 1;                  ///< x-interval
+  double y0 = 0, y1 = 1;                  ///< y-interval
+  double z0 = 0, z1 = 1;                  ///< z-interval
+  int nx = 4, ny = 4, nz = 4;             ///< cells per direction
+  BoxPattern pattern = BoxPattern::KUHN;  ///< cell split
+  double perturb = 0;  ///< interior nodes moved by up to perturb·h (Euclidean, uniform in the disc/ball)
+  unsigned seed = 1;   ///< seed of the perturbation
 };
 
 /// Build the tetrahedral mesh of [x0,x1]×[y0,y1]×[z0,z1] (6 positively oriented tets per cell);

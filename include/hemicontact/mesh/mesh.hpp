@@ -22,13 +22,13 @@ const char* to_string(Part p);
 
 /// A P1 mesh: nodes, cells and the boundary facets with their part tags.
 struct Mesh {
-  int dim = 2;                     ///< spatial dimension d (2 or 3)
-  RowMat points;                   ///< N × d node coordinates, one row per node
-  IMat cells;                      ///< M × (d+1) node indices, positively oriented
-  IMat facets;                     ///< F × d node indices of every boundary facet
-  std::vector<Part> facet_part;    ///< part of each facet (NONE until assigned)
-  std::vector<int> facet_load;     ///< for Γ2 facets: index of its traction in Mesh::tractions, else -1
-  std::vector<Vec> tractions;      ///< the piecewise-constant tractions f2 (one per Γ2 selector)
+  int dim = 2;                   ///< spatial dimension d (2 or 3)
+  RowMat points;                 ///< N × d node coordinates, one row per node
+  IMat cells;                    ///< M × (d+1) node indices, positively oriented
+  IMat facets;                   ///< F × d node indices of every boundary facet
+  std::vector<Part> facet_part;  ///< part of each facet (NONE until assigned)
+  std::vector<int> facet_load;   ///< for Γ2 facets: index of its traction in Mesh::tractions, else -1
+  std::vector<Vec> tractions;    ///< the piecewise-constant tractions f2 (one per Γ2 selector)
   /// Named facet groups (Gmsh physical groups): name → indices into facets.
   std::map<std::string, std::vector<Index>> facet_groups;
   /// Per node, a bit mask of the displacement components held at zero by roller conditions

@@ -38,9 +38,9 @@ struct SolveResult {
 /// scene schema (src/scene/scene_schema.cpp) injects them as solver.tol, solver.max_iter and
 /// solver.print_level.
 struct BackendOptions {
-  double tol = 1e-12;       ///< first-order tolerance, relative to the gradient scale at x0
-  int max_iter = 3000;      ///< iteration cap
-  int print_level = 0;      ///< backend verbosity (0 = silent; our logger reports progress)
+  double tol = 1e-12;   ///< first-order tolerance, relative to the gradient scale at x0
+  int max_iter = 3000;  ///< iteration cap
+  int print_level = 0;  ///< backend verbosity (0 = silent; our logger reports progress)
   /// Backend-specific options passed through verbatim (e.g. Ipopt "mu_strategy" -> "adaptive").
   /// Values are strings; numeric/integer Ipopt options are parsed from them.
   std::map<std::string, std::string> extra;

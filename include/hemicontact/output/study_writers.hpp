@@ -13,8 +13,9 @@
 namespace hemicontact {
 
 /// @brief The study as JSON: {"reference": level, "levels": [level...], "backend", "ok", "failed",
-/// "scene", "rate_fit": {alpha, C, levels_used, max_rel_residual} or null} with each level {n, h, h_max, dofs, energy_norm, error, order, seconds, status_counts,
-/// certificate_max_residual, converged, certified, ok, nested, message}; NaN orders are null.
+/// "scene", "rate_fit": {alpha, C, levels_used, max_rel_residual} or null} with each level {n, h, h_max, dofs,
+/// energy_norm, error, order, seconds, status_counts, certificate_max_residual, converged, certified, ok, nested,
+/// message}; NaN orders are null.
 /// @param study the study @return the JSON object
 nlohmann::json convergence_json(const ConvergenceStudy& study);
 

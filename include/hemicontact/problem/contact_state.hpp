@@ -18,7 +18,7 @@ enum class TangentialStatus { STICK, SLIP_PLUS, SLIP_MINUS, SLIP };
 
 /// Status of one Γ3 node.
 struct NodeStatus {
-  NormalStatus normal = NormalStatus::SEPARATED;       ///< separated / compliance / contact
+  NormalStatus normal = NormalStatus::SEPARATED;          ///< separated / compliance / contact
   TangentialStatus tangential = TangentialStatus::STICK;  ///< stick / slip
   /// @return e.g. "compliance/slip-", "contact/stick".
   std::string str() const;
@@ -40,19 +40,19 @@ struct SlipDirection {
 
 /// Unsmoothed Γ3 quantities of a displacement u, one entry per contact node.
 struct ContactState {
-  Vec u_nu;        ///< u_ν,i = u_i·ν_i
-  Vec u_tau;       ///< 2D: u_i·τ_i (signed); 3D: |u_τ,i|
-  Vec sigma_nu;    ///< σ_ν,i = ((K u − f)_i / w_i)·ν_i
-  Vec sigma_tau;   ///< 2D: σ·τ (signed); 3D: |σ_τ|
-  Vec xi;          ///< ξ_i: the point of ∂j_ν(u_ν,i) nearest to −σ_ν,i (= p_ν(u_ν,i) where p is continuous)
-  Vec lambda;      ///< F_b(u_ν,i) (0 when frictionless)
+  Vec u_nu;       ///< u_ν,i = u_i·ν_i
+  Vec u_tau;      ///< 2D: u_i·τ_i (signed); 3D: |u_τ,i|
+  Vec sigma_nu;   ///< σ_ν,i = ((K u − f)_i / w_i)·ν_i
+  Vec sigma_tau;  ///< 2D: σ·τ (signed); 3D: |σ_τ|
+  Vec xi;         ///< ξ_i: the point of ∂j_ν(u_ν,i) nearest to −σ_ν,i (= p_ν(u_ν,i) where p is continuous)
+  Vec lambda;     ///< F_b(u_ν,i) (0 when frictionless)
   RowMat u_tau_vec;      ///< u_τ,i as a vector (d components)
   RowMat sigma_tau_vec;  ///< σ_τ,i as a vector (d components)
   Vec residual;          ///< the full residual K u − f (nodal forces)
   /// 3D: u_τ,i/|u_τ,i| (zero where u_τ = 0), computed once here so that every writer reports the
   /// same direction (SlipDirection); empty in 2D, where the sign of u_τ is the direction (slip±).
   RowMat slip_dir;
-  Vec slip_angle_deg;    ///< 3D: the angle of slip_dir in the tangent plane (SlipDirection::angle_deg)
+  Vec slip_angle_deg;  ///< 3D: the angle of slip_dir in the tangent plane (SlipDirection::angle_deg)
 };
 
 }  // namespace hemicontact

@@ -19,20 +19,20 @@ namespace hemicontact {
 
 /// The assembled discrete problem (P_V^h), eq. (22).
 struct Model {
-  nlohmann::json scene;                               ///< effective scene (defaults injected)
-  Mesh mesh;                                          ///< mesh with tagged boundary parts
-  std::shared_ptr<const Material> material;           ///< elasticity operator F
-  std::vector<bool> clamped;                          ///< Γ1 flag per node
-  Gap gap;                                            ///< layer thickness g
-  ContactNodes contact;                               ///< Γ3 nodes, weights, frames, g_i
-  DofMap dofs;                                        ///< full ↔ reduced unknowns
-  SpMat K;                                            ///< full stiffness (N·d); nonlinear F: tangent at u = 0
-  Vec f;                                              ///< full load vector, eq. (17)
-  SpMat Kx;                                           ///< reduced stiffness Tᵀ K T
-  Vec fx;                                             ///< reduced load Tᵀ f
+  nlohmann::json scene;                                  ///< effective scene (defaults injected)
+  Mesh mesh;                                             ///< mesh with tagged boundary parts
+  std::shared_ptr<const Material> material;              ///< elasticity operator F
+  std::vector<bool> clamped;                             ///< Γ1 flag per node
+  Gap gap;                                               ///< layer thickness g
+  ContactNodes contact;                                  ///< Γ3 nodes, weights, frames, g_i
+  DofMap dofs;                                           ///< full ↔ reduced unknowns
+  SpMat K;                                               ///< full stiffness (N·d); nonlinear F: tangent at u = 0
+  Vec f;                                                 ///< full load vector, eq. (17)
+  SpMat Kx;                                              ///< reduced stiffness Tᵀ K T
+  Vec fx;                                                ///< reduced load Tᵀ f
   std::shared_ptr<const PiecewiseLinearLaw> normal_law;  ///< exact p_ν; null: no soft layer
   std::shared_ptr<const FrictionBound> friction;         ///< F_b; null: frictionless
-  std::map<std::string, double> timings;              ///< seconds: mesh, assembly, ...
+  std::map<std::string, double> timings;                 ///< seconds: mesh, assembly, ...
 
   /// @return the spatial dimension d.
   int dim() const { return mesh.dim; }

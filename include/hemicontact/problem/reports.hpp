@@ -12,9 +12,9 @@ namespace hemicontact {
 
 /// One residual of the certificate.
 struct CertificateResidual {
-  std::string name;   ///< "feasibility", "normal", "complementarity", "friction_cone", "slip_direction", "equilibrium"
-  double value = 0;   ///< normalized max over nodes/dofs
-  Index worst = -1;   ///< contact node (or dof for equilibrium) where it is attained
+  std::string name;  ///< "feasibility", "normal", "complementarity", "friction_cone", "slip_direction", "equilibrium"
+  double value = 0;  ///< normalized max over nodes/dofs
+  Index worst = -1;  ///< contact node (or dof for equilibrium) where it is attained
 };
 
 /// The certificate of a displacement.
@@ -30,15 +30,15 @@ struct CertificateReport {
 
 /// The terms of (21).
 struct SmallnessReport {
-  bool computed = false;     ///< false when there is no Γ3 or nothing nonconvex/nonmonotone to check
-  double m_F = 0;            ///< (12)(b)
-  double L_Fb = 0;           ///< (15)(a); 0 without friction; +inf for a discontinuous F_b
-  double alpha_j = 0;        ///< (13)(d); 0 without layer; +inf for a downward jump of p_ν
-  double lambda_1 = 0;       ///< λ_{1,ν}: smallest eigenvalue with ∫Γ3 u·v
-  double lambda_1nu = 0;     ///< λ_{1ν,ν}: smallest eigenvalue with ∫Γ3 u_ν v_ν
-  double lhs = 0;            ///< L_Fb/λ_{1,ν} + α_jν/λ_{1ν,ν}
-  bool holds = false;        ///< lhs < m_F: uniqueness guaranteed
-  double seconds = 0;        ///< time to compute
+  bool computed = false;  ///< false when there is no Γ3 or nothing nonconvex/nonmonotone to check
+  double m_F = 0;         ///< (12)(b)
+  double L_Fb = 0;        ///< (15)(a); 0 without friction; +inf for a discontinuous F_b
+  double alpha_j = 0;     ///< (13)(d); 0 without layer; +inf for a downward jump of p_ν
+  double lambda_1 = 0;    ///< λ_{1,ν}: smallest eigenvalue with ∫Γ3 u·v
+  double lambda_1nu = 0;  ///< λ_{1ν,ν}: smallest eigenvalue with ∫Γ3 u_ν v_ν
+  double lhs = 0;         ///< L_Fb/λ_{1,ν} + α_jν/λ_{1ν,ν}
+  bool holds = false;     ///< lhs < m_F: uniqueness guaranteed
+  double seconds = 0;     ///< time to compute
 };
 
 /// What the exact polish (driver/polish.hpp) did.

@@ -28,37 +28,37 @@ struct OuterIteration {
   /// λ ↦ (1−θ)λ + θ F_b(u_ν(λ)) at the final ε; NaN where undefined (first iteration of the final
   /// stage, coarse stages, no lagged friction, or the previous update below contraction_floor).
   double contraction = std::numeric_limits<double>::quiet_NaN();
-  SolveResult backend;       ///< what the backend said
+  SolveResult backend;  ///< what the backend said
 };
 
 /// Everything a solve produces; writers take it read-only.
 struct Solution {
-  Vec x;                             ///< reduced unknowns (unscaled)
-  Vec u;                             ///< full displacement
-  ContactState state;                ///< Γ3 quantities
-  std::vector<NodeStatus> status;    ///< per Γ3 node
-  CertificateReport certificate;     ///< MODEL.md §4
-  double energy = 0;                 ///< Π = ∫W(ε(u)) − f(u) + Σ w j_ν(u_ν) + Σ w F_b(u_ν)|u_τ| (unsmoothed; ∫W = ½a(u,u) if linear)
-  double energy_norm = 0;            ///< sqrt(a(u,u))
+  Vec x;                           ///< reduced unknowns (unscaled)
+  Vec u;                           ///< full displacement
+  ContactState state;              ///< Γ3 quantities
+  std::vector<NodeStatus> status;  ///< per Γ3 node
+  CertificateReport certificate;   ///< MODEL.md §4
+  double energy = 0;  ///< Π = ∫W(ε(u)) − f(u) + Σ w j_ν(u_ν) + Σ w F_b(u_ν)|u_τ| (unsmoothed; ∫W = ½a(u,u) if linear)
+  double energy_norm = 0;                                   ///< sqrt(a(u,u))
   double a_uu = 0, f_u = 0, j_term = 0, friction_term = 0;  ///< the parts of energy
   /// ∫ W(ε(u)), the elastic part of energy: ½ a_uu for a linear F; for a nonlinear F, a_uu and
   /// energy_norm use the small-strain stiffness K(0) (an equivalent norm), this the true W.
   double elastic_energy = 0;
-  double max_u_nu = 0;               ///< max_i u_ν,i
+  double max_u_nu = 0;                  ///< max_i u_ν,i
   std::vector<OuterIteration> history;  ///< every minimization
-  bool fixed_point_converged = true; ///< false if the outer loop hit its cap or stalled
+  bool fixed_point_converged = true;    ///< false if the outer loop hit its cap or stalled
   /// Estimated contraction factor of the outer fixed point: the geometric mean of the defined
   /// ρ_k (OuterIteration::contraction); NaN if none is defined (no loop, or converged at once).
   double contraction_estimate = std::numeric_limits<double>::quiet_NaN();
-  bool backend_ok = true;            ///< false if the last minimization failed
-  std::string message;               ///< human-readable verdict
-  std::string backend;               ///< backend name
-  std::vector<std::string> skipped;  ///< what was not needed and not done
-  std::string formulation;           ///< "full" or "condensed" (empty for a linear solve)
-  PolishResult polish;               ///< what the exact polish did
-  SmallnessReport smallness;         ///< the smallness condition (21)
-  double start_energy = 0;           ///< smoothed energy at the start (first ε, λ frozen there)
-  double x_scale = 1, f_scale = 1;   ///< the nondimensionalization used
+  bool backend_ok = true;                 ///< false if the last minimization failed
+  std::string message;                    ///< human-readable verdict
+  std::string backend;                    ///< backend name
+  std::vector<std::string> skipped;       ///< what was not needed and not done
+  std::string formulation;                ///< "full" or "condensed" (empty for a linear solve)
+  PolishResult polish;                    ///< what the exact polish did
+  SmallnessReport smallness;              ///< the smallness condition (21)
+  double start_energy = 0;                ///< smoothed energy at the start (first ε, λ frozen there)
+  double x_scale = 1, f_scale = 1;        ///< the nondimensionalization used
   std::map<std::string, double> timings;  ///< seconds
   /// @return true when the answer is accepted: the outer fixed point converged and the certificate
   /// passed. A backend's own failure status does not decide (issue: "the certificate decides").

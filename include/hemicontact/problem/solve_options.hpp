@@ -11,28 +11,28 @@ namespace hemicontact {
 
 /// Solver settings, read from the scene's "solver", "check" blocks (defaults: this struct).
 struct SolveOptions {
-  std::string backend = "ipopt";   ///< NLP backend name
+  std::string backend = "ipopt";     ///< NLP backend name
   std::string formulation = "auto";  ///< "full", "condensed" or "auto" (condensed for linear materials)
-  bool polish = true;              ///< exact polish on identified statuses (condensed formulation)
-  BackendOptions backend_options;  ///< tolerance, iteration cap, pass-through options
-  double eps_tau = 1e-10;          ///< final friction smoothing width, relative to U_s
-  double eps_nu = 1e-10;           ///< final mollification width of p_ν, relative to U_s
-  double eps_start = 1e-2;         ///< first continuation width, relative to U_s
-  double eps_factor = 1e-2;        ///< ε multiplied by this per continuation step
-  double tol_u = 1e-12;            ///< fixed point: relative change of x on Γ3 and of λ
-  int max_outer = 50;              ///< fixed point: iteration cap
-  double relaxation = 1.0;         ///< θ in λ ← (1−θ)λ + θ F_b(u_ν)
+  bool polish = true;                ///< exact polish on identified statuses (condensed formulation)
+  BackendOptions backend_options;    ///< tolerance, iteration cap, pass-through options
+  double eps_tau = 1e-10;            ///< final friction smoothing width, relative to U_s
+  double eps_nu = 1e-10;             ///< final mollification width of p_ν, relative to U_s
+  double eps_start = 1e-2;           ///< first continuation width, relative to U_s
+  double eps_factor = 1e-2;          ///< ε multiplied by this per continuation step
+  double tol_u = 1e-12;              ///< fixed point: relative change of x on Γ3 and of λ
+  int max_outer = 50;                ///< fixed point: iteration cap
+  double relaxation = 1.0;           ///< θ in λ ← (1−θ)λ + θ F_b(u_ν)
   /// Fixed-point updates ‖Δλ‖∞ at or below this × ‖λ‖∞ are the inner solves' round-off (backend
   /// tol 1e-12 on O(1) scaled unknowns), not the map's contraction: they enter no ratio ρ_k.
   double contraction_floor = 1e-9;
   /// Non-contraction: the update ‖Δλ‖∞ has not shrunk by this factor for `stall_iters`
   /// consecutive outer iterations (ρ_k > stall_ratio) → stop and say so.
   double stall_ratio = 0.99;
-  int stall_iters = 5;             ///< see stall_ratio
+  int stall_iters = 5;               ///< see stall_ratio
   bool allow_not_converged = false;  ///< exit 0 even if the fixed point did not converge
-  double certificate_tol = 1e-8;   ///< acceptance tolerance of the certificate
-  double status_tol = 1e-8;        ///< status decisions, relative to U
-  bool smallness = true;           ///< evaluate the smallness condition (21)
+  double certificate_tol = 1e-8;     ///< acceptance tolerance of the certificate
+  double status_tol = 1e-8;          ///< status decisions, relative to U
+  bool smallness = true;             ///< evaluate the smallness condition (21)
 };
 
 }  // namespace hemicontact
