@@ -22,14 +22,6 @@ std::vector<std::string> backends() {
   return b;
 }
 
-NlpProblem problem_of(const NlpObjective& f, const Vec& lower, const Vec& upper) {
-  NlpProblem p;
-  p.f = &f;
-  p.lower = lower;
-  p.upper = upper;
-  return p;
-}
-
 /// The residual written out independently of nlp/: the distance from x to the projection of x − g.
 double projected_step(const Vec& x, const Vec& g, const Vec& lower, const Vec& upper) {
   return (x - (x - g).cwiseMax(lower).cwiseMin(upper)).cwiseAbs().maxCoeff();
@@ -40,7 +32,7 @@ double projected_step(const Vec& x, const Vec& g, const Vec& lower, const Vec& u
 TEST(BackendInterface, KktNormIsOneResidualForEveryBackend) {
   const BoxQp q = make_box_qp();
   const QuadraticObjective f(q.A, q.b);
-  const NlpProblem p = problem_of(f, q.lower, q.upper);
+  const NlpProblem p = make_problem(f, q.lower, q.upper);
   BackendOptions opt;
   opt.tol = 1e-8;
   for (const std::string& name : backends()) {
@@ -57,7 +49,7 @@ TEST(BackendInterface, KktNormIsOneResidualForEveryBackend) {
 
 TEST(BackendInterface, EmptyProblemIsConvergedAtOnce) {
   const QuadraticObjective f(Mat(0, 0), Vec(0));
-  const NlpProblem p = problem_of(f, Vec(0), Vec(0));
+  const NlpProblem p = make_problem(f, Vec(0), Vec(0));
   for (const std::string& name : backends()) {
     SCOPED_TRACE(name);
     Vec x(0);
@@ -77,7 +69,7 @@ TEST(BackendInterface, MalformedProblemsAreRefusedNamingTheBackend) {
     const auto backend = make_backend(name);
     Vec x = Vec::Zero(5);  // one short
     try {
-      backend->minimize(problem_of(f, q.lower, q.upper), x, BackendOptions());
+      backend->minimize(make_problem(f, q.lower, q.upper), x, BackendOptions());
       ADD_FAILURE() << "a start of the wrong size was accepted";
     } catch (const Error& e) {
       EXPECT_EQ(e.code(), EXIT_INTERNAL);
@@ -87,7 +79,7 @@ TEST(BackendInterface, MalformedProblemsAreRefusedNamingTheBackend) {
     lower[2] = 2.0;  // above upper[2] = 1
     x = Vec::Zero(6);
     try {
-      backend->minimize(problem_of(f, lower, q.upper), x, BackendOptions());
+      backend->minimize(make_problem(f, lower, q.upper), x, BackendOptions());
       ADD_FAILURE() << "empty bounds were accepted";
     } catch (const Error& e) {
       EXPECT_EQ(e.code(), EXIT_INPUT);
@@ -101,7 +93,7 @@ TEST(BackendInterface, MalformedProblemsAreRefusedNamingTheBackend) {
 TEST(BackendInterface, StartIsProjectedOntoTheBounds) {
   const BoxQp q = make_box_qp();
   const QuadraticObjective f(q.A, q.b);
-  const NlpProblem p = problem_of(f, q.lower, q.upper);
+  const NlpProblem p = make_problem(f, q.lower, q.upper);
   BackendOptions opt;
   opt.max_iter = 1;
   for (const std::string& name : backends()) {

@@ -39,13 +39,6 @@ BackendOptions accurate() {
   return o;
 }
 
-NlpProblem make_problem(const NlpObjective& f, const Vec& lower, const Vec& upper) {
-  NlpProblem p;
-  p.f = &f;
-  p.lower = lower;
-  p.upper = upper;
-  return p;
-}
 
 /// A per-process file name in the test temp directory: other build trees run this same test
 /// program at the same time. Ipopt lower-cases "output_file" names, so keep it lower case.

@@ -27,13 +27,6 @@ namespace {
 #define HEMICONTACT_REQUIRE_IPOPT_HERE() \
   if (!HEMICONTACT_HAS_IPOPT) GTEST_SKIP() << "Ipopt backend not compiled in: the comparison needs it"
 
-NlpProblem make_problem(const NlpObjective& f, const Vec& lower, const Vec& upper) {
-  NlpProblem p;
-  p.f = &f;
-  p.lower = lower;
-  p.upper = upper;
-  return p;
-}
 
 BackendOptions accurate(const std::string& linear_solver = "") {
   BackendOptions o;

@@ -36,13 +36,6 @@ const std::vector<std::string> ALL_LOCAL = {
     "LD_MMA",  "LD_CCSAQ",   "LD_SLSQP",           "LD_LBFGS",           "LD_VAR1",
     "LD_VAR2", "LD_TNEWTON", "LD_TNEWTON_RESTART", "LD_TNEWTON_PRECOND", "LD_TNEWTON_PRECOND_RESTART"};
 
-NlpProblem make_problem(const NlpObjective& f, const Vec& lower, const Vec& upper) {
-  NlpProblem p;
-  p.f = &f;
-  p.lower = lower;
-  p.upper = upper;
-  return p;
-}
 
 /// f(x) = ½‖x‖² − 1ᵀx on a diagonal pattern, any n (the SLSQP size limit needs n > 3000 without
 /// a dense test matrix).

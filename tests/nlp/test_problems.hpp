@@ -19,6 +19,16 @@
 
 namespace hemicontact::test {
 
+/// @return the bound-constrained problem min @p f subject to @p lower ≤ x ≤ @p upper (@p f must
+/// outlive it), as every backend test builds it.
+inline NlpProblem make_problem(const NlpObjective& f, const Vec& lower, const Vec& upper) {
+  NlpProblem p;
+  p.f = &f;
+  p.lower = lower;
+  p.upper = upper;
+  return p;
+}
+
 /// @return the lower-triangular pattern (explicit zeros) of the entries (i, j), i >= j, where
 /// @p mask is nonzero: a structural Hessian pattern chosen once.
 inline SpMat lower_pattern_from_mask(const Mat& mask) {
