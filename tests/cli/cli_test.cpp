@@ -126,6 +126,23 @@ TEST_F(Cli, ForceReplacesThePreviousResultSet) {
   EXPECT_EQ(rep["files"], json({"gamma3.csv", "report.json"}));
 }
 
+// Issue 12, BAD 4: a folder holding the user's own gamma3.csv and solution.vtu but no report.json
+// used to have both overwritten without --force; now the run is refused before any work, and
+// --force does not change that (it replaces only files the tool wrote).
+TEST_F(Cli, UsersFilesInTheOutputFolderAreNeverOverwritten) {
+  const fs::path out = dir / "mine";
+  fs::create_directories(out);
+  std::ofstream(out / "gamma3.csv") << "my table\n";
+  std::ofstream(out / "solution.vtu") << "my mesh\n";
+  for (const std::string force : {"", " --force"}) {
+    const CliRun r = run("solve " + write(scene()) + " --out " + out.string() + " --quiet" + force);
+    expect_error(r, hemicontact::EXIT_INPUT, "exists and was not written by hemicontact");
+    EXPECT_EQ(slurp(out / "gamma3.csv"), "my table\n");
+    EXPECT_EQ(slurp(out / "solution.vtu"), "my mesh\n");
+    EXPECT_FALSE(fs::exists(out / "report.json"));
+  }
+}
+
 TEST_F(Cli, SolveWritesResults) {
   const std::string out = (dir / "res").string();
   const CliRun r = run("solve " + write(scene()) + " --out " + out + " --quiet");
