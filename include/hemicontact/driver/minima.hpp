@@ -65,8 +65,8 @@ struct MinimaOptions {
 
 /// Second-order check of a certified solution.
 ///
-/// At the solution's solver unknowns z: the final smoothing widths are set (set_eps), the friction
-/// bounds are frozen at z (freeze_friction: λ_i = F_b(u_ν,i), the lagged problem's energy), and the
+/// At the solution's solver unknowns z: the final smoothing widths are set and the friction
+/// bounds are frozen at z (ContactSolver::lagged_energy: λ_i = F_b(u_ν,i)), and the
 /// true Hessian H = ∇²Π_λ,ε(z) (Psd::NONE) is formed densely. Removed from it are
 ///  - ν unknowns at the bound u_ν = g (contact): with a positive rigid reaction the critical cone
 ///    has d_ν = 0 there; at a degenerate contact (zero reaction) removing them makes the test a
