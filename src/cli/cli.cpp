@@ -32,7 +32,7 @@ std::string usage() {
          "  hemicontact --help | --version\n"
          "  hemicontact COMMAND --help                  the command's options, defaults and an example\n"
          "exit codes: 0 solved and certified, 1 usage, 2 bad input, 3 not converged, 4 certificate failed,\n"
-         "            5 internal error\n";
+         "            5 internal error, 6 the results could not be written (disk full, permissions)\n";
 }
 
 namespace {
@@ -177,7 +177,9 @@ int cmd_solve(const std::vector<std::string>& args) {
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
   const bool plot = a.plot || scene.at("output").at("plot").get<bool>();
   const char* picture = "fig2.png";  // 3D: status3d.png (known once the mesh is built)
-  prepare_output_dir(a.out, a.force, {"report.json", "solution.vtu", "gamma3.csv", "fig2.png", "status3d.png"});
+  // Held until the program ends: no other run writes into this folder meanwhile.
+  const OutputLock lock =
+      prepare_output_dir(a.out, a.force, {"report.json", "solution.vtu", "gamma3.csv", "fig2.png", "status3d.png"});
   const Model md = build_model(scene, scene_directory(a.scene));
   const SolveOptions opt = solve_options_from_scene(scene);
   Solution sol = solve(md, opt);

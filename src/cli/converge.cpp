@@ -47,7 +47,7 @@ int cmd_converge(const std::vector<std::string>& args) {
   if (a.quiet) set_log_level(LogLevel::WARN);
 
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
-  prepare_output_dir(a.out, a.force, {"convergence.csv", "convergence.json", "convergence.png", "convergence.pvd"});
+  const OutputLock lock = prepare_output_dir(a.out, a.force, {"convergence.csv", "convergence.json", "convergence.png", "convergence.pvd"});
   const std::filesystem::path out(a.out);
 
   // One VTU per solved level as it completes, and a .pvd that steps through them in ParaView.
@@ -55,11 +55,16 @@ int cmd_converge(const std::vector<std::string>& args) {
       scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
   std::vector<std::pair<double, std::string>> vtus;
   const bool write_vtus = scene.at("output").at("vtu").get<bool>();
-  const auto on_level = [&](int n, const Model& md, const Solution& sol) {
-    if (!write_vtus) return;
-    const std::string file = "level_" + std::to_string(n) + ".vtu";
-    write_vtu((out / file).string(), md, sol, vtu_format);
-    vtus.emplace_back(n, file);
+  // Each finished level is kept as it completes (issue 12): its VTU, and convergence.csv with the
+  // levels so far (rewritten whole, atomically). convergence.json, written last, marks the study
+  // complete; an interrupt names what was kept.
+  const auto on_level = [&](const ConvergenceStudy& so_far, int n, const Model& md, const Solution& sol) {
+    if (write_vtus) {
+      const std::string file = "level_" + std::to_string(n) + ".vtu";
+      write_vtu((out / file).string(), md, sol, vtu_format);
+      vtus.emplace_back(n, file);
+    }
+    if (!so_far.levels.empty()) write_convergence_csv((out / "convergence.csv").string(), so_far);
   };
   const ConvergenceStudy st = run_convergence(scene, scene_directory(a.scene), levels, reference[0], on_level);
   if (write_vtus) {

@@ -17,6 +17,7 @@
 #include "cli.hpp"
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/output/output_dir.hpp>
 
 #include <cstdio>
 #include <exception>
@@ -26,6 +27,9 @@
 int main(int argc, char** argv) {
   using namespace hemicontact;
   const std::vector<std::string> args(argv + 1, argv + argc);
+  // Ctrl-C or a kill while results are written: no half-written file under a final name, and a
+  // word on what was kept (output/output_dir.hpp).
+  install_interrupt_handlers();
   try {
     if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
       std::fputs(cli::usage().c_str(), args.empty() ? stderr : stdout);

@@ -101,17 +101,21 @@ int cmd_minima(const std::vector<std::string>& args) {
     }
     for (Vec& v : read_gamma3_starts(js, md, "--start '" + f + "'")) mo.user_starts.push_back(std::move(v));
   }
-  prepare_output_dir(a.out, a.force, {"minima.csv", "minima.json", "minima.png", "minima.pvd", "solution_0.vtu"});
+  const OutputLock lock = prepare_output_dir(a.out, a.force, {"minima.csv", "minima.json", "minima.png", "minima.pvd", "minima-runs.csv", "solution_0.vtu"});
   const std::filesystem::path out(a.out);
 
   const SolveOptions opt = solve_options_from_scene(scene);
+  // Each finished run is kept as it ends (issue 12): an interrupted search loses only the run it
+  // was in, and the interrupt message names minima-runs.csv.
+  mo.on_run = [&](const std::vector<MinimaRun>& runs) {
+    write_minima_runs_csv((out / "minima-runs.csv").string(), runs);
+  };
   const MinimaReport r = find_minima(md, opt, mo);
 
   nlohmann::json js = minima_json(md, r);
   js["name"] = name;
   js["scene_file"] = a.scene;
   js["scene"] = scene;
-  write_text_file((out / "minima.json").string(), js.dump(2) + '\n');
   write_minima_csv((out / "minima.csv").string(), r);
   const VtuFormat vtu_format =
       scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
@@ -123,6 +127,8 @@ int cmd_minima(const std::vector<std::string>& args) {
   }
   // The distinct solutions, lowest energy first, as the steps of one collection.
   if (!vtus.empty()) write_pvd((out / "minima.pvd").string(), vtus);
+  // minima.json last of the set: it marks the search complete (and the picture is drawn from it).
+  write_text_file((out / "minima.json").string(), js.dump(2) + '\n');
   std::printf("%s: distinct solutions (lowest energy first)\n", name.c_str());
   std::fputs(minima_table(r).c_str(), stdout);
   std::printf("results in %s\n", a.out.c_str());

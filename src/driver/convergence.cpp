@@ -8,6 +8,7 @@
 #include <hemicontact/scene/config.hpp>
 
 #include <algorithm>
+#include <memory>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -171,8 +172,8 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
   const SolveOptions ref_opt = solve_options_from_scene(st.scene);
   Solution ref_sol;
   st.reference = solve_level(ref, ref_opt, st.scene, reference, ref_sol);
-  if (on_level) on_level(reference, ref, ref_sol);
   st.reference.error = 0;
+  if (on_level) on_level(st, reference, ref, ref_sol);
   st.backend = ref_sol.backend;
   const double ref_norm = ref_sol.energy_norm;
   if (!(ref_norm > 0)) input_error("convergence: the reference solution is zero (no load?): no relative error");
@@ -181,17 +182,18 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
   for (const int L : levels) {
     ConvergenceLevel lvl;
     Vec Pu;
+    std::unique_ptr<Model> level_model;  // the level's own mesh and solution (not the reference's)
+    Solution level_sol;
     if (L == reference) {
       lvl = st.reference;
       Pu = prolongate(ref.mesh, ref_sol.u, ref.mesh);
     } else {
       log_info() << "convergence: level n = " << L;
       const nlohmann::json s = scene_at_level(scene, L);
-      const Model md = build_model(s, scene_dir);
-      Solution sol;
-      lvl = solve_level(md, solve_options_from_scene(s), s, L, sol);
-      if (on_level) on_level(L, md, sol);
-      Pu = prolongate(md.mesh, sol.u, ref.mesh);
+      level_model = std::make_unique<Model>(build_model(s, scene_dir));
+      const Model& md = *level_model;
+      lvl = solve_level(md, solve_options_from_scene(s), s, L, level_sol);
+      Pu = prolongate(md.mesh, level_sol.u, ref.mesh);
       lvl.nested = is_nested(md.mesh, ref.mesh);
       if (!lvl.nested)
         log_warn() << "convergence: the n = " << L << " mesh is not nested in the reference mesh (" << md.mesh.origin
@@ -204,6 +206,8 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
       if (prev.error > 0 && lvl.error > 0) lvl.order = std::log(prev.error / lvl.error) / std::log(prev.h / lvl.h);
     }
     st.levels.push_back(lvl);
+    // The level with its error: the caller can keep it before the next (longer) solve starts.
+    if (on_level && level_model) on_level(st, L, *level_model, level_sol);
   }
   return st;
 }

@@ -195,6 +195,7 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
                << fmt(sol.certificate.max_residual, 3) << (r.certified ? "" : " (NOT certified)");
     R.runs.push_back(r);
     if (r.certified) cands.push_back({static_cast<int>(R.runs.size()) - 1, std::move(sol)});
+    if (mopt.on_run) mopt.on_run(R.runs);
   };
 
   for (const std::string& name : mopt.backends) {

@@ -252,6 +252,20 @@ void write_minima_csv(const std::string& path, const MinimaReport& r) {
   write_text_file(path, out.str());
 }
 
+void write_minima_runs_csv(const std::string& path, const std::vector<MinimaRun>& runs) {
+  std::ostringstream out;
+  out << "run,start,backend,converged,certified,energy,certificate,seconds,message\n";
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const MinimaRun& m = runs[i];
+    std::string message = m.message;  // CSV: a quoted field with its quotes doubled
+    for (size_t q = message.find('"'); q != std::string::npos; q = message.find('"', q + 2)) message.insert(q, 1, '"');
+    out << i << ',' << m.start << ',' << m.backend << ',' << (m.converged ? 1 : 0) << ',' << (m.certified ? 1 : 0)
+        << ',' << exact(m.energy) << ',' << exact(m.certificate) << ',' << exact(m.seconds) << ",\"" << message
+        << "\"\n";
+  }
+  write_text_file(path, out.str());
+}
+
 std::string minima_table(const MinimaReport& r) {
   std::ostringstream os;
   char line[512];

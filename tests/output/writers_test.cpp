@@ -686,7 +686,10 @@ TEST(OutputDir, CreatesRefusesFilesAndKeepsResults) {
   const std::string nested = dir / "a/b/c";
   prepare_output_dir(nested, false);
   EXPECT_TRUE(fs::is_directory(nested));
-  EXPECT_EQ(std::distance(fs::directory_iterator(nested), fs::directory_iterator()), 1);  // the manifest only
+  // the manifest and the lock only
+  EXPECT_EQ(std::distance(fs::directory_iterator(nested), fs::directory_iterator()), 2);
+  EXPECT_TRUE(fs::exists(nested + "/" + OUTPUT_MANIFEST));
+  EXPECT_TRUE(fs::exists(nested + "/" + OUTPUT_LOCK));
   EXPECT_TRUE(output_files(nested).empty());
   prepare_output_dir(nested, false);  // an existing directory without results is fine
 

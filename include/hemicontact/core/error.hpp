@@ -13,7 +13,8 @@ enum ExitCode : int {
   EXIT_INPUT = 2,          ///< bad input: scene, mesh, parameters, output directory
   EXIT_NOT_CONVERGED = 3,  ///< a solver or the outer fixed point did not converge
   EXIT_CERTIFICATE = 4,    ///< converged, but the certificate (MODEL.md §4) failed
-  EXIT_INTERNAL = 5        ///< anything else (a bug)
+  EXIT_INTERNAL = 5,       ///< anything else (a bug)
+  EXIT_OUTPUT = 6          ///< the results could not be written (disk full, permissions, file-size limit)
 };
 
 /// An error with a one-line message that names what is wrong, and the exit code it maps to.

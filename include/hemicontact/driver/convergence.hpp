@@ -110,9 +110,13 @@ std::vector<int> parse_levels(const std::string& text);
 /// @return the study, levels coarse to fine
 /// @throws Error (EXIT_INPUT) if there is no level, a level or R is < 1, some levels do not divide
 ///         R (all of them are named), or the scene's mesh is not generated (rectangle or box)
-/// Called with each solved level (the reference first) while the study runs: the caller writes
-/// what it wants of it (the CLI: one VTU per level) without the driver knowing about files.
-using LevelSolved = std::function<void(int n, const Model& model, const Solution& solution)>;
+/// Called with each solved mesh while the study runs, the reference first (@p so_far has no
+/// levels yet), then each level other than the reference once its error is in so_far.levels
+/// (a level equal to the reference is not solved again, so not announced again): the caller keeps
+/// what it wants of it as it comes (the CLI: one VTU per level and the CSV of the levels so far),
+/// so that an interrupted study loses only the solve it was in, and the driver knows no files.
+using LevelSolved =
+    std::function<void(const ConvergenceStudy& so_far, int n, const Model& model, const Solution& solution)>;
 
 ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string& scene_dir, std::vector<int> levels,
                                  int reference, const LevelSolved& on_level = nullptr);

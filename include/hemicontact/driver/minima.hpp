@@ -37,6 +37,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -44,6 +45,8 @@
 namespace hemicontact {
 
 /// What find_minima() does; defaults are the ones `hemicontact minima` documents.
+struct MinimaRun;
+
 struct MinimaOptions {
   int starts = 8;                     ///< random starts per backend (≥ 0)
   unsigned seed = 1;                  ///< seed of the random starts (std::mt19937)
@@ -61,6 +64,10 @@ struct MinimaOptions {
   /// Largest number of kept unknowns for which the dense Hessian is formed (full formulation);
   /// beyond it the check is skipped ("unchecked"). The condensed Hessian is dense anyway.
   Index max_dense = 4000;
+  /// Called as each run ends, with the runs so far (the last one just finished): the caller keeps
+  /// them as they come (the CLI: minima-runs.csv), so that an interrupted search loses only the
+  /// run it was in. The driver knows no files.
+  std::function<void(const std::vector<MinimaRun>& runs_so_far)> on_run;
 };
 
 /// Second-order check of a certified solution.

@@ -43,6 +43,12 @@ nlohmann::json minima_json(const Model& md, const MinimaReport& r);
 /// @param path the file @param r the report @throws Error (EXIT_INPUT) if it cannot be written
 void write_minima_csv(const std::string& path, const MinimaReport& r);
 
+/// One CSV row per finished run (minima-runs.csv), in run order: run, start, backend, converged,
+/// certified, energy, certificate, seconds, message. Rewritten as each run ends, so an interrupted
+/// search keeps the runs it finished (MinimaOptions::on_run).
+/// @param path the file @param runs the runs so far @throws Error (EXIT_OUTPUT) if it cannot be written
+void write_minima_runs_csv(const std::string& path, const std::vector<MinimaRun>& runs);
+
 /// The table printed by `hemicontact minima`: one line per distinct solution, then the runs
 /// that were not certified. @param r the report @return lines ending in '\n'
 std::string minima_table(const MinimaReport& r);
