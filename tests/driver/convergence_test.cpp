@@ -92,6 +92,33 @@ TEST(ConvergenceStudy, ReferenceAgainstItselfHasNoError) {
   EXPECT_TRUE(std::isnan(st.levels[1].order));  // log of e/0 is no order
 }
 
+// The callback sees each solved mesh once, the reference first, then each level other than the
+// reference with its error already in so_far (what the CLI keeps as it comes, issue 12); the
+// study so far agrees with the finished study.
+TEST(ConvergenceStudy, EachLevelIsAnnouncedWithItsErrorAsItEnds) {
+  std::vector<int> seen;
+  std::vector<size_t> levels_so_far;
+  std::vector<double> errors;
+  const ConvergenceStudy st = run_convergence(
+      scene_of("fig2"), PROBLEMS, {8, 4, 16}, 16,
+      [&](const ConvergenceStudy& so_far, int n, const Model& md, const Solution& sol) {
+        seen.push_back(n);
+        levels_so_far.push_back(so_far.levels.size());
+        EXPECT_EQ(md.dofs.n_full(), sol.u.size());
+        if (!so_far.levels.empty()) {
+          EXPECT_EQ(so_far.levels.back().n, n);
+          errors.push_back(so_far.levels.back().error);
+        }
+      });
+  EXPECT_EQ(seen, (std::vector<int>{16, 4, 8}));  // 16 = the reference: solved once
+  EXPECT_EQ(levels_so_far, (std::vector<size_t>{0, 1, 2}));
+  ASSERT_EQ(st.levels.size(), 3u);
+  ASSERT_EQ(errors.size(), 2u);
+  EXPECT_EQ(errors[0], st.levels[0].error);
+  EXPECT_EQ(errors[1], st.levels[1].error);
+  EXPECT_GT(errors[0], errors[1]);
+}
+
 TEST(ConvergenceStudy, LevelsMustDivideTheReference) {
   try {
     run_convergence(scene_of("fig2"), PROBLEMS, {4, 6, 12, 5}, 32);
