@@ -23,6 +23,18 @@ import os
 import sys
 
 
+
+def save_atomically(fig, out, **kwargs):
+    """Draw into a temporary beside `out` (the name hemicontact uses, ".NAME.partial") and rename
+    it into place, so an interrupted run never leaves half a picture under the final name."""
+    tmp = os.path.join(os.path.dirname(out) or ".", "." + os.path.basename(out) + ".partial")
+    try:
+        fig.savefig(tmp, format="png", **kwargs)
+        os.replace(tmp, out)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
 def number(s):
     try:
         return float(s)
@@ -140,7 +152,7 @@ def main():
     fig.tight_layout()
     out = args.out or os.path.join(os.path.dirname(os.path.abspath(args.csv)), "convergence.png")
     try:
-        fig.savefig(out, dpi=130)
+        save_atomically(fig, out, dpi=130)
     except OSError as e:
         print(f"plot_convergence: cannot write {out}: {e}", file=sys.stderr)
         return 1

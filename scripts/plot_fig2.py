@@ -43,6 +43,18 @@ class InputError(Exception):
     pass
 
 
+
+def save_atomically(fig, out, **kwargs):
+    """Draw into a temporary beside `out` (the name hemicontact uses, ".NAME.partial") and rename
+    it into place, so an interrupted run never leaves half a picture under the final name."""
+    tmp = os.path.join(os.path.dirname(out) or ".", "." + os.path.basename(out) + ".partial")
+    try:
+        fig.savefig(tmp, format="png", **kwargs)
+        os.replace(tmp, out)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
 def read_vtu(path):
     """Points (N x 3), triangles, and the point data arrays (lists of tuples or numbers) of a .vtu
     written by hemicontact: ASCII, or binary with the arrays in a raw appended block (VTK's layout
@@ -270,7 +282,7 @@ def main():
     fig.subplots_adjust(left=0.06, right=0.98, top=0.87, bottom=0.17)
     out = args.out or os.path.join(args.dir, "fig2.png")
     try:
-        fig.savefig(out, dpi=120)
+        save_atomically(fig, out, dpi=120)
     except OSError as e:
         print(f"plot_fig2: cannot write {out}: {e}", file=sys.stderr)
         return 1

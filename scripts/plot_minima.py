@@ -29,6 +29,18 @@ MARKER = {"separated": "o", "compliance": "s", "contact": "^"}
 LINE = {"local minimum": "-", "saddle": "--"}
 
 
+
+def save_atomically(fig, out, **kwargs):
+    """Draw into a temporary beside `out` (the name hemicontact uses, ".NAME.partial") and rename
+    it into place, so an interrupted run never leaves half a picture under the final name."""
+    tmp = os.path.join(os.path.dirname(out) or ".", "." + os.path.basename(out) + ".partial")
+    try:
+        fig.savefig(tmp, format="png", **kwargs)
+        os.replace(tmp, out)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
 def number(v):
     return math.nan if v is None else float(v)
 
@@ -109,7 +121,7 @@ def main():
     fig.tight_layout()
     out = args.out or os.path.join(os.path.dirname(os.path.abspath(args.json)), "minima.png")
     try:
-        fig.savefig(out, dpi=120)
+        save_atomically(fig, out, dpi=120)
     except OSError as e:
         print(f"plot_minima.py: cannot write {out}: {e}", file=sys.stderr)
         return 1

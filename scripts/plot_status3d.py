@@ -32,6 +32,18 @@ NORMAL_STYLE = {"separated": ("tab:gray", "separated"),
                 "contact": ("tab:red", r"contact ($u_\nu = g$)")}
 
 
+
+def save_atomically(fig, out, **kwargs):
+    """Draw into a temporary beside `out` (the name hemicontact uses, ".NAME.partial") and rename
+    it into place, so an interrupted run never leaves half a picture under the final name."""
+    tmp = os.path.join(os.path.dirname(out) or ".", "." + os.path.basename(out) + ".partial")
+    try:
+        fig.savefig(tmp, format="png", **kwargs)
+        os.replace(tmp, out)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
 def read_rows(path):
     rows = []
     with open(path, newline="") as f:
@@ -123,7 +135,7 @@ def main():
     fig.suptitle(f"{args.title + ': ' if args.title else ''}Gamma3 seen along {names[normal_axis]} "
                  f"({len(rows)} nodes)", fontsize=11)
     out = args.out or os.path.join(args.dir, "status3d.png")
-    fig.savefig(out, dpi=110, bbox_inches="tight")
+    save_atomically(fig, out, dpi=110, bbox_inches="tight")
     print(f"plot_status3d: wrote {out}")
     return 0
 
