@@ -403,10 +403,11 @@ TEST(VtkWriter, RefusesMismatchedSolutionAndUnwritablePath) {
   EXPECT_FALSE(fs::exists("never_written.vtu"));
   try {
     write_vtu("/nonexistent_dir_hemicontact/x.vtu", fx.md, fx.sol);
-    ADD_FAILURE() << "expected an input error";
+    ADD_FAILURE() << "expected an output error";
   } catch (const Error& e) {
-    EXPECT_EQ(e.code(), EXIT_INPUT);
-    EXPECT_CONTAINS(e.what(), "/nonexistent_dir_hemicontact/x.vtu");
+    // A write that fails is an output failure (exit 6), named with its file and reason.
+    EXPECT_EQ(e.code(), EXIT_OUTPUT);
+    EXPECT_CONTAINS(e.what(), "cannot write '/nonexistent_dir_hemicontact/x.vtu': No such file or directory");
   }
 }
 

@@ -22,7 +22,7 @@ namespace hemicontact {
 /// @param path the .csv file to write (its directory must exist)
 /// @param md   the model the solution belongs to
 /// @param sol  the solution; sol.state and sol.status must be filled (evaluate_solution())
-/// @throws Error (EXIT_INPUT) if the file cannot be written;
+/// @throws Error (EXIT_OUTPUT) if the file cannot be written;
 ///         Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
 void write_gamma3_csv(const std::string& path, const Model& md, const Solution& sol);
 

@@ -64,8 +64,9 @@ class OutputLock {
 /// @throws Error (EXIT_INPUT): "--out 'x': another hemicontact run (pid N) is writing there ...",
 ///         "--out 'x': exists and is not a directory", "--out 'x' already holds
 ///         results ...; pass --force to replace them", "--out 'x': 'f' exists and was not written by
-///         hemicontact ...", "--out 'x': cannot create directory: ...", "--out 'x': directory is not
-///         writable"
+///         hemicontact ...", "--out 'x': cannot create directory: ..." (a path that cannot be a
+///         folder); Error (EXIT_OUTPUT): "--out 'x': directory is not writable (reason)", "cannot
+///         create directory" for want of permission or space
 OutputLock prepare_output_dir(const std::string& dir, bool overwrite, const std::vector<std::string>& will_write = {});
 
 /// @return the plain file names listed in @p dir's manifest (none if it has none), in order.

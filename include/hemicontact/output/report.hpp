@@ -48,7 +48,7 @@ nlohmann::json make_report(const Model& md, const Solution& sol, const SolveOpti
 /// @brief Write a report, pretty-printed with a 2-space indent and a final newline.
 /// @param path   the file to write (its directory must exist)
 /// @param report the report (make_report())
-/// @throws Error (EXIT_INPUT) if the file cannot be written
+/// @throws Error (EXIT_OUTPUT) if the file cannot be written
 void write_report(const std::string& path, const nlohmann::json& report);
 
 /// @brief A short human-readable summary for stdout: mesh and dofs, backend, energies, the status

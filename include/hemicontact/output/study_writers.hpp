@@ -25,7 +25,7 @@ nlohmann::json convergence_json(const ConvergenceStudy& study);
 /// @endcode
 /// Numbers are written in full precision; the first level's order is empty; booleans are 0/1.
 /// @param path the file to write (its directory must exist) @param study the study
-/// @throws Error (EXIT_INPUT) if the file cannot be written
+/// @throws Error (EXIT_OUTPUT) if the file cannot be written
 void write_convergence_csv(const std::string& path, const ConvergenceStudy& study);
 
 /// @brief A fixed-width table for stdout: one line per level, then the reference and a verdict.
@@ -40,7 +40,7 @@ nlohmann::json minima_json(const Model& md, const MinimaReport& r);
 
 /// One CSV row per distinct solution (minima.csv): k, energy, energy_norm, type, lambda_min,
 /// certificate, n_starts, backends, starts, then the status counts.
-/// @param path the file @param r the report @throws Error (EXIT_INPUT) if it cannot be written
+/// @param path the file @param r the report @throws Error (EXIT_OUTPUT) if it cannot be written
 void write_minima_csv(const std::string& path, const MinimaReport& r);
 
 /// One CSV row per finished run (minima-runs.csv), in run order: run, start, backend, converged,

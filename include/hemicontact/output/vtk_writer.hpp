@@ -43,7 +43,7 @@ enum class VtuFormat { BINARY, ASCII };
 /// @param path the .vtu file to write (its directory must exist)
 /// @param md   the model the solution belongs to
 /// @param sol  the solution; sol.u, sol.state and sol.status must be filled (evaluate_solution())
-/// @throws Error (EXIT_INPUT) if the file cannot be written;
+/// @throws Error (EXIT_OUTPUT) if the file cannot be written;
 ///         Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
 /// @param format binary (appended, compressed with zlib when available; the default) or ASCII
 void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format = VtuFormat::BINARY);
