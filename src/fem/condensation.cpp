@@ -4,6 +4,7 @@
 
 #include <cholmod.h>
 
+#include <algorithm>
 #include <chrono>
 #include <numeric>
 
@@ -29,6 +30,66 @@ cholmod_sparse view_lower(const SpMat& A) {
   s.sorted = 1;
   s.packed = 1;
   return s;
+}
+
+// Fill-reducing ordering of the symmetric matrix A (both triangles stored) on its quotient graph:
+// consecutive columns with the same pattern (the d unknowns of one node) are one vertex. The
+// ordering is the node graph's, expanded to the unknowns: d times fewer vertices and d² times
+// fewer edges to order, and no worse fill (the unknowns of a node are indistinguishable to the
+// elimination). Timings below.
+std::vector<int> node_graph_ordering(const SpMat& A, cholmod_common& c) {
+  const Index n = A.rows();
+  const int* p = A.outerIndexPtr();
+  const int* i = A.innerIndexPtr();
+  std::vector<int> group(n), first;  // group of each column; first column of each group
+  for (Index j = 0; j < n; ++j) {
+    const bool same = j > 0 && p[j + 1] - p[j] == p[j] - p[j - 1] && std::equal(i + p[j - 1], i + p[j], i + p[j]);
+    if (!same) first.push_back(static_cast<int>(j));
+    group[j] = static_cast<int>(first.size()) - 1;
+  }
+  const Index ng = static_cast<Index>(first.size());
+  // The quotient graph's lower triangle (pattern only), column by column from each group's first column.
+  std::vector<int> gp(ng + 1, 0), gi;
+  gi.reserve(static_cast<size_t>(A.nonZeros() / std::max<Index>(1, n / std::max<Index>(1, ng))));
+  for (Index g = 0; g < ng; ++g) {
+    const int j = first[g];
+    int last = -1;
+    for (int k = p[j]; k < p[j + 1]; ++k) {
+      const int h = group[i[k]];
+      if (h >= g && h != last) gi.push_back(h), last = h;  // rows sorted, so groups too
+    }
+    gp[g + 1] = static_cast<int>(gi.size());
+  }
+  cholmod_sparse Q{};
+  Q.nrow = Q.ncol = ng;
+  Q.nzmax = gi.size();
+  Q.p = gp.data();
+  Q.i = gi.data();
+  Q.stype = -1;
+  Q.itype = CHOLMOD_INT;
+  Q.xtype = CHOLMOD_PATTERN;
+  Q.dtype = CHOLMOD_DOUBLE;
+  Q.sorted = 1;
+  Q.packed = 1;
+  // AMD on the node graph. Measured (fig2 scene, 'right' mesh): at n = 256 (132k unknowns)
+  // ordering + symbolic 0.05 s and factorization 0.43 s, against 0.24 s + 0.39 s for nested
+  // dissection (NESDIS) on the same node graph and 0.29 s + 0.37 s for NESDIS on the unknowns'
+  // graph; at n = 1024 (2.1M) 1.6 s + 15.6 s against 5.9 s + 10.7 s for NESDIS on the node graph
+  // and 15.5 s (analysis alone) on the unknowns' graph.
+  c.nmethods = 1;
+  c.method[0].ordering = CHOLMOD_AMD;
+  cholmod_factor* LQ = cholmod_analyze(&Q, &c);
+  if (!LQ) throw Error("condensation: CHOLMOD analysis failed", EXIT_INTERNAL);
+  std::vector<int> perm;
+  perm.reserve(n);
+  const auto* P = static_cast<const int*>(LQ->Perm);
+  for (Index k = 0; k < ng; ++k) {
+    const int g = P[k];
+    const int end = g + 1 < ng ? first[g + 1] : static_cast<int>(n);
+    for (int j = first[g]; j < end; ++j) perm.push_back(j);
+  }
+  cholmod_free_factor(&LQ, &c);
+  return perm;
 }
 
 }  // namespace
@@ -64,21 +125,13 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m) : m_impl(std::
   c.supernodal = CHOLMOD_SUPERNODAL;
   auto t0 = clk::now();
 
-  // 1. Fill-reducing ordering of the interior block alone (CHOLMOD's own choice, AMD or METIS).
-  SpMat KII = K.topLeftCorner(nI, nI);
-  KII.makeCompressed();
+  // 1. Fill-reducing ordering of the interior block alone, on its node graph.
   std::vector<int> perm(n);
   if (nI > 0) {
-    cholmod_sparse AII = view_lower(KII);
-    // Nested dissection (CHOLMOD's NESDIS: METIS separators + constrained AMD): measured at 2.1M
-    // dofs it gives 20% less fill than AMD and, with the Γ3 block appended last, a 2x faster
-    // factorization (AMD's ordering lets the trailing block fill in far more).
-    c.nmethods = 1;
-    c.method[0].ordering = CHOLMOD_NESDIS;
-    cholmod_factor* LII = cholmod_analyze(&AII, &c);
-    if (!LII) throw Error("condensation: CHOLMOD analysis failed", EXIT_INTERNAL);
-    std::copy_n(static_cast<int*>(LII->Perm), nI, perm.begin());
-    cholmod_free_factor(&LII, &c);
+    SpMat KII = K.topLeftCorner(nI, nI);
+    KII.makeCompressed();
+    const std::vector<int> pI = node_graph_ordering(KII, c);
+    std::copy(pI.begin(), pI.end(), perm.begin());
   }
   // 2. The condensed unknowns last, in their own order. CHOLMOD's etree postordering improves the
   //    supernodes (≈2x faster factorization at 525k dofs) and in practice keeps the trailing block
