@@ -252,22 +252,28 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
     return;
   }
 
-  // The smallness condition is a diagnostic with its own factorization: timed apart from the
-  // solve (timings "smallness"), and switched off by check.smallness = false.
+  I.F = make_formulation(md, opt, I.setup_timings);
+  Formulation& F = I.F;
+
+  // The smallness condition (21) is a diagnostic, timed apart from the solve (timings
+  // "smallness") and switched off by check.smallness = false. By default it is decided from the
+  // condensation the solve has just made (no factorization: check/smallness.hpp); only when that
+  // bracket cannot decide, or check.smallness_method = exact, the ε:ε Gram matrix is factorized.
   double t_smallness = 0;
   if (opt.smallness) {
-    I.smallness = evaluate_smallness(md);
+    I.smallness = F.cond && opt.smallness_method == "auto" ? evaluate_smallness(md, F.cond->S())
+                                                           : evaluate_smallness(md);
     t_smallness = I.smallness.seconds;
     I.setup_timings["smallness"] = t_smallness;
     const SmallnessReport& r = I.smallness;
     if (r.computed)
-      log_info() << "smallness (21): L_Fb/lambda_1 + alpha_j/lambda_1nu = " << r.L_Fb << "/" << r.lambda_1 << " + "
-                 << r.alpha_j << "/" << r.lambda_1nu << " = " << r.lhs << (r.holds ? " < " : " >= ")
-                 << "m_F = " << r.m_F << ": uniqueness guaranteed: " << (r.holds ? "yes" : "no");
+      log_info() << "smallness (21), " << r.method << ": L_Fb/lambda_1 + alpha_j/lambda_1nu = " << r.L_Fb << "/"
+                 << r.lambda_1 << " + " << r.alpha_j << "/" << r.lambda_1nu << " = " << r.lhs
+                 << (r.holds ? " < " : " >= ") << "m_F = " << r.m_F << ": uniqueness guaranteed: "
+                 << (r.holds ? "yes" : "no") << (r.method == "bound" ? " (decided by the bracket [" : "")
+                 << (r.method == "bound" ? std::to_string(r.lhs_lower) + ", " + std::to_string(r.lhs_upper) + "])"
+                                         : std::string());
   }
-
-  I.F = make_formulation(md, opt, I.setup_timings);
-  Formulation& F = I.F;
   I.lagged = md.friction && md.friction->depends_on_u_nu();
   if (!md.material->is_linear()) {
     const std::string why =

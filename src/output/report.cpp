@@ -187,6 +187,7 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
                       {"L_Fb", q.L_Fb},         {"alpha_j", q.alpha_j},
                       {"lambda_1", q.lambda_1}, {"lambda_1nu", q.lambda_1nu},
                       {"lhs", q.lhs},           {"uniqueness_guaranteed", q.computed && q.holds},
+                      {"method", q.method},     {"lhs_bracket", {q.lhs_lower, q.lhs_upper}},
                       {"seconds", q.seconds}};
   }
   r["polish"] = {{"attempted", sol.polish.attempted},     {"accepted", sol.polish.accepted},
@@ -274,9 +275,13 @@ std::string summary_table(const Model& md, const Solution& sol) {
                                 (c.passed ? " <= " : " > ") + "tol " + fmt(c.tol, 3) +
                                 (worst.empty() ? std::string() : " (" + worst + ")"));
   if (sol.smallness.computed)
-    out += row("(21)", "L_Fb/lambda_1 + alpha/lambda_1nu = " + fmt(sol.smallness.lhs, 4) +
-                           (sol.smallness.holds ? " < " : " >= ") + "m_F = " + fmt(sol.smallness.m_F, 4) +
-                           ": uniqueness guaranteed: " + (sol.smallness.holds ? "yes" : "no"));
+    out += row("(21)", "L_Fb/lambda_1 + alpha/lambda_1nu " +
+                           (sol.smallness.method == "bound" ? std::string(sol.smallness.holds ? "<= " : ">= ")
+                                                            : std::string("= ")) +
+                           fmt(sol.smallness.lhs, 4) + (sol.smallness.holds ? " < " : " >= ") + "m_F = " +
+                           fmt(sol.smallness.m_F, 4) + ": uniqueness guaranteed: " +
+                           (sol.smallness.holds ? "yes" : "no") +
+                           (sol.smallness.method == "bound" ? " (bound from the condensed stiffness)" : ""));
   out += row("fixed point", std::string(sol.fixed_point_converged ? "converged" : "NOT converged") +
                                 (sol.backend_ok ? "" : "; last minimization FAILED"));
   std::vector<std::string> times;

@@ -203,6 +203,7 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.certificate_tol = scene.at("check").at("certificate_tol").get<double>();
   o.status_tol = scene.at("check").at("status_tol").get<double>();
   o.smallness = scene.at("check").at("smallness").get<bool>();
+  o.smallness_method = scene.at("check").at("smallness_method").get<std::string>();
   return o;
 }
 

@@ -309,8 +309,13 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(above(
       key("/check/status_tol", "number", D.status_tol, "Relative to U: decides stick / contact / separated."), 0));
   t.push_back(key("/check/smallness", "boolean", D.smallness,
-                  "Evaluate the smallness condition (21) (uniqueness guaranteed: yes/no); costs one "
-                  "extra sparse factorization of the ε:ε Gram matrix."));
+                  "Evaluate the smallness condition (21) (uniqueness guaranteed: yes/no)."));
+  t.push_back(key("/check/smallness_method", "string", D.smallness_method,
+                  "auto: decide (21) by bracketing its eigenvalues with those of the solver's "
+                  "condensed stiffness (no factorization), and compute them exactly only when the "
+                  "bracket cannot decide; exact: always compute them (one extra sparse "
+                  "factorization of the ε:ε Gram matrix). report.json smallness.method says which.",
+                  {"auto", "exact"}));
 
   // ------------------------------------------------------------------ output
   t.push_back(section("/output", "Files written next to report.json."));

@@ -39,6 +39,12 @@ struct SmallnessReport {
   double lhs = 0;         ///< L_Fb/λ_{1,ν} + α_jν/λ_{1ν,ν}
   bool holds = false;     ///< lhs < m_F: uniqueness guaranteed
   double seconds = 0;     ///< time to compute
+  /// "exact": λ's from the ε:ε Gram matrix (one more factorization); "bound": decided by the
+  /// bracket below without it (lambda_1, lambda_1nu, lhs are then the bounds that decided:
+  /// the lower bounds of λ and the upper bound of lhs when (21) holds, the other ones when not).
+  std::string method;
+  double lhs_lower = 0;  ///< bracket of lhs from the condensed stiffness (equal to lhs when exact)
+  double lhs_upper = 0;  ///< (see lhs_lower)
 };
 
 /// What the exact polish (driver/polish.hpp) did.

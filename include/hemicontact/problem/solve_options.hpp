@@ -33,6 +33,10 @@ struct SolveOptions {
   double certificate_tol = 1e-8;     ///< acceptance tolerance of the certificate
   double status_tol = 1e-8;          ///< status decisions, relative to U
   bool smallness = true;             ///< evaluate the smallness condition (21)
+  /// How (21) is decided (check/smallness.hpp): "auto" brackets λ_{1,ν}, λ_{1ν,ν} by the eigenvalues
+  /// of the solver's own condensed stiffness (free: no factorization) and computes them exactly
+  /// (one more sparse factorization) only when the bracket cannot decide; "exact" always does.
+  std::string smallness_method = "auto";
 };
 
 }  // namespace hemicontact
