@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #if HEMICONTACT_HAS_ZLIB
@@ -74,27 +75,50 @@ std::string bytes_of(const Array& a) {
 
 void put_u64(std::string& out, std::uint64_t v) { out.append(reinterpret_cast<const char*>(&v), 8); }
 
+// zlib level of an array. Level 1 gets most of zlib's gain at a fraction of its default's time;
+// but dense Float64 arrays (points, displacements, stresses) shrink only ~1.5x for 4x the time of
+// everything else in the file, so they are stored (level 0: zlib's framing, no search). Arrays
+// that are mostly zeros (the Γ3 fields, the 0/1 status fields, integer connectivity) shrink
+// 10-100x, fast. Measured at n = 256: 11.3 MB in 0.06 s instead of 7.2 MB in 0.12 s.
+int zlib_level(const Array& a) {
+  if (a.type != "Float64") return 1;
+  const auto zeros = std::count(a.f.begin(), a.f.end(), 0.0);
+  return 2 * static_cast<size_t>(zeros) >= a.f.size() ? 1 : 0;
+}
+
 // One array's appended block: VTK's layout for header_type UInt64. Uncompressed: [nbytes] data.
 // Compressed (vtkZLibDataCompressor): [nblocks, block size, size of the last block (0: full),
 // compressed size of each block] then the compressed blocks.
-std::string appended_block(const std::string& raw, bool compress) {
+std::string appended_block(const std::string& raw, bool compress, int level) {
   std::string out;
 #if HEMICONTACT_HAS_ZLIB
   if (compress) {
     constexpr std::uint64_t BLOCK = 1 << 15;  // VTK's default block size
     const std::uint64_t n = raw.size(), nblocks = n == 0 ? 0 : (n + BLOCK - 1) / BLOCK;
-    std::vector<std::string> blocks;
-    for (std::uint64_t k = 0; k < nblocks; ++k) {
-      const std::uint64_t len = std::min<std::uint64_t>(BLOCK, n - k * BLOCK);
-      uLongf cap = compressBound(static_cast<uLong>(len));
-      std::string c(cap, '\0');
-      // Level 1: most of zlib's gain on these arrays at a fraction of its default's time.
-      if (compress2(reinterpret_cast<Bytef*>(c.data()), &cap, reinterpret_cast<const Bytef*>(raw.data() + k * BLOCK),
-                    static_cast<uLong>(len), 1) != Z_OK)
-        throw Error("write_vtu: zlib compression failed", EXIT_INTERNAL);
-      c.resize(cap);
-      blocks.push_back(std::move(c));
-    }
+    std::vector<std::string> blocks(nblocks);
+    std::vector<char> failed(nblocks, 0);
+    const auto compress_blocks = [&](std::uint64_t first, std::uint64_t stride) {
+      for (std::uint64_t k = first; k < nblocks; k += stride) {
+        const std::uint64_t len = std::min<std::uint64_t>(BLOCK, n - k * BLOCK);
+        uLongf cap = compressBound(static_cast<uLong>(len));
+        std::string& c = blocks[k];
+        c.assign(cap, '\0');
+        failed[k] = compress2(reinterpret_cast<Bytef*>(c.data()), &cap,
+                              reinterpret_cast<const Bytef*>(raw.data() + k * BLOCK), static_cast<uLong>(len),
+                              level) != Z_OK;
+        c.resize(cap);
+      }
+    };
+    // The blocks are independent: compressed on every core (issue 14: output is a few % of the
+    // run, not 15%); the file is the same whatever the number of threads.
+    const std::uint64_t threads =
+        std::min<std::uint64_t>({std::max(1u, std::thread::hardware_concurrency()), 8, (nblocks + 7) / 8});
+    std::vector<std::thread> pool;
+    for (std::uint64_t t = 1; t < threads; ++t) pool.emplace_back(compress_blocks, t, threads);
+    compress_blocks(0, std::max<std::uint64_t>(threads, 1));
+    for (auto& th : pool) th.join();
+    if (std::find(failed.begin(), failed.end(), 1) != failed.end())
+      throw Error("write_vtu: zlib compression failed", EXIT_INTERNAL);
     put_u64(out, nblocks);
     put_u64(out, BLOCK);
     put_u64(out, n % BLOCK);
@@ -119,7 +143,7 @@ class VtuLayout {
     xml += " NumberOfComponents=\"" + std::to_string(a.comps) + "\"";
     if (m_binary) {
       xml += " format=\"appended\" offset=\"" + std::to_string(m_appended.size()) + "\"/>\n";
-      m_appended += appended_block(bytes_of(a), HEMICONTACT_HAS_ZLIB != 0);
+      m_appended += appended_block(bytes_of(a), HEMICONTACT_HAS_ZLIB != 0, zlib_level(a));
       return;
     }
     xml += " format=\"ascii\">\n";
