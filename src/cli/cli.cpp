@@ -93,8 +93,8 @@ std::string command_help(const std::string& command) {
                "DIR/minima.png; DIR defaults to out/<scene name>-minima. Exit code 3/4 if no run converged /\n"
                "certified.\n"
                "options:\n"
-               "  --starts N         random starts (default 8)\n"
-               "  --seed S           seed of the random starts (default 1)\n"
+               "  --starts N         random starts (default 8, at most 10000)\n"
+               "  --seed S           seed of the random starts (default 1; 0 to 4294967295)\n"
                "  --box B            random starts in the box +-B*U_s (default 1)\n"
                "  --backends LIST    backends to run every start with (default: the scene's)\n"
                "  --start FILE       a start: a JSON array of [u_nu, u_tau] per Gamma3 node, or a report.json\n"
@@ -131,13 +131,17 @@ SceneArgs parse_scene_args(const std::vector<std::string>& args, const std::vect
   SceneArgs a;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& s = args[i];
+    // A value that is empty where a name is expected, or that is the next option ("--out --quiet"),
+    // is the user forgetting the value: never taken as a path.
     const auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw UsageError("option " + s + " needs a value");
+      if (i + 1 >= args.size() || args[i + 1].rfind("--", 0) == 0)
+        throw UsageError("option " + s + " needs a value");
       return args[++i];
     };
-    if (s == "--out")
+    if (s == "--out") {
       a.out = value();
-    else if (s == "--set")
+      if (a.out.empty()) throw UsageError("--out: empty folder name");
+    } else if (s == "--set")
       a.overrides.push_back(value());
     else if (s == "--backend")
       a.overrides.push_back("solver.backend=" + value());
@@ -209,7 +213,13 @@ int cmd_solve(const std::vector<std::string>& args) {
   // the fixed point said so, as "certificate failed" otherwise.
   if (!sol.fixed_point_converged || (!sol.backend_ok && !sol.certificate.passed)) {
     log_warn() << sol.message;
-    return opt.allow_not_converged ? EXIT_OK : EXIT_NOT_CONVERGED;
+    // allow_not_converged accepts an unconverged fixed point only when its answer is certified:
+    // an answer that fails the certificate never exits 0 (issue 12).
+    if (opt.allow_not_converged && sol.certificate.passed) {
+      log_warn() << "solver.fixed_point.allow_not_converged: accepted, the certificate passed";
+      return EXIT_OK;
+    }
+    return EXIT_NOT_CONVERGED;
   }
   if (!sol.certificate.passed) {
     log_warn() << "certificate failed: max residual " << sol.certificate.max_residual << " > " << sol.certificate.tol;

@@ -28,6 +28,7 @@
 #include <hemicontact/scene/config.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -40,11 +41,17 @@
 namespace hemicontact::cli {
 namespace {
 
-long parse_int(const std::string& key, const std::string& v, long lo) {
+// Most random starts `minima --starts` takes: each is a full solve, so 10 000 is hours at
+// n = 64 already; more is an effective hang, not a study.
+constexpr long MAX_STARTS = 10000;
+
+long parse_int(const std::string& key, const std::string& v, long lo, long hi) {
   char* end = nullptr;
+  errno = 0;
   const long x = std::strtol(v.c_str(), &end, 10);
-  if (v.empty() || *end != '\0' || x < lo)
-    throw UsageError(key + ": expected an integer >= " + std::to_string(lo) + ", got '" + v + "'");
+  if (v.empty() || *end != '\0' || errno == ERANGE || x < lo || x > hi)
+    throw UsageError(key + ": expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                     ", got '" + v + "'");
   return x;
 }
 
@@ -68,15 +75,15 @@ int cmd_minima(const std::vector<std::string>& args) {
   std::vector<std::string> start_files;
   for (const auto& [key, value] : a.extra) {
     if (key == "--starts")
-      mo.starts = static_cast<int>(parse_int(key, value, 0));
+      mo.starts = static_cast<int>(parse_int(key, value, 0, MAX_STARTS));
     else if (key == "--seed")
-      mo.seed = static_cast<unsigned>(parse_int(key, value, 0));
+      mo.seed = static_cast<unsigned>(parse_int(key, value, 0, 4294967295L));  // std::mt19937's seed: 32 bits
     else if (key == "--group-tol")
       mo.group_tol = parse_positive(key, value);
     else if (key == "--box")
       mo.box = parse_positive(key, value);
     else if (key == "--load-path-steps")
-      mo.load_path_steps = static_cast<int>(parse_int(key, value, 0));
+      mo.load_path_steps = static_cast<int>(parse_int(key, value, 0, 10000));
     else if (key == "--start")
       start_files.push_back(value);
     else if (key == "--backends") {
@@ -91,6 +98,7 @@ int cmd_minima(const std::vector<std::string>& args) {
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
   const Model md = build_model(scene, scene_directory(a.scene));
   for (const auto& f : start_files) {
+    if (std::filesystem::is_directory(f)) input_error("--start '" + f + "': is a directory, not a start file");
     std::ifstream in(f);
     if (!in) input_error("--start '" + f + "': cannot read the file");
     nlohmann::json js;

@@ -252,28 +252,32 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
     return;
   }
 
+  // The smallness condition (21) is a diagnostic, timed apart from the solve (timings
+  // "smallness") and switched off by check.smallness = false. By default (check.smallness_method
+  // = auto) it is decided from the condensation the solve makes anyway (no factorization:
+  // check/smallness.hpp), and only when that bracket cannot decide is the ε:ε Gram matrix
+  // factorized. In 3D the bracket is rarely decisive (L_F/m_F = 1 + 3λ/(2μ) = 3.25 at ν = 0.3),
+  // so there, as with method = exact, the exact evaluation comes first, before the solve's own
+  // factorization exists: one factor in memory at a time, not two.
+  double t_smallness = 0;
+  const auto report_smallness = [&](SmallnessReport r) {
+    I.smallness = std::move(r);
+    t_smallness += I.smallness.seconds;
+    I.setup_timings["smallness"] = t_smallness;
+    const SmallnessReport& q = I.smallness;
+    if (q.computed)
+      log_info() << "smallness (21), " << q.method << ": L_Fb/lambda_1 + alpha_j/lambda_1nu = " << q.L_Fb << "/"
+                 << q.lambda_1 << " + " << q.alpha_j << "/" << q.lambda_1nu << " = " << q.lhs
+                 << (q.holds ? " < " : " >= ") << "m_F = " << q.m_F << ": uniqueness guaranteed: "
+                 << (q.holds ? "yes" : "no");
+  };
+  const bool exact_first = opt.smallness && (opt.smallness_method == "exact" || md.dim() == 3);
+  if (exact_first) report_smallness(evaluate_smallness(md));
+
   I.F = make_formulation(md, opt, I.setup_timings);
   Formulation& F = I.F;
-
-  // The smallness condition (21) is a diagnostic, timed apart from the solve (timings
-  // "smallness") and switched off by check.smallness = false. By default it is decided from the
-  // condensation the solve has just made (no factorization: check/smallness.hpp); only when that
-  // bracket cannot decide, or check.smallness_method = exact, the ε:ε Gram matrix is factorized.
-  double t_smallness = 0;
-  if (opt.smallness) {
-    I.smallness = F.cond && opt.smallness_method == "auto" ? evaluate_smallness(md, F.cond->S())
-                                                           : evaluate_smallness(md);
-    t_smallness = I.smallness.seconds;
-    I.setup_timings["smallness"] = t_smallness;
-    const SmallnessReport& r = I.smallness;
-    if (r.computed)
-      log_info() << "smallness (21), " << r.method << ": L_Fb/lambda_1 + alpha_j/lambda_1nu = " << r.L_Fb << "/"
-                 << r.lambda_1 << " + " << r.alpha_j << "/" << r.lambda_1nu << " = " << r.lhs
-                 << (r.holds ? " < " : " >= ") << "m_F = " << r.m_F << ": uniqueness guaranteed: "
-                 << (r.holds ? "yes" : "no") << (r.method == "bound" ? " (decided by the bracket [" : "")
-                 << (r.method == "bound" ? std::to_string(r.lhs_lower) + ", " + std::to_string(r.lhs_upper) + "])"
-                                         : std::string());
-  }
+  if (opt.smallness && !exact_first)
+    report_smallness(F.cond ? evaluate_smallness(md, F.cond->S()) : evaluate_smallness(md));
   I.lagged = md.friction && md.friction->depends_on_u_nu();
   if (!md.material->is_linear()) {
     const std::string why =

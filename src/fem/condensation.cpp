@@ -71,13 +71,17 @@ std::vector<int> node_graph_ordering(const SpMat& A, cholmod_common& c) {
   Q.dtype = CHOLMOD_DOUBLE;
   Q.sorted = 1;
   Q.packed = 1;
-  // AMD on the node graph. Measured (fig2 scene, 'right' mesh): at n = 256 (132k unknowns)
-  // ordering + symbolic 0.05 s and factorization 0.43 s, against 0.24 s + 0.39 s for nested
-  // dissection (NESDIS) on the same node graph and 0.29 s + 0.37 s for NESDIS on the unknowns'
-  // graph; at n = 1024 (2.1M) 1.6 s + 15.6 s against 5.9 s + 10.7 s for NESDIS on the node graph
-  // and 15.5 s (analysis alone) on the unknowns' graph.
+  // AMD or nested dissection (CHOLMOD's NESDIS: METIS separators + constrained AMD) on the
+  // node graph, by measurement (fig2 scene 'right' mesh, 3D box scene; ordering + symbolic /
+  // numeric factorization / peak memory of the whole run):
+  //   2D n = 256  (66k nodes):  AMD 0.05 / 0.43 s;  NESDIS 0.24 / 0.39 s (dof graph: 0.29 / 0.37 s)
+  //   2D n = 1024 (1.05M nodes): AMD 1.6 / 15.6 s, 4.5 GB;  NESDIS 5.9 / 10.7 s, 4.0 GB
+  //   3D n = 24   (15k nodes):  AMD 0.06 / 2.16 s, 1.6 GB;  NESDIS (dof graph) 0.15 / 1.08 s, 0.65 GB
+  // so AMD for small 2D meshes, where its cheap analysis wins, NESDIS for 3D and large 2D meshes,
+  // where its smaller fill does. The unknowns per vertex (n/ng) tell 2D from 3D.
+  const bool three_d = static_cast<double>(n) / static_cast<double>(std::max<Index>(ng, 1)) > 2.5;
   c.nmethods = 1;
-  c.method[0].ordering = CHOLMOD_AMD;
+  c.method[0].ordering = three_d || ng > 200000 ? CHOLMOD_NESDIS : CHOLMOD_AMD;
   cholmod_factor* LQ = cholmod_analyze(&Q, &c);
   if (!LQ) throw Error("condensation: CHOLMOD analysis failed", EXIT_INTERNAL);
   std::vector<int> perm;

@@ -137,6 +137,14 @@ void set_passthrough(Ipopt::IpoptApplication& app, const std::string& name, cons
   Ipopt::OptionsList& o = *app.Options();
   const Ipopt::SmartPtr<const Ipopt::RegisteredOption> reg = app.RegOptions()->GetOption(name);
   if (!Ipopt::IsValid(reg)) throw Error("ipopt: unknown option '" + name + "' (value '" + value + "')", EXIT_INPUT);
+  // Ipopt accepts the name of any linear solver it knows of, then fails in the first iteration
+  // (exit 3, "Error in step computation") when the library is not there: Debian's build has MUMPS
+  // only (the HSL codes and Pardiso are not in Debian), so anything else is refused by name here.
+  if (name == "linear_solver" && value != "mumps")
+    throw Error("ipopt: option 'linear_solver' = '" + value +
+                    "' is not available in this Ipopt build (Debian's coinor-libipopt has mumps only; "
+                    "set solver.options.linear_solver to \"mumps\" or leave it out)",
+                EXIT_INPUT);
   int i = 0;
   double d = 0.0;
   switch (reg->Type()) {

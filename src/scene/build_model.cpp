@@ -10,9 +10,12 @@
 #include <hemicontact/mesh/gmsh_import.hpp>
 #include <hemicontact/scene/config.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 namespace hemicontact {
 namespace {
@@ -70,7 +73,71 @@ Gap make_gap(const json& g) {
   return gap;
 }
 
+// Bytes available to this process: MemAvailable of /proc/meminfo (0 if it cannot be read).
+double available_memory() {
+  std::ifstream in("/proc/meminfo");
+  for (std::string key; in >> key;) {
+    double kb = 0;
+    in >> kb;
+    if (key == "MemAvailable:") return kb * 1024.0;
+    in.ignore(1 << 10, '\n');
+  }
+  return 0;
+}
+
+std::string gigabytes(double bytes) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, bytes < 1e12 ? "%.2g GB" : "%.1e GB", bytes / 1e9);
+  return buf;
+}
+
+// The solver works with products of the problem's scales (energies ~ f·u, squared residuals):
+// a stiffness or load near the ends of the double range (a denormal E, loads.scale = 1e-300)
+// turns them into 0 or inf and Ipopt into Invalid_Number_Detected, with NaN in the results.
+// Refused here with the scale and the key, within 1e-150..1e150 (squares stay normal doubles).
+void check_scales(const Model& md) {
+  const auto out_of_range = [](double v) { return !(v >= 1e-150 && v <= 1e150); };
+  const auto show = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return std::string(buf);
+  };
+  const double K_s = md.Kx.size() ? md.Kx.diagonal().cwiseAbs().maxCoeff() : 1.0;
+  const double F_s = md.fx.size() ? md.fx.cwiseAbs().maxCoeff() : 0.0;
+  const char* units = "; rescale the units (e.g. MPa and mm) so that it lies within 1e-150..1e150";
+  if (out_of_range(K_s)) input_error("material.E: the stiffness scale (largest K_ii) is " + show(K_s) + units);
+  if (F_s == 0) return;  // no load: u = 0 whatever the stiffness
+  if (out_of_range(F_s))
+    input_error("loads (loads.scale, body_force, tractions): the load scale (largest nodal force) is " + show(F_s) +
+                units);
+  if (out_of_range(F_s / K_s) || out_of_range(F_s * F_s / K_s))
+    input_error("loads and material.E: the displacement scale |f|/K is " + show(F_s / K_s) +
+                " and the energy scale " + show(F_s * F_s / K_s) + units);
+}
+
 }  // namespace
+
+double estimate_solve_memory(double nodes, int dim) {
+  const double n = std::max(1.0, dim * nodes);  // unknowns
+  // Peak resident memory of a default `solve` (sparse Cholesky fill dominates), fitted to runs
+  // of the fig2 scene ('right' mesh) and the 3D box scene on this kind of machine:
+  //   2D: 132k unknowns 0.30 GB, 2.1M 4.0-4.5 GB  → 102 B · n · log2 n (fill of a planar
+  //       graph under nested dissection grows like n log n);
+  //   3D: 14k unknowns 0.18 GB, 45k 0.65 GB       → 370 B · n^(4/3) (fill of a 3D grid);
+  // plus 0.1 GB for the program and its libraries.
+  const double fill = dim == 2 ? 102.0 * n * std::log2(n) : 370.0 * std::pow(n, 4.0 / 3.0);
+  return 1e8 + fill;
+}
+
+void check_memory(double nodes, int dim, const std::string& size_keys) {
+  const double need = estimate_solve_memory(nodes, dim), have = available_memory();
+  if (have > 0 && need > have) {
+    char count[32];
+    std::snprintf(count, sizeof count, "%.3g", nodes);
+    input_error(size_keys + ": a mesh of " + count + " nodes needs about " + gigabytes(need) + " to solve, and " +
+                gigabytes(have) + " are available; lower " + size_keys.substr(0, size_keys.find(" =")));
+  }
+}
 
 Mesh build_mesh(const json& scene, const std::string& scene_dir) {
   const json& m = scene.at("mesh");
@@ -81,7 +148,11 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
     std::filesystem::path p = m.at("file").get<std::string>();
     if (p.is_relative()) p = std::filesystem::path(scene_dir) / p;
     mesh = read_gmsh(p.string());
+    check_memory(static_cast<double>(mesh.num_nodes()), mesh.dim, "mesh.file '" + p.string() + "'");
   } else if (m.at("type") == "box") {
+    // Before the mesh is generated: 1e6 cells a side must be refused, not allocated.
+    check_memory((m.at("nx").get<double>() + 1) * (m.at("ny").get<double>() + 1) * (m.at("nz").get<double>() + 1), 3,
+                 m.at("n").is_null() ? "mesh.nx, mesh.ny, mesh.nz" : "mesh.n = " + m.at("n").dump());
     BoxSpec s;
     const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>(),
                z = m.at("z").get<std::vector<double>>();
@@ -103,6 +174,8 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
     mesh = make_box(s);
   } else {
     RectangleSpec s;
+    check_memory((m.at("nx").get<double>() + 1) * (m.at("ny").get<double>() + 1), 2,
+                 m.at("n").is_null() ? "mesh.nx, mesh.ny" : "mesh.n = " + m.at("n").dump());
     const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>();
     if (x.size() != 2 || y.size() != 2) input_error("mesh.x, mesh.y: each is an interval [a, b]");
     s.x0 = x[0];
@@ -150,6 +223,11 @@ Model build_model(const json& scene, Mesh mesh) {
   md.material = make_material(scene.at("material"), d);
 
   md.gap = make_gap(scene.at("contact").at("gap"));
+  // The gap table's coordinate must exist on this mesh (a 2D point has no z: reading it would be
+  // out of bounds and g would vary at random).
+  if (!md.gap.points.empty() && md.gap.axis >= d)
+    input_error("contact.gap.along: '" + scene.at("contact").at("gap").at("along").get<std::string>() + "' on a " +
+                std::to_string(d) + "D mesh (its axes are " + (d == 2 ? "x, y" : "x, y, z") + ")");
   md.normal_law = make_normal_law(scene.at("contact").at("normal_law"));
   md.friction = make_friction_bound(scene.at("contact").at("friction"), md.normal_law);
 
@@ -172,6 +250,7 @@ Model build_model(const json& scene, Mesh mesh) {
   md.Kx = md.dofs.reduce(md.K);
   md.fx = md.dofs.to_reduced(md.f);
   md.timings["assembly"] = since(t0);
+  check_scales(md);
   log_info() << "model: " << md.mesh.origin << ", " << md.mesh.num_nodes() << " nodes, " << md.mesh.num_cells()
              << " cells, " << md.dofs.n_free() << " dofs, " << md.contact.size() << " Γ3 nodes ("
              << md.timings["assembly"] << " s assembly)";

@@ -68,12 +68,25 @@ std::string dotted_from_pointer(const std::string& pointer) {
 /// empty when a segment is empty (malformed).
 std::vector<std::string> split_dotted(const std::string& dotted) {
   std::string flat;
+  bool in_index = false;  // between [ and ]: digits only ("a[1=2", "a]", "a[x]" are malformed)
+  bool closed = false;    // just after ]: only ., [ or the end may follow ("a[1]b" is malformed)
   for (char c : dotted) {
-    if (c == '[')
+    if (closed && c != '.' && c != '[') return {};
+    closed = false;
+    if (c == '[') {
+      if (in_index) return {};
+      in_index = true;
       flat += '.';
-    else if (c != ']')
+    } else if (c == ']') {
+      if (!in_index || flat.empty() || flat.back() == '.') return {};
+      in_index = false;
+      closed = true;
+    } else {
+      if (in_index && !std::isdigit(static_cast<unsigned char>(c))) return {};
       flat += c;
+    }
   }
+  if (in_index) return {};
   std::vector<std::string> segs = split(flat, '.');
   for (const std::string& s : segs)
     if (s.empty()) return {};
@@ -365,6 +378,13 @@ void check_points(const json& points, const std::string& path, bool nonnegative,
 void check_interval(const json& v, const std::string& path) {
   if (v.size() != 2 || !(v[0].get<double>() < v[1].get<double>()))
     key_error(path, "expected an interval [a, b] with a < b, got " + v.dump());
+  // Lengths, areas and volumes are products of widths: a width near the double range would make
+  // them inf or 0 ("measure -nan" deep in the mesh code). 1e-100..1e100 leaves room for cubes.
+  const double a = v[0].get<double>(), b = v[1].get<double>(), w = b - a;
+  if (!(w <= 1e100) || !(w >= 1e-100) || std::max(std::abs(a), std::abs(b)) > 1e100)
+    key_error(path, "the interval " + v.dump() +
+                        " is out of range: coordinates and the width b - a must lie within 1e-100..1e100 "
+                        "(choose other length units)");
 }
 
 void check_gap(const json& gap) {
@@ -372,6 +392,33 @@ void check_gap(const json& gap) {
   if (gap.is_string() && gap.get<std::string>() != "inf")
     input_error("contact.gap: the only string allowed is \"inf\" (no rigid obstacle), got " + gap.dump());
   if (gap.is_object()) check_points(gap.at("points"), "contact.gap.points", true, "g");
+}
+
+// solver.options is passed to the backend verbatim, but a scene may not make the tool write or
+// read files of its choosing (issue 12: output_file truncated any writable file): Ipopt's
+// file options are refused here, before anything runs.
+void check_solver_options(const json& solver) {
+  for (const char* file_option : {"output_file", "option_file_name", "print_options_documentation"})
+    if (solver.at("options").contains(file_option))
+      key_error(std::string("solver.options.") + file_option,
+                "Ipopt options that name or write files are not accepted from a scene (it writes only into "
+                "its --out folder); Ipopt's log goes to stderr with solver.print_level");
+}
+
+// The continuation runs from eps_start down to eps_tau/eps_nu by `factor` per stage: a factor near
+// 1 means millions of stages (an effective hang), so the number of stages it implies is bounded.
+void check_continuation(const json& solver) {
+  const double start = solver.at("continuation").at("eps_start").get<double>();
+  const double factor = solver.at("continuation").at("factor").get<double>();
+  const double final_eps = std::min(solver.at("eps_tau").get<double>(), solver.at("eps_nu").get<double>());
+  if (start <= final_eps) return;
+  const double stages = std::ceil(std::log(final_eps / start) / std::log(factor));
+  if (!(stages <= MAX_CONTINUATION_STAGES))
+    key_error("solver.continuation.factor",
+              format_number(factor) + " takes " + format_number(stages) + " stages from eps_start = " +
+                  format_number(start) + " down to " + format_number(final_eps) + "; at most " +
+                  std::to_string(MAX_CONTINUATION_STAGES) + " are allowed (a factor <= " +
+                  format_number(std::pow(final_eps / start, 1.0 / MAX_CONTINUATION_STAGES)) + ")");
 }
 
 // ============================================================== reading files
@@ -390,6 +437,37 @@ std::string describe_parse_error(const std::string& text, const json::parse_erro
   return "parse error at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + what;
 }
 
+/// The message for nesting beyond MAX_SCENE_DEPTH.
+std::string too_deep() {
+  return "nesting deeper than " + std::to_string(MAX_SCENE_DEPTH) +
+         " levels of objects and arrays (a scene needs at most 5; the limit keeps every walk of the scene bounded)";
+}
+
+/// Parse JSON text with nesting limited to MAX_SCENE_DEPTH: nlohmann's parser itself is iterative,
+/// but the structure it builds is walked recursively afterwards (validation, dump), so a deeply
+/// nested text must be refused while parsing, before the structure exists.
+json parse_bounded(const std::string& text, const std::string& what) {
+  return json::parse(text, [&](int depth, json::parse_event_t, json&) {
+    if (static_cast<std::size_t>(depth) > MAX_SCENE_DEPTH) input_error(what + ": " + too_deep());
+    return true;
+  });
+}
+
+/// The nesting depth of @p v, without recursion (a scene assembled in code is not parsed).
+std::size_t depth_of(const json& v) {
+  std::size_t deepest = 0;
+  std::vector<std::pair<const json*, std::size_t>> todo{{&v, 0}};
+  while (!todo.empty()) {
+    const auto [node, d] = todo.back();
+    todo.pop_back();
+    if (!node->is_structured()) continue;
+    deepest = std::max(deepest, d + 1);
+    if (d + 1 > MAX_SCENE_DEPTH) return d + 1;  // deep enough to refuse: no need to go on
+    for (const auto& child : *node) todo.emplace_back(&child, d + 1);
+  }
+  return deepest;
+}
+
 /// nlohmann keeps the last of duplicate keys silently; in a scene that hides an edit.
 json parse_rejecting_duplicates(const std::string& text, const std::string& file) {
   struct Frame {
@@ -399,8 +477,9 @@ json parse_rejecting_duplicates(const std::string& text, const std::string& file
     std::set<std::string> keys;
   };
   std::vector<Frame> stack;
-  const auto callback = [&](int, json::parse_event_t event, json& parsed) {
+  const auto callback = [&](int depth, json::parse_event_t event, json& parsed) {
     using E = json::parse_event_t;
+    if (static_cast<std::size_t>(depth) > MAX_SCENE_DEPTH) input_error("scene file '" + file + "': " + too_deep());
     const bool element = event == E::object_start || event == E::array_start || event == E::value;
     if (element && !stack.empty() && stack.back().is_array) ++stack.back().index;
     if (event == E::object_start || event == E::array_start) stack.push_back({event == E::array_start, 0, {}, {}});
@@ -437,7 +516,7 @@ std::string describe_overflow(const std::string& text, const json::exception& e)
   const std::string marker = "\"hemicontact:overflow\"";
   std::string key;
   try {
-    const json marked = json::parse(std::string(text).replace(at, token.size(), marker));
+    const json marked = parse_bounded(std::string(text).replace(at, token.size(), marker), "scene");
     const std::function<bool(const json&, const std::string&)> find = [&](const json& v, const std::string& p) {
       if (v.is_string() && v.get<std::string>() == "hemicontact:overflow") return key = p, true;
       if (v.is_object())
@@ -458,7 +537,7 @@ std::string describe_overflow(const std::string& text, const json::exception& e)
 
 json value_from_text(const std::string& text, const std::string& assignment) {
   try {
-    return json::parse(text);
+    return parse_bounded(text, "--set '" + assignment.substr(0, 80) + (assignment.size() > 80 ? "...'" : "'"));
   } catch (const json::parse_error&) {
     return text;  // not JSON: a plain string such as gmsh or monotone
   } catch (const json::exception& e) {
@@ -474,12 +553,16 @@ json value_from_text(const std::string& text, const std::string& assignment) {
 json validate_scene(json scene) {
   const SchemaIndex& idx = schema_index();
   if (!scene.is_object()) key_error("", "the top level must be a JSON object, got " + show(scene));
+  if (depth_of(scene) > MAX_SCENE_DEPTH) input_error("scene: " + too_deep());
   check_finite(scene, "");
   validate_object(scene, "", "", idx);
   check_selectors(scene["boundary"]);
   check_gap(scene["contact"]["gap"]);
   check_interval(scene["mesh"]["x"], "mesh.x");
   check_interval(scene["mesh"]["y"], "mesh.y");
+  check_interval(scene["mesh"]["z"], "mesh.z");
+  check_solver_options(scene["solver"]);
+  check_continuation(scene["solver"]);
   check_points(scene["contact"]["normal_law"]["points"], "contact.normal_law.points", false, "p", true);
   check_points(scene["contact"]["friction"]["points"], "contact.friction.points", false, "F_b", true);
   json& mesh = scene["mesh"];
@@ -490,8 +573,11 @@ json validate_scene(json scene) {
 void apply_override(json& scene, const std::string& assignment) {
   const std::size_t eq = assignment.find('=');
   if (eq == std::string::npos) input_error("--set '" + assignment + "': expected path=value, e.g. mesh.n=64");
+  const std::string shown = assignment.size() > 80 ? assignment.substr(0, 80) + "..." : assignment;
   const std::vector<std::string> segs = split_dotted(assignment.substr(0, eq));
-  if (segs.empty()) input_error("--set '" + assignment + "': malformed path (empty key)");
+  if (segs.empty()) input_error("--set '" + shown + "': malformed path (an empty key, or a [ without its ])");
+  if (segs.size() > MAX_SCENE_DEPTH)
+    input_error("--set '" + shown + "': a path of " + std::to_string(segs.size()) + " keys; " + too_deep());
   json value = value_from_text(assignment.substr(eq + 1), assignment);
 
   json* cur = &scene;

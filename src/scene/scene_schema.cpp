@@ -281,9 +281,10 @@ std::vector<SchemaEntry> build_scene_schema() {
                           0),
                     1));
   t.push_back(section("/solver/fixed_point", "Outer loop λ_i = F_b(u_ν,i) (MODEL.md §2)."));
-  t.push_back(above(key("/solver/fixed_point/tol_u", "number", D.tol_u,
-                        "Converged when the relative change of u on Γ3 and of λ is ≤ tol_u."),
-                    0));
+  t.push_back(at_most(above(key("/solver/fixed_point/tol_u", "number", D.tol_u,
+                                "Converged when the relative change of u on Γ3 and of λ is ≤ tol_u."),
+                            0),
+                      1e-2));
   t.push_back(at_least(key("/solver/fixed_point/max_iters", "integer", D.max_outer, "Outer iteration limit."), 1));
   t.push_back(at_most(
       above(key("/solver/fixed_point/relaxation", "number", D.relaxation, "θ in λ ← (1−θ)λ + θ F_b(u_ν)."), 0), 1));
@@ -303,11 +304,17 @@ std::vector<SchemaEntry> build_scene_schema() {
 
   // ------------------------------------------------------------------ check
   t.push_back(section("/check", "Acceptance of the computed solution (MODEL.md §3, §4)."));
-  t.push_back(above(
-      key("/check/certificate_tol", "number", D.certificate_tol, "Largest normalized certificate residual accepted."),
-      0));
-  t.push_back(above(
-      key("/check/status_tol", "number", D.status_tol, "Relative to U: decides stick / contact / separated."), 0));
+  // Upper bounds: a tolerance of 1e300 would accept any answer as certified and exit 0 "ok". A
+  // certificate looser than 1e-3 accepts answers wrong in the third digit.
+  t.push_back(at_most(
+      above(key("/check/certificate_tol", "number", D.certificate_tol,
+                "Largest normalized certificate residual accepted."),
+            0),
+      1e-3));
+  t.push_back(at_most(
+      above(key("/check/status_tol", "number", D.status_tol, "Relative to U: decides stick / contact / separated."),
+            0),
+      1e-3));
   t.push_back(key("/check/smallness", "boolean", D.smallness,
                   "Evaluate the smallness condition (21) (uniqueness guaranteed: yes/no)."));
   t.push_back(key("/check/smallness_method", "string", D.smallness_method,

@@ -54,6 +54,19 @@ void gmsh_mesh(json& s, const std::string& file) {
 
 const auto none = [](json&) {};
 
+// {"a":{"a":...1...}} nested @p levels deep, and the dotted path a.a.... of @p segments.
+std::string deep_text(int levels) {
+  std::string t;
+  for (int i = 0; i < levels; ++i) t += "{\"a\":";
+  t += "1";
+  return t + std::string(levels, '}');
+}
+std::string deep_path(int segments) {
+  std::string p = "expected";
+  for (int i = 0; i < segments; ++i) p += ".a";
+  return p;
+}
+
 // A tabulated p_ν without friction, so that only the table itself is checked.
 std::function<void(json&)> normal_table(const json& points) {
   return [points](json& s) {
@@ -196,7 +209,44 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"UnknownLawKey", [](json& s) { s["contact"]["normal_law"]["c4"] = 1; },
                  {"unknown key 'contact.normal_law.c4'"}},
         BadInput{"UnknownEnumValue", [](json& s) { s["mesh"]["diagonal"] = "x"; },
-                 {"'mesh.diagonal': \"x\" is not one of"}}),
+                 {"'mesh.diagonal': \"x\" is not one of"}},
+        // ---- issue 12: what crashed, hung, wrote elsewhere or passed a wrong answer before
+        // 40 000 levels of nesting overflowed the stack (SIGSEGV) in the recursive walks.
+        BadInput{"DeeplyNestedSceneFile", none, {"scene.json': nesting deeper than 32 levels"}, "",
+                 [](std::string t) {
+                   return t.substr(0, t.rfind('}')) + ", \"expected\": " + deep_text(40000) + "}";
+                 }},
+        BadInput{"DeeplyNestedSetPath", none, {"a path of 50001 keys; nesting deeper than 32 levels"},
+                 "--set " + deep_path(50000) + "=1"},
+        BadInput{"DeeplyNestedSetValue", none, {"--set 'description=[[[[", "nesting deeper than 32 levels"},
+                 "--set 'description=" + std::string(50000, '[') + std::string(50000, ']') + "'"},
+        // gap.along = z on a 2D mesh read coordinate 2 of 2-component points (out of bounds).
+        BadInput{"GapAlongAnAxisTheMeshLacks",
+                 [](json& s) { s["contact"]["gap"] = {{"along", "z"}, {"points", {{0, 0.1}, {1, 0.2}}}}; },
+                 {"contact.gap.along: 'z' on a 2D mesh (its axes are x, y)"}},
+        // A scene could make Ipopt truncate any writable file.
+        BadInput{"IpoptOutputFile", none, {"'solver.options.output_file'", "not accepted from a scene"},
+                 "--set 'solver.options.output_file=\"/tmp/hemicontact-victim\"' --set solver.options.file_print_level=5"},
+        BadInput{"IpoptLinearSolverNotBuilt", none, {"option 'linear_solver' = 'ma57' is not available"},
+                 "--set 'solver.options.linear_solver=\"ma57\"'"},
+        // Refused before allocating (it died with bad_alloc after a while), naming the size key.
+        BadInput{"MeshTooLargeForTheMachine", none, {"mesh.n = 1000000: a mesh of 1e+12 nodes needs about", "lower mesh.n"},
+                 "--set mesh.n=1000000"},
+        // Tolerances that would certify anything.
+        BadInput{"CertificateTolUnbounded", none, {"'check.certificate_tol' must be > 0 and <= 0.001, got 1e+300"},
+                 "--set check.certificate_tol=1e300"},
+        BadInput{"StatusTolUnbounded", none, {"'check.status_tol' must be > 0 and <= 0.001"}, "--set check.status_tol=1e300"},
+        // Effective hangs: 1.8e8 continuation stages.
+        BadInput{"ContinuationFactorNearOne", none, {"'solver.continuation.factor'", "at most 200 are allowed"},
+                 "--set solver.continuation.factor=0.9999999"},
+        BadInput{"MalformedSetPath", none, {"--set 'a[1=2': malformed path"}, "--set 'a[1=2'"},
+        // Scales at the ends of the double range ended in Invalid_Number_Detected and NaN output.
+        BadInput{"DenormalYoungsModulus", none, {"material.E: the stiffness scale", "rescale the units"},
+                 "--set material.E=1e-320"},
+        BadInput{"LoadScaleUnderflows", none, {"loads (loads.scale", "the load scale (largest nodal force) is"},
+                 "--set loads.scale=1e-300"},
+        BadInput{"MeshIntervalOverflows", none, {"'mesh.x': the interval [-1e+308,1e+308] is out of range"},
+                 "--set 'mesh.x=[-1e308,1e308]'"}),
     [](const ::testing::TestParamInfo<BadInput>& i) { return i.param.name; });
 // clang-format on
 
@@ -226,5 +276,75 @@ TEST(FixedPointCli, NonContractionExits3AndRelaxationSucceeds) {
   const json rep2 = json::parse(hemicontact::test::slurp(dir / "out" / "report.json"));
   EXPECT_TRUE(rep2["ok"].get<bool>());
   EXPECT_LT(rep2["fixed_point"]["contraction_estimate"].get<double>(), 0.75);
+  fs::remove_all(dir);
+}
+
+// Issue 12, the command line: values that are missing or out of range are usage errors (exit 1);
+// a start that is a directory is bad input (exit 2, it was an internal error); nothing is written.
+TEST(BadInputCli, MissingValuesAndOutOfRangeCountsAreRefused) {
+  const fs::path dir = fs::temp_directory_path() / ("hemicontact_badcli_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scene = HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json --quiet --set mesh.n=4 ";
+  const std::string out = " --out " + (dir / "out").string();
+  struct Case {
+    std::string args;
+    int code;
+    std::string message;
+  };
+  const std::vector<Case> cases{
+      {"solve " + scene + "--out ''", hemicontact::EXIT_USAGE, "--out: empty folder name"},
+      {"solve " + scene + "--out --quiet", hemicontact::EXIT_USAGE, "option --out needs a value"},
+      {"minima " + scene + "--starts 99999999999" + out, hemicontact::EXIT_USAGE,
+       "--starts: expected an integer from 0 to 10000, got '99999999999'"},
+      {"minima " + scene + "--seed 4294967296" + out, hemicontact::EXIT_USAGE,
+       "--seed: expected an integer from 0 to 4294967295"},
+      {"minima " + scene + "--start " + dir.string() + out, hemicontact::EXIT_INPUT,
+       "--start '" + dir.string() + "': is a directory"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto r = hemicontact::test::run_cli(dir, c.args);
+    EXPECT_EQ(r.code, c.code) << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_EQ(hemicontact::test::lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "--quiet"));  // never taken as a folder name
+  }
+  EXPECT_FALSE(fs::exists(dir / "out" / "minima.json"));
+  fs::remove_all(dir);
+}
+
+// Issue 12: a scene cannot truncate a file outside its output folder through Ipopt's output_file.
+TEST(BadInputCli, IpoptOutputFileLeavesTheNamedFileAlone) {
+  const fs::path dir = fs::temp_directory_path() / ("hemicontact_victim_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path victim = dir / "victim.txt";
+  std::ofstream(victim) << "the user's data\n";
+  const auto r = hemicontact::test::run_cli(
+      dir, "solve " HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json --set mesh.n=4 --set "
+           "'solver.options.output_file=\"" + victim.string() + "\"' --set solver.options.file_print_level=5 --out " +
+               (dir / "out").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_EQ(hemicontact::test::slurp(victim), "the user's data\n");
+  fs::remove_all(dir);
+}
+
+// Issue 12: allow_not_converged never turns an uncertified answer into exit 0 (the non-contracting
+// scene of FixedPointCli: the fixed point fails and so does the certificate).
+TEST(FixedPointCli, AllowNotConvergedDoesNotAcceptAFailedCertificate) {
+  const fs::path dir = fs::temp_directory_path() / ("hemicontact_allow_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto r = hemicontact::test::run_cli(
+      dir, "solve " HEMICONTACT_SOURCE_DIR
+           "/problems/sofonea2017-fig2.json --quiet --set mesh.n=16 --set check.smallness=false "
+           "--set contact.gap=null --set boundary.gamma2=[] --set loads.body_force=[20000,-500] "
+           "--set contact.friction.mu=8 --set solver.fixed_point.allow_not_converged=true --out " +
+               (dir / "out").string());
+  const json rep = json::parse(hemicontact::test::slurp(dir / "out" / "report.json"));
+  ASSERT_FALSE(rep["certificate"]["passed"].get<bool>());
+  EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
+  EXPECT_FALSE(rep["ok"].get<bool>());
   fs::remove_all(dir);
 }

@@ -189,7 +189,7 @@ TEST_F(OutputSafety, AnInterruptedSolveLeavesNoReportAndSaysSo) {
 TEST_F(OutputSafety, AnInterruptedMinimaSearchKeepsItsFinishedRuns) {
   const fs::path out = dir / "res";
   const pid_t pid =
-      start("minima " + scene("minima-softening.json") + " --starts 100000 --load-path-steps 0 --out " + out.string(),
+      start("minima " + scene("minima-softening.json") + " --starts 10000 --load-path-steps 0 --out " + out.string(),
             "run");
   ASSERT_TRUE(wait_for(out / "minima-runs.csv"));
   ASSERT_EQ(::kill(pid, SIGINT), 0);

@@ -24,6 +24,15 @@ void assign_scene_boundary(Mesh& mesh, const nlohmann::json& scene);
 /// (assign_scene_boundary); the scene's "mesh" block is then not read. Used by tests and studies.
 Model build_model(const nlohmann::json& scene, Mesh mesh);
 
+/// @brief Estimated peak memory (bytes) of a default solve on a mesh of @p nodes nodes in
+/// dimension @p dim (fitted to measured runs: see build_model.cpp).
+double estimate_solve_memory(double nodes, int dim);
+
+/// @brief Refuse (Error, EXIT_INPUT) a mesh whose solve would need more memory than the machine
+/// has available (MemAvailable), naming the estimate, what is available and @p size_keys, the
+/// keys that set the size ("mesh.n = 1000000"). Called before a generated mesh is allocated.
+void check_memory(double nodes, int dim, const std::string& size_keys);
+
 /// Build the whole model from an effective (validated) scene.
 /// @throws Error naming the key for every semantic input problem (no Γ1, negative g, ν ≥ 0.5, ...).
 Model build_model(const nlohmann::json& scene, const std::string& scene_dir);

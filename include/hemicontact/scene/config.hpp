@@ -14,6 +14,7 @@
 ///   const int nx = get_int(scene, "mesh.nx");                  // always present after loading
 /// @endcode
 
+#include <cstddef>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -58,9 +59,19 @@ struct SchemaEntry {
 /// @return the table, built once (defined in src/scene/scene_schema.cpp).
 const std::vector<SchemaEntry>& scene_schema();
 
+/// Deepest nesting of objects and arrays a scene may have (the deepest valid scene needs 5, e.g.
+/// boundary.gamma2[0].traction[1]). Checked while parsing a file or a --set value, on --set
+/// paths and on a scene built in code, so that no walk of the scene recurses deeper: a text
+/// nested 40 000 levels deep would otherwise overflow the stack.
+inline constexpr std::size_t MAX_SCENE_DEPTH = 32;
+
+/// Most continuation stages a scene may ask for (solver.continuation: eps_start → eps_tau, eps_nu
+/// by factor per stage): the default takes 5; a factor of 0.9999999 would take 2·10⁸.
+inline constexpr int MAX_CONTINUATION_STAGES = 200;
+
 /// @brief Validate a scene against scene_schema() and inject defaults.
 ///
-/// Checks, in order: no non-finite numbers anywhere; every key is known (an unknown key is an
+/// Checks, in order: nesting at most MAX_SCENE_DEPTH; no non-finite numbers anywhere; every key is known (an unknown key is an
 /// error with a closest-match hint); every value has an allowed type ("integer" must be integral
 /// and fit in 32 bits; an integral float such as 8.0 is stored as 8); enum options; numeric
 /// ranges; required keys. Absent keys receive their defaults, also inside every element of an
