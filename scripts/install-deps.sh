@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Install the Debian packages hemicontact needs, and only those that are missing.
 # Idempotent: a second run installs nothing and does not call apt-get update.
-# Usage: scripts/install-deps.sh [--without-gmsh]
-#   --without-gmsh: leave out the Gmsh API (libgmsh-dev, ~1 GB with its dependencies); .msh import is
-#                   then not compiled in and the Gmsh-only tests skip with that reason.
+# Usage: scripts/install-deps.sh [--without-gmsh] [--with-sanitizers]
+#   --without-gmsh:    leave out the Gmsh API (libgmsh-dev, ~1 GB with its dependencies); .msh import is
+#                      then not compiled in and the Gmsh-only tests skip with that reason.
+#   --with-sanitizers: also Debian's clang 14 with its sanitizer and libFuzzer runtimes and the
+#                      symbolizer, for scripts/run-sanitizers.sh (the CI's ASan/UBSan + fuzzing step).
 set -euo pipefail
 
 pkgs=(
@@ -20,11 +22,16 @@ pkgs=(
   python3-matplotlib     # pictures (work-precision, convergence, Fig. 2); Debian's /usr/bin/python3
 )
 # Gmsh is part of the default install: users mesh their own geometry (mesh.type = "gmsh").
-case "${1:-}" in
-  "") pkgs+=(libgmsh-dev) ;;
-  --without-gmsh) ;;
-  *) echo "install-deps: unknown option '$1' (usage: scripts/install-deps.sh [--without-gmsh])" >&2; exit 1 ;;
-esac
+gmsh=1
+for arg in "$@"; do
+  case "$arg" in
+    --without-gmsh) gmsh=0 ;;
+    --with-sanitizers) pkgs+=(clang-14 libclang-rt-14-dev llvm-14) ;;
+    *) echo "install-deps: unknown option '$arg' (usage: scripts/install-deps.sh [--without-gmsh] [--with-sanitizers])" >&2
+       exit 1 ;;
+  esac
+done
+if ((gmsh)); then pkgs+=(libgmsh-dev); fi
 
 missing=()
 for p in "${pkgs[@]}"; do

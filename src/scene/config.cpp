@@ -613,8 +613,10 @@ json load_scene(const std::string& path, const std::vector<std::string>& overrid
   std::ostringstream buffer;
   buffer << in.rdbuf();
   if (!in) input_error("scene file '" + path + "' cannot be read");
-  const std::string text = buffer.str();
+  return load_scene_text(buffer.str(), path, overrides);
+}
 
+json load_scene_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides) {
   json scene;
   try {
     scene = parse_rejecting_duplicates(text, path);

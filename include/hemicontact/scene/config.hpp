@@ -111,6 +111,12 @@ void apply_override(nlohmann::json& scene, const std::string& assignment);
 ///         error at line L, column C: ...", a duplicate key, or any validation error
 nlohmann::json load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 
+/// @brief load_scene() on the text of a scene file (the fuzz target's entry, and load_scene's
+/// own second half). @param text the file's text @param name the file name used in messages
+/// @param overrides `--set` assignments @return the effective scene @throws as load_scene()
+nlohmann::json load_scene_text(const std::string& text, const std::string& name,
+                               const std::vector<std::string>& overrides = {});
+
 /// @brief Directory that relative paths inside a scene (e.g. `mesh.file`) are resolved against.
 /// @param scene_path the path the scene was loaded from
 /// @return its parent directory, or "." for a bare file name

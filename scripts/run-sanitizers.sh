@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# The safety net of issue 12, run by .ci/run after the test suite: a second build folder with
+# AddressSanitizer + UndefinedBehaviorSanitizer (Debian's clang 14, -O1), the whole test suite under
+# it (so the next out-of-bounds read or undefined behaviour fails CI), then the libFuzzer target
+# fuzz/scene_fuzz.cpp over scene parsing, validation and model building for a bounded time.
+# Usage: scripts/run-sanitizers.sh   (env: SAN_BUILD_DIR, default build-san; FUZZ_SECONDS, default 60;
+#                                     JOBS, default nproc)
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$here"
+bash scripts/install-deps.sh --with-sanitizers
+build="${SAN_BUILD_DIR:-build-san}"
+jobs="${JOBS:-$(nproc)}"
+fuzz_seconds="${FUZZ_SECONDS:-60}"
+mkdir -p "$build"
+# Debug's -g for readable reports, -O1 to keep the instrumented suite fast; no benchmarks.
+CC=clang-14 CXX=clang++-14 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O1 \
+  -DHEMICONTACT_SANITIZE=ON -DHEMICONTACT_BUILD_FUZZ=ON -DHEMICONTACT_BUILD_BENCH=OFF >"$build/configure.log" 2>&1 || {
+  cat "$build/configure.log" >&2
+  exit 1
+}
+cmake --build "$build" -j "$jobs"
+
+# Any report ends the process with an error (halt_on_error; UBSan does not recover: the build
+# passes -fno-sanitize-recover=all); leaks are checked, with suppressions for third-party code only.
+export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:strict_string_checks=1:check_initialization_order=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export LSAN_OPTIONS="suppressions=$here/tests/sanitizers/lsan.supp:print_suppressions=0"
+export ASAN_SYMBOLIZER_PATH="${ASAN_SYMBOLIZER_PATH:-/usr/bin/llvm-symbolizer-14}"
+ctest --test-dir "$build" --output-on-failure -j "$jobs"
+
+# The fuzzer works on a copy of the seed corpus (it adds the inputs it finds interesting there),
+# so the source tree is never written. A crash leaves its input in $build/fuzz-crashes and fails.
+work="$build/fuzz-work"
+rm -rf "$work" && mkdir -p "$work/corpus" "$build/fuzz-crashes"
+cp fuzz/corpus/*.json "$work/corpus/"
+"$build/fuzz/hemicontact_scene_fuzz" -dict=fuzz/scene.dict -max_total_time="$fuzz_seconds" -timeout=10 \
+  -rss_limit_mb=2048 -max_len=8192 -print_final_stats=1 -artifact_prefix="$build/fuzz-crashes/" \
+  "$work/corpus" 2>"$build/fuzz.log" || {
+  tail -60 "$build/fuzz.log" >&2
+  echo "run-sanitizers: the fuzzer found a crash; its input is in $build/fuzz-crashes/" >&2
+  exit 1
+}
+grep -E "stat::number_of_executed_units|stat::new_units_added|stat::peak_rss_mb" "$build/fuzz.log" >&2 || true
+echo "run-sanitizers: the tests passed under ASan+UBSan and ${fuzz_seconds} s of fuzzing found nothing" >&2
