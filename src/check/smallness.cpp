@@ -6,7 +6,10 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <Eigen/Cholesky>
+
 #include <chrono>
+#include <random>
 #include <cmath>
 #include <tuple>
 #include <utility>
@@ -17,9 +20,7 @@ namespace {
 // Smallest eigenvalue of A v = λ diag(m) v (A SPD, m > 0): symmetric scaling by m^{-1/2}.
 double smallest_generalized(const Mat& A, const Vec& m) {
   const Vec s = m.cwiseSqrt().cwiseInverse();
-  const Mat B = s.asDiagonal() * A * s.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Mat> es(B, Eigen::EigenvaluesOnly);
-  return es.eigenvalues().minCoeff();
+  return smallest_eigenvalue_spd(s.asDiagonal() * A * s.asDiagonal());
 }
 
 // The two eigenvalues of (21) from a condensed operator S on Γ3 (node-major ν, τ...): λ_{1,ν}
@@ -61,6 +62,47 @@ SmallnessReport constants(const Model& md) {
 }
 
 }  // namespace
+
+double smallest_eigenvalue_spd(const Mat& B) {
+  const Index n = B.rows();
+  const auto dense = [&] {
+    Eigen::SelfAdjointEigenSolver<Mat> es(B, Eigen::EigenvaluesOnly);
+    return es.eigenvalues().minCoeff();
+  };
+  if (n <= 400) return dense();
+  const Eigen::LLT<Mat> llt(B);
+  if (llt.info() != Eigen::Success) return dense();  // not positive definite: the dense solver says how
+  // Lanczos on B⁻¹ with full reorthogonalization: its largest eigenvalue θ is 1/λ_min(B). For a
+  // Ritz pair (θ, y) of the k-step tridiagonal T_k, ‖B⁻¹y − θy‖ = β_k |s_k| (s the eigenvector of
+  // T_k), and some eigenvalue of B⁻¹ lies within that residual of θ; θ never exceeds the largest,
+  // and a pseudo-random start has a component along its eigenvector. So stopping at a residual
+  // ≤ 1e-13·θ gives λ_min to ~1e-13 (relative).
+  const Index kmax = std::min<Index>(n, 120);
+  Mat Q(n, kmax + 1);
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> unif(-1.0, 1.0);
+  for (Index i = 0; i < n; ++i) Q(i, 0) = unif(rng);
+  Q.col(0).normalize();
+  Vec alpha(kmax), beta(kmax);
+  for (Index k = 0; k < kmax; ++k) {
+    Vec w = llt.solve(Q.col(k));
+    alpha[k] = Q.col(k).dot(w);
+    for (int pass = 0; pass < 2; ++pass) w -= Q.leftCols(k + 1) * (Q.leftCols(k + 1).transpose() * w);
+    beta[k] = w.norm();
+    const bool exhausted = beta[k] <= 1e-300 || k + 1 == kmax;
+    if ((k + 1) % 10 == 0 || exhausted) {
+      Eigen::SelfAdjointEigenSolver<Mat> t;
+      t.computeFromTridiagonal(alpha.head(k + 1), beta.head(k), Eigen::ComputeEigenvectors);
+      const Index top = k;  // eigenvalues ascending
+      const double theta = t.eigenvalues()[top];
+      const double residual = beta[k] * std::abs(t.eigenvectors()(k, top));
+      if (theta > 0 && (residual <= 1e-13 * theta || beta[k] <= 1e-300)) return 1.0 / theta;
+      if (exhausted) break;
+    }
+    Q.col(k + 1) = w / beta[k];
+  }
+  return dense();  // not converged in kmax steps (a cluster at the bottom): the dense solver
+}
 
 SmallnessReport evaluate_smallness(const Model& md) {
   const auto t0 = std::chrono::steady_clock::now();

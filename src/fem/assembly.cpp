@@ -11,16 +11,40 @@ namespace hemicontact {
 namespace {
 
 // Node adjacency (each node's sorted neighbours, itself included) from the cells: the sparsity of
-// K is this graph with every entry expanded to a d×d block.
-std::vector<std::vector<int>> node_adjacency(const Mesh& m) {
+// K is this graph with every entry expanded to a d×d block. Compressed rows (ptr, nbr) filled in
+// two passes over the cells — one vector per node was a million small allocations at n = 1024.
+struct Adjacency {
+  std::vector<Index> ptr;  // neighbours of node a: nbr[ptr[a] .. ptr[a+1])
+  std::vector<int> nbr;
+  const int* begin(Index a) const { return nbr.data() + ptr[a]; }
+  const int* end(Index a) const { return nbr.data() + ptr[a + 1]; }
+  Index size(Index a) const { return ptr[a + 1] - ptr[a]; }
+};
+
+Adjacency node_adjacency(const Mesh& m) {
   const int nv = m.dim + 1;
-  std::vector<std::vector<int>> adj(m.num_nodes());
+  const Index N = m.num_nodes();
+  std::vector<Index> count(N + 1, 0);  // with repeats: nv per cell a node is in
   for (Index c = 0; c < m.num_cells(); ++c)
-    for (int a = 0; a < nv; ++a)
-      for (int b = 0; b < nv; ++b) adj[m.cells(c, a)].push_back(m.cells(c, b));
-  for (auto& v : adj) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
+    for (int a = 0; a < nv; ++a) count[m.cells(c, a) + 1] += nv;
+  for (Index a = 0; a < N; ++a) count[a + 1] += count[a];
+  std::vector<int> raw(count[N]);
+  std::vector<Index> fill(count.begin(), count.end() - 1);
+  for (Index c = 0; c < m.num_cells(); ++c)
+    for (int a = 0; a < nv; ++a) {
+      const int na = m.cells(c, a);
+      for (int b = 0; b < nv; ++b) raw[fill[na]++] = m.cells(c, b);
+    }
+  Adjacency adj;
+  adj.ptr.assign(N + 1, 0);
+  adj.nbr.reserve(raw.size() / 2);
+  for (Index a = 0; a < N; ++a) {
+    int* first = raw.data() + count[a];
+    int* last = raw.data() + count[a + 1];
+    std::sort(first, last);
+    last = std::unique(first, last);
+    adj.nbr.insert(adj.nbr.end(), first, last);
+    adj.ptr[a + 1] = static_cast<Index>(adj.nbr.size());
   }
   return adj;
 }
@@ -36,14 +60,14 @@ SpMat stiffness(const Mesh& m, const Mat& Ddyn) {
   // Column d·a+i holds rows d·b+j for b ∈ adj(a), j < d: already sorted.
   std::vector<int> outer(n + 1, 0);
   for (Index a = 0; a < N; ++a)
-    for (int i = 0; i < D; ++i) outer[D * a + i + 1] = static_cast<int>(adj[a].size() * D);
+    for (int i = 0; i < D; ++i) outer[D * a + i + 1] = static_cast<int>(adj.size(a) * D);
   for (Index c = 0; c < n; ++c) outer[c + 1] += outer[c];
   std::vector<int> inner(outer[n]);
   for (Index a = 0; a < N; ++a)
     for (int i = 0; i < D; ++i) {
       int* dst = inner.data() + outer[D * a + i];
-      for (int b : adj[a])
-        for (int j = 0; j < D; ++j) *dst++ = D * b + j;
+      for (const int* b = adj.begin(a); b != adj.end(a); ++b)
+        for (int j = 0; j < D; ++j) *dst++ = D * *b + j;
     }
   std::vector<double> values(inner.size(), 0.0);
   for (Index c = 0; c < m.num_cells(); ++c) {
@@ -53,10 +77,11 @@ SpMat stiffness(const Mesh& m, const Mat& Ddyn) {
     const typename E::KMat Ke = vol * B.transpose() * Dm * B;
     for (int a = 0; a < E::NV; ++a) {
       const int na = m.cells(c, a);
-      const auto& nb_a = adj[na];
+      const int* nb_first = adj.begin(na);
+      const int* nb_last = adj.end(na);
       for (int b = 0; b < E::NV; ++b) {
         const int nb = m.cells(c, b);
-        const int slot = static_cast<int>(std::lower_bound(nb_a.begin(), nb_a.end(), nb) - nb_a.begin());
+        const int slot = static_cast<int>(std::lower_bound(nb_first, nb_last, nb) - nb_first);
         for (int i = 0; i < D; ++i) {
           double* col = values.data() + outer[D * na + i] + D * slot;
           for (int j = 0; j < D; ++j) col[j] += Ke(D * b + j, D * a + i);
