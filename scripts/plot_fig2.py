@@ -30,6 +30,8 @@ import sys
 import zlib
 import xml.etree.ElementTree as ET
 
+from plotutil import save_atomically  # noqa: E402  (scripts/plotutil.py)
+
 NORMAL = ["separated", "compliance", "contact"]  # status_normal codes 0, 1, 2
 TANGENTIAL = ["stick", "slip+", "slip-", "slip"]  # status_tangential codes 0..3
 NORMAL_STYLE = {"separated": ("tab:gray", "separated"),
@@ -42,18 +44,6 @@ TANGENTIAL_STYLE = {"stick": ("o", "stick"), "slip+": (">", "slip+"), "slip-": (
 class InputError(Exception):
     pass
 
-
-
-def save_atomically(fig, out, **kwargs):
-    """Draw into a temporary beside `out` (the name hemicontact uses, ".NAME.partial") and rename
-    it into place, so an interrupted run never leaves half a picture under the final name."""
-    tmp = os.path.join(os.path.dirname(out) or ".", "." + os.path.basename(out) + ".partial")
-    try:
-        fig.savefig(tmp, format="png", **kwargs)
-        os.replace(tmp, out)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
 
 def read_vtu(path):
     """Points (N x 3), triangles, and the point data arrays (lists of tuples or numbers) of a .vtu
