@@ -225,6 +225,7 @@ struct ContactSolver::Impl {
   Solution linear_answer(clk::time_point t_start) const;
   Run start(const Vec* z0);
   bool run_stage(Run& run, size_t stage);
+  bool settled(const Run& run) const;
   void set_smoothing(size_t stage);
   OuterIteration minimize(Run& run, size_t stage);
   void relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta);
@@ -377,8 +378,25 @@ Solution ContactSolver::solve(const Vec* z0) {
   Impl& I = *m;
   if (I.linear) return I.linear_answer(t_start);
   Impl::Run run = I.start(z0);
-  for (size_t stage = 0; stage < I.schedule.size(); ++stage)
+  for (size_t stage = 0; stage < I.schedule.size(); ++stage) {
     if (!I.run_stage(run, stage)) break;  // the backend failed: polish and judge what we have
+    // Once a stage barely moved the answer, its statuses are likely final: the exact polish on
+    // a copy, and if the certificate (the unsmoothed problem, MODEL.md §4) passes, the remaining
+    // stages, which only shrink ε towards an answer already in hand, are skipped.
+    if (stage + 1 < I.schedule.size() && I.settled(run)) {
+      Impl::Run trial = run;
+      I.polish(trial);
+      I.certify(trial, t_start);
+      if (trial.sol.certificate.passed && trial.sol.polish.accepted) {
+        trial.sol.skipped.push_back("continuation: stages " + std::to_string(stage + 1) + ".." +
+                                    std::to_string(I.schedule.size() - 1) + " not run: the polished answer after stage " +
+                                    std::to_string(stage) + " was certified (solver.continuation.certify_below)");
+        log_info() << "continuation: certified after stage " << stage << "; the remaining "
+                   << I.schedule.size() - 1 - stage << " stage(s) are not needed";
+        return std::move(trial.sol);
+      }
+    }
+  }
   I.polish(run);
   I.certify(run, t_start);
   return std::move(run.sol);
@@ -459,6 +477,16 @@ bool ContactSolver::Impl::run_stage(Run& run, size_t stage) {
       return true;
     }
   }
+}
+
+// Worth an early polish: the last minimization moved Γ3 (and λ) by at most certify_below, the
+// fixed point has not failed, and the exact polish exists (condensed formulation).
+bool ContactSolver::Impl::settled(const Run& run) const {
+  if (!(opt.certify_below > 0) || !F.cond || !opt.polish || !run.sol.fixed_point_converged || !run.sol.backend_ok ||
+      run.sol.history.empty())
+    return false;
+  const OuterIteration& last = run.sol.history.back();
+  return last.change_u <= opt.certify_below && (!lagged || last.change_lambda <= opt.certify_below);
 }
 
 // The smoothing widths of a stage (absolute: relative widths × U_s).

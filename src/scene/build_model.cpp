@@ -283,6 +283,7 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.status_tol = scene.at("check").at("status_tol").get<double>();
   o.smallness = scene.at("check").at("smallness").get<bool>();
   o.smallness_method = scene.at("check").at("smallness_method").get<std::string>();
+  o.certify_below = s.at("continuation").at("certify_below").get<double>();
   return o;
 }
 

@@ -280,6 +280,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                               "ε is multiplied by it each step until eps_tau / eps_nu."),
                           0),
                     1));
+  t.push_back(at_most(at_least(key("/solver/continuation/certify_below", "number", D.certify_below,
+                                   "After a stage that moved the Γ3 unknowns and λ by at most this "
+                                   "(relative), polish and certify; if the certificate passes, the "
+                                   "remaining stages are skipped. 0: run every stage."),
+                               0),
+                      1));
   t.push_back(section("/solver/fixed_point", "Outer loop λ_i = F_b(u_ν,i) (MODEL.md §2)."));
   t.push_back(at_most(above(key("/solver/fixed_point/tol_u", "number", D.tol_u,
                                 "Converged when the relative change of u on Γ3 and of λ is ≤ tol_u."),

@@ -105,6 +105,7 @@ struct Case {
   double F_nu = 0, F_tau = 0;  ///< nodal load in the local frame
   json gap = "inf";
   json friction = {{"type", "coulomb_layer"}, {"mu", MU}};
+  bool all_stages = false;  ///< solver.continuation.certify_below = 0: no early stop once certified
 };
 
 /// How solve() is configured: the default (formulation auto → condensed for this linear material,
@@ -130,7 +131,9 @@ json make_scene(const Case& c, const std::string& pipeline = "default") {
         {"friction", c.friction}}},
       {"solver", solver_block(pipeline)},
       {"output", {{"vtu", false}, {"csv", false}}}};
-  return validate_scene(scene);
+  json s = scene;
+  if (c.all_stages) s["solver"]["continuation"]["certify_below"] = 0;
+  return validate_scene(s);
 }
 
 struct Solved {
@@ -440,6 +443,7 @@ TEST_P(SingleNode, CoulombFixedPointConverges) {
   e.u_tau = u_tau_hand(c.F_tau, e.lambda);
   ASSERT_GT(e.u_tau, 0.0);
   e.status = "compliance/slip+";
+  c.all_stages = true;  // the final stage's fixed-point loop is what is tested here
   const Solved r = run(c, GetParam());
   check_case(c, e, r);
   for (const auto& s : r.sol.skipped) EXPECT_NE(s.rfind("fixed_point", 0), 0u) << s;
@@ -453,6 +457,29 @@ TEST_P(SingleNode, CoulombFixedPointConverges) {
   EXPECT_GE(in_final, 2);  // the loop needs two minimizations to see no change
   EXPECT_LE(in_final, 5);  // "a few"
   EXPECT_LE(std::max(h.back().change_u, h.back().change_lambda), r.opt.tol_u);
+}
+
+// The early stop (solver.continuation.certify_below): on the same case the default run stops after
+// a stage once the polished answer is certified, with fewer minimizations than running every
+// stage, and the same answer to round-off (both are the exact polish on the same statuses).
+TEST(SingleNodeEarlyStop, CertifiedBeforeTheLastStageGivesTheSameAnswer) {
+  const double target = 0.5 * R1;
+  Case c;
+  c.F_nu = (K_NU + W * C1) * target;
+  c.F_tau = 3.0 * W * MU * p_hand(target);
+  const Solved early = run(c, "default");
+  c.all_stages = true;
+  const Solved all = run(c, "default");
+  ASSERT_TRUE(early.sol.certificate.passed);
+  ASSERT_TRUE(all.sol.certificate.passed);
+  EXPECT_LT(early.sol.history.size(), all.sol.history.size());
+  EXPECT_LT(early.sol.history.back().stage, all.sol.history.back().stage);
+  bool said = false;
+  for (const auto& s : early.sol.skipped) said = said || s.rfind("continuation: stages", 0) == 0;
+  EXPECT_TRUE(said);
+  const double U = all.sol.u.cwiseAbs().maxCoeff();
+  EXPECT_LE((early.sol.u - all.sol.u).cwiseAbs().maxCoeff(), 1e-12 * U);
+  EXPECT_EQ(early.sol.status[0].str(), all.sol.status[0].str());
 }
 
 INSTANTIATE_TEST_SUITE_P(Pipelines, SingleNode, ::testing::Values("default", "full", "condensed_raw"),

@@ -19,6 +19,9 @@ struct SolveOptions {
   double eps_nu = 1e-10;             ///< final mollification width of p_ν, relative to U_s
   double eps_start = 1e-2;           ///< first continuation width, relative to U_s
   double eps_factor = 1e-2;          ///< ε multiplied by this per continuation step
+  /// After a continuation stage that moved Γ3 and λ by at most this (relative), try the exact
+  /// polish and certificate; if they pass, the remaining stages are skipped. 0: always run them all.
+  double certify_below = 1e-4;
   double tol_u = 1e-12;              ///< fixed point: relative change of x on Γ3 and of λ
   int max_outer = 50;                ///< fixed point: iteration cap
   double relaxation = 1.0;           ///< θ in λ ← (1−θ)λ + θ F_b(u_ν)
