@@ -32,20 +32,27 @@ cholmod_sparse view_lower(const SpMat& A) {
   return s;
 }
 
-// Fill-reducing ordering of the symmetric matrix A (both triangles stored) on its quotient graph:
-// consecutive columns with the same pattern (the d unknowns of one node) are one vertex. The
-// ordering is the node graph's, expanded to the unknowns: d times fewer vertices and d² times
-// fewer edges to order, and no worse fill (the unknowns of a node are indistinguishable to the
-// elimination). Timings below.
-std::vector<int> node_graph_ordering(const SpMat& A, cholmod_common& c) {
-  const Index n = A.rows();
+// Fill-reducing ordering of the leading n×n block of the symmetric matrix A (both triangles
+// stored, compressed) on its quotient graph: consecutive columns with the same pattern (the d
+// unknowns of one node) are one vertex. The ordering is the node graph's, expanded to the unknowns:
+// d times fewer vertices and d² times fewer edges to order, and no worse fill (the unknowns of a
+// node are indistinguishable to the elimination). Rows ≥ n are ignored, so the block is read in
+// place instead of copied (issue 14: one copy of K). Timings below.
+std::vector<int> node_graph_ordering(const SpMat& A, Index n, cholmod_common& c) {
   const int* p = A.outerIndexPtr();
   const int* i = A.innerIndexPtr();
+  // Column j's rows inside the block: i[p[j] .. end(j)) (rows are sorted).
+  const auto block_end = [&](Index j) {
+    return static_cast<int>(std::lower_bound(i + p[j], i + p[j + 1], static_cast<int>(n)) - i);
+  };
   std::vector<int> group(n), first;  // group of each column; first column of each group
+  int prev_begin = 0, prev_end = 0;
   for (Index j = 0; j < n; ++j) {
-    const bool same = j > 0 && p[j + 1] - p[j] == p[j] - p[j - 1] && std::equal(i + p[j - 1], i + p[j], i + p[j]);
+    const int b = p[j], e = block_end(j);
+    const bool same = j > 0 && e - b == prev_end - prev_begin && std::equal(i + prev_begin, i + prev_end, i + b);
     if (!same) first.push_back(static_cast<int>(j));
     group[j] = static_cast<int>(first.size()) - 1;
+    prev_begin = b, prev_end = e;
   }
   const Index ng = static_cast<Index>(first.size());
   // The quotient graph's lower triangle (pattern only), column by column from each group's first column.
@@ -54,7 +61,7 @@ std::vector<int> node_graph_ordering(const SpMat& A, cholmod_common& c) {
   for (Index g = 0; g < ng; ++g) {
     const int j = first[g];
     int last = -1;
-    for (int k = p[j]; k < p[j + 1]; ++k) {
+    for (int k = p[j], e = block_end(j); k < e; ++k) {
       const int h = group[i[k]];
       if (h >= g && h != last) gi.push_back(h), last = h;  // rows sorted, so groups too
     }
@@ -130,11 +137,16 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m) : m_impl(std::
   auto t0 = clk::now();
 
   // 1. Fill-reducing ordering of the interior block alone, on its node graph.
+  // K is read in place (a view): a compressed copy only if the caller's K is not compressed.
+  SpMat K_compressed;
+  if (!K.isCompressed()) {
+    K_compressed = K;
+    K_compressed.makeCompressed();
+  }
+  const SpMat& Kc = K.isCompressed() ? K : K_compressed;
   std::vector<int> perm(n);
   if (nI > 0) {
-    SpMat KII = K.topLeftCorner(nI, nI);
-    KII.makeCompressed();
-    const std::vector<int> pI = node_graph_ordering(KII, c);
+    const std::vector<int> pI = node_graph_ordering(Kc, nI, c);
     std::copy(pI.begin(), pI.end(), perm.begin());
   }
   // 2. The condensed unknowns last, in their own order. CHOLMOD's etree postordering improves the
@@ -145,8 +157,6 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m) : m_impl(std::
   c.nmethods = 1;
   c.method[0].ordering = CHOLMOD_GIVEN;
   c.postorder = 1;
-  SpMat Kc = K;
-  Kc.makeCompressed();
   cholmod_sparse A = view_lower(Kc);
   const auto tail_in_place = [&](const cholmod_factor* F) {
     const auto* P = static_cast<const int*>(F->Perm);

@@ -2,7 +2,8 @@
 
 #include <hemicontact/core/error.hpp>
 
-#include <gmsh.h>
+#include <dlfcn.h>
+#include <gmshc.h>  // the C API's declarations only: libgmsh is opened at run time, not linked
 
 #include <algorithm>
 #include <array>
@@ -12,33 +13,139 @@
 #include <map>
 #include <sstream>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 // Compiled only when the Gmsh API was found (CMake globs src/mesh/gmsh_*.cpp then); the fallback
 // read_gmsh() of other builds lives in mesh_io.cpp.
+//
+// Why dlopen (issue 14): linking libgmsh pulls in ~90 shared libraries (OpenCASCADE, FLTK, MED,
+// ...) whose loading and relocation cost ~80 ms at every start of the program, also for the
+// scenes that never read a .msh file (all generated meshes), i.e. 15 % of the whole default run
+// at h = 1/256. Gmsh's C API (gmshc.h) has plain C symbols, so the few functions used here are
+// looked up once with dlsym when the first .msh file is read.
 
 namespace hemicontact {
 namespace {
 
-// Gmsh is a process-wide singleton: finalize() must run on every exit path, including the
-// exceptions Gmsh itself throws (4.8 throws a std::string when General.AbortOnError = 2, which
-// initialize() sets). User configuration files are not read so that the result does not depend
-// on the machine's ~/.gmshrc.
+// Every Gmsh function this file calls; GmshApi holds one pointer per entry.
+#define HEMICONTACT_GMSH_FUNCTIONS(X)                                                                  \
+  X(gmshFree)                                                                                          \
+  X(gmshInitialize)                                                                                    \
+  X(gmshFinalize)                                                                                      \
+  X(gmshOpen)                                                                                          \
+  X(gmshOptionSetNumber)                                                                               \
+  X(gmshModelGetPhysicalGroups)                                                                        \
+  X(gmshModelGetEntitiesForPhysicalGroup)                                                              \
+  X(gmshModelGetPhysicalName)                                                                          \
+  X(gmshModelMeshGetNodes)                                                                             \
+  X(gmshModelMeshGetElements)                                                                          \
+  X(gmshModelMeshGetElementProperties)                                                                 \
+  X(gmshLoggerGetLastError)
+
+struct GmshApi {
+#define HEMICONTACT_GMSH_POINTER(name) decltype(&::name) name = nullptr;
+  HEMICONTACT_GMSH_FUNCTIONS(HEMICONTACT_GMSH_POINTER)
+#undef HEMICONTACT_GMSH_POINTER
+};
+
+// The library by its soname (the dynamic loader's search, as a linked program would), then by the
+// path found at configure time. It is never closed: Gmsh keeps process-wide state.
+GmshApi load_gmsh() {
+  const char* candidates[] = {HEMICONTACT_GMSH_SONAME, HEMICONTACT_GMSH_LIBRARY_PATH};
+  void* lib = nullptr;
+  std::string reasons;
+  for (const char* name : candidates) {
+    if ((lib = dlopen(name, RTLD_NOW | RTLD_LOCAL)) != nullptr) break;
+    const char* why = dlerror();
+    reasons += std::string(reasons.empty() ? "" : "; ") + (why ? why : name);
+  }
+  if (!lib)
+    throw Error("Gmsh .msh import: the Gmsh library could not be loaded (" + reasons +
+                "); install libgmsh-dev (scripts/install-deps.sh) or use a generated mesh");
+  GmshApi api;
+#define HEMICONTACT_GMSH_LOOKUP(name)                                                                       \
+  api.name = reinterpret_cast<decltype(&::name)>(dlsym(lib, #name));                                     \
+  if (!api.name)                                                                                         \
+    throw Error(std::string("Gmsh .msh import: the Gmsh library has no function " #name " (Gmsh ") +      \
+                HEMICONTACT_GMSH_SONAME + " was expected)");
+  HEMICONTACT_GMSH_FUNCTIONS(HEMICONTACT_GMSH_LOOKUP)
+#undef HEMICONTACT_GMSH_LOOKUP
+  return api;
+}
+
+const GmshApi& gmsh() {
+  static const GmshApi api = load_gmsh();  // a failed load throws and is tried again next time
+  return api;
+}
+
+// A Gmsh C call failed (ierr != 0): read_gmsh() turns it into an input error with Gmsh's last
+// logged message.
+struct GmshFailure {
+  std::string call;
+};
+
+void check(int ierr, const char* call) {
+  if (ierr != 0) throw GmshFailure{call};
+}
+
+// Copies a Gmsh-allocated array into a vector and frees it.
+template <class T>
+std::vector<T> take(T* p, std::size_t n) {
+  std::vector<T> v(p, p + (p ? n : 0));
+  gmsh().gmshFree(p);
+  return v;
+}
+
+std::string take_string(char* p) {
+  std::string s(p ? p : "");
+  gmsh().gmshFree(p);
+  return s;
+}
+
+// Gmsh is a process-wide singleton: finalize() must run on every exit path, including failures.
+// User configuration files are not read so that the result does not depend on ~/.gmshrc.
 class GmshSession {
  public:
   GmshSession() {
-    gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
-    gmsh::option::setNumber("General.Terminal", 0);
+    int ierr = 0;
+    gmsh().gmshInitialize(0, nullptr, /*readConfigFiles=*/0, &ierr);
+    if (ierr != 0) throw Error("Gmsh .msh import: Gmsh could not be initialized");
+    gmsh().gmshOptionSetNumber("General.Terminal", 0, &ierr);
   }
   ~GmshSession() {
-    try {
-      gmsh::finalize();
-    } catch (...) {  // a destructor must not throw; nothing useful can be done here
-    }
+    int ierr = 0;
+    gmsh().gmshFinalize(&ierr);  // nothing useful can be done with a failure here
   }
   GmshSession(const GmshSession&) = delete;
   GmshSession& operator=(const GmshSession&) = delete;
 };
+
+// The elements of dimension dim (and entity tag, −1 for all): their types and, per type, the node
+// tags of every element.
+struct Elements {
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> nodes;
+};
+
+Elements get_elements(int dim, int tag) {
+  int* types = nullptr;
+  std::size_t n_types = 0, **elem_tags = nullptr, *elem_tags_n = nullptr, n_elem_tags = 0;
+  std::size_t **node_tags = nullptr, *node_tags_n = nullptr, n_node_tags = 0;
+  int ierr = 0;
+  gmsh().gmshModelMeshGetElements(&types, &n_types, &elem_tags, &elem_tags_n, &n_elem_tags, &node_tags, &node_tags_n,
+                                  &n_node_tags, dim, tag, &ierr);
+  Elements e;
+  e.types = take(types, ierr ? 0 : n_types);
+  for (std::size_t t = 0; t < n_elem_tags; ++t) gmsh().gmshFree(elem_tags[t]);
+  for (std::size_t t = 0; t < n_node_tags; ++t) e.nodes.push_back(take(node_tags[t], node_tags_n[t]));
+  gmsh().gmshFree(elem_tags);
+  gmsh().gmshFree(elem_tags_n);
+  gmsh().gmshFree(node_tags);
+  gmsh().gmshFree(node_tags_n);
+  check(ierr, "model::mesh::getElements");
+  return e;
+}
 
 // Sorted node indices of a facet (third entry −1 in 2D): the key under which it is looked up.
 using FacetKey = std::array<int, 3>;
@@ -51,26 +158,31 @@ FacetKey sorted_key(const int* v, int n) {
 }
 
 std::string element_name(int type) {
-  std::string name;
-  int dim = 0, order = 0, num_nodes = 0, num_primary = 0;
-  std::vector<double> local;
-  gmsh::model::mesh::getElementProperties(type, name, dim, order, num_nodes, local, num_primary);
-  return name + " (MSH type " + std::to_string(type) + ")";
+  char* name = nullptr;
+  double* local = nullptr;
+  std::size_t n_local = 0;
+  int dim = 0, order = 0, num_nodes = 0, num_primary = 0, ierr = 0;
+  gmsh().gmshModelMeshGetElementProperties(type, &name, &dim, &order, &num_nodes, &local, &n_local, &num_primary,
+                                           &ierr);
+  gmsh().gmshFree(local);
+  return take_string(name) + " (MSH type " + std::to_string(type) + ")";
 }
 
 Mesh read_model(const std::string& path) {
   const std::string where = "gmsh file '" + path + "': ";
-  gmsh::open(path);
+  int ierr = 0;
+  gmsh().gmshOpen(path.c_str(), &ierr);
+  check(ierr, "open");
 
   // Dimension: tetrahedra make it 3D, otherwise triangles make it 2D.
-  std::vector<int> types;
-  std::vector<std::vector<std::size_t>> elem_tags, elem_nodes;
-  gmsh::model::mesh::getElements(types, elem_tags, elem_nodes, 3, -1);
+  Elements elements = get_elements(3, -1);
   int dim = 3;
-  if (types.empty()) {
+  if (elements.types.empty()) {
     dim = 2;
-    gmsh::model::mesh::getElements(types, elem_tags, elem_nodes, 2, -1);
+    elements = get_elements(2, -1);
   }
+  const std::vector<int>& types = elements.types;
+  const std::vector<std::vector<std::size_t>>& elem_nodes = elements.nodes;
   if (types.empty()) input_error(where + "no triangles or tetrahedra (was the mesh generated, e.g. with gmsh -2?)");
   const int cell_type = dim == 2 ? 2 : 4, facet_type = dim == 2 ? 1 : 2, nv = dim + 1;
   std::vector<std::size_t> cell_nodes;  // Gmsh node tags, nv per cell
@@ -82,9 +194,14 @@ Mesh read_model(const std::string& path) {
   }
 
   // Coordinates of every node, then a renumbering of the nodes the cells use (increasing tag).
-  std::vector<std::size_t> node_tags;
-  std::vector<double> coord, param;
-  gmsh::model::mesh::getNodes(node_tags, coord, param, -1, -1, false, false);
+  std::size_t *node_tags_p = nullptr, n_node_tags = 0, n_coord = 0, n_param = 0;
+  double *coord_p = nullptr, *param_p = nullptr;
+  gmsh().gmshModelMeshGetNodes(&node_tags_p, &n_node_tags, &coord_p, &n_coord, &param_p, &n_param, -1, -1, 0, 0, &ierr);
+  const std::vector<std::size_t> node_tags = take(node_tags_p, n_node_tags);
+  const std::vector<double> coord = take(coord_p, n_coord);
+  gmsh().gmshFree(param_p);
+  check(ierr, "model::mesh::getNodes");
+  if (coord.size() != 3 * node_tags.size()) input_error(where + "Gmsh returned inconsistent node coordinates");
   std::unordered_map<std::size_t, std::size_t> row_of_tag;  // tag → position in node_tags
   for (std::size_t i = 0; i < node_tags.size(); ++i) row_of_tag[node_tags[i]] = i;
   std::vector<std::size_t> used(cell_nodes);
@@ -136,23 +253,32 @@ Mesh read_model(const std::string& path) {
   for (Index f = 0; f < m.num_facets(); ++f) boundary[sorted_key(&m.facets(f, 0), dim)] = f;
 
   // Physical groups of dimension d−1 → named facet groups.
-  gmsh::vectorpair groups;
-  gmsh::model::getPhysicalGroups(groups, dim - 1);
-  for (const auto& [gdim, gtag] : groups) {
-    std::string name;
-    gmsh::model::getPhysicalName(gdim, gtag, name);
+  int* dim_tags_p = nullptr;
+  std::size_t n_dim_tags = 0;
+  gmsh().gmshModelGetPhysicalGroups(&dim_tags_p, &n_dim_tags, dim - 1, &ierr);
+  const std::vector<int> dim_tags = take(dim_tags_p, n_dim_tags);  // (dim, tag) pairs
+  check(ierr, "model::getPhysicalGroups");
+  for (std::size_t g = 0; g + 1 < dim_tags.size(); g += 2) {
+    const int gdim = dim_tags[g], gtag = dim_tags[g + 1];
+    char* name_p = nullptr;
+    gmsh().gmshModelGetPhysicalName(gdim, gtag, &name_p, &ierr);
+    std::string name = take_string(name_p);
+    check(ierr, "model::getPhysicalName");
     if (name.empty()) name = std::to_string(gtag);
     if (m.facet_groups.count(name)) input_error(where + "two physical groups are named '" + name + "'");
     std::vector<Index>& members = m.facet_groups[name];
-    std::vector<int> entities;
-    gmsh::model::getEntitiesForPhysicalGroup(gdim, gtag, entities);
+    int* entities_p = nullptr;
+    std::size_t n_entities = 0;
+    gmsh().gmshModelGetEntitiesForPhysicalGroup(gdim, gtag, &entities_p, &n_entities, &ierr);
+    const std::vector<int> entities = take(entities_p, n_entities);
+    check(ierr, "model::getEntitiesForPhysicalGroup");
     for (int ent : entities) {
-      gmsh::model::mesh::getElements(types, elem_tags, elem_nodes, gdim, ent);
-      for (std::size_t t = 0; t < types.size(); ++t) {
-        if (types[t] != facet_type)
-          input_error(where + "physical group '" + name + "' contains " + element_name(types[t]) + " elements; only " +
-                      (dim == 2 ? "2-node lines" : "3-node triangles") + " are supported");
-        const auto& nodes = elem_nodes[t];
+      const Elements facets = get_elements(gdim, ent);
+      for (std::size_t t = 0; t < facets.types.size(); ++t) {
+        if (facets.types[t] != facet_type)
+          input_error(where + "physical group '" + name + "' contains " + element_name(facets.types[t]) +
+                      " elements; only " + (dim == 2 ? "2-node lines" : "3-node triangles") + " are supported");
+        const auto& nodes = facets.nodes[t];
         for (std::size_t e = 0; e + dim <= nodes.size(); e += dim) {
           int v[3] = {-1, -1, -1};
           bool known = true;
@@ -188,19 +314,20 @@ Mesh read_gmsh(const std::string& path) {
   if (!std::ifstream(path).good()) input_error(where + "cannot open it (missing or unreadable)");
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) input_error(where + "is a directory");
+  const GmshApi& api = gmsh();  // a library that cannot be loaded is an Error of its own, not the file's
   GmshSession session;
   try {
     return read_model(path);
   } catch (const Error&) {
     throw;
-  } catch (const std::string& s) {
-    input_error(where + s);
   } catch (const std::exception& e) {
     input_error(where + e.what());
-  } catch (...) {
-    std::string last;
-    gmsh::logger::getLastError(last);
-    input_error(where + "Gmsh could not read it" + (last.empty() ? "" : ": " + last));
+  } catch (const GmshFailure& f) {  // asked while the session still holds Gmsh's log
+    char* last_p = nullptr;
+    int ierr = 0;
+    api.gmshLoggerGetLastError(&last_p, &ierr);
+    const std::string last = take_string(last_p);
+    input_error(where + "Gmsh could not read it (" + f.call + ")" + (last.empty() ? "" : ": " + last));
   }
 }
 

@@ -116,7 +116,26 @@ void extract_boundary_facets(Mesh& mesh) {
       all.push_back({key, f, c});
     }
   }
-  std::sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+  // Sorted by key in two steps (issue 14: one comparison sort of all 3·cells entries was 6 % of a
+  // default run at n = 256): a counting sort on the smallest node, then each bucket — the few
+  // facets whose smallest node is that node — sorted in place. Same order as one full sort.
+  {
+    const Index N = mesh.num_nodes();
+    std::vector<Index> start(static_cast<size_t>(N) + 1, 0);
+    for (const Entry& e : all) {
+      if (e.key[0] < 0 || e.key[d - 1] >= N)  // a bucket index out of range would write anywhere
+        input_error("mesh: cell " + std::to_string(e.cell) + " refers to a node outside 0.." + std::to_string(N - 1));
+      ++start[static_cast<size_t>(e.key[0]) + 1];
+    }
+    for (Index v = 0; v < N; ++v) start[v + 1] += start[v];
+    std::vector<Entry> by_node(all.size());
+    std::vector<Index> fill(start.begin(), start.end() - 1);
+    for (const Entry& e : all) by_node[static_cast<size_t>(fill[e.key[0]]++)] = e;
+    all.swap(by_node);
+    for (Index v = 0; v < N; ++v)
+      std::sort(all.begin() + start[v], all.begin() + start[v + 1],
+                [](const Entry& a, const Entry& b) { return a.key < b.key; });
+  }
   std::vector<std::array<int, 3>> boundary;
   for (size_t i = 0; i < all.size();) {
     size_t j = i + 1;
