@@ -13,7 +13,7 @@ void evaluate_solution(const Model& md, const SolveOptions& opt, Solution& sol) 
   const double U = displacement_scale(md, sol.u);
   sol.status = classify(md, sol.state, U, opt.status_tol);
   sol.certificate = certify(md, sol.u, sol.state, opt.certificate_tol, opt.status_tol);
-  sol.a_uu = sol.u.dot(md.K * sol.u);
+  sol.a_uu = md.a(sol.u, sol.u);
   sol.f_u = md.f.dot(sol.u);
   sol.j_term = sol.friction_term = 0;
   for (Index k = 0; k < md.contact.size(); ++k) {

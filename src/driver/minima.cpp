@@ -36,10 +36,10 @@ std::string fmt(double v, int prec = 6) {
   return buf;
 }
 
-// ‖a − b‖_E = sqrt((a − b)ᵀ K (a − b)) with the full stiffness K.
+// ‖a − b‖_E = sqrt(a(a − b, a − b)).
 double energy_distance(const Model& md, const Vec& a, const Vec& b) {
   const Vec d = a - b;
-  return std::sqrt(std::max(0.0, d.dot(md.K * d)));
+  return std::sqrt(std::max(0.0, md.a(d, d)));
 }
 
 // A start in solver unknowns from Γ3 values (ν, τ[, τ2]) node after node; interior unknowns 0.

@@ -33,15 +33,17 @@ DofMap::DofMap(const Mesh& mesh, const std::vector<bool>& clamped, const Contact
   m_T.setFromTriplets(t.begin(), t.end());
 }
 
-SpMat DofMap::reduce(const SpMat& A) const {
+SpMat DofMap::reduce(SpMat A) const {
   // Tᵀ A T without general sparse products (two of them cost ~2.6 s at 2.1M dofs): T is a
   // selection/permutation except for the rotations R_k of the Γ3 nodes, which only mix the d
-  // components of one node. So: (1) rotate the Γ3 node blocks in a copy of A (the pattern is
+  // components of one node. So: (1) rotate the Γ3 node blocks of A in place (the pattern is
   // unchanged because A has full d×d node blocks), (2) select and renumber rows/columns.
   // Falls back to the products if A lacks full node blocks.
   const int d = m_dim;
-  SpMat B = A;
-  B.makeCompressed();
+  // A is ours (by value: a caller that moves its matrix in pays no copy, issue 14). Its pattern is
+  // checked before anything is rotated, so the fallback still sees the original values.
+  A.makeCompressed();
+  SpMat& B = A;
   const Index n_full = B.rows();
   std::vector<Index> red(n_full, -1);  // full dof → reduced index (after rotation: local component)
   std::vector<Mat> rot;                // per Γ3 node: R (columns ν, τ...)
@@ -66,30 +68,45 @@ SpMat DofMap::reduce(const SpMat& A) const {
   int* outer = B.outerIndexPtr();
   int* inner = B.innerIndexPtr();
   double* val = B.valuePtr();
-  for (size_t q = 0; q < rot.size(); ++q) {
-    const Index v = rot_node[q];
-    const Mat& R = rot[q];
-    // Columns d·v..d·v+d−1 share one row pattern: B[:, block] ← B[:, block] R.
-    const Index len = outer[d * v + 1] - outer[d * v];
-    for (int k = 1; k < d; ++k)
-      if (outer[d * v + k + 1] - outer[d * v + k] != len) return reduce_by_products(A);
-    Mat cols(len, d);
-    for (int k = 0; k < d; ++k) cols.col(k) = Eigen::Map<const Vec>(val + outer[d * v + k], len);
-    cols = cols * R;
-    for (int k = 0; k < d; ++k) Eigen::Map<Vec>(val + outer[d * v + k], len) = cols.col(k);
-  }
-  // Rows: in every column, the rows of a rotated node are d consecutive entries.
+  // The fast path needs (a) the d columns of a rotated node to share one row pattern and (b) in
+  // every column, the rows of a rotated node to be d consecutive entries.
   std::vector<int> is_rot(n_full / d, -1);
   for (size_t q = 0; q < rot.size(); ++q) is_rot[rot_node[q]] = static_cast<int>(q);
+  for (size_t q = 0; q < rot.size(); ++q) {
+    const Index v = rot_node[q];
+    const Index len = outer[d * v + 1] - outer[d * v];
+    for (int k = 1; k < d; ++k)
+      if (outer[d * v + k + 1] - outer[d * v + k] != len ||
+          !std::equal(inner + outer[d * v], inner + outer[d * v + 1], inner + outer[d * v + k]))
+        return reduce_by_products(A);
+  }
   for (Index j = 0; j < B.cols(); ++j)
     for (int p = outer[j]; p < outer[j + 1];) {
-      const int node = inner[p] / d, q = is_rot[node];
-      if (q < 0) {
+      if (is_rot[inner[p] / d] < 0) {
         ++p;
         continue;
       }
       if (inner[p] % d != 0 || p + d > outer[j + 1] || inner[p + d - 1] != inner[p] + d - 1)
         return reduce_by_products(A);
+      p += d;
+    }
+  for (size_t q = 0; q < rot.size(); ++q) {
+    const Index v = rot_node[q];
+    const Mat& R = rot[q];
+    // Columns d·v..d·v+d−1 share one row pattern: B[:, block] ← B[:, block] R.
+    const Index len = outer[d * v + 1] - outer[d * v];
+    Mat cols(len, d);
+    for (int k = 0; k < d; ++k) cols.col(k) = Eigen::Map<const Vec>(val + outer[d * v + k], len);
+    cols = cols * R;
+    for (int k = 0; k < d; ++k) Eigen::Map<Vec>(val + outer[d * v + k], len) = cols.col(k);
+  }
+  for (Index j = 0; j < B.cols(); ++j)
+    for (int p = outer[j]; p < outer[j + 1];) {
+      const int q = is_rot[inner[p] / d];
+      if (q < 0) {
+        ++p;
+        continue;
+      }
       Vec r = rot[q].transpose() * Eigen::Map<const Vec>(val + p, d);
       Eigen::Map<Vec>(val + p, d) = r;
       p += d;

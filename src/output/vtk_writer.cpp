@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <cstring>
 #include <thread>
 #include <vector>
 
@@ -57,20 +58,25 @@ Array int_array(const char* type, const std::string& name, std::vector<long long
 }
 
 // The raw little-endian bytes of an array (x86-64 and ARM64 are little-endian; the file says so).
-std::string bytes_of(const Array& a) {
-  std::string b;
-  const auto append = [&b](const auto& v) { b.append(reinterpret_cast<const char*>(&v), sizeof v); };
-  if (a.type == "Float64") {
-    b.reserve(a.f.size() * 8);
-    for (double v : a.f) append(v);
-  } else if (a.type == "Int64") {
-    for (long long v : a.i) append(static_cast<std::int64_t>(v));
-  } else if (a.type == "Int32") {
-    for (long long v : a.i) append(static_cast<std::int32_t>(v));
-  } else {
-    for (long long v : a.i) append(static_cast<std::uint8_t>(v));
+// The array's values as raw little-endian bytes of its VTK type. Written into a string sized
+// once (one append per value was a quarter of the VTU writing time at n = 256).
+template <class T, class Source>
+std::string raw_bytes(const Source& values) {
+  std::string b(values.size() * sizeof(T), '\0');
+  char* dst = b.data();
+  for (const auto v : values) {
+    const T t = static_cast<T>(v);
+    std::memcpy(dst, &t, sizeof t);
+    dst += sizeof t;
   }
   return b;
+}
+
+std::string bytes_of(const Array& a) {
+  if (a.type == "Float64") return raw_bytes<double>(a.f);
+  if (a.type == "Int64") return raw_bytes<std::int64_t>(a.i);
+  if (a.type == "Int32") return raw_bytes<std::int32_t>(a.i);
+  return raw_bytes<std::uint8_t>(a.i);
 }
 
 void put_u64(std::string& out, std::uint64_t v) { out.append(reinterpret_cast<const char*>(&v), 8); }

@@ -9,11 +9,17 @@ double Model::u_nu(const Vec& u, Index k) const {
 }
 
 Vec Model::internal_force(const Vec& u) const {
-  return material->is_linear() ? Vec(K * u) : assemble_internal_force(mesh, *material, u);
+  if (!material->is_linear()) return assemble_internal_force(mesh, *material, u);
+  return dofs.to_full(Kx * dofs.to_reduced(u));
 }
 
 double Model::elastic_energy(const Vec& u) const {
-  return material->is_linear() ? 0.5 * u.dot(K * u) : assemble_elastic_energy(mesh, *material, u);
+  return material->is_linear() ? 0.5 * a(u, u) : assemble_elastic_energy(mesh, *material, u);
+}
+
+double Model::a(const Vec& u, const Vec& v) const {
+  const Vec x = dofs.to_reduced(u);
+  return &u == &v ? x.dot(Kx * x) : x.dot(Kx * dofs.to_reduced(v));
 }
 
 }  // namespace hemicontact

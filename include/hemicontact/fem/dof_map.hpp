@@ -36,7 +36,7 @@ class DofMap {
   Vec to_reduced(const Vec& v) const { return m_T.transpose() * v; }
   /// @return Tᵀ A T (reduced stiffness of a full one). Fast path for matrices with full d×d node
   /// blocks (every FE stiffness); otherwise computed by sparse products.
-  SpMat reduce(const SpMat& A) const;
+  SpMat reduce(SpMat A) const;
   /// @return Tᵀ A T by two sparse products (reference implementation, any pattern).
   SpMat reduce_by_products(const SpMat& A) const;
 

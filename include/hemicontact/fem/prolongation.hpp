@@ -15,7 +15,8 @@
 /// Typical use (bench/study.cpp):
 /// @code
 ///   const Vec Pu  = prolongate(coarse_model.mesh, sol_h.u, ref_model.mesh);
-///   const double e = energy_norm_difference(ref_model.K, sol_ref.u, Pu) / sol_ref.energy_norm;
+///   const Vec e = sol_ref.u - Pu;  // Model::a(e, e) = eᵀ K e (K_x inside the model)
+///   const double rel = std::sqrt(ref_model.a(e, e)) / sol_ref.energy_norm;
 /// @endcode
 
 #include <hemicontact/core/types.hpp>

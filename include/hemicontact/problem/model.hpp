@@ -26,9 +26,8 @@ struct Model {
   Gap gap;                                               ///< layer thickness g
   ContactNodes contact;                                  ///< Γ3 nodes, weights, frames, g_i
   DofMap dofs;                                           ///< full ↔ reduced unknowns
-  SpMat K;                                               ///< full stiffness (N·d); nonlinear F: tangent at u = 0
   Vec f;                                                 ///< full load vector, eq. (17)
-  SpMat Kx;                                              ///< reduced stiffness Tᵀ K T
+  SpMat Kx;  ///< reduced stiffness Tᵀ K T (nonlinear F: tangent at u = 0); the only copy of K (issue 14)
   Vec fx;                                                ///< reduced load Tᵀ f
   std::shared_ptr<const PiecewiseLinearLaw> normal_law;  ///< exact p_ν; null: no soft layer
   std::shared_ptr<const FrictionBound> friction;         ///< F_b; null: frictionless
@@ -39,10 +38,17 @@ struct Model {
   /// @return full displacement u_ν of contact node k.
   double u_nu(const Vec& u, Index k) const;
   /// @return the full internal force vector r(u) = ∫ F(ε(u)) : ε(φ) (MODEL.md §4: the equilibrium
-  /// residual is r(u) − f); K u for a linear material (the same floating-point operation as before).
+  /// residual is r(u) − f) on the free dofs and the Γ3 nodes; 0 on Γ1 and on roller-held components
+  /// of other nodes (their reactions, which the certificate does not use). For a linear material
+  /// T K_x Tᵀ u, which equals K u there for every u that vanishes on Γ1 and the held components.
   Vec internal_force(const Vec& u) const;
-  /// @return the stored elastic energy ∫ W(ε(u)); ½ uᵀ K u for a linear material.
+  /// @return the stored elastic energy ∫ W(ε(u)); ½ a(u, u) for a linear material.
   double elastic_energy(const Vec& u) const;
+  /// @return the bilinear form a(u, v) = uᵀ K v of eq. (17) (K(0) for a nonlinear law) of two full
+  /// displacements that vanish on Γ1 and on roller-held components (solutions and their
+  /// interpolants on nested meshes): (Tᵀu)ᵀ K_x (Tᵀv), since u = T Tᵀ u for such u. Issue 14:
+  /// the model keeps one stiffness; the full K is reduced in place and dropped after assembly.
+  double a(const Vec& u, const Vec& v) const;
 };
 
 }  // namespace hemicontact
