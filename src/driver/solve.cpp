@@ -134,10 +134,12 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
   F.nd.w = md.contact.w;
   auto t0 = clk::now();
   if (F.name == "condensed") {
-    F.cond = std::make_shared<const Condensation>(md.Kx, md.fx, d * nc);
+    F.cond = std::make_shared<const Condensation>(md.Kx, md.fx, d * nc, opt.ordering);
     timings["condensation_analyze"] = F.cond->analyze_seconds();
     timings["condensation_factorize"] = F.cond->factorize_seconds();
     timings["condensation_schur"] = F.cond->schur_seconds();
+    log_info() << "condensation: " << F.cond->ordering() << " ordering of the interior node graph, factor in "
+               << F.cond->analyze_seconds() + F.cond->factorize_seconds() << " s";
     F.energy = std::make_unique<TotalEnergy>(d * nc, dense_lower_pattern(d * nc));
     F.condensed_elastic = std::make_shared<CondensedElasticEnergy>(std::shared_ptr<const Mat>(F.cond, &F.cond->S()),
                                                                    F.cond->y_C(), F.cond->constant());

@@ -38,7 +38,7 @@ cholmod_sparse view_lower(const SpMat& A) {
 // d times fewer vertices and d² times fewer edges to order, and no worse fill (the unknowns of a
 // node are indistinguishable to the elimination). Rows ≥ n are ignored, so the block is read in
 // place instead of copied (issue 14: one copy of K). Timings below.
-std::vector<int> node_graph_ordering(const SpMat& A, Index n, cholmod_common& c) {
+std::vector<int> node_graph_ordering(const SpMat& A, Index n, std::string& method, cholmod_common& c) {
   const int* p = A.outerIndexPtr();
   const int* i = A.innerIndexPtr();
   // Column j's rows inside the block: i[p[j] .. end(j)) (rows are sorted).
@@ -90,13 +90,18 @@ std::vector<int> node_graph_ordering(const SpMat& A, Index n, cholmod_common& c)
   // Only the permutation is wanted, so the ordering routines are called directly: cholmod_analyze
   // on Q would also compute Q's symbolic factorization, which is thrown away (issue 14: a third of
   // the ordering's cost).
+  if (method == "auto") method = three_d || ng > 200000 ? "nesdis" : "amd";
   std::vector<int> P(ng);
   bool ok;
-  if (three_d || ng > 200000) {
+  if (method == "nesdis") {
     std::vector<int> cparent(ng), cmember(ng);
     ok = cholmod_nested_dissection(&Q, nullptr, 0, P.data(), cparent.data(), cmember.data(), &c) >= 0;
-  } else {
+  } else if (method == "metis") {
+    ok = cholmod_metis(&Q, nullptr, 0, /*postorder=*/0, P.data(), &c) != 0;
+  } else if (method == "amd") {
     ok = cholmod_amd(&Q, nullptr, 0, P.data(), &c) != 0;
+  } else {
+    throw Error("condensation: unknown ordering '" + method + "' (expected auto, amd, metis or nesdis)", EXIT_INPUT);
   }
   if (!ok || c.status < CHOLMOD_OK) throw Error("condensation: CHOLMOD ordering failed", EXIT_INTERNAL);
   std::vector<int> perm;
@@ -135,7 +140,8 @@ struct Condensation::Impl {
   }
 };
 
-Condensation::Condensation(const SpMat& K, const Vec& f, Index m) : m_impl(std::make_unique<Impl>()) {
+Condensation::Condensation(const SpMat& K, const Vec& f, Index m, const std::string& ordering)
+    : m_impl(std::make_unique<Impl>()) {
   const Index n = K.rows(), nI = n - m;
   if (m < 0 || m > n) throw Error("condensation: bad number of condensed unknowns", EXIT_INTERNAL);
   cholmod_common& c = m_impl->c;
@@ -152,14 +158,15 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m) : m_impl(std::
   const SpMat& Kc = K.isCompressed() ? K : K_compressed;
   std::vector<int> perm(n);
   if (nI > 0) {
-    const std::vector<int> pI = node_graph_ordering(Kc, nI, c);
+    m_ordering = ordering;
+    const std::vector<int> pI = node_graph_ordering(Kc, nI, m_ordering, c);
     std::copy(pI.begin(), pI.end(), perm.begin());
   }
   // 2. The condensed unknowns last, in their own order. CHOLMOD's etree postordering improves the
   //    supernodes (≈2x faster factorization at 525k dofs) and in practice keeps the trailing block
   //    in place — but it may reorder, so it is verified and, if it moved C, redone without it.
   std::iota(perm.begin() + nI, perm.end(), static_cast<int>(nI));
-  const int nmethods = c.nmethods, postorder = c.postorder, ordering = c.method[0].ordering;
+  const int nmethods = c.nmethods, postorder = c.postorder, saved_ordering = c.method[0].ordering;
   c.nmethods = 1;
   c.method[0].ordering = CHOLMOD_GIVEN;
   c.postorder = 1;
@@ -178,7 +185,7 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m) : m_impl(std::
   }
   c.nmethods = nmethods;
   c.postorder = postorder;
-  c.method[0].ordering = ordering;
+  c.method[0].ordering = saved_ordering;
   if (!m_impl->L) throw Error("condensation: CHOLMOD analysis failed", EXIT_INTERNAL);
   m_t_analyze = since(t0);
 

@@ -262,6 +262,7 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   SolveOptions o;
   o.backend = s.at("backend").get<std::string>();
   o.formulation = s.at("formulation").get<std::string>();
+  o.ordering = s.at("ordering").get<std::string>();
   o.polish = s.at("polish").get<bool>();
   o.backend_options.tol = s.at("tol").get<double>();
   o.backend_options.max_iter = s.at("max_iter").get<int>();

@@ -255,6 +255,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "problem on the Γ3 unknowns; exact for linear materials); auto = condensed for "
                   "a linear material with a Γ3, full otherwise.",
                   {"auto", "full", "condensed"}));
+  t.push_back(key("/solver/ordering", "string", D.ordering,
+                  "Fill-reducing ordering of the condensation's sparse factorization, computed on "
+                  "the node graph: amd (cheapest to compute), metis or nesdis (nested dissection: "
+                  "less fill, costlier ordering); auto = amd for 2D meshes up to 200 000 nodes, "
+                  "nesdis for 3D and larger 2D meshes.",
+                  {"auto", "amd", "metis", "nesdis"}));
   t.push_back(key("/solver/polish", "boolean", D.polish,
                   "After the smoothed solve, solve the unsmoothed conditions of (22) exactly on the "
                   "identified statuses (condensed formulation, 2D); kept only if the statuses stay "

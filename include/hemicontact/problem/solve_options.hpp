@@ -13,6 +13,8 @@ namespace hemicontact {
 struct SolveOptions {
   std::string backend = "ipopt";     ///< NLP backend name
   std::string formulation = "auto";  ///< "full", "condensed" or "auto" (condensed for linear materials)
+  /// Fill-reducing ordering of the condensation ("auto", "amd", "metis", "nesdis"; fem/condensation.hpp).
+  std::string ordering = "auto";
   bool polish = true;                ///< exact polish on identified statuses (condensed formulation)
   BackendOptions backend_options;    ///< tolerance, iteration cap, pass-through options
   double eps_tau = 1e-10;            ///< final friction smoothing width, relative to U_s
