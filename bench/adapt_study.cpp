@@ -1,5 +1,5 @@
 // hemicontact_adapt_study — issue 17's numbers: the work-precision study (uniform, graded,
-// adaptive against one reference; adapt/study.hpp) and the whole-process time to a target.
+// adaptive against one reference; driver/adapt_study.hpp) and the whole-process time to a target.
 //
 //   hemicontact_adapt_study [--scene problems/sofonea2017-fig2.json] [--reference adaptive:0.002]
 //                           [--target 0.01] [--repeats 3] [--out DIR]
@@ -13,7 +13,7 @@
 //    minimum is reported (the machine is shared: the spread is printed too). The true error of that
 //    run's final mesh is the study's adaptive point where the estimate first reached T (the same
 //    deterministic sequence).
-#include <hemicontact/adapt/study.hpp>
+#include <hemicontact/driver/adapt_study.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/scene/config.hpp>
@@ -95,11 +95,12 @@ int main(int argc, char** argv) {
 
     std::printf("reference %s: %lld dofs, its own estimate %.3g\n", st.reference.c_str(),
                 static_cast<long long>(st.reference_dofs), st.reference_estimate);
-    std::printf("%-9s %6s %9s %9s %10s %10s %8s %9s\n", "family", "level", "dofs", "seconds", "error", "estimate",
-                "eff.", "cert.");
+    std::printf("%-9s %6s %9s %9s %10s %10s %10s %8s %9s\n", "family", "level", "dofs", "seconds", "error",
+                "corrected", "estimate", "eff.", "cert.");
     for (const StudyPoint& p : st.points)
-      std::printf("%-9s %6d %9lld %9.3g %10.4g %10.4g %8.3f %9.1e\n", p.family.c_str(), p.level,
-                  static_cast<long long>(p.dofs), p.seconds, p.error, p.estimate, p.efficiency, p.certificate);
+      std::printf("%-9s %6d %9lld %9.3g %10.4g %10.4g %10.4g %8.3f %9.1e\n", p.family.c_str(), p.level,
+                  static_cast<long long>(p.dofs), p.seconds, p.error, p.error_corrected, p.estimate, p.efficiency,
+                  p.certificate);
     for (const char* f : {"uniform", "graded", "adaptive"}) std::printf("%s: error ~ N^%.3f\n", f, st.slope(f));
 
     // 2. The whole process to the target, start to exit.
@@ -119,13 +120,13 @@ int main(int argc, char** argv) {
     std::printf("solve --set adapt.target_error=%g: %zu levels, %lld dofs, estimate %.4g, true error %.4g; "
                 "whole process %.3f s (min of %d; max %.3f s)\n",
                 target, a.at("history").size(), a.at("history").back().at("dofs").get<long long>(),
-                a.at("final_estimate").get<double>(), last ? last->error : std::nan(""), times.front(), repeats,
+                a.at("final_estimate").get<double>(), last ? last->error_corrected : std::nan(""), times.front(), repeats,
                 times.back());
     js["whole_process"] = {{"target", target},
                            {"levels", a.at("history").size()},
                            {"dofs", a.at("history").back().at("dofs")},
                            {"estimate", a.at("final_estimate")},
-                           {"true_error", last ? nlohmann::json(last->error) : nlohmann::json(nullptr)},
+                           {"true_error", last ? nlohmann::json(last->error_corrected) : nlohmann::json(nullptr)},
                            {"seconds_min", times.front()},
                            {"seconds_max", times.back()},
                            {"repeats", repeats},

@@ -1,6 +1,6 @@
 #include "cli.hpp"
 
-#include <hemicontact/adapt/adapt.hpp>
+#include <hemicontact/driver/adapt.hpp>
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
@@ -196,7 +196,7 @@ int cmd_solve(const std::vector<std::string>& args) {
   const OutputLock lock =
       prepare_output_dir(a.out, a.force, {"report.json", "solution.vtu", "gamma3.csv", "fig2.png", "status3d.png"});
   const SolveOptions opt = solve_options_from_scene(scene);
-  // adapt.target_error set: the adaptive loop (adapt/adapt.hpp) from the scene's mesh; the final
+  // adapt.target_error set: the adaptive loop (driver/adapt.hpp) from the scene's mesh; the final
   // mesh's model and solution are written as a plain solve's, with the indicators in the VTU.
   const bool adaptive = adapt_requested(scene);
   AdaptResult adapted;

@@ -13,7 +13,7 @@
 // (scripts/plot_convergence.py). Exit code 3 (4) when a solve did not converge (certify).
 #include "cli.hpp"
 
-#include <hemicontact/adapt/study.hpp>
+#include <hemicontact/driver/adapt_study.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/convergence.hpp>
@@ -35,7 +35,7 @@ namespace hemicontact::cli {
 
 namespace {
 
-// `converge --adaptive`: the work-precision study of adapt/study.hpp (uniform, graded, adaptive
+// `converge --adaptive`: the work-precision study of driver/adapt_study.hpp (uniform, graded, adaptive
 // against one reference), written to DIR/work_precision.{csv,json} and drawn to work_precision.png.
 int converge_adaptive(const std::vector<std::string>& args) {
   SceneArgs a = parse_scene_args(args, {"--levels", "--reference", "--graded-levels", "--graded-power"});
@@ -70,11 +70,12 @@ int converge_adaptive(const std::vector<std::string>& args) {
   write_text_file((out / "work_precision.json").string(), js.dump(2) + '\n');
   std::printf("%s: work-precision study against the reference %s (%lld dofs, its estimate %.3g)\n", name.c_str(),
               st.reference.c_str(), static_cast<long long>(st.reference_dofs), st.reference_estimate);
-  std::printf("%-9s %6s %9s %9s %11s %11s %10s %10s %s\n", "family", "level", "dofs", "seconds", "error", "estimate",
-              "eff.index", "cert.", "ok");
+  std::printf("%-9s %6s %9s %9s %11s %11s %11s %10s %10s %s\n", "family", "level", "dofs", "seconds", "error",
+              "corrected", "estimate", "eff.index", "cert.", "ok");
   for (const StudyPoint& p : st.points)
-    std::printf("%-9s %6d %9lld %9.3g %11.4g %11.4g %10.3g %10.2e %s\n", p.family.c_str(), p.level,
-                static_cast<long long>(p.dofs), p.seconds, p.error, p.estimate, p.efficiency, p.certificate,
+    std::printf("%-9s %6d %9lld %9.3g %11.4g %11.4g %11.4g %10.3g %10.2e %s\n", p.family.c_str(), p.level,
+                static_cast<long long>(p.dofs), p.seconds, p.error, p.error_corrected, p.estimate, p.efficiency,
+                p.certificate,
                 p.ok ? "yes" : "NO");
   for (const char* f : {"uniform", "graded", "adaptive"})
     if (std::isfinite(st.slope(f))) std::printf("%s: error ~ N^%.3f (last 4 meshes)\n", f, st.slope(f));

@@ -27,7 +27,7 @@
 /// CellData
 ///  - "strain" (Voigt: ε11, ε22, 2ε12 in 2D; ε11, ε22, ε33, 2ε23, 2ε13, 2ε12 in 3D)
 ///  - "stress" (Voigt, md.material->stress(strain)), "von_mises"
-///  - "error_indicator" (adaptive solves only: η_T of adapt/estimator.hpp, energy-norm units)
+///  - "error_indicator" (adaptive solves only: η_T of check/estimator.hpp, energy-norm units)
 
 #include <hemicontact/driver/solve.hpp>
 

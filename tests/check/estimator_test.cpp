@@ -1,13 +1,16 @@
-// The error estimators (adapt/estimator.hpp) against true energy-norm errors, and Dörfler marking.
+// The error estimators (check/estimator.hpp) against true energy-norm errors, and Dörfler marking.
 //
 // Efficiency on a regular problem: the square clamped on all four sides under its weight (90°
 // clamped–clamped corners are not singular for P1: the solution is in H², the error ∝ h). The
 // reference is the level's mesh bisected uniformly three more times (h/8, nested), so with
 // Galerkin orthogonality ‖u − u_h‖² = ‖u − u_ref‖² + ‖u_ref − u_h‖² and ‖u − u_ref‖ ≈ ‖u − u_h‖/8:
 // the measured error is the true one within 1 %. ZZ recovery is asymptotically exact on such
-// meshes (index → 1); the residual estimator's constant is not calibrated (docs/adaptivity.md):
-// both are required to lie in the band [0.5, 3].
-#include <hemicontact/adapt/estimator.hpp>
+// meshes (index → 1) and must lie in the band [0.5, 3] (measured 1.01 at both levels). The
+// residual estimator's constant is not calibrated (docs/adaptivity.md: measured 5.8–6.0 here,
+// 3.0–3.4 on the Fig. 2 scene), so what is tested is what reliability and efficiency up to
+// constants imply for it: an index that overestimates (≥ 1) and does not drift under refinement
+// (the two levels' indices within 10 % of each other).
+#include <hemicontact/check/estimator.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
@@ -18,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 using namespace hemicontact;
 using json = nlohmann::json;
@@ -46,6 +50,7 @@ TEST(Estimator, EfficiencyOnARegularProblem) {
   Mesh base = build_mesh(scene, ".");
   label_longest_edges(base);
   const SolveOptions opt = solve_options_from_scene(scene);
+  std::vector<double> residual_index;
   for (int level : {1, 2}) {
     const Model md = build_model(scene, refine_uniformly(base, level));
     const Solution sol = solve(md, opt);
@@ -55,13 +60,21 @@ TEST(Estimator, EfficiencyOnARegularProblem) {
     for (EstimatorKind kind : {EstimatorKind::ZZ, EstimatorKind::RESIDUAL}) {
       const ErrorEstimate e = estimate_error(md, sol, kind);
       const double index = e.total / err;
+      RecordProperty(std::string(to_string(kind)) + "_level" + std::to_string(level), std::to_string(index));
       SCOPED_TRACE(std::string(to_string(kind)) + " level " + std::to_string(level));
-      EXPECT_GE(index, 0.5);
-      EXPECT_LE(index, 3.0);
+      if (kind == EstimatorKind::ZZ) {
+        EXPECT_GE(index, 0.5);
+        EXPECT_LE(index, 3.0);
+      } else {
+        EXPECT_GE(index, 1.0);
+        residual_index.push_back(index);
+      }
       EXPECT_NEAR(e.relative, e.total / sol.energy_norm, 1e-15);
       EXPECT_EQ(e.eta.size(), md.mesh.num_cells());
     }
   }
+  ASSERT_EQ(residual_index.size(), 2u);
+  EXPECT_NEAR(residual_index[1] / residual_index[0], 1.0, 0.1);
 }
 
 // An affine displacement has a constant strain: the recovered strain equals it, η_ZZ = 0.

@@ -1,4 +1,4 @@
-#include <hemicontact/adapt/estimator.hpp>
+#include <hemicontact/check/estimator.hpp>
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/fem/p1.hpp>

@@ -1,4 +1,4 @@
-#include <hemicontact/adapt/adapt.hpp>
+#include <hemicontact/driver/adapt.hpp>
 
 #include <hemicontact/check/smallness.hpp>
 #include <hemicontact/core/error.hpp>

@@ -14,7 +14,7 @@
 /// the adaptive choice and costs an extra eigenvalue computation): only on the final mesh when the
 /// scene asks for it.
 
-#include <hemicontact/adapt/estimator.hpp>
+#include <hemicontact/check/estimator.hpp>
 #include <hemicontact/mesh/bisection.hpp>
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
