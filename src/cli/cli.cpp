@@ -1,5 +1,6 @@
 #include "cli.hpp"
 
+#include <hemicontact/driver/adapt.hpp>
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
@@ -77,7 +78,16 @@ std::string command_help(const std::string& command) {
                "options:\n"
                "  --levels LIST      mesh levels, e.g. 4,8,16 or 4,8,...,128 (doubling) (default 4,8,...,128)\n"
                "  --reference R      reference level (default 256, the paper's)\n"
-               "  --plot             also draw DIR/convergence.png (error vs h, log-log)\n") +
+               "  --plot             also draw DIR/convergence.png (error vs h, log-log)\n"
+               "adaptive study (--adaptive): uniform (--levels), graded (--graded-levels, mesh.grading x both,\n"
+               "y high, --graded-power B, default 2) and the adaptive sequence of the scene's adapt block (target\n"
+               "adapt.target_error, default 0.01) against one reference: --reference uniform:R or adaptive:T\n"
+               "(default adaptive:0.002, a deeper run of the same sequence). Writes DIR/work_precision.csv,\n"
+               ".json (error, estimate, efficiency index, time per mesh) and with --plot work_precision.png;\n"
+               "DIR defaults to out/<scene name>-adaptive.\n"
+               "  --adaptive         the work-precision study instead of the uniform one\n"
+               "  --graded-levels L  n of the graded meshes (default 4,8,...,64; none: skip)\n"
+               "  --graded-power B   grading exponent (default 2)\n") +
            SCENE_OPTIONS +
            "example:\n"
            "  hemicontact converge problems/sofonea2017-fig2.json --levels 4,8,...,64 --reference 128 --plot\n";
@@ -119,7 +129,8 @@ bool wants_help(const std::vector<std::string>& args) {
   // Options that take a value: their value is never a request for help (--set description=-h).
   static const std::vector<std::string> with_value = {
       "--out",  "--set", "--backend",  "--magnification", "--levels",          "--reference", "--starts",
-      "--seed", "--box", "--backends", "--start",         "--load-path-steps", "--group-tol"};
+      "--seed", "--box", "--backends", "--start",         "--load-path-steps", "--group-tol",
+      "--graded-levels", "--graded-power"};
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "-h" || args[i] == "--help") return true;
     if (std::find(with_value.begin(), with_value.end(), args[i]) != with_value.end()) ++i;
@@ -184,16 +195,28 @@ int cmd_solve(const std::vector<std::string>& args) {
   // Held until the program ends: no other run writes into this folder meanwhile.
   const OutputLock lock =
       prepare_output_dir(a.out, a.force, {"report.json", "solution.vtu", "gamma3.csv", "fig2.png", "status3d.png"});
-  const Model md = build_model(scene, scene_directory(a.scene));
   const SolveOptions opt = solve_options_from_scene(scene);
-  Solution sol = solve(md, opt);
+  // adapt.target_error set: the adaptive loop (driver/adapt.hpp) from the scene's mesh; the final
+  // mesh's model and solution are written as a plain solve's, with the indicators in the VTU.
+  const bool adaptive = adapt_requested(scene);
+  AdaptResult adapted;
+  AdaptOptions aopt;
+  if (adaptive) {
+    aopt = adapt_options_from_scene(scene);
+    adapted = run_adaptive(scene, build_mesh(scene, scene_directory(a.scene)), aopt, opt);
+  } else {
+    adapted.model = build_model(scene, scene_directory(a.scene));
+    adapted.solution = solve(adapted.model, opt);
+  }
+  const Model& md = adapted.model;
+  Solution& sol = adapted.solution;
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // report.json comes last: it lists every file of the set ("files") and marks it complete.
   const std::filesystem::path out(a.out);
   const VtuFormat vtu_format =
       scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
-  if (scene.at("output").at("vtu").get<bool>()) write_vtu((out / "solution.vtu").string(), md, sol, vtu_format);
+  if (scene.at("output").at("vtu").get<bool>()) write_vtu((out / "solution.vtu").string(), md, sol, vtu_format, adaptive ? &adapted.estimate.eta : nullptr);
   if (scene.at("output").at("csv").get<bool>()) write_gamma3_csv((out / "gamma3.csv").string(), md, sol);
   std::fputs(summary_table(md, sol).c_str(), stdout);
   // 3D: the Γ3 status map with slip directions (scripts/plot_status3d.py, same arguments).
@@ -203,6 +226,13 @@ int cmd_solve(const std::vector<std::string>& args) {
     log_warn() << "--plot: " << (out / picture).string() << " was not written (the solve's results are)";
   if (plot && std::filesystem::exists(out / picture)) record_output_file((out / picture).string());
   nlohmann::json report = make_report(md, sol, opt);
+  if (adaptive) {
+    report["adapt"] = adapt_report(adapted, aopt);
+    const AdaptLevel& last = adapted.history.back();
+    std::printf("adapt: %zu levels, %lld dofs, estimate %.3g (target %.3g, %s), %.3g s\n", adapted.history.size(),
+                static_cast<long long>(last.dofs), last.estimate, aopt.target_error, adapted.stop_reason.c_str(),
+                last.cumulative_seconds);
+  }
   report["files"] = output_files(a.out);
   report["files"].push_back("report.json");
   write_report((out / "report.json").string(), report);

@@ -13,6 +13,7 @@
 // (scripts/plot_convergence.py). Exit code 3 (4) when a solve did not converge (certify).
 #include "cli.hpp"
 
+#include <hemicontact/driver/adapt_study.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/convergence.hpp>
@@ -22,6 +23,8 @@
 #include <hemicontact/scene/config.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -30,7 +33,75 @@
 
 namespace hemicontact::cli {
 
-int cmd_converge(const std::vector<std::string>& args) {
+namespace {
+
+// `converge --adaptive`: the work-precision study of driver/adapt_study.hpp (uniform, graded, adaptive
+// against one reference), written to DIR/work_precision.{csv,json} and drawn to work_precision.png.
+int converge_adaptive(const std::vector<std::string>& args) {
+  SceneArgs a = parse_scene_args(args, {"--levels", "--reference", "--graded-levels", "--graded-power"});
+  const std::string name = std::filesystem::path(a.scene).stem().string();
+  if (std::find(args.begin(), args.end(), "--out") == args.end()) a.out = "out/" + name + "-adaptive";
+  WorkPrecisionRequest req;
+  std::string uniform_text = "4,8,...,64", graded_text = "4,8,...,64";
+  for (const auto& [key, value] : a.extra) {
+    if (key == "--levels") uniform_text = value;
+    if (key == "--graded-levels") graded_text = value;
+    if (key == "--reference") req.reference = value;
+    if (key == "--graded-power") {
+      char* end = nullptr;
+      req.graded_power = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || !(req.graded_power >= 1))
+        throw UsageError("--graded-power: expected a number >= 1, got '" + value + "'");
+    }
+  }
+  req.uniform_levels = uniform_text == "none" ? std::vector<int>{} : parse_levels(uniform_text);
+  req.graded_levels = graded_text == "none" ? std::vector<int>{} : parse_levels(graded_text);
+  if (a.quiet) set_log_level(LogLevel::WARN);
+  const nlohmann::json scene = load_scene(a.scene, a.overrides);
+  req.adapt = adapt_options_from_scene(scene);  // target_error null: the default 0.01
+  const OutputLock lock = prepare_output_dir(a.out, a.force, {"work_precision.csv", "work_precision.json", "work_precision.png"});
+  const std::filesystem::path out(a.out);
+  const WorkPrecisionStudy st = run_work_precision(scene, scene_directory(a.scene), req);
+  write_text_file((out / "work_precision.csv").string(), work_precision_csv(st));
+  nlohmann::json js = work_precision_json(st);
+  js["name"] = name;
+  js["scene_file"] = a.scene;
+  js["target_error"] = req.adapt.target_error;
+  write_text_file((out / "work_precision.json").string(), js.dump(2) + '\n');
+  std::printf("%s: work-precision study against the reference %s (%lld dofs, its estimate %.3g)\n", name.c_str(),
+              st.reference.c_str(), static_cast<long long>(st.reference_dofs), st.reference_estimate);
+  std::printf("%-9s %6s %9s %9s %11s %11s %11s %10s %10s %s\n", "family", "level", "dofs", "seconds", "error",
+              "corrected", "estimate", "eff.index", "cert.", "ok");
+  for (const StudyPoint& p : st.points)
+    std::printf("%-9s %6d %9lld %9.3g %11.4g %11.4g %11.4g %10.3g %10.2e %s\n", p.family.c_str(), p.level,
+                static_cast<long long>(p.dofs), p.seconds, p.error, p.error_corrected, p.estimate, p.efficiency,
+                p.certificate,
+                p.ok ? "yes" : "NO");
+  for (const char* f : {"uniform", "graded", "adaptive"})
+    if (std::isfinite(st.slope(f))) std::printf("%s: error ~ N^%.3f (last 4 meshes)\n", f, st.slope(f));
+  std::printf("results in %s\n", a.out.c_str());
+  if ((a.plot || scene.at("output").at("plot").get<bool>()) &&
+      run_plot_script("plot_work_precision.py", {(out / "work_precision.csv").string(), "--out",
+                                                 (out / "work_precision.png").string(), "--title", name}) != 0) {
+    std::fprintf(stderr, "hemicontact: converge: --plot: %s was not drawn (the CSV and JSON are written)\n",
+                 (out / "work_precision.png").c_str());
+    return EXIT_INPUT;
+  }
+  if (std::filesystem::exists(out / "work_precision.png")) record_output_file((out / "work_precision.png").string());
+  return st.ok() ? EXIT_OK : EXIT_CERTIFICATE;
+}
+
+}  // namespace
+
+int cmd_converge(const std::vector<std::string>& all_args) {
+  std::vector<std::string> args;
+  bool adaptive = false;
+  for (size_t i = 0; i < all_args.size(); ++i) {
+    if (all_args[i] == "--adaptive") adaptive = true;
+    else args.push_back(all_args[i]);
+    if (all_args[i] == "--set" && i + 1 < all_args.size()) args.push_back(all_args[++i]);  // a value, never a flag
+  }
+  if (adaptive) return converge_adaptive(args);
   SceneArgs a = parse_scene_args(args, {"--levels", "--reference"});
   const std::string name = std::filesystem::path(a.scene).stem().string();
   if (std::find(args.begin(), args.end(), "--out") == args.end()) a.out = "out/" + name + "-convergence";

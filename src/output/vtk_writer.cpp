@@ -203,8 +203,13 @@ int status_code(TangentialStatus s) {
   return -1;
 }
 
-void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format) {
+void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format,
+               const Vec* error_indicator) {
   check_sizes(md, sol);
+  if (error_indicator && error_indicator->size() > 0 && error_indicator->size() != md.mesh.num_cells())
+    throw Error("write_vtu: " + std::to_string(error_indicator->size()) + " error indicators for " +
+                    std::to_string(md.mesh.num_cells()) + " cells",
+                EXIT_INTERNAL);
   const Mesh& mesh = md.mesh;
   const int d = mesh.dim, nv = voigt_size(d);
   const Index N = mesh.num_nodes(), M = mesh.num_cells(), nc = md.contact.size();
@@ -298,6 +303,8 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol, Vt
   L.array(xml, float_array("strain", M, nv, [&](Index c, int i) { return strain(c, i); }));
   L.array(xml, float_array("stress", M, nv, [&](Index c, int i) { return stress(c, i); }));
   L.array(xml, float_array("von_mises", M, 1, [&](Index c, int) { return vm[c]; }));
+  if (error_indicator && error_indicator->size() > 0)
+    L.array(xml, float_array("error_indicator", M, 1, [&](Index c, int) { return (*error_indicator)[c]; }));
   xml += "      </CellData>\n";
 
   xml += "      <Points>\n";

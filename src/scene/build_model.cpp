@@ -185,6 +185,9 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
     s.nx = m.at("n").is_null() ? m.at("nx").get<int>() : m.at("n").get<int>();
     s.ny = m.at("n").is_null() ? m.at("ny").get<int>() : m.at("n").get<int>();
     s.diagonal = parse_diagonal(m.at("diagonal").get<std::string>());
+    s.grade_x = parse_grade_towards(m.at("grading").at("x").get<std::string>(), "mesh.grading.x");
+    s.grade_y = parse_grade_towards(m.at("grading").at("y").get<std::string>(), "mesh.grading.y");
+    s.grading_power = m.at("grading").at("power").get<double>();
     s.perturb = m.at("perturb").get<double>();
     s.seed = m.at("seed").get<unsigned>();
     mesh = make_rectangle(s);

@@ -142,6 +142,18 @@ std::vector<SchemaEntry> build_scene_schema() {
                              0),
                     0.5));
   t.push_back(at_least(key("/mesh/seed", "integer", 1, "Seed of the random perturbation (same seed, same mesh)."), 0));
+  t.push_back(section("/mesh/grading",
+                      "Graded rectangle (a priori refinement towards chosen sides and the corners where "
+                      "they meet): grid line i of a graded axis sits at φ(i/n) with φ(t) = t^power "
+                      "(low), 1 − (1 − t)^power (high) or both mirrored halves (both); docs/adaptivity.md."));
+  t.push_back(key("/mesh/grading/x", "string", "none", "Which end(s) of x get the small cells.",
+                  {"none", "low", "high", "both"}));
+  t.push_back(key("/mesh/grading/y", "string", "none", "Which end(s) of y get the small cells.",
+                  {"none", "low", "high", "both"}));
+  t.push_back(at_least(key("/mesh/grading/power", "number", 1,
+                           "Grading exponent β ≥ 1 (1: uniform). A corner singularity r^α needs β ≥ 1/α "
+                           "for the optimal rate (α = 0.72 at the paper's clamped corners: β ≈ 1.4)."),
+                       1));
 
   // ------------------------------------------------------------------ material
   t.push_back(section("/material", "Constitutive law F (paper eq. (12); MODEL.md §1)."));
@@ -335,6 +347,35 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "bracket cannot decide; exact: always compute them (one extra sparse "
                   "factorization of the ε:ε Gram matrix). report.json smallness.method says which.",
                   {"auto", "exact"}));
+
+  // ------------------------------------------------------------------ adapt
+  t.push_back(section("/adapt",
+                      "Adaptive refinement (2D): solve, estimate, Dörfler-mark, bisect, until the "
+                      "estimated relative energy-norm error is below target_error (docs/adaptivity.md)."));
+  // The estimate is relative to ‖u_h‖_E; below 1e-6 the estimator itself is round-off dominated.
+  t.push_back(below(above(key("/adapt/target_error", "number|null", nullptr,
+                              "Target of the estimated relative error η/‖u_h‖_E; null: no adaptation "
+                              "(the scene's mesh is solved as it is)."),
+                          1e-6),
+                    1));
+  t.push_back(at_least(key("/adapt/max_dofs", "integer", 400000,
+                           "No mesh with more free unknowns (2 per node) is solved: the loop stops "
+                           "before it."),
+                       1));
+  t.push_back(at_least(key("/adapt/max_levels", "integer", 30, "At most this many meshes, the first included."), 1));
+  t.push_back(at_most(above(key("/adapt/theta", "number", 0.5,
+                                "Dörfler bulk parameter θ: the fewest cells whose η_T² sum to θ·η² are "
+                                "refined (θ = 1: all)."),
+                            0),
+                      1));
+  t.push_back(key("/adapt/estimator", "string", "zz",
+                  "zz: Zienkiewicz–Zhu recovery of the strain; residual: element residuals, traction "
+                  "jumps, Γ2 traction and Γ3 contact-traction mismatch.",
+                  {"zz", "residual"}));
+  t.push_back(key("/adapt/bisection", "string", "bisec3",
+                  "bisec3: every edge of a marked cell is bisected (4 children); newest_vertex: only "
+                  "its refinement edge (2 children). Both with the conforming closure.",
+                  {"bisec3", "newest_vertex"}));
 
   // ------------------------------------------------------------------ output
   t.push_back(section("/output", "Files written next to report.json."));

@@ -21,6 +21,19 @@ Diagonal parse_diagonal(const std::string& name);
 /// @return the scene name of @p d.
 const char* to_string(Diagonal d);
 
+/// Where a graded axis puts its small cells (mesh.grading): none (uniform), near its lower end,
+/// its upper end, or both ends.
+enum class GradeTowards { NONE, LOW, HIGH, BOTH };
+
+/// @return the GradeTowards named "none", "low", "high" or "both". @throws Error naming @p key otherwise.
+GradeTowards parse_grade_towards(const std::string& name, const std::string& key);
+
+/// @brief The graded 1D map φ: [0, 1] → [0, 1] of a grid coordinate t = i/n: LOW t^β, HIGH
+/// 1 − (1 − t)^β, BOTH the LOW map on each half mirrored, NONE t. Cells next to a graded end have
+/// size ≈ n^(−β), so a corner singularity r^α is resolved at the optimal P1 rate when β ≥ 1/α
+/// in the direction across the singular line (docs/adaptivity.md, "graded meshes").
+double grade_map(double t, GradeTowards towards, double beta);
+
 /// Parameters of a structured rectangle mesh.
 struct RectangleSpec {
   double x0 = 0, x1 = 1;                ///< x-interval
@@ -29,6 +42,9 @@ struct RectangleSpec {
   Diagonal diagonal = Diagonal::RIGHT;  ///< cell split
   double perturb = 0;  ///< interior nodes moved by up to perturb·h (Euclidean, uniform in the disc/ball)
   unsigned seed = 1;   ///< seed of the perturbation
+  GradeTowards grade_x = GradeTowards::NONE;  ///< grading of the x grid lines (mesh.grading.x)
+  GradeTowards grade_y = GradeTowards::NONE;  ///< grading of the y grid lines (mesh.grading.y)
+  double grading_power = 1;                   ///< β of grade_map (mesh.grading.power); 1: uniform
 };
 
 /// Build the triangulation of [x0,x1]×[y0,y1]; boundary facets are extracted (parts NONE).

@@ -27,6 +27,7 @@
 /// CellData
 ///  - "strain" (Voigt: ε11, ε22, 2ε12 in 2D; ε11, ε22, ε33, 2ε23, 2ε13, 2ε12 in 3D)
 ///  - "stress" (Voigt, md.material->stress(strain)), "von_mises"
+///  - "error_indicator" (adaptive solves only: η_T of check/estimator.hpp, energy-norm units)
 
 #include <hemicontact/driver/solve.hpp>
 
@@ -46,7 +47,9 @@ enum class VtuFormat { BINARY, ASCII };
 /// @throws Error (EXIT_OUTPUT) if the file cannot be written;
 ///         Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
 /// @param format binary (appended, compressed with zlib when available; the default) or ASCII
-void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format = VtuFormat::BINARY);
+/// @param error_indicator per-cell η_T written as CellData "error_indicator" (null or empty: none)
+void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format = VtuFormat::BINARY,
+               const Vec* error_indicator = nullptr);
 
 /// @brief Write a ParaView collection (.pvd) of VTU files: one DataSet per entry, its "timestep"
 /// the entry's number (the mesh level of a convergence study, the index of a distinct solution),

@@ -1,0 +1,84 @@
+#pragma once
+/// @file adapt.hpp  The adaptive loop SOLVE → ESTIMATE → MARK → REFINE (docs/adaptivity.md).
+///
+///   mesh ← the scene's mesh, cells labelled for newest-vertex bisection (longest edge)
+///   loop:
+///     model ← build_model(scene, mesh)        Γ3 nodes, weights, frames, K, f: rebuilt from the mesh
+///     u     ← ContactSolver(model).solve(z0)   factorization and condensation redone on each mesh;
+///                                              z0 = the previous level's u carried to this mesh
+///     η     ← estimate_error(model, u)         per cell; relative η / ‖u‖_E
+///     stop when η/‖u‖_E ≤ target_error, the level cap is reached, or the next mesh would exceed max_dofs
+///     mesh  ← bisect(mesh, dorfler_mark(η, θ))  conforming, no hanging nodes
+///
+/// The smallness diagnostic (21) is not evaluated on the intermediate levels (it says nothing about
+/// the adaptive choice and costs an extra eigenvalue computation): only on the final mesh when the
+/// scene asks for it.
+
+#include <hemicontact/check/estimator.hpp>
+#include <hemicontact/mesh/bisection.hpp>
+#include <hemicontact/problem/model.hpp>
+#include <hemicontact/problem/solution.hpp>
+#include <hemicontact/problem/solve_options.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hemicontact {
+
+/// The scene's `adapt` block (docs/scene-format.md).
+struct AdaptOptions {
+  double target_error = 0.01;  ///< stop once the relative estimate η/‖u_h‖_E is at or below this
+  Index max_dofs = 400000;     ///< never solve a mesh with more free unknowns than this
+  int max_levels = 30;         ///< at most this many meshes (the first included)
+  double theta = 0.5;          ///< Dörfler bulk parameter θ ∈ (0, 1]
+  EstimatorKind estimator = EstimatorKind::ZZ;
+  BisectionRule bisection = BisectionRule::BISEC3;
+};
+
+/// @return true when the scene asks for adaptation (adapt.target_error is set).
+bool adapt_requested(const nlohmann::json& scene);
+/// @return the options of the scene's `adapt` block. @throws Error naming the key for a bad value.
+AdaptOptions adapt_options_from_scene(const nlohmann::json& scene);
+
+/// One mesh of the adaptive sequence.
+struct AdaptLevel {
+  int level = 0;
+  Index nodes = 0, cells = 0, dofs = 0, contact_nodes = 0;
+  double estimate = 0;           ///< η/‖u_h‖_E
+  double estimate_abs = 0;       ///< η
+  double energy_norm = 0;        ///< ‖u_h‖_E
+  double seconds = 0;            ///< this level: model build + solve + estimate (+ refinement after it)
+  double cumulative_seconds = 0; ///< from the start of run_adaptive (mesh generation included)
+  double solve_seconds = 0;      ///< the solve alone
+  double certificate = 0;        ///< certificate max residual
+  bool ok = false;               ///< converged and certified
+  Index marked = 0;              ///< cells marked by Dörfler (0 on the last level)
+};
+
+/// The result of run_adaptive.
+struct AdaptResult {
+  Model model;                      ///< the final mesh's model
+  Solution solution;                ///< its solution (smallness evaluated if the scene asks)
+  ErrorEstimate estimate;           ///< its indicators
+  std::vector<AdaptLevel> history;  ///< every level, coarse to fine
+  bool reached = false;             ///< the target was met
+  std::string stop_reason;          ///< "target reached", "max_levels", "max_dofs", "not certified"
+};
+
+/// Called after each level is solved and estimated.
+using AdaptLevelSolved =
+    std::function<void(const AdaptLevel&, const Model&, const Solution&, const ErrorEstimate&)>;
+
+/// @brief Run the adaptive loop (file comment) from @p initial (boundary parts assigned).
+/// A level whose solve is not certified ends the loop (stop_reason "not certified"): refining on a
+/// wrong answer would chase its error.
+AdaptResult run_adaptive(const nlohmann::json& scene, Mesh initial, const AdaptOptions& aopt,
+                         const SolveOptions& sopt, const AdaptLevelSolved& on_level = nullptr);
+
+/// @return the report.json "adapt" object: options, history, final estimate, stop reason.
+nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt);
+
+}  // namespace hemicontact

@@ -1,0 +1,138 @@
+#include <hemicontact/driver/adapt.hpp>
+
+#include <hemicontact/check/smallness.hpp>
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/scene/build_model.hpp>
+
+#include <chrono>
+#include <optional>
+
+namespace hemicontact {
+namespace {
+using clk = std::chrono::steady_clock;
+double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
+}  // namespace
+
+bool adapt_requested(const nlohmann::json& scene) {
+  return scene.contains("adapt") && !scene.at("adapt").at("target_error").is_null();
+}
+
+AdaptOptions adapt_options_from_scene(const nlohmann::json& scene) {
+  const auto& a = scene.at("adapt");
+  AdaptOptions o;
+  if (!a.at("target_error").is_null()) o.target_error = a.at("target_error").get<double>();
+  o.max_dofs = a.at("max_dofs").get<Index>();
+  o.max_levels = a.at("max_levels").get<int>();
+  o.theta = a.at("theta").get<double>();
+  o.estimator = parse_estimator(a.at("estimator").get<std::string>());
+  o.bisection = parse_bisection_rule(a.at("bisection").get<std::string>());
+  return o;
+}
+
+AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOptions& aopt, const SolveOptions& sopt,
+                         const AdaptLevelSolved& on_level) {
+  const auto t_start = clk::now();
+  if (mesh.dim != 2) input_error("adapt: adaptive refinement is implemented for 2D meshes only (mesh.type = box is 3D)");
+  label_longest_edges(mesh);
+  SolveOptions level_opt = sopt;
+  level_opt.smallness = false;  // evaluated once, on the final mesh (file comment)
+  AdaptResult r;
+  Vec u_start;  // the previous level's displacement carried to the current mesh
+  for (int level = 0;; ++level) {
+    const auto t_level = clk::now();
+    Model md = build_model(scene, mesh);
+    const auto t_solve = clk::now();
+    ContactSolver solver(md, level_opt);
+    Solution sol;
+    if (u_start.size() == md.mesh.num_nodes() * 2) {
+      // Warm start: the interpolated u in the solver's unknowns (reduced, local Γ3 frames).
+      const Vec z0 = solver.to_unknowns(md.dofs.to_reduced(u_start));
+      sol = solver.solve(&z0);
+    } else {
+      sol = solver.solve();
+    }
+    AdaptLevel L;
+    L.solve_seconds = since(t_solve);
+    ErrorEstimate est = estimate_error(md, sol, aopt.estimator);
+    L.level = level;
+    L.nodes = md.mesh.num_nodes();
+    L.cells = md.mesh.num_cells();
+    L.dofs = md.dofs.n_free();
+    L.contact_nodes = md.contact.size();
+    L.estimate = est.relative;
+    L.estimate_abs = est.total;
+    L.energy_norm = sol.energy_norm;
+    L.certificate = sol.certificate.max_residual;
+    L.ok = sol.ok();
+    log_info() << "adapt level " << level << ": " << L.dofs << " dofs, estimate " << L.estimate << " ("
+               << to_string(aopt.estimator) << "), certificate " << L.certificate;
+
+    std::string stop;
+    if (!L.ok) stop = "not certified";
+    else if (L.estimate <= aopt.target_error) stop = "target reached";
+    else if (level + 1 >= aopt.max_levels) stop = "max_levels";
+    std::optional<Bisection> next;
+    if (stop.empty()) {
+      const std::vector<char> marked = dorfler_mark(est.eta, aopt.theta);
+      for (char c : marked) L.marked += c;
+      next = bisect(md.mesh, marked, aopt.bisection);
+      // The next mesh's free unknowns are at most 2 per node: refuse it beyond max_dofs.
+      if (2 * next->mesh.num_nodes() > aopt.max_dofs) {
+        stop = "max_dofs";
+        L.marked = 0;
+        next.reset();
+      }
+    }
+    L.seconds = since(t_level);
+    L.cumulative_seconds = since(t_start);
+    r.history.push_back(L);
+    if (on_level) on_level(L, md, sol, est);
+    if (!stop.empty()) {
+      r.stop_reason = stop;
+      r.reached = stop == "target reached";
+      if (sopt.smallness) sol.smallness = evaluate_smallness(md);
+      r.model = std::move(md);
+      r.solution = std::move(sol);
+      r.estimate = std::move(est);
+      return r;
+    }
+    u_start = prolongate_bisection(*next, sol.u, 2);
+    mesh = std::move(next->mesh);
+  }
+}
+
+nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt) {
+  nlohmann::json j;
+  j["target_error"] = aopt.target_error;
+  j["estimator"] = to_string(aopt.estimator);
+  j["theta"] = aopt.theta;
+  j["bisection"] = aopt.bisection == BisectionRule::BISEC3 ? "bisec3" : "newest_vertex";
+  j["max_dofs"] = aopt.max_dofs;
+  j["max_levels"] = aopt.max_levels;
+  j["reached"] = r.reached;
+  j["stop_reason"] = r.stop_reason;
+  j["final_estimate"] = r.history.empty() ? 0.0 : r.history.back().estimate;
+  j["seconds"] = r.history.empty() ? 0.0 : r.history.back().cumulative_seconds;
+  nlohmann::json h = nlohmann::json::array();
+  for (const AdaptLevel& L : r.history)
+    h.push_back({{"level", L.level},
+                 {"nodes", L.nodes},
+                 {"cells", L.cells},
+                 {"dofs", L.dofs},
+                 {"contact_nodes", L.contact_nodes},
+                 {"estimate", L.estimate},
+                 {"estimate_abs", L.estimate_abs},
+                 {"energy_norm", L.energy_norm},
+                 {"seconds", L.seconds},
+                 {"solve_seconds", L.solve_seconds},
+                 {"cumulative_seconds", L.cumulative_seconds},
+                 {"certificate", L.certificate},
+                 {"ok", L.ok},
+                 {"marked", L.marked}});
+  j["history"] = h;
+  return j;
+}
+
+}  // namespace hemicontact

@@ -1,0 +1,203 @@
+#include <hemicontact/driver/adapt_study.hpp>
+
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/fem/prolongation.hpp>
+#include <hemicontact/scene/build_model.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace hemicontact {
+namespace {
+
+using json = nlohmann::json;
+using clk = std::chrono::steady_clock;
+double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
+
+json with_mesh(json scene, int n) {
+  scene["mesh"]["n"] = n;
+  scene["mesh"]["nx"] = n;
+  scene["mesh"]["ny"] = n;
+  return scene;
+}
+
+struct Kept {
+  Mesh mesh;
+  Vec u;
+  StudyPoint p;
+  double estimate_abs = 0;
+};
+
+}  // namespace
+
+double WorkPrecisionStudy::slope(const std::string& family, int last) const {
+  std::vector<double> x, y;
+  for (const StudyPoint& p : points)
+    if (p.family == family && p.error_corrected > 0) {
+      x.push_back(std::log(static_cast<double>(p.dofs)));
+      y.push_back(std::log(p.error_corrected));
+    }
+  if (x.size() < 2) return std::nan("");
+  const size_t n = std::min(x.size(), static_cast<size_t>(std::max(2, last))), s0 = x.size() - n;
+  double mx = 0, my = 0;
+  for (size_t i = s0; i < x.size(); ++i) mx += x[i] / n, my += y[i] / n;
+  double sxy = 0, sxx = 0;
+  for (size_t i = s0; i < x.size(); ++i) sxy += (x[i] - mx) * (y[i] - my), sxx += (x[i] - mx) * (x[i] - mx);
+  return sxy / sxx;
+}
+
+bool WorkPrecisionStudy::ok() const {
+  for (const StudyPoint& p : points)
+    if (!p.ok) return false;
+  return true;
+}
+
+WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scene_dir, const WorkPrecisionRequest& req) {
+  if (scene.at("mesh").at("type") != "rectangle")
+    input_error("converge --adaptive: the scene's mesh must be a generated rectangle (mesh.type = rectangle)");
+  SolveOptions opt = solve_options_from_scene(scene);
+  opt.smallness = false;  // a diagnostic, not part of the work measured
+  WorkPrecisionStudy st;
+  st.reference = req.reference;
+
+  const auto colon = req.reference.find(':');
+  const std::string kind = req.reference.substr(0, colon);
+  double value = 0;
+  if (colon != std::string::npos) {
+    std::istringstream in(req.reference.substr(colon + 1));
+    in >> value;
+    if (!in || !in.eof()) value = 0;
+  }
+  if ((kind != "uniform" && kind != "adaptive") || !(value > 0) ||
+      (kind == "uniform" && value != std::floor(value)) || (kind == "adaptive" && value >= 1))
+    input_error("--reference: expected uniform:R (R cells per side) or adaptive:T (0 < T < 1), got '" +
+                req.reference + "'");
+
+  // The adaptive sequence, kept level by level (its meshes and solutions).
+  std::vector<Kept> adaptive;
+  const auto keep = [&](const AdaptLevel& L, const Model& md, const Solution& sol, const ErrorEstimate& e) {
+    Kept k;
+    k.mesh = md.mesh;
+    k.u = sol.u;
+    k.p.family = "adaptive";
+    k.p.level = L.level;
+    k.p.dofs = L.dofs;
+    k.p.seconds = L.cumulative_seconds;
+    k.p.estimate = L.estimate;
+    k.p.certificate = L.certificate;
+    k.p.ok = L.ok;
+    k.estimate_abs = e.total;
+    adaptive.push_back(std::move(k));
+  };
+
+  Model ref;
+  Solution sref;
+  if (kind == "uniform") {
+    ref = build_model(with_mesh(scene, static_cast<int>(value)), scene_dir);
+    sref = solve(ref, opt);
+    st.reference_estimate = estimate_error(ref, sref, req.adapt.estimator).relative;
+    run_adaptive(scene, build_mesh(scene, scene_dir), req.adapt, opt, keep);
+  } else {
+    AdaptOptions deeper = req.adapt;
+    deeper.target_error = value;
+    AdaptResult r = run_adaptive(scene, build_mesh(scene, scene_dir), deeper, opt, keep);
+    ref = std::move(r.model);
+    sref = std::move(r.solution);
+    st.reference_estimate = r.history.back().estimate;
+    adaptive.pop_back();  // the reference itself
+    // The study's sequence stops where its own target would have stopped it.
+    for (size_t i = 0; i < adaptive.size(); ++i)
+      if (adaptive[i].p.estimate <= req.adapt.target_error) {
+        adaptive.resize(i + 1);
+        break;
+      }
+  }
+  if (!sref.ok()) log_warn() << "converge --adaptive: the reference solve was not certified: " << sref.message;
+  st.reference_dofs = ref.dofs.n_free();
+  const double norm_ref = std::sqrt(std::max(0.0, sref.u.dot(ref.K * sref.u)));
+  const auto measure = [&](const Mesh& mesh, const Vec& u, StudyPoint& p) {
+    p.error = energy_norm_difference(ref.K, sref.u, prolongate(mesh, u, ref.mesh)) / norm_ref;
+    p.error_corrected = std::hypot(p.error, st.reference_estimate);
+    p.efficiency = p.estimate / p.error_corrected;
+  };
+
+  const auto structured = [&](const std::string& family, const std::vector<int>& levels, bool graded) {
+    for (int n : levels) {
+      json s = with_mesh(scene, n);
+      if (graded) {
+        s["mesh"]["grading"]["x"] = req.graded_x;
+        s["mesh"]["grading"]["y"] = req.graded_y;
+        s["mesh"]["grading"]["power"] = req.graded_power;
+      }
+      const auto t0 = clk::now();
+      const Model md = build_model(s, scene_dir);
+      const Solution sol = solve(md, opt);
+      StudyPoint p;
+      p.seconds = since(t0);
+      p.family = family;
+      p.level = n;
+      p.dofs = md.dofs.n_free();
+      const ErrorEstimate e = estimate_error(md, sol, req.adapt.estimator);
+      p.estimate = e.relative;
+      p.certificate = sol.certificate.max_residual;
+      p.ok = sol.ok();
+      measure(md.mesh, sol.u, p);
+      log_info() << family << " n = " << n << ": " << p.dofs << " dofs, error " << p.error << ", " << p.seconds << " s";
+      st.points.push_back(p);
+    }
+  };
+  structured("uniform", req.uniform_levels, false);
+  structured("graded", req.graded_levels, true);
+  for (Kept& k : adaptive) {
+    measure(k.mesh, k.u, k.p);
+    st.points.push_back(k.p);
+  }
+  return st;
+}
+
+std::string work_precision_csv(const WorkPrecisionStudy& st) {
+  std::string s = "family,level,dofs,seconds,error,error_corrected,estimate,efficiency,certificate,ok\n";
+  char buf[256];
+  for (const StudyPoint& p : st.points) {
+    std::snprintf(buf, sizeof buf, "%s,%d,%lld,%.6g,%.9g,%.9g,%.9g,%.6g,%.3e,%d\n", p.family.c_str(), p.level,
+                  static_cast<long long>(p.dofs), p.seconds, p.error, p.error_corrected, p.estimate, p.efficiency,
+                  p.certificate,
+                  p.ok ? 1 : 0);
+    s += buf;
+  }
+  return s;
+}
+
+json work_precision_json(const WorkPrecisionStudy& st) {
+  json j;
+  j["reference"] = st.reference;
+  j["reference_dofs"] = st.reference_dofs;
+  j["reference_estimate"] = st.reference_estimate;
+  json pts = json::array();
+  for (const StudyPoint& p : st.points)
+    pts.push_back({{"family", p.family},
+                   {"level", p.level},
+                   {"dofs", p.dofs},
+                   {"seconds", p.seconds},
+                   {"error", p.error},
+                   {"error_corrected", p.error_corrected},
+                   {"estimate", p.estimate},
+                   {"efficiency", std::isfinite(p.efficiency) ? json(p.efficiency) : json(nullptr)},
+                   {"certificate", p.certificate},
+                   {"ok", p.ok}});
+  j["points"] = pts;
+  json slopes;
+  for (const char* f : {"uniform", "graded", "adaptive"}) {
+    const double s = st.slope(f);
+    slopes[f] = std::isfinite(s) ? json(s) : json(nullptr);
+  }
+  j["slopes_last4"] = slopes;
+  j["ok"] = st.ok();
+  return j;
+}
+
+}  // namespace hemicontact
