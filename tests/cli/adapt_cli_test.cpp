@@ -59,7 +59,7 @@ TEST_F(AdaptCli, ReportCarriesTheHistoryAndVtuTheIndicators) {
 }
 
 TEST_F(AdaptCli, BadAdaptKeysNameTheKey) {
-  for (const std::string& bad : {"adapt.theta=0", "adapt.estimator='\"kelly\"'", "adapt.target_error=2",
+  for (const std::string bad : {"adapt.theta=0", "adapt.estimator='\"kelly\"'", "adapt.target_error=2",
                                  "adapt.bisection='\"red\"'", "mesh.grading.power=0.5"}) {
     const auto r = cli("solve " + scene + " --set mesh.n=4 --set adapt.target_error=0.1 --set " + bad + " --out " +
                        (dir / "b").string() + " --quiet");
