@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Install the Debian packages hemicontact needs, and only those that are missing.
 # Idempotent: a second run installs nothing and does not call apt-get update.
-# Usage: scripts/install-deps.sh [--without-gmsh] [--with-sanitizers]
+# Usage: scripts/install-deps.sh [--without-gmsh] [--without-petsc] [--with-sanitizers]
 #   --without-gmsh:    leave out the Gmsh API (libgmsh-dev, ~1 GB with its dependencies); .msh import is
 #                      then not compiled in and the Gmsh-only tests skip with that reason.
+#   --without-petsc:   leave out PETSc 3.18 and OpenMPI (the distributed engine, solver.engine = petsc,
+#                      hemicontact-mpi); the build then refuses that engine naming the package.
 #   --with-sanitizers: also Debian's clang 14 with its sanitizer and libFuzzer runtimes and the
 #                      symbolizer, for scripts/run-sanitizers.sh (the CI's ASan/UBSan + fuzzing step).
 set -euo pipefail
@@ -23,15 +25,19 @@ pkgs=(
 )
 # Gmsh is part of the default install: users mesh their own geometry (mesh.type = "gmsh").
 gmsh=1
+# PETSc (with hypre's BoomerAMG, GAMG, TAO) and OpenMPI's mpirun: the petsc engine, default install.
+petsc=1
 for arg in "$@"; do
   case "$arg" in
     --without-gmsh) gmsh=0 ;;
+    --without-petsc) petsc=0 ;;
     --with-sanitizers) pkgs+=(clang-14 libclang-rt-14-dev llvm-14) ;;
-    *) echo "install-deps: unknown option '$arg' (usage: scripts/install-deps.sh [--without-gmsh] [--with-sanitizers])" >&2
+    *) echo "install-deps: unknown option '$arg' (usage: scripts/install-deps.sh [--without-gmsh] [--without-petsc] [--with-sanitizers])" >&2
        exit 1 ;;
   esac
 done
 if ((gmsh)); then pkgs+=(libgmsh-dev); fi
+if ((petsc)); then pkgs+=(libpetsc-real-dev openmpi-bin); fi
 
 missing=()
 for p in "${pkgs[@]}"; do

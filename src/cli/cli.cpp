@@ -18,7 +18,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
+#include <unistd.h>
 
 namespace hemicontact::cli {
 
@@ -35,21 +38,6 @@ std::string usage() {
          "exit codes: 0 solved and certified, 1 usage, 2 bad input, 3 not converged, 4 certificate failed,\n"
          "            5 internal error, 6 the results could not be written (disk full, permissions)\n";
 }
-
-namespace {
-
-// Options every scene command takes (parse_scene_args).
-const char* const SCENE_OPTIONS =
-    "  --out DIR          output folder (default shown above); created if missing\n"
-    "  --set path=value   override a scene entry by its dotted path, value in JSON (repeatable),\n"
-    "                     e.g. --set mesh.n=128 --set solver.tol=1e-10; every key: docs/scene-format.md\n"
-    "  --backend NAME     the same as --set solver.backend=NAME (default: the scene's, ipopt);\n"
-    "                     hemicontact backends lists them\n"
-    "  --force            replace the results of an earlier run in DIR (only the files it wrote)\n"
-    "  --quiet            warnings only on stderr (progress is on stderr by default)\n"
-    "  -h, --help         this help\n";
-
-}  // namespace
 
 std::string command_help(const std::string& command) {
   if (command == "solve")
@@ -125,76 +113,54 @@ std::string command_help(const std::string& command) {
   return usage();
 }
 
-bool wants_help(const std::vector<std::string>& args) {
-  // Options that take a value: their value is never a request for help (--set description=-h).
-  static const std::vector<std::string> with_value = {
-      "--out",  "--set", "--backend",  "--magnification", "--levels",          "--reference", "--starts",
-      "--seed", "--box", "--backends", "--start",         "--load-path-steps", "--group-tol",
-      "--graded-levels", "--graded-power"};
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "-h" || args[i] == "--help") return true;
-    if (std::find(with_value.begin(), with_value.end(), args[i]) != with_value.end()) ++i;
-  }
-  return false;
+namespace {
+
+// solver.engine = petsc: replace this process by hemicontact-mpi (beside this executable) with the
+// same arguments; under mpirun every rank does so and the ranks meet in its MPI_Init. A separate
+// program because this one links Ipopt, whose MUMPS (libdmumps_seq) defines stub MPI_Init and
+// MPI_Comm_rank that would take the place of the real MPI's in one process.
+[[noreturn]] void exec_petsc_engine_impl(const std::vector<std::string>& args) {
+#if HEMICONTACT_HAS_PETSC
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::filesystem::path mpi = (ec ? std::filesystem::path(".") : self.parent_path()) / "hemicontact-mpi";
+  if (!std::filesystem::exists(mpi))
+    throw Error("solver.engine = petsc: " + mpi.string() + " not found (build the target hemicontact_mpi)", EXIT_INPUT);
+  std::vector<std::string> all{mpi.string(), "solve"};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& s : all) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  std::fflush(nullptr);
+  ::execv(mpi.c_str(), argv.data());
+  throw Error("solver.engine = petsc: cannot run " + mpi.string() + ": " + std::strerror(errno), EXIT_INTERNAL);
+#else
+  (void)args;
+  throw Error(
+      "solver.engine = petsc: this build has no PETSc engine; install PETSc (Debian: apt-get install "
+      "libpetsc-real-dev openmpi-bin, or scripts/install-deps.sh) and rebuild, or use solver.engine = cholmod",
+      EXIT_INPUT);
+#endif
 }
 
-SceneArgs parse_scene_args(const std::vector<std::string>& args, const std::vector<std::string>& extra_keys) {
-  SceneArgs a;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& s = args[i];
-    // A value that is empty where a name is expected, or that is the next option ("--out --quiet"),
-    // is the user forgetting the value: never taken as a path.
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= args.size() || args[i + 1].rfind("--", 0) == 0)
-        throw UsageError("option " + s + " needs a value");
-      return args[++i];
-    };
-    if (s == "--out") {
-      a.out = value();
-      if (a.out.empty()) throw UsageError("--out: empty folder name");
-    } else if (s == "--set")
-      a.overrides.push_back(value());
-    else if (s == "--backend")
-      a.overrides.push_back("solver.backend=" + value());
-    else if (s == "--force")
-      a.force = true;
-    else if (s == "--quiet")
-      a.quiet = true;
-    else if (s == "--plot")
-      a.plot = true;
-    else if (s.rfind("--", 0) == 0 && std::find(extra_keys.begin(), extra_keys.end(), s) != extra_keys.end())
-      a.extra.emplace_back(s, value());
-    else if (s.rfind("--", 0) == 0)
-      throw UsageError("unknown option " + s);
-    else if (a.scene.empty())
-      a.scene = s;
-    else
-      throw UsageError("unexpected argument '" + s + "'");
-  }
-  if (a.scene.empty()) throw UsageError("missing SCENE.json");
-  if (a.out.empty()) a.out = "out/" + std::filesystem::path(a.scene).stem().string();
-  return a;
-}
+}  // namespace
+
+int exec_petsc_engine(const std::vector<std::string>& args) { exec_petsc_engine_impl(args); }
 
 int cmd_solve(const std::vector<std::string>& args) {
   const SceneArgs a = parse_scene_args(args, {"--magnification"});
   if (a.quiet) set_log_level(LogLevel::WARN);
   const auto t0 = std::chrono::steady_clock::now();
-  // scripts/plot_fig2.py (3D: plot_status3d.py) DIR --title NAME [--magnification M]
-  std::vector<std::string> plot_args{a.out, "--title", std::filesystem::path(a.scene).stem().string()};
-  for (const auto& [key, value] : a.extra) {
-    char* end = nullptr;
-    const double m = std::strtod(value.c_str(), &end);
-    if (value.empty() || *end != '\0' || !(m > 0) || !std::isfinite(m))
-      throw UsageError(key + ": expected a positive number, got '" + value + "'");
-    plot_args.insert(plot_args.end(), {key, value});
-  }
+  const std::vector<std::string> plot_args = solve_plot_args(a);
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
-  const bool plot = a.plot || scene.at("output").at("plot").get<bool>();
-  const char* picture = "fig2.png";  // 3D: status3d.png (known once the mesh is built)
+  // The petsc engine is its own program (before the output folder is locked: it locks it itself).
+  if (scene.at("solver").at("engine").get<std::string>() == "petsc") {
+    if (adapt_requested(scene))
+      input_error("adapt.target_error: adaptive refinement runs on the cholmod engine only (solver.engine = petsc)");
+    return exec_petsc_engine(args);
+  }
   // Held until the program ends: no other run writes into this folder meanwhile.
-  const OutputLock lock =
-      prepare_output_dir(a.out, a.force, {"report.json", "solution.vtu", "gamma3.csv", "fig2.png", "status3d.png"});
+  const OutputLock lock = prepare_output_dir(a.out, a.force, solve_output_names());
   const SolveOptions opt = solve_options_from_scene(scene);
   // adapt.target_error set: the adaptive loop (driver/adapt.hpp) from the scene's mesh; the final
   // mesh's model and solution are written as a plain solve's, with the indicators in the VTU.
@@ -211,52 +177,16 @@ int cmd_solve(const std::vector<std::string>& args) {
   const Model& md = adapted.model;
   Solution& sol = adapted.solution;
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-  // report.json comes last: it lists every file of the set ("files") and marks it complete.
-  const std::filesystem::path out(a.out);
-  const VtuFormat vtu_format =
-      scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
-  if (scene.at("output").at("vtu").get<bool>()) write_vtu((out / "solution.vtu").string(), md, sol, vtu_format, adaptive ? &adapted.estimate.eta : nullptr);
-  if (scene.at("output").at("csv").get<bool>()) write_gamma3_csv((out / "gamma3.csv").string(), md, sol);
-  std::fputs(summary_table(md, sol).c_str(), stdout);
-  // 3D: the Γ3 status map with slip directions (scripts/plot_status3d.py, same arguments).
-  const bool d3 = md.dim() == 3;
-  if (d3) picture = "status3d.png";
-  if (plot && run_plot_script(d3 ? "plot_status3d.py" : "plot_fig2.py", plot_args) != 0)
-    log_warn() << "--plot: " << (out / picture).string() << " was not written (the solve's results are)";
-  if (plot && std::filesystem::exists(out / picture)) record_output_file((out / picture).string());
-  nlohmann::json report = make_report(md, sol, opt);
+  nlohmann::json extra = nlohmann::json::object();
   if (adaptive) {
-    report["adapt"] = adapt_report(adapted, aopt);
+    extra["adapt"] = adapt_report(adapted, aopt);
     const AdaptLevel& last = adapted.history.back();
     std::printf("adapt: %zu levels, %lld dofs, estimate %.3g (target %.3g, %s), %.3g s\n", adapted.history.size(),
                 static_cast<long long>(last.dofs), last.estimate, aopt.target_error, adapted.stop_reason.c_str(),
                 last.cumulative_seconds);
   }
-  report["files"] = output_files(a.out);
-  report["files"].push_back("report.json");
-  write_report((out / "report.json").string(), report);
-  std::printf("results in %s\n", a.out.c_str());
-
-  // The certificate decides: a backend that reports failure but whose (polished) answer is certified
-  // is accepted with a warning; an uncertified answer fails, as "not converged" when the backend or
-  // the fixed point said so, as "certificate failed" otherwise.
-  if (!sol.fixed_point_converged || (!sol.backend_ok && !sol.certificate.passed)) {
-    log_warn() << sol.message;
-    // allow_not_converged accepts an unconverged fixed point only when its answer is certified:
-    // an answer that fails the certificate never exits 0 (issue 12).
-    if (opt.allow_not_converged && sol.certificate.passed) {
-      log_warn() << "solver.fixed_point.allow_not_converged: accepted, the certificate passed";
-      return EXIT_OK;
-    }
-    return EXIT_NOT_CONVERGED;
-  }
-  if (!sol.certificate.passed) {
-    log_warn() << "certificate failed: max residual " << sol.certificate.max_residual << " > " << sol.certificate.tol;
-    return EXIT_CERTIFICATE;
-  }
-  if (!sol.backend_ok) log_warn() << sol.message;
-  return EXIT_OK;
+  write_solve_results(a, plot_args, scene, md, sol, opt, extra, adaptive ? &adapted.estimate.eta : nullptr);
+  return solve_verdict(sol, opt);
 }
 
 int cmd_backends(const std::vector<std::string>& args) {

@@ -1,6 +1,12 @@
 #pragma once
 // Command-line front end: argument parsing and the commands (private to the program).
 
+#include <hemicontact/problem/model.hpp>
+#include <hemicontact/problem/solution.hpp>
+#include <hemicontact/problem/solve_options.hpp>
+
+#include <nlohmann/json.hpp>
+
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -36,6 +42,23 @@ std::string command_help(const std::string& command);
 bool wants_help(const std::vector<std::string>& args);
 std::string version();
 int cmd_solve(const std::vector<std::string>& args);
+/// solver.engine = petsc: run hemicontact-mpi (beside this program) on the same `solve` arguments in
+/// this process's place; returns only by throwing (no PETSc in this build: EXIT_INPUT naming it).
+int exec_petsc_engine(const std::vector<std::string>& args);
+/// The files `solve` may write into its folder (solve_output.cpp).
+std::vector<std::string> solve_output_names();
+/// The plotting script's arguments of `solve` (its --magnification checked). @throws UsageError
+std::vector<std::string> solve_plot_args(const SceneArgs& a);
+/// Write solution.vtu, gamma3.csv, the summary on stdout, the picture (--plot) and report.json
+/// (with the keys of @p extra added, e.g. the petsc engine's record or the adaptive history) into
+/// the locked folder a.out; @p cell_indicators (adaptive runs) become the VTU's error_indicator.
+void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
+                         const Model& md, const Solution& sol, const SolveOptions& opt, const nlohmann::json& extra,
+                         const Vec* cell_indicators = nullptr);
+/// The exit code of a solve: the certificate decides (EXIT_OK, EXIT_NOT_CONVERGED, EXIT_CERTIFICATE).
+int solve_verdict(const Solution& sol, const SolveOptions& opt);
+/// The options every scene command takes (args.cpp), for the commands' help texts.
+extern const char* const SCENE_OPTIONS;
 int cmd_backends(const std::vector<std::string>& args);
 /// `converge SCENE --levels L1,L2,... --reference R`: mesh-convergence study (src/cli/converge.cpp).
 int cmd_converge(const std::vector<std::string>& args);

@@ -240,6 +240,11 @@ struct ContactSolver::Impl {
 ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::make_unique<Impl>(md, opt)) {
   const auto t_start = clk::now();
   Impl& I = *m;
+  // The petsc engine is a program of its own (hemicontact-mpi, exec'd by `hemicontact solve`).
+  if (opt.engine != "cholmod")
+    input_error("solver.engine = " + opt.engine +
+                ": this command runs the cholmod engine only; the petsc engine runs `hemicontact solve` "
+                "(hemicontact-mpi)");
   I.backend = make_backend(opt.backend);
 
   // Nothing nonlinear and no obstacle: one sparse Cholesky solve is the answer (no backend at all).

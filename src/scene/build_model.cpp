@@ -266,6 +266,15 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.backend = s.at("backend").get<std::string>();
   o.formulation = s.at("formulation").get<std::string>();
   o.ordering = s.at("ordering").get<std::string>();
+  o.engine = s.at("engine").get<std::string>();
+  const auto& pe = s.at("petsc");
+  o.petsc.ksp_rtol = pe.at("ksp_rtol").get<double>();
+  o.petsc.ksp_max_it = pe.at("ksp_max_it").get<int>();
+  o.petsc.pc = pe.at("pc").get<std::string>();
+  o.petsc.newton_pc = pe.at("newton_pc").get<std::string>();
+  o.petsc.acceptable_tol = pe.at("acceptable_tol").get<double>();
+  o.petsc.polish_max_iters = pe.at("polish_max_iters").get<int>();
+  o.petsc.options = pe.at("options").get<std::string>();
   o.polish = s.at("polish").get<bool>();
   o.backend_options.tol = s.at("tol").get<double>();
   o.backend_options.max_iter = s.at("max_iter").get<int>();

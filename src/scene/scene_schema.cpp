@@ -261,6 +261,41 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(key("/solver/backend", "string", D.backend,
                   "NLP backend by name: \"ipopt\", \"newton\", \"nlopt:LD_LBFGS\", ... (only those "
                   "compiled in)."));
+  t.push_back(key("/solver/engine", "string", D.engine,
+                  "cholmod: one process, sparse Cholesky (CHOLMOD) and static condensation. petsc: the "
+                  "distributed engine (hemicontact-mpi, run as mpirun -np P hemicontact solve ...): "
+                  "unknowns spread over the MPI ranks, TAO bounded Newton (backends tao:bnls, tao:bntr, "
+                  "tao:bntl; the default ipopt means tao:bnls there), CG with algebraic multigrid, the same "
+                  "continuation, fixed point, exact polish (full space) and certificate. Only `solve`; "
+                  "needs a build with PETSc (libpetsc-real-dev).",
+                  {"cholmod", "petsc"}));
+  t.push_back(section("/solver/petsc", "Settings of the petsc engine (solver.engine = petsc)."));
+  t.push_back(below(above(key("/solver/petsc/ksp_rtol", "number", D.petsc.ksp_rtol,
+                              "Relative residual reduction of each CG solve (elastic solve, TAO's "
+                              "Newton steps, polish steps)."),
+                          0),
+                    1));
+  t.push_back(at_least(key("/solver/petsc/ksp_max_it", "integer", D.petsc.ksp_max_it,
+                           "CG iterations per solve; a solve stopped by it fails with PETSc's reason "
+                           "(exit code 3)."),
+                       1));
+  t.push_back(key("/solver/petsc/pc", "string", D.petsc.pc,
+                  "Preconditioner of the full-size solves (elastic solve, polish): gamg (rigid-body "
+                  "modes as near-null space) or hypre (BoomerAMG).",
+                  {"gamg", "hypre"}));
+  t.push_back(key("/solver/petsc/newton_pc", "string", D.petsc.newton_pc,
+                  "Preconditioner of TAO's Newton steps (the Hessian on the inactive set): hypre "
+                  "(BoomerAMG) or gamg.",
+                  {"hypre", "gamg"}));
+  t.push_back(above(key("/solver/petsc/acceptable_tol", "number", D.petsc.acceptable_tol,
+                        "TAO stopped short of solver.tol but the first-order residual (scaled) is at most "
+                        "this: the minimization is acceptable (the polish and the certificate decide)."),
+                    0));
+  t.push_back(at_least(key("/solver/petsc/polish_max_iters", "integer", D.petsc.polish_max_iters,
+                           "Newton iterations of the exact polish on the identified statuses."),
+                       1));
+  t.push_back(key("/solver/petsc/options", "string", D.petsc.options,
+                  "Extra PETSc options, verbatim (e.g. \"-ksp_monitor\"); not checked here."));
   t.push_back(key("/solver/formulation", "string", D.formulation,
                   "Unknowns the NLP sees: full = all free dofs; condensed = interior dofs "
                   "eliminated onto Γ3 by static condensation (one sparse factorization, a dense "

@@ -12,6 +12,7 @@
 //   driver                                         8  solve (continuation, fixed point, polish), minima, convergence
 //   output                                         9  writers: report.json, VTU, CSV, study tables
 //   cli                                            10 the program
+//   petsc                                          11 the petsc engine's program (hemicontact-mpi; reads cli)
 //
 // The test reads the sources, so it fails the moment an include climbs a layer.
 #include <gtest/gtest.h>
@@ -33,7 +34,8 @@ namespace {
 
 const std::map<std::string, int> LAYER = {{"core", 0},    {"config", 0}, {"mesh", 1},   {"material", 1}, {"nlp", 1},
                                           {"contact", 2}, {"fem", 3},    {"energy", 4}, {"problem", 5},  {"check", 6},
-                                          {"scene", 7},   {"driver", 8}, {"output", 9}, {"cli", 10}};
+                                          {"scene", 7},   {"driver", 8}, {"output", 9}, {"cli", 10},
+                                          {"petsc", 11}};
 
 struct Edge {
   std::string from, to, file;

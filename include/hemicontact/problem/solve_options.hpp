@@ -9,9 +9,40 @@
 
 namespace hemicontact {
 
+/// Settings of the distributed PETSc engine (solver.engine = "petsc", hemicontact-mpi; src/petsc/).
+/// The member initialisers are the defaults' one home (the scene schema injects them).
+struct PetscEngineOptions {
+  /// Relative residual reduction of each Krylov solve (CG): the elastic solve K z = f that sets the
+  /// scales, every Newton step inside TAO, and every polish step. The polish is a Newton iteration
+  /// on the residual of (22), so its answer's accuracy is set by the residual, not by this: each
+  /// step reduces the error by ~ksp_rtol, and 1e-10 reaches round-off in two or three steps.
+  double ksp_rtol = 1e-10;
+  /// Krylov iterations per solve; a solve that stops at this cap (or diverges) is a failure that
+  /// names PETSc's reason (KSP_DIVERGED_ITS, ...), exit code 3.
+  int ksp_max_it = 2000;
+  /// Preconditioner of the full-size solves (elastic solve, polish): "gamg" (smoothed aggregation
+  /// with the rigid-body modes as near-null space) or "hypre" (BoomerAMG).
+  std::string pc = "gamg";
+  /// Preconditioner of TAO's Newton steps, whose matrix is the Hessian restricted to the inactive
+  /// set (it changes size): "hypre" (BoomerAMG) or "gamg".
+  std::string newton_pc = "hypre";
+  /// TAO stopped short of solver.tol (e.g. its line search failed at round-off) but the first-order
+  /// residual (scaled units, nlp/backend.hpp) is at most this: the minimization counts as
+  /// "acceptable", as Ipopt's acceptable level does; the polish and the certificate then decide.
+  double acceptable_tol = 1e-6;
+  /// Newton iterations of the exact polish (full space, statuses fixed).
+  int polish_max_iters = 30;
+  /// Extra PETSc options, verbatim (e.g. "-ksp_monitor -pc_gamg_threshold 0.02").
+  std::string options;
+};
+
 /// Solver settings, read from the scene's "solver", "check" blocks (defaults: this struct).
 struct SolveOptions {
   std::string backend = "ipopt";     ///< NLP backend name
+  /// "cholmod" (this process: CHOLMOD factorization, condensation) or "petsc" (hemicontact-mpi:
+  /// distributed unknowns, TAO bounded Newton, CG + algebraic multigrid; run under mpirun).
+  std::string engine = "cholmod";
+  PetscEngineOptions petsc;          ///< the petsc engine's settings
   std::string formulation = "auto";  ///< "full", "condensed" or "auto" (condensed for linear materials)
   /// Fill-reducing ordering of the condensation ("auto", "amd", "metis", "nesdis"; fem/condensation.hpp).
   std::string ordering = "auto";

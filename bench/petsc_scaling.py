@@ -1,0 +1,82 @@
+#!/usr/bin/env python3
+"""Scaling of the petsc engine (issue 16): the 3D paper scene (problems/sofonea2017-3d.json) on
+n^3 boxes, run as `mpirun -np P hemicontact solve ... --set solver.engine="petsc"` for each n and P,
+one run at a time. Reads each run's report.json and prints one row per run: unknowns, ranks, wall
+time (the whole process, measured here), the solve's own time, peak memory summed over the ranks
+(getrusage, from report.json "petsc"), bytes per unknown, Newton and Krylov counts, Krylov per
+Newton step, the certificate, and the speedup against P = 1 of the same n. The CSV goes to --out.
+
+  python3 bench/petsc_scaling.py --build build --levels 8,16,24,32 --ranks 1,2 --out /tmp/petsc-scaling
+
+Runs of a million unknowns or more take the whole of a 2-core machine: run them alone.
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+
+def main() -> int:
+    here = Path(__file__).resolve().parent.parent
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default=str(here / "build"), help="build folder with hemicontact and hemicontact-mpi")
+    ap.add_argument("--scene", default=str(here / "problems" / "sofonea2017-3d.json"))
+    ap.add_argument("--levels", default="8,16,24,32", help="box cells per side, comma-separated")
+    ap.add_argument("--ranks", default="1,2", help="MPI ranks, comma-separated")
+    ap.add_argument("--set", action="append", default=[], help="extra --set path=value for every run")
+    ap.add_argument("--out", required=True, help="folder for the runs and scaling.csv")
+    a = ap.parse_args()
+    exe = Path(a.build) / "hemicontact"
+    if not exe.exists():
+        print(f"petsc_scaling: {exe} not found (build first)", file=sys.stderr)
+        return 2
+    out = Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    rows = []
+    base = {}
+    for n in [int(x) for x in a.levels.split(",")]:
+        for p in [int(x) for x in a.ranks.split(",")]:
+            run = out / f"n{n}-np{p}"
+            cmd = ["mpirun", "-np", str(p), str(exe), "solve", a.scene, "--set", f"mesh.n={n}",
+                   "--set", 'solver.engine="petsc"', "--set", "output.vtu=false", "--set", "output.csv=false",
+                   "--quiet", "--force", "--out", str(run)]
+            for s in a.set:
+                cmd += ["--set", s]
+            t0 = time.monotonic()
+            r = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            wall = time.monotonic() - t0
+            if r.returncode != 0:
+                print(f"petsc_scaling: n={n} np={p} exited {r.returncode}:\n{r.stderr}", file=sys.stderr)
+                return 1
+            rep = json.loads((run / "report.json").read_text())
+            pe = rep["petsc"]
+            row = {
+                "n": n, "ranks": p, "unknowns": pe["unknowns"], "wall_s": round(wall, 2),
+                "solve_s": round(rep["timings"]["solve_total"], 2),
+                "peak_mb_sum": round(pe["peak_rss_mb_sum"], 1), "bytes_per_dof": round(pe["bytes_per_dof"]),
+                "newton": pe["newton_iterations"], "krylov": pe["krylov_iterations"],
+                "krylov_per_newton": round(pe["krylov_per_newton"], 1),
+                "minimizations": len(pe["minimizations"]), "polish_newton": pe["polish_newton_iterations"],
+                "certificate": rep["certificate"]["max_residual"], "statuses": json.dumps(rep["status_counts"]),
+            }
+            if p == 1:
+                base[n] = wall
+            row["speedup"] = round(base[n] / wall, 2) if n in base else ""
+            rows.append(row)
+            print(" ".join(f"{k}={v}" for k, v in row.items() if k != "statuses"), flush=True)
+    with open(out / "scaling.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"petsc_scaling: {out / 'scaling.csv'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

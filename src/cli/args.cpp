@@ -1,0 +1,72 @@
+// The arguments of the scene commands (solve, converge, minima), apart from cli.cpp so that the
+// PETSc engine's executable (hemicontact-mpi, src/petsc/) parses them with the same code.
+#include "cli.hpp"
+
+#include <algorithm>
+#include <filesystem>
+
+namespace hemicontact::cli {
+
+// Options every scene command takes (parse_scene_args).
+const char* const SCENE_OPTIONS =
+    "  --out DIR          output folder (default shown above); created if missing\n"
+    "  --set path=value   override a scene entry by its dotted path, value in JSON (repeatable),\n"
+    "                     e.g. --set mesh.n=128 --set solver.tol=1e-10; every key: docs/scene-format.md\n"
+    "  --backend NAME     the same as --set solver.backend=NAME (default: the scene's, ipopt);\n"
+    "                     hemicontact backends lists them\n"
+    "  --force            replace the results of an earlier run in DIR (only the files it wrote)\n"
+    "  --quiet            warnings only on stderr (progress is on stderr by default)\n"
+    "  -h, --help         this help\n";
+
+bool wants_help(const std::vector<std::string>& args) {
+  // Options that take a value: their value is never a request for help (--set description=-h).
+  static const std::vector<std::string> with_value = {
+      "--out",  "--set", "--backend",  "--magnification", "--levels",          "--reference", "--starts",
+      "--seed", "--box", "--backends", "--start",         "--load-path-steps", "--group-tol",
+      "--graded-levels", "--graded-power"};
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "-h" || args[i] == "--help") return true;
+    if (std::find(with_value.begin(), with_value.end(), args[i]) != with_value.end()) ++i;
+  }
+  return false;
+}
+
+SceneArgs parse_scene_args(const std::vector<std::string>& args, const std::vector<std::string>& extra_keys) {
+  SceneArgs a;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& s = args[i];
+    // A value that is empty where a name is expected, or that is the next option ("--out --quiet"),
+    // is the user forgetting the value: never taken as a path.
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= args.size() || args[i + 1].rfind("--", 0) == 0)
+        throw UsageError("option " + s + " needs a value");
+      return args[++i];
+    };
+    if (s == "--out") {
+      a.out = value();
+      if (a.out.empty()) throw UsageError("--out: empty folder name");
+    } else if (s == "--set")
+      a.overrides.push_back(value());
+    else if (s == "--backend")
+      a.overrides.push_back("solver.backend=" + value());
+    else if (s == "--force")
+      a.force = true;
+    else if (s == "--quiet")
+      a.quiet = true;
+    else if (s == "--plot")
+      a.plot = true;
+    else if (s.rfind("--", 0) == 0 && std::find(extra_keys.begin(), extra_keys.end(), s) != extra_keys.end())
+      a.extra.emplace_back(s, value());
+    else if (s.rfind("--", 0) == 0)
+      throw UsageError("unknown option " + s);
+    else if (a.scene.empty())
+      a.scene = s;
+    else
+      throw UsageError("unexpected argument '" + s + "'");
+  }
+  if (a.scene.empty()) throw UsageError("missing SCENE.json");
+  if (a.out.empty()) a.out = "out/" + std::filesystem::path(a.scene).stem().string();
+  return a;
+}
+
+}  // namespace hemicontact::cli

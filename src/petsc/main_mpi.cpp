@@ -1,0 +1,153 @@
+// hemicontact-mpi — the petsc engine (solver.engine = "petsc", issue 16): `hemicontact solve` execs
+// it with its own arguments, on every MPI rank:
+//
+//   mpirun -np 2 build/hemicontact solve problems/sofonea2017-fig2.json --set solver.engine='"petsc"' --out out/p2
+//   mpirun -np 2 build/hemicontact-mpi solve problems/sofonea2017-3d.json --backend tao:bntr --out out/p3d
+//
+// A program of its own because `hemicontact` links Ipopt, whose MUMPS (Debian's libdmumps_seq)
+// defines stub MPI_Init and MPI_Comm_rank that would take the real MPI's place in one process;
+// this one links MPI and PETSc and never Ipopt. Same scene keys, same report.json (written once,
+// by rank 0, with a "petsc" record added), same exit codes.
+//
+// Every rank parses the scene and builds the model (deterministic: the same input errors on every
+// rank); rank 0 alone locks and writes the output folder and broadcasts how that went, so that the
+// ranks always leave together with one exit code.
+#include "../cli/cli.hpp"
+#include "petsc_engine.hpp"
+
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/output/output_dir.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
+
+#include <petscsys.h>
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace hemicontact;
+
+const char* const HELP =
+    "usage: hemicontact-mpi solve SCENE.json [--out DIR] [--set path=value]... [--backend tao:bnls|tao:bntr|tao:bntl]\n"
+    "                             [--force] [--quiet] [--plot [--magnification M]]\n"
+    "The petsc engine of `hemicontact solve` (solver.engine = petsc), normally run through it:\n"
+    "  mpirun -np P hemicontact solve SCENE.json --set solver.engine='\"petsc\"' --out DIR\n"
+    "Same scene keys, results and exit codes as `hemicontact solve --help` describes; settings of the\n"
+    "engine under solver.petsc (docs/scene-format.md). PETSc options: solver.petsc.options or PETSC_OPTIONS.\n";
+
+// Rank 0's outcome of a step only it does (the output folder), shared with every rank: the code
+// (0: fine) and the message.
+void share(int& code, std::string& message, MPI_Comm comm) {
+  MPI_Bcast(&code, 1, MPI_INT, 0, comm);
+  int len = static_cast<int>(message.size());
+  MPI_Bcast(&len, 1, MPI_INT, 0, comm);
+  message.resize(static_cast<size_t>(len));
+  if (len > 0) MPI_Bcast(message.data(), len, MPI_CHAR, 0, comm);
+}
+
+int run(const std::vector<std::string>& args, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    if (rank == 0) std::fputs(HELP, args.empty() ? stderr : stdout);
+    return args.empty() ? EXIT_USAGE : EXIT_OK;
+  }
+  if (args[0] != "solve") throw cli::UsageError("hemicontact-mpi runs `solve` only, not '" + args[0] + "'");
+  const std::vector<std::string> rest(args.begin() + 1, args.end());
+  if (cli::wants_help(rest)) {
+    if (rank == 0) std::fputs(HELP, stdout);
+    return EXIT_OK;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const cli::SceneArgs a = cli::parse_scene_args(rest, {"--magnification"});
+  if (a.quiet || rank != 0) set_log_level(LogLevel::WARN);  // one rank reports progress
+  const std::vector<std::string> plot_args = cli::solve_plot_args(a);
+  nlohmann::json scene = load_scene(a.scene, a.overrides);
+  if (scene.at("solver").at("engine").get<std::string>() != "petsc") {
+    log_info() << "hemicontact-mpi is the petsc engine: solver.engine = petsc";
+    scene["solver"]["engine"] = "petsc";
+  }
+  const SolveOptions opt = solve_options_from_scene(scene);
+  if (!opt.petsc.options.empty()) {
+    if (PetscOptionsInsertString(nullptr, opt.petsc.options.c_str()))
+      input_error("solver.petsc.options: PETSc could not read '" + opt.petsc.options + "'");
+  }
+  (void)petsc_engine::tao_type(opt.backend);  // a non-TAO backend is refused before any work
+
+  // The output folder: rank 0 locks it (held until the end) and tells the others how that went.
+  std::optional<OutputLock> lock;
+  int code = 0;
+  std::string message;
+  if (rank == 0) {
+    try {
+      lock.emplace(prepare_output_dir(a.out, a.force, cli::solve_output_names()));
+    } catch (const Error& e) {
+      code = e.code();
+      message = e.what();
+    }
+  }
+  share(code, message, comm);
+  if (code != 0) throw Error(message, static_cast<ExitCode>(code));
+
+  Model md = build_model(scene, scene_directory(a.scene));
+  petsc_engine::EngineReport er;
+  Solution sol = petsc_engine::solve(md, opt, comm, er);
+  sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  if (rank == 0) {
+    try {
+      cli::write_solve_results(a, plot_args, scene, md, sol, opt, {{"engine", "petsc"}, {"petsc", er.json}});
+      log_info() << "petsc: " << size << " rank(s), " << er.json.value("newton_iterations", 0L)
+                 << " Newton and " << er.json.value("krylov_iterations", 0L) << " Krylov iterations, peak memory "
+                 << er.json.value("peak_rss_mb_sum", 0.0) << " MB over the ranks";
+    } catch (const Error& e) {
+      code = e.code();
+      message = e.what();
+    }
+  }
+  share(code, message, comm);
+  if (code != 0) throw Error(message, static_cast<ExitCode>(code));
+  return cli::solve_verdict(sol, opt);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace hemicontact;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  // PETSc reads its options from PETSC_OPTIONS and solver.petsc.options, never from our command
+  // line (whose --set would look like a PETSc option to it).
+  if (PetscInitializeNoArguments()) {
+    std::fprintf(stderr, "hemicontact-mpi: internal error: PETSc/MPI could not be initialized\n");
+    return EXIT_INTERNAL;
+  }
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  install_interrupt_handlers();
+  // The errors below are collective (each rank meets the same one, or rank 0 shared it): rank 0
+  // prints it and every rank returns the same code.
+  int code = EXIT_INTERNAL;
+  try {
+    code = run(args, PETSC_COMM_WORLD);
+  } catch (const cli::UsageError& e) {
+    if (rank == 0) std::fprintf(stderr, "hemicontact: %s (see hemicontact solve --help)\n", e.what());
+    code = EXIT_USAGE;
+  } catch (const Error& e) {
+    if (rank == 0) std::fprintf(stderr, "hemicontact: error: %s\n", e.what());
+    code = e.code();
+  } catch (const std::exception& e) {
+    // Not known to be collective: a rank alone in trouble must not leave the others waiting.
+    std::fprintf(stderr, "hemicontact: internal error (rank %d): %s\n", rank, e.what());
+    MPI_Abort(PETSC_COMM_WORLD, EXIT_INTERNAL);
+  }
+  PetscFinalize();
+  return code;
+}

@@ -1,0 +1,1023 @@
+#include "petsc_engine.hpp"
+
+#include <hemicontact/check/evaluate.hpp>
+#include <hemicontact/contact/mollified_law.hpp>
+#include <hemicontact/contact/smooth_norm.hpp>
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+
+#include <petscksp.h>
+#include <petsctao.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+// PETSc's Vec and Mat are global typedefs; inside namespace hemicontact the names are Eigen's, so
+// PETSc objects are written ::Vec and ::Mat throughout.
+
+namespace hemicontact::petsc_engine {
+namespace {
+
+using clk = std::chrono::steady_clock;
+double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
+
+// A PETSc call that fails is a bug or a resource problem, not bad input: EXIT_INTERNAL, naming it.
+#define HC_PETSC(call)                                                                                    \
+  do {                                                                                                    \
+    const PetscErrorCode hc_ierr_ = (call);                                                               \
+    if (hc_ierr_) throw Error("PETSc error " + std::to_string(hc_ierr_) + " in " #call, EXIT_INTERNAL); \
+  } while (0)
+
+// Owners of PETSc objects: destroyed on every rank in the same order (collective).
+struct PVec {
+  ::Vec v = nullptr;
+  PVec() = default;
+  PVec(const PVec&) = delete;
+  PVec& operator=(const PVec&) = delete;
+  ~PVec() {
+    if (v) VecDestroy(&v);
+  }
+};
+struct PMat {
+  ::Mat m = nullptr;
+  PMat() = default;
+  PMat(const PMat&) = delete;
+  PMat& operator=(const PMat&) = delete;
+  ~PMat() {
+    if (m) MatDestroy(&m);
+  }
+};
+struct PKsp {
+  KSP k = nullptr;
+  PKsp() = default;
+  PKsp(const PKsp&) = delete;
+  PKsp& operator=(const PKsp&) = delete;
+  ~PKsp() {
+    if (k) KSPDestroy(&k);
+  }
+};
+struct PTao {
+  Tao t = nullptr;
+  PTao() = default;
+  PTao(const PTao&) = delete;
+  PTao& operator=(const PTao&) = delete;
+  ~PTao() {
+    if (t) TaoDestroy(&t);
+  }
+};
+
+std::string short_number(double x) {
+  std::ostringstream os;
+  os << std::setprecision(3) << x;
+  return os.str();
+}
+
+double allreduce_max(double x, MPI_Comm comm) {
+  double y = x;
+  MPI_Allreduce(&x, &y, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return y;
+}
+double allreduce_sum(double x, MPI_Comm comm) {
+  double y = x;
+  MPI_Allreduce(&x, &y, 1, MPI_DOUBLE, MPI_SUM, comm);
+  return y;
+}
+
+// True when F_b vanishes on u_ν's whole branch (driver/polish.cpp's rule): the node's tangential
+// equation is σ_τ = 0 whatever u_τ, and its slip±/stick carries no information.
+bool frictionless_at(const Model& md, double u_nu, double delta) {
+  if (!md.friction) return true;
+  return md.friction->F(u_nu) == 0 && md.friction->F(u_nu - delta) == 0 && md.friction->F(u_nu + delta) == 0;
+}
+
+bool roller_fixed(const Model& md, Index k, int c) {
+  return !md.contact.fixed_local.empty() && (md.contact.fixed_local[static_cast<size_t>(k)] & (1u << c));
+}
+
+// BoomerAMG for elasticity in 3D: HMIS coarsening, ext+i interpolation truncated to 4 entries, one
+// level of aggressive coarsening and strong threshold 0.5 (hypre's recommendation for 3D; the
+// defaults, tuned for 2D scalar problems, gave a grid complexity ~2 and 5x the time of a TAO solve
+// here). Set as option defaults under the PC's final prefix, after the KSP read its options, then
+// read again: the user's own -..._pc_hypre_boomeramg_* options (solver.petsc.options,
+// PETSC_OPTIONS) still win.
+void hypre_defaults(KSP ksp) {
+  PC pc;
+  HC_PETSC(KSPGetPC(ksp, &pc));
+  PetscBool is_hypre = PETSC_FALSE;
+  HC_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCHYPRE, &is_hypre));
+  if (!is_hypre) return;
+  const char* prefix = nullptr;
+  HC_PETSC(PCGetOptionsPrefix(pc, &prefix));
+  const std::string pre = std::string("-") + (prefix ? prefix : "") + "pc_hypre_boomeramg_";
+  for (const auto& [name, value] : {std::pair<const char*, const char*>{"coarsen_type", "HMIS"},
+                                    {"interp_type", "ext+i"},
+                                    {"P_max", "4"},
+                                    {"agg_nl", "1"},
+                                    {"strong_threshold", "0.5"}}) {
+    PetscBool set = PETSC_FALSE;
+    HC_PETSC(PetscOptionsHasName(nullptr, nullptr, (pre + name).c_str(), &set));
+    if (!set) HC_PETSC(PetscOptionsSetValue(nullptr, (pre + name).c_str(), value));
+  }
+  HC_PETSC(PCSetFromOptions(pc));
+}
+
+long peak_rss_kb() {
+  struct rusage ru {};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_maxrss;  // Linux: kilobytes
+}
+
+}  // namespace
+
+std::string tao_type(const std::string& backend) {
+  if (backend == "ipopt") return "bnls";  // the scene default names the cholmod engine's backend
+  for (const char* t : {"bnls", "bntr", "bntl"})
+    if (backend == std::string("tao:") + t) return t;
+  input_error("solver.backend = '" + backend +
+              "': the petsc engine runs TAO's bounded Newton methods: tao:bnls, tao:bntr or tao:bntl "
+              "(other backends: solver.engine = cholmod)");
+}
+
+namespace {
+
+// The distributed problem: K, f and the bounds in PETSc, the Γ3 nodes this rank owns, the smoothing
+// and frozen friction bounds, and the counters for the report.
+class Engine {
+ public:
+  Engine(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep);
+  ~Engine() {
+    if (rigid) MatNullSpaceDestroy(&rigid);
+  }
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+  Solution run();
+
+ private:
+  // ---- set-up
+  void distribute();
+  void assemble();
+  void near_null_space();
+  void elastic_solve();
+  // ---- the smoothed energy in scaled unknowns (callbacks of TAO)
+  double energy(::Vec zs, ::Vec g);  // value, and the gradient into g (scaled)
+  void hessian(::Vec zs, ::Mat H);   // K + nodal blocks, scaled; normal term clamped ≥ 0
+  static PetscErrorCode tao_objgrad(Tao, ::Vec x, PetscReal* f, ::Vec g, void* ctx);
+  static PetscErrorCode tao_hessian(Tao, ::Vec x, ::Mat H, ::Mat Hpre, void* ctx);
+  // ---- the algorithm
+  OuterIteration minimize(size_t stage);
+  void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta);
+  bool run_stage(size_t stage);
+  bool settled() const;
+  PolishResult polish(Eigen::VectorXd& x, const SolveOptions& read_opt, const Solution& s0);
+  PolishResult polish_with_readings(Eigen::VectorXd& x, size_t stage);
+  void finish(Solution& sol, Eigen::VectorXd x, clk::time_point t0);
+  // ---- helpers
+  Eigen::VectorXd gather(::Vec v) const;  // the whole vector on every rank
+  Eigen::VectorXd local_gamma3(::Vec zs) const;
+  double first_order_residual(::Vec zs, ::Vec g) const;
+  void scaled_bound(::Vec b, ::Vec out) const;  // b / U_s, ±PETSC_INFINITY kept (no overflow)
+  void ksp_check(KSP ksp, const std::string& what) const;
+  void set_pc(KSP ksp, const std::string& type) const;
+  Solution evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const;
+
+  Model& md;  // not changed
+  SolveOptions opt;
+  MPI_Comm comm;
+  EngineReport& rep;
+  int rank = 0, size = 1, d = 2, bs = 1;
+  PetscInt n = 0, lo = 0, hi = 0;  // global size, owned rows [lo, hi)
+  std::vector<Index> my_nodes;     // Γ3 nodes whose rows this rank owns
+  PMat K;
+  PVec f, lower, upper, zs, zfree, work, grad;
+  MatNullSpace rigid = nullptr;
+  double U_s = 1, F_s = 1;
+  std::vector<std::pair<double, double>> schedule;
+  double eps_tau = 0, eps_nu = 0;                // absolute widths of the current stage
+  std::unique_ptr<MollifiedLaw> law;             // the mollified p_ν of the current stage
+  std::vector<double> lambda;                    // frozen F_b per owned Γ3 node (my_nodes order)
+  Eigen::VectorXd prev_c;                        // owned Γ3 unknowns after the previous minimization
+  bool lagged = false;
+  Solution sol;  // the answer being built (history, verdicts)
+  int k_total = 0;
+  long newton_total = 0, krylov_total = 0, polish_krylov = 0, polish_newton = 0;
+  nlohmann::json stages = nlohmann::json::array();
+  std::map<std::string, double> timings;
+};
+
+Engine::Engine(Model& m, const SolveOptions& o, MPI_Comm c, EngineReport& r) : md(m), opt(o), comm(c), rep(r) {
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  d = md.dim();
+  if (!md.material->is_linear())
+    input_error("solver.engine = petsc: linear materials only (" + md.material->describe() +
+                "); a nonlinear material needs solver.engine = cholmod");
+  (void)tao_type(opt.backend);  // refuse a non-TAO backend before any work
+  // A rank without a cell of its own has no rows to assemble: refused, naming both counts.
+  if (size > md.mesh.num_cells())
+    input_error("solver.engine = petsc: " + std::to_string(size) + " MPI ranks for a mesh of " +
+                std::to_string(md.mesh.num_cells()) + " cells; use at most as many ranks as cells (mpirun -np)");
+  lagged = md.friction && md.friction->depends_on_u_nu();
+}
+
+// Row blocks: one node's d unknowns per block when every free node has all d components (no roller),
+// so that GAMG aggregates nodes and a Γ3 node's (ν, τ) rows never straddle two ranks; otherwise
+// blocks of 1 with the split moved to node boundaries all the same.
+void Engine::distribute() {
+  n = static_cast<PetscInt>(md.dofs.n_free());
+  bool rollers = false;
+  for (Index v = 0; v < md.mesh.num_nodes(); ++v) rollers = rollers || md.mesh.held(v) != 0;
+  bs = (!rollers && md.dofs.n_interior() % d == 0) ? d : 1;
+  // Node boundaries in x: the interior nodes' components come node-major, then d per Γ3 node.
+  std::vector<PetscInt> starts;  // first x index of each node's block, in x order
+  if (bs == d) {
+    for (PetscInt i = 0; i < n; i += d) starts.push_back(i);
+  } else {
+    const SpMat& T = md.dofs.T();  // n_full × n_free; column j's row gives its node
+    Index last_node = -1;
+    for (Index j = 0; j < md.dofs.n_interior(); ++j) {
+      const Index node = SpMat::InnerIterator(T, j).row() / d;
+      if (node != last_node) starts.push_back(static_cast<PetscInt>(j)), last_node = node;
+    }
+    for (Index k = 0; k < md.contact.size(); ++k) starts.push_back(static_cast<PetscInt>(md.dofs.contact_dof(k, 0)));
+  }
+  const auto blocks = static_cast<PetscInt>(starts.size());
+  if (size > blocks)
+    input_error("solver.engine = petsc: " + std::to_string(size) + " MPI ranks for " + std::to_string(blocks) +
+                " free nodes; use at most as many ranks as free nodes (mpirun -np)");
+  const auto at = [&](PetscInt b) { return b >= blocks ? n : starts[static_cast<size_t>(b)]; };
+  lo = at(blocks * rank / size);
+  hi = at(blocks * (rank + 1) / size);
+  for (Index k = 0; k < md.contact.size(); ++k) {
+    const auto first = static_cast<PetscInt>(md.dofs.contact_dof(k, 0));
+    if (first >= lo && first < hi) my_nodes.push_back(k);
+  }
+  lambda.assign(my_nodes.size(), 0.0);
+}
+
+// Each rank copies its rows of the reduced stiffness Kx (symmetric, so row i is column i of the
+// column-major matrix) with exact preallocation, and its part of f and of the bounds.
+void Engine::assemble() {
+  const auto t0 = clk::now();
+  const SpMat& Kx = md.Kx;
+  const PetscInt nloc = hi - lo;
+  std::vector<PetscInt> dnz(static_cast<size_t>(nloc), 0), onz(static_cast<size_t>(nloc), 0);
+  for (PetscInt i = lo; i < hi; ++i)
+    for (SpMat::InnerIterator it(Kx, i); it; ++it)
+      (it.row() >= lo && it.row() < hi ? dnz : onz)[static_cast<size_t>(i - lo)]++;
+  HC_PETSC(MatCreate(comm, &K.m));
+  HC_PETSC(MatSetSizes(K.m, nloc, nloc, n, n));
+  HC_PETSC(MatSetType(K.m, MATAIJ));
+  HC_PETSC(MatSetBlockSize(K.m, bs));
+  HC_PETSC(MatSeqAIJSetPreallocation(K.m, 0, dnz.data()));
+  HC_PETSC(MatMPIAIJSetPreallocation(K.m, 0, dnz.data(), 0, onz.data()));
+  std::vector<PetscInt> cols;
+  std::vector<PetscScalar> vals;
+  for (PetscInt i = lo; i < hi; ++i) {
+    cols.clear();
+    vals.clear();
+    for (SpMat::InnerIterator it(Kx, i); it; ++it) {
+      cols.push_back(static_cast<PetscInt>(it.row()));
+      vals.push_back(it.value());
+    }
+    HC_PETSC(MatSetValues(K.m, 1, &i, static_cast<PetscInt>(cols.size()), cols.data(), vals.data(), INSERT_VALUES));
+  }
+  HC_PETSC(MatAssemblyBegin(K.m, MAT_FINAL_ASSEMBLY));
+  HC_PETSC(MatAssemblyEnd(K.m, MAT_FINAL_ASSEMBLY));
+  HC_PETSC(MatSetOption(K.m, MAT_SYMMETRIC, PETSC_TRUE));
+  // The model keeps K_x: it is its only stiffness (issue 14), which the certificate's internal
+  // force and a(u, u) read (evaluate_solution).
+
+  for (PVec* v : {&f, &lower, &upper, &zs, &zfree, &work, &grad}) HC_PETSC(MatCreateVecs(K.m, &v->v, nullptr));
+  PetscScalar *pf, *pl, *pu;
+  HC_PETSC(VecGetArray(f.v, &pf));
+  HC_PETSC(VecGetArray(lower.v, &pl));
+  HC_PETSC(VecGetArray(upper.v, &pu));
+  for (PetscInt i = lo; i < hi; ++i) {
+    pf[i - lo] = md.fx[i];
+    pl[i - lo] = PETSC_NINFINITY;
+    pu[i - lo] = PETSC_INFINITY;
+  }
+  for (Index k : my_nodes) {
+    const Index i = md.dofs.contact_dof(k, 0) - lo;
+    if (std::isfinite(md.contact.g[k])) pu[i] = md.contact.g[k];
+    // A roller on a Γ3 node: 0 ≤ x_τ ≤ 0 keeps d unknowns per node (driver/solve.cpp does the same).
+    for (int c = 1; c < d; ++c)
+      if (roller_fixed(md, k, c)) pl[i + c] = pu[i + c] = 0;
+  }
+  HC_PETSC(VecRestoreArray(f.v, &pf));
+  HC_PETSC(VecRestoreArray(lower.v, &pl));
+  HC_PETSC(VecRestoreArray(upper.v, &pu));
+  timings["petsc_assembly"] = since(t0);
+}
+
+// The rigid-body modes of the body (2D: 2 translations, 1 rotation; 3D: 3 + 3) in the reduced
+// unknowns, x = Tᵀ r (DofMap: Γ3 nodes in their local frames), orthonormalized: GAMG's near-null
+// space, without which smoothed aggregation of elasticity loses its h-independence.
+void Engine::near_null_space() {
+  const Index N = md.mesh.num_nodes();
+  const int nm = d == 2 ? 3 : 6;
+  std::vector<::Vec> modes(static_cast<size_t>(nm), nullptr);
+  for (int m = 0; m < nm; ++m) {
+    Eigen::VectorXd r = Eigen::VectorXd::Zero(N * d);
+    for (Index v = 0; v < N; ++v) {
+      const auto x = md.mesh.points.row(v);
+      if (m < d) {
+        r[d * v + m] = 1;
+      } else if (d == 2) {
+        r[2 * v] = -x[1], r[2 * v + 1] = x[0];
+      } else {  // rotation about axis a: e_a × x
+        const int a = m - 3, b = (a + 1) % 3, c = (a + 2) % 3;
+        r[3 * v + b] = -x[c], r[3 * v + c] = x[b];
+      }
+    }
+    const Eigen::VectorXd rx = md.dofs.to_reduced(r);
+    HC_PETSC(MatCreateVecs(K.m, &modes[static_cast<size_t>(m)], nullptr));
+    PetscScalar* p;
+    HC_PETSC(VecGetArray(modes[static_cast<size_t>(m)], &p));
+    for (PetscInt i = lo; i < hi; ++i) p[i - lo] = rx[i];
+    HC_PETSC(VecRestoreArray(modes[static_cast<size_t>(m)], &p));
+  }
+  // Modified Gram-Schmidt (MatNullSpaceCreate wants orthonormal vectors).
+  for (int m = 0; m < nm; ++m) {
+    for (int q = 0; q < m; ++q) {
+      PetscScalar dot;
+      HC_PETSC(VecDot(modes[static_cast<size_t>(m)], modes[static_cast<size_t>(q)], &dot));
+      HC_PETSC(VecAXPY(modes[static_cast<size_t>(m)], -dot, modes[static_cast<size_t>(q)]));
+    }
+    PetscReal nrm;
+    HC_PETSC(VecNormalize(modes[static_cast<size_t>(m)], &nrm));
+  }
+  HC_PETSC(MatNullSpaceCreate(comm, PETSC_FALSE, nm, modes.data(), &rigid));
+  HC_PETSC(MatSetNearNullSpace(K.m, rigid));
+  for (auto& v : modes) VecDestroy(&v);
+}
+
+void Engine::set_pc(KSP ksp, const std::string& type) const {
+  PC pc;
+  HC_PETSC(KSPGetPC(ksp, &pc));
+  if (type == "hypre") {
+    HC_PETSC(PCSetType(pc, PCHYPRE));
+    HC_PETSC(PCHYPRESetType(pc, "boomeramg"));
+  } else {
+    HC_PETSC(PCSetType(pc, PCGAMG));
+  }
+}
+
+// A Krylov solve that did not converge stops the run with PETSc's reason (EXIT_NOT_CONVERGED):
+// every rank sees the same reason, so every rank throws the same error.
+void Engine::ksp_check(KSP ksp, const std::string& what) const {
+  KSPConvergedReason reason;
+  PetscInt its;
+  HC_PETSC(KSPGetConvergedReason(ksp, &reason));
+  HC_PETSC(KSPGetIterationNumber(ksp, &its));
+  if (reason < 0)
+    throw Error(what + ": CG did not converge: " + KSPConvergedReasons[reason] + " after " + std::to_string(its) +
+                    " iterations (solver.petsc.ksp_max_it = " + std::to_string(opt.petsc.ksp_max_it) +
+                    ", ksp_rtol = " + short_number(opt.petsc.ksp_rtol) + ", pc = " + opt.petsc.pc + ")",
+                EXIT_NOT_CONVERGED);
+}
+
+// K z = f with CG + the full-size preconditioner: the unconstrained elastic solution sets U_s.
+void Engine::elastic_solve() {
+  const auto t0 = clk::now();
+  PKsp ksp;
+  HC_PETSC(KSPCreate(comm, &ksp.k));
+  HC_PETSC(KSPSetOperators(ksp.k, K.m, K.m));
+  HC_PETSC(KSPSetType(ksp.k, KSPCG));
+  HC_PETSC(KSPSetOptionsPrefix(ksp.k, "elastic_"));
+  set_pc(ksp.k, opt.petsc.pc);
+  HC_PETSC(KSPSetTolerances(ksp.k, opt.petsc.ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, opt.petsc.ksp_max_it));
+  HC_PETSC(KSPSetFromOptions(ksp.k));
+  hypre_defaults(ksp.k);
+  HC_PETSC(KSPSolve(ksp.k, f.v, zfree.v));
+  ksp_check(ksp.k, "elastic solve K z = f");
+  PetscInt its;
+  HC_PETSC(KSPGetIterationNumber(ksp.k, &its));
+  rep.json["elastic_krylov_iterations"] = its;
+  PetscReal zmax, fmax;
+  HC_PETSC(VecNorm(zfree.v, NORM_INFINITY, &zmax));
+  HC_PETSC(VecNorm(f.v, NORM_INFINITY, &fmax));
+  U_s = zmax > 0 ? zmax : 1.0;
+  F_s = fmax > 0 ? fmax : 1.0;
+  timings["linear_elastic_solve"] = since(t0);
+  log_info() << "petsc: elastic solve, CG + " << opt.petsc.pc << ": " << its << " iterations, "
+             << timings["linear_elastic_solve"] << " s";
+}
+
+// Π_λ,ε at x = U_s zs, in the cholmod engine's units: value / (F_s U_s), gradient / F_s.
+double Engine::energy(::Vec z, ::Vec g) {
+  HC_PETSC(VecCopy(z, work.v));
+  HC_PETSC(VecScale(work.v, U_s));
+  HC_PETSC(MatMult(K.m, work.v, g));  // g = K x
+  PetscScalar xKx, fx;
+  HC_PETSC(VecDot(work.v, g, &xKx));
+  HC_PETSC(VecDot(work.v, f.v, &fx));
+  HC_PETSC(VecAXPY(g, -1.0, f.v));  // g = K x − f
+  double local = 0;
+  const PetscScalar* px;
+  PetscScalar* pg;
+  HC_PETSC(VecGetArrayRead(work.v, &px));
+  HC_PETSC(VecGetArray(g, &pg));
+  for (size_t q = 0; q < my_nodes.size(); ++q) {
+    const Index k = my_nodes[q];
+    const Index i = md.dofs.contact_dof(k, 0) - lo;
+    const double w = md.contact.w[k];
+    if (law) {
+      local += w * law->j(px[i]);
+      pg[i] += w * law->p(px[i]);
+    }
+    if (md.friction && lambda[q] > 0) {
+      Eigen::Vector2d t = Eigen::Vector2d::Zero();
+      for (int c = 1; c < d; ++c) t[c - 1] = px[i + c];
+      const double y = t.norm();
+      local += w * lambda[q] * f0(y, eps_tau);
+      const double s = w * lambda[q] * f1_over_y(y, eps_tau);
+      for (int c = 1; c < d; ++c) pg[i + c] += s * t[c - 1];
+    }
+  }
+  HC_PETSC(VecRestoreArrayRead(work.v, &px));
+  HC_PETSC(VecRestoreArray(g, &pg));
+  HC_PETSC(VecScale(g, 1.0 / F_s));
+  const double value = 0.5 * xKx - fx + allreduce_sum(local, comm);
+  return value / (F_s * U_s);
+}
+
+// H = (K + Σ nodal blocks) U_s / F_s. The normal block is w max(p_ε′, 0): the softening branch
+// (c2 < 0) is clamped as the newton backend's Psd::CLAMP does, so that CG sees a positive
+// semidefinite Hessian; friction's block w λ ∇²f0 is positive semidefinite as it is (smooth_norm.hpp).
+void Engine::hessian(::Vec z, ::Mat H) {
+  HC_PETSC(MatCopy(K.m, H, SAME_NONZERO_PATTERN));
+  const PetscScalar* pz;
+  HC_PETSC(VecGetArrayRead(z, &pz));
+  for (size_t q = 0; q < my_nodes.size(); ++q) {
+    const Index k = my_nodes[q];
+    const auto i0 = static_cast<PetscInt>(md.dofs.contact_dof(k, 0));
+    const double w = md.contact.w[k];
+    double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    if (law) B[0] = w * std::max(0.0, law->dp(U_s * pz[i0 - lo]));
+    if (md.friction && lambda[q] > 0) {
+      if (d == 2) {
+        const double y = std::abs(U_s * pz[i0 - lo + 1]);
+        B[3] = w * lambda[q] * df1(y, eps_tau);
+      } else {
+        const Eigen::Vector2d t(U_s * pz[i0 - lo + 1], U_s * pz[i0 - lo + 2]);
+        const Eigen::Matrix2d Ht = w * lambda[q] * smooth_norm_hessian(t, eps_tau);
+        B[4] = Ht(0, 0), B[5] = Ht(0, 1), B[7] = Ht(1, 0), B[8] = Ht(1, 1);
+      }
+    }
+    PetscInt idx[3] = {i0, i0 + 1, i0 + 2};
+    HC_PETSC(MatSetValues(H, d, idx, d, idx, B, ADD_VALUES));
+  }
+  HC_PETSC(VecRestoreArrayRead(z, &pz));
+  HC_PETSC(MatAssemblyBegin(H, MAT_FINAL_ASSEMBLY));
+  HC_PETSC(MatAssemblyEnd(H, MAT_FINAL_ASSEMBLY));
+  HC_PETSC(MatScale(H, U_s / F_s));
+}
+
+PetscErrorCode Engine::tao_objgrad(Tao, ::Vec x, PetscReal* fval, ::Vec g, void* ctx) {
+  try {
+    *fval = static_cast<Engine*>(ctx)->energy(x, g);
+    return 0;
+  } catch (const std::exception& e) {
+    log_warn() << "petsc: objective: " << e.what();
+    return PETSC_ERR_LIB;
+  }
+}
+
+PetscErrorCode Engine::tao_hessian(Tao, ::Vec x, ::Mat H, ::Mat, void* ctx) {
+  try {
+    static_cast<Engine*>(ctx)->hessian(x, H);
+    return 0;
+  } catch (const std::exception& e) {
+    log_warn() << "petsc: Hessian: " << e.what();
+    return PETSC_ERR_LIB;
+  }
+}
+
+// The backends' first-order residual (nlp/backend.hpp), max over ranks: max_i min(|g_i|, room
+// towards the bound that −g_i points to), in scaled units.
+double Engine::first_order_residual(::Vec z, ::Vec g) const {
+  const PetscScalar *pz, *pg, *pl, *pu;
+  VecGetArrayRead(z, &pz);
+  VecGetArrayRead(g, &pg);
+  VecGetArrayRead(lower.v, &pl);
+  VecGetArrayRead(upper.v, &pu);
+  double r = 0;
+  for (PetscInt i = 0; i < hi - lo; ++i) {
+    const double room = pg[i] > 0 ? (pl[i] <= PETSC_NINFINITY ? INF : pz[i] - pl[i] / U_s)
+                                  : (pu[i] >= PETSC_INFINITY ? INF : pu[i] / U_s - pz[i]);
+    r = std::max(r, std::min(std::abs(pg[i]), room));
+  }
+  VecRestoreArrayRead(z, &pz);
+  VecRestoreArrayRead(g, &pg);
+  VecRestoreArrayRead(lower.v, &pl);
+  VecRestoreArrayRead(upper.v, &pu);
+  return allreduce_max(r, comm);
+}
+
+void Engine::scaled_bound(::Vec b, ::Vec out) const {
+  const PetscScalar* pb;
+  PetscScalar* po;
+  HC_PETSC(VecGetArrayRead(b, &pb));
+  HC_PETSC(VecGetArray(out, &po));
+  for (PetscInt i = 0; i < hi - lo; ++i)
+    po[i] = (pb[i] >= PETSC_INFINITY || pb[i] <= PETSC_NINFINITY) ? pb[i] : pb[i] / U_s;
+  HC_PETSC(VecRestoreArrayRead(b, &pb));
+  HC_PETSC(VecRestoreArray(out, &po));
+}
+
+Eigen::VectorXd Engine::gather(::Vec v) const {
+  VecScatter sc;
+  ::Vec all;
+  HC_PETSC(VecScatterCreateToAll(v, &sc, &all));
+  HC_PETSC(VecScatterBegin(sc, v, all, INSERT_VALUES, SCATTER_FORWARD));
+  HC_PETSC(VecScatterEnd(sc, v, all, INSERT_VALUES, SCATTER_FORWARD));
+  Eigen::VectorXd out(n);
+  const PetscScalar* p;
+  HC_PETSC(VecGetArrayRead(all, &p));
+  std::copy(p, p + n, out.data());
+  HC_PETSC(VecRestoreArrayRead(all, &p));
+  VecScatterDestroy(&sc);
+  VecDestroy(&all);
+  return out;
+}
+
+Eigen::VectorXd Engine::local_gamma3(::Vec z) const {
+  Eigen::VectorXd c(static_cast<Index>(my_nodes.size()) * d);
+  const PetscScalar* p;
+  VecGetArrayRead(z, &p);
+  for (size_t q = 0; q < my_nodes.size(); ++q)
+    for (int a = 0; a < d; ++a) c[static_cast<Index>(q) * d + a] = p[md.dofs.contact_dof(my_nodes[q], a) - lo];
+  VecRestoreArrayRead(z, &p);
+  return c;
+}
+
+// One TAO bounded-Newton run from the current zs (warm start), with λ and ε frozen.
+OuterIteration Engine::minimize(size_t stage) {
+  OuterIteration rec;
+  rec.k = k_total++;
+  rec.stage = static_cast<int>(stage);
+  rec.eps_tau = eps_tau;
+  rec.eps_nu = eps_nu;
+  const auto t0 = clk::now();
+  PTao tao;
+  PMat H;
+  PVec lo_s, up_s;
+  HC_PETSC(MatDuplicate(K.m, MAT_DO_NOT_COPY_VALUES, &H.m));
+  HC_PETSC(VecDuplicate(lower.v, &lo_s.v));
+  HC_PETSC(VecDuplicate(upper.v, &up_s.v));
+  scaled_bound(lower.v, lo_s.v);
+  scaled_bound(upper.v, up_s.v);
+  HC_PETSC(TaoCreate(comm, &tao.t));
+  HC_PETSC(TaoSetType(tao.t, tao_type(opt.backend).c_str()));
+  HC_PETSC(TaoSetSolution(tao.t, zs.v));
+  HC_PETSC(TaoSetObjectiveAndGradient(tao.t, grad.v, &Engine::tao_objgrad, this));
+  HC_PETSC(TaoSetHessian(tao.t, H.m, H.m, &Engine::tao_hessian, this));
+  HC_PETSC(TaoSetVariableBounds(tao.t, lo_s.v, up_s.v));
+  // Converged when the projected gradient (scaled units, as every backend's solver.tol) is ≤ tol.
+  HC_PETSC(TaoSetTolerances(tao.t, opt.backend_options.tol, 0.0, 0.0));
+  HC_PETSC(TaoSetMaximumIterations(tao.t, opt.backend_options.max_iter));
+  HC_PETSC(TaoSetMaximumFunctionEvaluations(tao.t, 100 * opt.backend_options.max_iter));
+  KSP ksp;
+  HC_PETSC(TaoGetKSP(tao.t, &ksp));
+  if (ksp) {
+    set_pc(ksp, opt.petsc.newton_pc);
+    HC_PETSC(KSPSetTolerances(ksp, opt.petsc.ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, opt.petsc.ksp_max_it));
+  }
+  HC_PETSC(TaoSetFromOptions(tao.t));
+  HC_PETSC(TaoGetKSP(tao.t, &ksp));
+  if (ksp) hypre_defaults(ksp);
+  HC_PETSC(TaoSolve(tao.t));
+  TaoConvergedReason reason;
+  PetscInt its, lits, nfev;
+  HC_PETSC(TaoGetConvergedReason(tao.t, &reason));
+  HC_PETSC(TaoGetIterationNumber(tao.t, &its));
+  HC_PETSC(TaoGetLinearSolveIterations(tao.t, &lits));
+  HC_PETSC(TaoGetCurrentFunctionEvaluations(tao.t, &nfev));
+  newton_total += its;
+  krylov_total += lits;
+  // The same first-order residual every backend reports, at the returned point.
+  const double fval = energy(zs.v, grad.v);
+  const double kkt = first_order_residual(zs.v, grad.v);
+  rec.backend.iterations = static_cast<int>(its);
+  rec.backend.evaluations = static_cast<int>(nfev);
+  rec.backend.f = fval;
+  rec.backend.kkt_norm = kkt;
+  rec.backend.seconds = since(t0);
+  rec.backend.message = std::string("TAO ") + TaoConvergedReasons[reason] + ", " + std::to_string(lits) +
+                        " Krylov iterations";
+  if (reason > 0)
+    rec.backend.status = SolveStatus::CONVERGED;
+  else if (reason == TAO_DIVERGED_MAXITS)
+    rec.backend.status = SolveStatus::MAX_ITERATIONS;
+  else if (kkt <= opt.petsc.acceptable_tol)
+    rec.backend.status = SolveStatus::ACCEPTABLE;  // a line search stopped at round-off
+  else
+    rec.backend.status = SolveStatus::FAILED;
+  stages.push_back({{"k", rec.k}, {"stage", rec.stage}, {"newton", its}, {"krylov", lits},
+                    {"krylov_per_newton", its > 0 ? double(lits) / double(its) : 0.0}, {"tao_reason", TaoConvergedReasons[reason]},
+                    {"seconds", rec.backend.seconds}});
+  const Eigen::VectorXd c = local_gamma3(zs.v);
+  double dmax = 0, smax = 0;
+  if (c.size()) {
+    dmax = (c - prev_c).cwiseAbs().maxCoeff();
+    smax = std::max(c.cwiseAbs().maxCoeff(), prev_c.cwiseAbs().maxCoeff());
+  }
+  dmax = allreduce_max(dmax, comm);
+  smax = allreduce_max(smax, comm);
+  rec.change_u = smax > 0 ? dmax / smax : 0.0;
+  prev_c = c;
+  rec.grad_norm = kkt;
+  return rec;
+}
+
+// λ ← (1−θ)λ + θ F_b(u_ν) on the owned Γ3 nodes (driver/solve.cpp's relax_lambda).
+void Engine::relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) {
+  const PetscScalar* p;
+  VecGetArrayRead(zs.v, &p);
+  double dmax = 0, lmax = 0;
+  for (size_t q = 0; q < my_nodes.size(); ++q) {
+    const double fb = md.friction->F(U_s * p[md.dofs.contact_dof(my_nodes[q], 0) - lo]);
+    const double l = (1 - opt.relaxation) * lambda[q] + opt.relaxation * fb;
+    dmax = std::max(dmax, std::abs(l - lambda[q]));
+    lmax = std::max({lmax, std::abs(l), std::abs(lambda[q])});
+    lambda[q] = l;
+  }
+  VecRestoreArrayRead(zs.v, &p);
+  dmax = allreduce_max(dmax, comm);
+  lmax = allreduce_max(lmax, comm);
+  rec.change_lambda = lmax > 0 ? dmax / lmax : 0.0;
+  rec.delta_lambda = dmax;
+  const double noise = opt.contraction_floor * lmax;
+  if (measure_contraction && prev_delta > noise && dmax > noise) rec.contraction = dmax / prev_delta;
+  prev_delta = dmax;
+}
+
+// One continuation stage, as driver/solve.cpp's run_stage: one lagged update on a coarse stage,
+// the fixed point λ = F_b(u_ν) at the final one. @return false when TAO failed.
+bool Engine::run_stage(size_t stage) {
+  eps_tau = schedule[stage].first * U_s;
+  eps_nu = schedule[stage].second * U_s;
+  if (md.normal_law) law = std::make_unique<MollifiedLaw>(md.normal_law, eps_nu, "solver.eps_nu");
+  const bool final_stage = stage + 1 == schedule.size();
+  double prev_change = INF, prev_delta = INF;
+  int slow = 0;
+  for (int it = 0;; ++it) {
+    OuterIteration rec = minimize(stage);
+    if (lagged) relax_lambda(rec, final_stage && it > 0, prev_delta);
+    sol.history.push_back(rec);
+    log_info() << "outer " << rec.k << " (stage " << stage << ", eps " << short_number(schedule[stage].first)
+               << "): " << tao_type(opt.backend) << " " << to_string(rec.backend.status) << " in "
+               << rec.backend.iterations << " Newton it (" << rec.backend.message << "), "
+               << short_number(rec.backend.seconds) << " s; |dx_G3|/|x_G3| = " << short_number(rec.change_u)
+               << ", |dlambda|/|lambda| = " << short_number(rec.change_lambda) << ", first-order residual "
+               << short_number(rec.grad_norm);
+    if (!rec.backend.ok()) {
+      sol.backend_ok = false;
+      sol.message = "backend tao:" + tao_type(opt.backend) + " failed at outer iteration " + std::to_string(rec.k) +
+                    ": " + to_string(rec.backend.status) + " (" + rec.backend.message + ")";
+      return false;
+    }
+    if (!lagged || !final_stage) return true;
+    const double change = std::max(rec.change_u, rec.change_lambda);
+    if (it > 0 && change <= opt.tol_u) return true;
+    if (it + 1 >= opt.max_outer) {
+      sol.fixed_point_converged = false;
+      sol.message = "fixed point lambda = F_b(u_nu) did not converge in " + std::to_string(opt.max_outer) +
+                    " outer iterations (last change " + short_number(change) +
+                    "); raise solver.fixed_point.max_iters or lower solver.fixed_point.relaxation";
+      return true;
+    }
+    slow = (change > opt.stall_ratio * prev_change) ? slow + 1 : 0;
+    prev_change = change;
+    if (slow >= opt.stall_iters) {
+      sol.fixed_point_converged = false;
+      sol.message = "fixed point lambda = F_b(u_nu) does not contract: the change (" + short_number(change) +
+                    ") has not decreased for " + std::to_string(opt.stall_iters) +
+                    " outer iterations; try a smaller solver.fixed_point.relaxation";
+      return true;
+    }
+  }
+}
+
+bool Engine::settled() const {
+  if (!(opt.certify_below > 0) || !opt.polish || !sol.fixed_point_converged || !sol.backend_ok || sol.history.empty())
+    return false;
+  const OuterIteration& last = sol.history.back();
+  return last.change_u <= opt.certify_below && (!lagged || last.change_lambda <= opt.certify_below);
+}
+
+Solution Engine::evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const {
+  Solution s;
+  s.x = x;
+  s.u = md.dofs.to_full(x);
+  evaluate_solution(md, o, s);
+  return s;
+}
+
+// The exact polish in the full space (driver/polish.hpp's status system, without condensation):
+// with the statuses of @p s0 fixed, Newton's method on
+//   interior rows:     (K x − f)_i = 0
+//   contact:           x_ν = g                              (eq. (5): the rigid part takes the rest)
+//   compliance/sep.:   (K x − f)_ν + w p(x_ν) = 0           (p affine on the node's branch, eq. (32))
+//   stick:             x_τ = 0;   frictionless:  (K x − f)_τ = 0
+//   slip:              (K x − f)_τ + w λ t = 0,  t = x_τ/|x_τ|,  λ = F_b(x_ν)   (eq. (6))
+// λ is evaluated at the current iterate and held in the Jacobian (K + w p′ + w λ (I − t tᵀ)/|x_τ|,
+// symmetric, so CG + GAMG apply); the iteration then converges linearly in λ with the fixed point's
+// contraction, and stops when the step reaches round-off (1e-14 relative) or stops decreasing.
+// Fixed unknowns (contact ν, stick τ, rollers) are eliminated with MatZeroRowsColumns.
+PolishResult Engine::polish(Eigen::VectorXd& x_io, const SolveOptions& read_opt, const Solution& s0_user) {
+  PolishResult r;
+  r.attempted = true;
+  r.before = s0_user.certificate.max_residual;
+  const Solution s0 = read_opt.status_tol == opt.status_tol ? s0_user : evaluate(x_io, read_opt);
+  const double delta = 1e-7 * s0.certificate.length_scale;
+  PVec x, R, dx;
+  PMat J;
+  PKsp ksp;
+  HC_PETSC(VecDuplicate(f.v, &x.v));
+  HC_PETSC(VecDuplicate(f.v, &R.v));
+  HC_PETSC(VecDuplicate(f.v, &dx.v));
+  HC_PETSC(MatDuplicate(K.m, MAT_DO_NOT_COPY_VALUES, &J.m));
+  HC_PETSC(MatSetNearNullSpace(J.m, rigid));
+  HC_PETSC(KSPCreate(comm, &ksp.k));
+  HC_PETSC(KSPSetType(ksp.k, KSPCG));
+  HC_PETSC(KSPSetOptionsPrefix(ksp.k, "polish_"));
+  set_pc(ksp.k, opt.petsc.pc);
+  HC_PETSC(KSPSetTolerances(ksp.k, opt.petsc.ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, opt.petsc.ksp_max_it));
+  HC_PETSC(KSPSetFromOptions(ksp.k));
+  hypre_defaults(ksp.k);
+  // The start: the smoothed answer with the fixed unknowns set to their values.
+  std::vector<PetscInt> fixed;
+  {
+    PetscScalar* px;
+    HC_PETSC(VecGetArray(x.v, &px));
+    for (PetscInt i = lo; i < hi; ++i) px[i - lo] = x_io[i];
+    for (Index k : my_nodes) {
+      const auto iv = static_cast<PetscInt>(md.dofs.contact_dof(k, 0));
+      const NodeStatus st = s0.status[k];
+      if (st.normal == NormalStatus::CONTACT) px[iv - lo] = md.contact.g[k], fixed.push_back(iv);
+      const bool frictionless = frictionless_at(md, s0.state.u_nu[k], delta);
+      for (int c = 1; c < d; ++c)
+        if (roller_fixed(md, k, c) || (!frictionless && st.tangential == TangentialStatus::STICK))
+          px[iv + c - lo] = 0, fixed.push_back(iv + c);
+    }
+    HC_PETSC(VecRestoreArray(x.v, &px));
+  }
+  bool bad = false;
+  double prev = INF;
+  std::string note;
+  for (r.iterations = 1; r.iterations <= opt.petsc.polish_max_iters; ++r.iterations) {
+    HC_PETSC(MatMult(K.m, x.v, R.v));
+    HC_PETSC(VecAXPY(R.v, -1.0, f.v));
+    HC_PETSC(MatCopy(K.m, J.m, SAME_NONZERO_PATTERN));
+    const PetscScalar* px;
+    PetscScalar* pr;
+    HC_PETSC(VecGetArrayRead(x.v, &px));
+    HC_PETSC(VecGetArray(R.v, &pr));
+    int local_bad = 0;
+    for (Index k : my_nodes) {
+      const auto iv = static_cast<PetscInt>(md.dofs.contact_dof(k, 0));
+      const double w = md.contact.w[k], xn = px[iv - lo];
+      const NodeStatus st = s0.status[k];
+      double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+      if (st.normal != NormalStatus::CONTACT && md.normal_law) {
+        pr[iv - lo] += w * md.normal_law->p(xn);
+        B[0] = w * md.normal_law->dp(xn);
+      }
+      const bool frictionless = frictionless_at(md, s0.state.u_nu[k], delta);
+      if (!frictionless && st.tangential != TangentialStatus::STICK) {
+        Eigen::Vector2d t = Eigen::Vector2d::Zero();
+        for (int c = 1; c < d; ++c) t[c - 1] = px[iv + c - lo];
+        const double y = t.norm();
+        if (!(y > 0)) {
+          local_bad = 1;  // a slipping node reached u_τ = 0: its status is wrong
+          continue;
+        }
+        t /= y;
+        const double lam = md.friction->F(xn);
+        for (int c = 1; c < d; ++c) pr[iv + c - lo] += w * lam * t[c - 1];
+        if (d == 3) {
+          const Eigen::Matrix2d Jt = w * lam / y * (Eigen::Matrix2d::Identity() - t * t.transpose());
+          B[4] = Jt(0, 0), B[5] = Jt(0, 1), B[7] = Jt(1, 0), B[8] = Jt(1, 1);
+        }
+      }
+      PetscInt idx[3] = {iv, iv + 1, iv + 2};
+      HC_PETSC(MatSetValues(J.m, d, idx, d, idx, B, ADD_VALUES));
+    }
+    for (PetscInt i : fixed) pr[i - lo] = 0;  // fixed unknowns keep their value: δ = 0 there
+    HC_PETSC(VecRestoreArrayRead(x.v, &px));
+    HC_PETSC(VecRestoreArray(R.v, &pr));
+    HC_PETSC(MatAssemblyBegin(J.m, MAT_FINAL_ASSEMBLY));
+    HC_PETSC(MatAssemblyEnd(J.m, MAT_FINAL_ASSEMBLY));
+    if (allreduce_max(local_bad, comm) > 0) {
+      bad = true;
+      note = "a slipping node reached u_tau = 0";
+      break;
+    }
+    HC_PETSC(MatZeroRowsColumns(J.m, static_cast<PetscInt>(fixed.size()), fixed.data(), 1.0, nullptr, nullptr));
+    HC_PETSC(VecScale(R.v, -1.0));
+    HC_PETSC(KSPSetOperators(ksp.k, J.m, J.m));
+    HC_PETSC(KSPSolve(ksp.k, R.v, dx.v));
+    KSPConvergedReason reason;
+    PetscInt its;
+    HC_PETSC(KSPGetConvergedReason(ksp.k, &reason));
+    HC_PETSC(KSPGetIterationNumber(ksp.k, &its));
+    polish_krylov += its;
+    ++polish_newton;
+    if (reason < 0) {
+      bad = true;
+      note = std::string("CG on the status system: ") + KSPConvergedReasons[reason];
+      break;
+    }
+    HC_PETSC(VecAXPY(x.v, 1.0, dx.v));
+    PetscReal change, scale;
+    HC_PETSC(VecNorm(dx.v, NORM_INFINITY, &change));
+    HC_PETSC(VecNorm(x.v, NORM_INFINITY, &scale));
+    if (!(change > 1e-14 * scale) || (r.iterations > 2 && change >= prev)) break;
+    prev = change;
+  }
+  if (bad) {
+    r.note = note;
+    return r;
+  }
+  // Keep the candidate only if the statuses stay and the certificate does not get worse
+  // (driver/polish.cpp's accept_if_better, the same rule).
+  const Eigen::VectorXd xc = gather(x.v);
+  if (!xc.allFinite()) {
+    r.note = "singular status system";
+    return r;
+  }
+  const Solution s1 = evaluate(xc, opt);
+  r.after = s1.certificate.max_residual;
+  for (Index k = 0; k < md.contact.size(); ++k)
+    if (s1.status[k].normal != s0.status[k].normal ||
+        (s1.status[k].tangential != s0.status[k].tangential && !frictionless_at(md, s0.state.u_nu[k], delta))) {
+      r.note = "statuses changed at node " + std::to_string(k) + " (" + s0.status[k].str() + " -> " +
+               s1.status[k].str() + ")";
+      return r;
+    }
+  if (!(r.after <= std::max(r.before, 1e-12))) {
+    r.note = "the certificate did not improve";
+    return r;
+  }
+  r.accepted = true;
+  x_io = xc;
+  return r;
+}
+
+// The statuses read at check.status_tol and, when the stage's ε is larger, at 10 ε (a sticking
+// node shows |u_τ| ~ ε U): driver/polish.cpp's first two readings.
+PolishResult Engine::polish_with_readings(Eigen::VectorXd& x, size_t stage) {
+  const auto t0 = clk::now();
+  const Solution s0 = evaluate(x, opt);
+  PolishResult r = polish(x, opt, s0);
+  const double coarse = 10 * std::max(schedule[stage].first, schedule[stage].second);
+  if (!r.accepted && coarse > opt.status_tol) {
+    SolveOptions o = opt;
+    o.status_tol = coarse;
+    PolishResult r2 = polish(x, o, s0);
+    r2.iterations += r.iterations;
+    if (r2.accepted) r2.note = "statuses read at 10 eps";
+    else r2.note = r.note + "; at 10 eps: " + r2.note;
+    r = r2;
+  }
+  timings["polish"] += since(t0);
+  return r;
+}
+
+void Engine::finish(Solution& s, Eigen::VectorXd x, clk::time_point t0) {
+  const auto t1 = clk::now();
+  s.x = std::move(x);
+  s.u = md.dofs.to_full(s.x);
+  evaluate_solution(md, opt, s);
+  timings["certificate"] = since(t1);
+  double nlp = 0;
+  for (const auto& h : s.history) nlp += h.backend.seconds;
+  timings["backend"] = nlp;
+  timings["solve_total"] = since(t0);
+  for (const auto& [key, v] : timings) s.timings[key] = v;
+  if (!s.backend_ok && s.certificate.passed)
+    s.message += "; the certificate passed all the same (max residual " + short_number(s.certificate.max_residual) +
+                 "), so the answer is accepted";
+  if (s.message.empty())
+    s.message = s.certificate.passed ? "converged; certificate passed"
+                                     : "converged, but the certificate failed (max residual " +
+                                           short_number(s.certificate.max_residual) + ")";
+  // The report's record of the engine.
+  const long rss = peak_rss_kb();
+  long rss_sum = 0, rss_max = 0;
+  MPI_Allreduce(&rss, &rss_sum, 1, MPI_LONG, MPI_SUM, comm);
+  MPI_Allreduce(&rss, &rss_max, 1, MPI_LONG, MPI_MAX, comm);
+  rep.json["ranks"] = size;
+  rep.json["block_size"] = bs;
+  rep.json["unknowns"] = n;
+  rep.json["tao"] = "tao:" + tao_type(opt.backend);
+  rep.json["newton_pc"] = opt.petsc.newton_pc;
+  rep.json["pc"] = opt.petsc.pc;
+  rep.json["newton_iterations"] = newton_total;
+  rep.json["krylov_iterations"] = krylov_total;
+  rep.json["krylov_per_newton"] = newton_total > 0 ? double(krylov_total) / double(newton_total) : 0.0;
+  rep.json["polish_newton_iterations"] = polish_newton;
+  rep.json["polish_krylov_iterations"] = polish_krylov;
+  rep.json["minimizations"] = stages;
+  rep.json["peak_rss_mb_sum"] = double(rss_sum) / 1024.0;
+  rep.json["peak_rss_mb_max"] = double(rss_max) / 1024.0;
+  rep.json["bytes_per_dof"] = n > 0 ? double(rss_sum) * 1024.0 / double(n) : 0.0;
+}
+
+Solution Engine::run() {
+  const auto t0 = clk::now();
+  distribute();
+  assemble();
+  near_null_space();
+  elastic_solve();
+  sol.backend = "tao:" + tao_type(opt.backend) + " (PETSc, " + std::to_string(size) + " rank" +
+                (size > 1 ? "s" : "") + ")";
+  sol.formulation = "full";
+  sol.x_scale = U_s;
+  sol.f_scale = F_s * U_s;
+  sol.fixed_point_converged = true;
+  if (opt.smallness)
+    sol.skipped.push_back("smallness: (21) is evaluated by the cholmod engine only (it needs a factorization)");
+  if (!md.normal_law) sol.skipped.push_back("normal_compliance: no soft layer (contact.normal_law.type = none)");
+  if (!md.friction) sol.skipped.push_back("friction: frictionless (contact.friction.type = none)");
+  if (md.friction && !md.friction->depends_on_u_nu()) sol.skipped.push_back("fixed_point: F_b does not depend on u_nu");
+  if (md.gap.is_infinite()) sol.skipped.push_back("bounds: no rigid obstacle (g = inf)");
+
+  // Nothing nonlinear and no obstacle: the elastic solve is the answer.
+  if (!md.normal_law && !md.friction && md.gap.is_infinite() && md.contact.fixed_local.empty()) {
+    sol.backend = "none (PETSc CG linear solve)";
+    sol.skipped.push_back("backend: linear elasticity, solved by one CG solve");
+    finish(sol, gather(zfree.v), t0);
+    return std::move(sol);
+  }
+  // Continuation schedule: driver/solve.cpp's, ε_s = max(ε_final, ε_start·factor^s).
+  if (md.normal_law || md.friction) {
+    const auto at_final = [](double e, double fin) { return e <= fin * (1 + 1e-9); };
+    for (double e = opt.eps_start;; e *= opt.eps_factor) {
+      const double et = at_final(e, opt.eps_tau) ? opt.eps_tau : e;
+      const double en = at_final(e, opt.eps_nu) ? opt.eps_nu : e;
+      schedule.emplace_back(et, en);
+      if (et == opt.eps_tau && en == opt.eps_nu) break;
+    }
+  } else {
+    schedule.emplace_back(opt.eps_tau, opt.eps_nu);  // only the bounds: no width is used
+    sol.skipped.push_back("continuation: nothing is smoothed");
+  }
+  // Start from zero (inside the bounds: g ≥ 0), λ frozen there.
+  HC_PETSC(VecSet(zs.v, 0.0));
+  if (md.friction)
+    for (size_t q = 0; q < my_nodes.size(); ++q) lambda[q] = md.friction->F(0.0);
+  prev_c = local_gamma3(zs.v);
+  for (size_t stage = 0; stage < schedule.size(); ++stage) {
+    if (!run_stage(stage)) break;
+    // driver/solve.cpp's early stop: once a stage barely moved the answer, polish a copy; if the
+    // certificate passes, the remaining stages are not needed.
+    if (stage + 1 < schedule.size() && settled()) {
+      Eigen::VectorXd x = U_s * gather(zs.v);
+      const PolishResult pr = polish_with_readings(x, stage);
+      if (pr.accepted) {
+        Solution trial = sol;
+        trial.polish = pr;
+        finish(trial, x, t0);
+        if (trial.certificate.passed) {
+          trial.skipped.push_back("continuation: stages " + std::to_string(stage + 1) + ".." +
+                                  std::to_string(schedule.size() - 1) + " not run: the polished answer after stage " +
+                                  std::to_string(stage) + " was certified (solver.continuation.certify_below)");
+          log_info() << "continuation: certified after stage " << stage;
+          return trial;
+        }
+      }
+    }
+  }
+  Eigen::VectorXd x = U_s * gather(zs.v);
+  if (opt.polish && sol.fixed_point_converged) {
+    sol.polish = polish_with_readings(x, schedule.size() - 1);
+    log_info() << "polish: " << (sol.polish.accepted ? "accepted" : "rejected") << ", certificate "
+               << sol.polish.before << " -> " << sol.polish.after << " in " << sol.polish.iterations
+               << " Newton iterations" << (sol.polish.note.empty() ? "" : " (" + sol.polish.note + ")");
+  } else if (!opt.polish) {
+    sol.skipped.push_back("polish: solver.polish = false");
+  }
+  finish(sol, std::move(x), t0);
+  return std::move(sol);
+}
+
+}  // namespace
+
+Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report) {
+  Engine e(md, opt, comm, report);
+  return e.run();
+}
+
+}  // namespace hemicontact::petsc_engine

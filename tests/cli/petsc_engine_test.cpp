@@ -1,0 +1,185 @@
+// The petsc engine (issue 16) end to end: `mpirun -np P hemicontact solve SCENE --set
+// solver.engine="petsc"` against the cholmod engine on the paper's scenes (2D fig2, printed, 3D),
+// small meshes, P = 1 and 2; then its bad input. In a build without PETSc, the engine asked for
+// must be refused naming the package.
+//
+// Agreement tolerances: both engines end with the exact polish, which solves the unsmoothed
+// conditions of (22) on the same statuses to round-off (driver/polish.hpp, src/petsc/), so the
+// answers differ by the conditioning of the status system times machine precision: κ ~ 1e4 for
+// these meshes (h = 1/16, 3D 1/4) gives ~1e-12; the issue's 1e-8 is the bound asserted, and the
+// certificate of each answer must pass at 1e-8 (check.certificate_tol).
+#include <hemicontact/config.hpp>
+#include <hemicontact/core/error.hpp>
+
+#include "support/cli_runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using hemicontact::test::CliOutcome;
+using hemicontact::test::run_cli;
+using hemicontact::test::slurp;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("hemicontact-petsc-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string problem(const std::string& name) {
+  return (fs::path(HEMICONTACT_SOURCE_DIR) / "problems" / (name + ".json")).string();
+}
+
+#if HEMICONTACT_HAS_PETSC
+
+// OpenMPI refuses root without these two; --oversubscribe lets -np exceed the machine's cores.
+const char* const MPIRUN =
+    "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 OMPI_MCA_mpi_yield_when_idle=1 mpirun -np";
+
+CliOutcome run_mpi(const fs::path& dir, int np, const std::string& args) {
+  return run_cli(dir, args + " --set solver.engine='\"petsc\"'", std::string(MPIRUN) + " " + std::to_string(np));
+}
+
+struct Case {
+  std::string scene;
+  std::string sets;  // mesh size
+  int np;
+};
+
+void PrintTo(const Case& c, std::ostream* os) { *os << c.scene << " np=" << c.np; }
+
+class PetscAgreement : public ::testing::TestWithParam<Case> {};
+
+TEST_P(PetscAgreement, SameAnswerAsCholmod) {
+  const Case& c = GetParam();
+  const fs::path dir = scratch(c.scene + "-" + std::to_string(c.np));
+  const std::string common = problem(c.scene) + " " + c.sets + " --quiet --set output.vtu=false";
+  const CliOutcome ref = run_cli(dir, "solve " + common + " --out " + (dir / "cholmod").string());
+  ASSERT_EQ(ref.code, 0) << ref.err;
+  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + " --out " + (dir / "petsc").string());
+  ASSERT_EQ(got.code, 0) << got.err << got.out;
+  const json a = json::parse(slurp(dir / "cholmod" / "report.json"));
+  const json b = json::parse(slurp(dir / "petsc" / "report.json"));
+
+  // The engine's record: ranks as asked, TAO's counts present and positive.
+  ASSERT_EQ(b.at("engine"), "petsc");
+  EXPECT_EQ(b.at("petsc").at("ranks").get<int>(), c.np);
+  EXPECT_GT(b.at("petsc").at("newton_iterations").get<long>(), 0);
+  EXPECT_GT(b.at("petsc").at("krylov_iterations").get<long>(), 0);
+
+  // Both certified on the unsmoothed problem, same statuses, same u on Γ3 and the same energies.
+  EXPECT_TRUE(b.at("certificate").at("passed").get<bool>());
+  EXPECT_LE(b.at("certificate").at("max_residual").get<double>(), 1e-8);
+  EXPECT_EQ(a.at("status_counts"), b.at("status_counts"));
+  const json& na = a.at("nodes");
+  const json& nb = b.at("nodes");
+  ASSERT_EQ(na.size(), nb.size());
+  double scale = 0, diff = 0;
+  for (size_t k = 0; k < na.size(); ++k) {
+    EXPECT_EQ(na[k].at("status"), nb[k].at("status")) << "node " << k;
+    for (const char* key : {"u_nu", "u_tau"}) {
+      scale = std::max(scale, std::abs(na[k].at(key).get<double>()));
+      diff = std::max(diff, std::abs(na[k].at(key).get<double>() - nb[k].at(key).get<double>()));
+    }
+  }
+  ASSERT_GT(scale, 0);
+  EXPECT_LE(diff / scale, 1e-8) << "max |u_petsc - u_cholmod| / max |u| on Gamma3";
+  for (const char* key : {"energy", "energy_norm"}) {
+    const double ea = a.at(key).get<double>(), eb = b.at(key).get<double>();
+    EXPECT_LE(std::abs(ea - eb), 1e-8 * std::abs(ea)) << key;
+  }
+  std::printf("[petsc] %s np=%d: max|du|/max|u| on Gamma3 = %.2e, certificate %.2e, Newton %ld, Krylov %ld\n",
+              c.scene.c_str(), c.np, diff / scale, b.at("certificate").at("max_residual").get<double>(),
+              b.at("petsc").at("newton_iterations").get<long>(), b.at("petsc").at("krylov_iterations").get<long>());
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(PaperScenes, PetscAgreement,
+                         ::testing::Values(Case{"sofonea2017-fig2", "--set mesh.n=16", 1},
+                                           Case{"sofonea2017-fig2", "--set mesh.n=16", 2},
+                                           Case{"sofonea2017-printed", "--set mesh.n=16", 2},
+                                           Case{"sofonea2017-3d", "--set mesh.n=4", 1},
+                                           Case{"sofonea2017-3d", "--set mesh.n=4", 2}));
+
+TEST(PetscEngine, BackendsListTao) {
+  const fs::path dir = scratch("backends");
+  const CliOutcome r = run_cli(dir, "backends");
+  ASSERT_EQ(r.code, 0);
+  for (const char* name : {"tao:bnls", "tao:bntr", "tao:bntl"}) EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  fs::remove_all(dir);
+}
+
+TEST(PetscEngine, TaoBackendInTheCholmodEngineNamesTheEngine) {
+  const fs::path dir = scratch("tao-cholmod");
+  const CliOutcome r =
+      run_cli(dir, "solve " + problem("sofonea2017-fig2") + " --set mesh.n=4 --backend tao:bnls --out " +
+                       (dir / "o").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_NE(r.err.find("solver.engine"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
+TEST(PetscEngine, NonTaoBackendIsRefused) {
+  const fs::path dir = scratch("newton");
+  const CliOutcome r =
+      run_mpi(dir, 2, "solve " + problem("sofonea2017-fig2") + " --set mesh.n=4 --backend newton --out " +
+                          (dir / "o").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_NE(r.err.find("solver.backend = 'newton'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
+  fs::remove_all(dir);
+}
+
+TEST(PetscEngine, MoreRanksThanCellsIsRefused) {
+  const fs::path dir = scratch("ranks");
+  // A 1 × 1 rectangle split along one diagonal has 2 triangles: 3 ranks are one too many (no Γ2:
+  // the fig2 tractions act on upper halves that a single cell does not resolve).
+  const CliOutcome r = run_mpi(dir, 3,
+                               "solve " + problem("sofonea2017-fig2") +
+                                   " --set mesh.n=1 --set mesh.diagonal='\"right\"' --set 'boundary.gamma2=[]' --out " +
+                                   (dir / "o").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_NE(r.err.find("3 MPI ranks for a mesh of 2 cells"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
+TEST(PetscEngine, DivergedKrylovSolveExits3NamingTheReason) {
+  const fs::path dir = scratch("ksp");
+  // One CG iteration cannot reduce the residual by 1e-10 on this mesh: the elastic solve stops at
+  // the cap, KSP_DIVERGED_ITS, and the run says so with exit code 3 (not converged).
+  const CliOutcome r =
+      run_mpi(dir, 2, "solve " + problem("sofonea2017-fig2") + " --set mesh.n=16 --set solver.petsc.ksp_max_it=1 --out " +
+                          (dir / "o").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
+  EXPECT_NE(r.err.find("DIVERGED_ITS"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("solver.petsc.ksp_max_it = 1"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
+#else
+
+TEST(PetscEngine, EngineNotBuiltNamesThePackage) {
+  const fs::path dir = scratch("absent");
+  const CliOutcome r = run_cli(dir, "solve " + problem("sofonea2017-fig2") +
+                                        " --set mesh.n=4 --set solver.engine='\"petsc\"' --out " + (dir / "o").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_NE(r.err.find("libpetsc-real-dev"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
+  fs::remove_all(dir);
+}
+
+#endif
+
+}  // namespace
