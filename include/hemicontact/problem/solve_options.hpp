@@ -3,6 +3,7 @@
 /// blocks (scene/build_model.hpp: solve_options_from_scene). The member initialisers below are the
 /// defaults' one home: the scene schema (src/scene/scene_schema.cpp) injects these values.
 
+#include <hemicontact/driver/exact_inner.hpp>
 #include <hemicontact/nlp/backend.hpp>
 
 #include <string>
@@ -40,6 +41,27 @@ struct SolveOptions {
   /// of the solver's own condensed stiffness (free: no factorization) and computes them exactly
   /// (one more sparse factorization) only when the bracket cannot decide; "exact" always does.
   std::string smallness_method = "auto";
+
+  // Issue 15: the exact inner solver (driver/exact_inner.hpp) and the hand-over to it.
+  /// Hand the condensed problem to the exact solver after the continuation stage whose statuses
+  /// (read at 10 ε) equal the previous stage's, after a backend failure or stall, and after the
+  /// last stage when the polished answer is not certified. false: the continuation alone.
+  bool exact = true;
+  ExactInnerOptions exact_inner;  ///< the exact solver's tolerance and caps
+  /// Hand over after this continuation stage at the latest. Stage 0 (ε = 1e-2 U) already puts the
+  /// iterate in the statuses' neighbourhood; every later stage costs backend iterations on an ever
+  /// less smooth problem, which the exact solver does not need (issue 15: ipopt 5–25 s where the
+  /// exact solver takes 0.02 s on the same scene).
+  int exact_after_stage = 0;
+  /// Backend iterations per minimization while the exact solver can take over: a stage that needs
+  /// more is a stalled one (the smoothed problem grows nearly nonsmooth as ε → 0) and hands over.
+  /// The paper's scenes need about 20 (README); 0: solver.max_iter alone.
+  int exact_stage_max_iter = 200;
+  /// The strong-convexity check of the inner problem (a dense Cholesky, m³/3) is skipped above
+  /// this many condensed unknowns (h = 1/1024 has 2050: ~1 s there, 2% of that solve).
+  Index convexity_max_unknowns = 1200;
+  /// Anderson memory of the fixed point λ = F_b(u_ν) in the exact solver (0: plain iteration).
+  int anderson_memory = 5;
 };
 
 }  // namespace hemicontact
