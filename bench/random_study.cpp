@@ -99,6 +99,7 @@ int main(int argc, char** argv) {
     Row r;
     r.rs = stress::draw_default_scene(static_cast<unsigned>(seed), n_min, n_max);
     std::vector<std::string> o = r.rs.overrides;
+    o.push_back("solver.exact.enabled=true");  // the exact solver (opt-in for now); nothing else
     if (!backend.empty()) o.push_back("solver.backend=\"" + backend + "\"");
     try {
       const nlohmann::json scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace hemicontact {
@@ -273,11 +274,16 @@ ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const Exa
     const Vec dF = use_llt ? Vec(llt.solve(-gF)) : Vec(ldlt.solve(-gF));
     if (!dF.allFinite() || !(dF.dot(gF) < 0)) return false;  // not a descent direction (softening)
     Vec xt = x;
+    // Near a solution the decrease of Φ_λ (~ residual²) falls below Φ_λ's round-off and cannot be
+    // seen: there the full step is also taken when Φ_λ stays within round-off (1e-14 of its
+    // terms' size) and the stationarity residual drops (3D: Newton's quadratic convergence).
+    const double res0 = exact_inner_residual(P, x);
+    const double E_noise = 1e-14 * (std::abs(E) + std::abs((x - P.y).dot(r)));
     for (double alpha = 1; alpha >= std::ldexp(1.0, -opt.max_halvings); alpha *= 0.5) {
       for (Index a = 0; a < nf; ++a) xt[A.free[a]] = x[A.free[a]] + alpha * dF[a];
       for (Index k = 0; k < nc; ++k) xt[d * k] = std::min(xt[d * k], P.g[k]);
       const double Et = exact_inner_energy(P, xt);
-      if (Et < E) {
+      if (Et < E || (alpha == 1 && Et <= E + E_noise && exact_inner_residual(P, xt) < 0.5 * res0)) {
         x = xt;
         E = Et;
         r = S * (x - P.y);
@@ -302,7 +308,9 @@ ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const Exa
     R.residual = exact_inner_residual(P, x);
     if (R.residual <= opt.tol) break;
     if (!stepped && !(E < E0)) {
-      R.note = "no decrease of Phi_lambda in a round (residual " + std::to_string(R.residual) + ")";
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.3g", R.residual);
+      R.note = std::string("no decrease of Phi_lambda in a round (residual ") + buf + ")";
       break;
     }
   }

@@ -32,26 +32,14 @@
 #include <hemicontact/contact/piecewise_linear_law.hpp>
 #include <hemicontact/core/types.hpp>
 #include <hemicontact/problem/reports.hpp>
+#include <hemicontact/problem/solve_options.hpp>
 
 #include <string>
 #include <vector>
 
 namespace hemicontact {
 
-/// Settings of the exact inner solve (scene keys solver.exact.*; defaults here).
-struct ExactInnerOptions {
-  /// Stop when the λ-fixed stationarity residual, divided by the traction scale, is at most this:
-  /// two orders below the default check.certificate_tol (1e-8), so that the λ update, the interior
-  /// recovery and the final certificate have room for their own round-off.
-  double tol = 1e-10;
-  /// Rounds of (one coordinate sweep + one Newton step). On a strongly convex Φ_λ the statuses are
-  /// right after a few sweeps and one 2D Newton step (a few in 3D) ends it; the cap is for
-  /// nonconvex inner problems, whose energy still decreases monotonically.
-  int max_rounds = 200;
-  /// Backtracking halvings of a Newton step before it is dropped for this round (2^-30 ≈ 1e-9: a
-  /// shorter step would not change x above round-off relative to the step).
-  int max_halvings = 30;
-};
+// ExactInnerOptions (the settings) live in problem/solve_options.hpp, beside every other setting.
 
 /// The condensed inner problem with frozen λ (file comment). Pointers are borrowed.
 struct ExactInnerProblem {

@@ -3,12 +3,27 @@
 /// blocks (scene/build_model.hpp: solve_options_from_scene). The member initialisers below are the
 /// defaults' one home: the scene schema (src/scene/scene_schema.cpp) injects these values.
 
-#include <hemicontact/driver/exact_inner.hpp>
 #include <hemicontact/nlp/backend.hpp>
 
 #include <string>
 
 namespace hemicontact {
+
+/// Settings of the exact inner solve (scene keys solver.exact.*; defaults here).
+struct ExactInnerOptions {
+  /// Stop when the λ-fixed stationarity residual, divided by the traction scale, is at most this:
+  /// two orders below the default check.certificate_tol (1e-8), so that the λ update, the interior
+  /// recovery and the final certificate have room for their own round-off.
+  double tol = 1e-10;
+  /// Rounds of (one coordinate sweep + one Newton step). On a strongly convex Φ_λ the statuses are
+  /// right after a few sweeps and one 2D Newton step (a few in 3D) ends it; the cap is for
+  /// nonconvex inner problems, whose energy still decreases monotonically.
+  int max_rounds = 200;
+  /// Backtracking halvings of a Newton step before it is dropped for this round (2^-30 ≈ 1e-9: a
+  /// shorter step would not change x above round-off relative to the step).
+  int max_halvings = 30;
+};
+
 
 /// Solver settings, read from the scene's "solver", "check" blocks (defaults: this struct).
 struct SolveOptions {
@@ -46,7 +61,10 @@ struct SolveOptions {
   /// Hand the condensed problem to the exact solver after the continuation stage whose statuses
   /// (read at 10 ε) equal the previous stage's, after a backend failure or stall, and after the
   /// last stage when the polished answer is not certified. false: the continuation alone.
-  bool exact = true;
+  /// Off by default for now: the suite's tests of the continuation's own path (polish, stages,
+  /// non-convergence messages) have not all been moved to name it; the random study
+  /// (bench/random_study.cpp) and tests/driver/exact_inner_test.cpp switch it on.
+  bool exact = false;
   ExactInnerOptions exact_inner;  ///< the exact solver's tolerance and caps
   /// Hand over after this continuation stage at the latest. Stage 0 (ε = 1e-2 U) already puts the
   /// iterate in the statuses' neighbourhood; every later stage costs backend iterations on an ever
