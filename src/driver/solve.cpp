@@ -6,6 +6,7 @@
 #include <hemicontact/contact/mollified_law.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/exact_inner.hpp>
 #include <hemicontact/driver/polish.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/energy/elastic_energy.hpp>
@@ -17,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 
 namespace hemicontact {
@@ -213,6 +215,7 @@ struct ContactSolver::Impl {
   NlpProblem prob;
   std::vector<std::pair<double, double>> schedule;  // (eps_tau, eps_nu), relative
   bool lagged = false;                              // λ = F_b(u_ν) depends on the answer: the outer fixed point runs
+  InnerConvexity convexity;                         // of Φ_λ, decided once at set-up
   Impl(const Model& m, const SolveOptions& o) : model(&m), opt(o) {}
 
   /// One solve from a start: the answer being built and the iterate in scaled unknowns zs = z/U_s.
@@ -221,6 +224,7 @@ struct ContactSolver::Impl {
     Vec zs;
     Vec prev_c;       // Γ3 unknowns after the previous minimization
     int k_total = 0;  // minimizations so far
+    std::vector<int> prev_status;  // status signature after the previous stage (exact_due)
   };
 
   Solution header() const;
@@ -232,6 +236,10 @@ struct ContactSolver::Impl {
   OuterIteration minimize(Run& run, size_t stage);
   void relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta);
   void polish(Run& run);
+  bool exact_available() const { return opt.exact && F.cond != nullptr; }
+  std::vector<int> status_signature(const Run& run, size_t stage) const;
+  std::string exact_due(Run& run, size_t stage, bool backend_failed);
+  void exact_solve(Run& run, size_t stage, const std::string& reason);
   void certify(Run& run, clk::time_point t_start) const;
   Vec gamma3(const Vec& z) const;
   Vec friction_bounds(const Vec& zs) const;
@@ -307,6 +315,17 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   I.U_s = F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0 ? F.z_free.cwiseAbs().maxCoeff() : 1.0;
   I.F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
   add_contact_terms(F, md, opt, I.U_s);
+  if (F.cond) {
+    const auto t_cvx = clk::now();
+    I.convexity = inner_convexity(F.cond->S(), md.contact.w, md.dim(), md.normal_law.get(), opt.convexity_max_unknowns);
+    I.setup_timings["inner_convexity"] = since(t_cvx);
+    if (I.convexity.checked)
+      log_info() << "inner problem (lambda frozen): smallest eigenvalue of S - alpha W_nu = " << I.convexity.min_eigenvalue
+                 << " (alpha = " << I.convexity.softening
+                 << "): strongly convex: " << (I.convexity.strongly_convex ? "yes" : "no");
+  } else {
+    I.convexity.note = "not checked: needs the condensed formulation";
+  }
   I.scaled = std::make_unique<ScaledObjective>(*F.energy, I.U_s, I.F_s * I.U_s);
   I.prob.f = I.scaled.get();
   I.prob.lower = F.lower / I.U_s;
@@ -385,24 +404,45 @@ Solution ContactSolver::solve(const Vec* z0) {
   Impl& I = *m;
   if (I.linear) return I.linear_answer(t_start);
   Impl::Run run = I.start(z0);
+  // A copy polished and certified; returned when it passes (then no further stage runs).
+  const auto certified_trial = [&](size_t stage, bool last) -> std::optional<Solution> {
+    Impl::Run trial = run;
+    I.polish(trial);
+    I.certify(trial, t_start);
+    if (!(trial.sol.certificate.passed && trial.sol.polish.accepted)) return std::nullopt;
+    if (!last) {
+      trial.sol.skipped.push_back("continuation: stages " + std::to_string(stage + 1) + ".." +
+                                  std::to_string(I.schedule.size() - 1) + " not run: the polished answer after stage " +
+                                  std::to_string(stage) + " was certified (solver.continuation.certify_below)");
+      log_info() << "continuation: certified after stage " << stage << "; the remaining "
+                 << I.schedule.size() - 1 - stage << " stage(s) are not needed";
+    }
+    return std::move(trial.sol);
+  };
   for (size_t stage = 0; stage < I.schedule.size(); ++stage) {
-    if (!I.run_stage(run, stage)) break;  // the backend failed: polish and judge what we have
+    const bool ok = I.run_stage(run, stage);  // false: the backend failed
+    const bool last = stage + 1 == I.schedule.size();
     // Once a stage barely moved the answer, its statuses are likely final: the exact polish on
     // a copy, and if the certificate (the unsmoothed problem, MODEL.md §4) passes, the remaining
     // stages, which only shrink ε towards an answer already in hand, are skipped.
-    if (stage + 1 < I.schedule.size() && I.settled(run)) {
-      Impl::Run trial = run;
-      I.polish(trial);
-      I.certify(trial, t_start);
-      if (trial.sol.certificate.passed && trial.sol.polish.accepted) {
-        trial.sol.skipped.push_back("continuation: stages " + std::to_string(stage + 1) + ".." +
-                                    std::to_string(I.schedule.size() - 1) + " not run: the polished answer after stage " +
-                                    std::to_string(stage) + " was certified (solver.continuation.certify_below)");
-        log_info() << "continuation: certified after stage " << stage << "; the remaining "
-                   << I.schedule.size() - 1 - stage << " stage(s) are not needed";
-        return std::move(trial.sol);
+    bool tried = false;
+    if (ok && !last && I.settled(run)) {
+      tried = true;
+      if (auto sol = certified_trial(stage, false)) return std::move(*sol);
+    }
+    // Issue 15: once the statuses stop changing, or the backend stalls or fails, the exact solver
+    // takes over (the polish first, when it has not been tried: it is cheaper and often enough).
+    if (I.exact_available()) {
+      const std::string why = I.exact_due(run, stage, !ok);
+      if (!why.empty()) {
+        if (ok && !tried && run.sol.fixed_point_converged)
+          if (auto sol = certified_trial(stage, last)) return std::move(*sol);
+        I.exact_solve(run, stage, why);
+        I.certify(run, t_start);
+        return std::move(run.sol);
       }
     }
+    if (!ok) break;  // polish and judge what we have
   }
   I.polish(run);
   I.certify(run, t_start);
@@ -415,6 +455,7 @@ Solution ContactSolver::Impl::header() const {
   sol.backend = backend->name();
   sol.skipped = skipped;
   sol.smallness = smallness;
+  sol.inner_convexity = convexity;
   sol.timings = setup_timings;
   return sol;
 }
@@ -510,7 +551,11 @@ OuterIteration ContactSolver::Impl::minimize(Run& run, size_t stage) {
   rec.stage = static_cast<int>(stage);
   rec.eps_tau = schedule[stage].first * U_s;
   rec.eps_nu = schedule[stage].second * U_s;
-  rec.backend = backend->minimize(prob, run.zs, opt.backend_options);
+  BackendOptions bo = opt.backend_options;
+  // With the exact solver behind it, a stage that needs more than exact_stage_max_iter iterations
+  // has stalled: it hands over instead of grinding (issue 15).
+  if (exact_available() && opt.exact_stage_max_iter > 0) bo.max_iter = std::min(bo.max_iter, opt.exact_stage_max_iter);
+  rec.backend = backend->minimize(prob, run.zs, bo);
   const Vec c = gamma3(run.zs);
   rec.change_u = rel_change(c, run.prev_c);
   run.prev_c = c;
@@ -574,6 +619,164 @@ void ContactSolver::Impl::certify(Run& run, clk::time_point t_start) const {
                                          : "converged, but the certificate failed (max residual " +
                                                std::to_string(sol.certificate.max_residual) + ")";
   if (!sol.fixed_point_converged) log_warn() << sol.message;
+}
+
+// Each node's statuses after @p stage, read at that stage's smoothing scale (10 ε, at least
+// check.status_tol): the normal one (separated, the piece of p_ν, contact) and the tangential one
+// (stick, slip±; 3D slip). Two stages that agree have most likely identified the final statuses.
+std::vector<int> ContactSolver::Impl::status_signature(const Run& run, size_t stage) const {
+  const Index nc = model->contact.size();
+  const int d = model->dim();
+  const double t = U_s * std::max(opt.status_tol, 10 * std::max(schedule[stage].first, schedule[stage].second));
+  std::vector<int> sig(static_cast<size_t>(nc));
+  for (Index k = 0; k < nc; ++k) {
+    const double un = U_s * run.zs[F.nd.first[k]];
+    int normal = 0;
+    if (un >= model->contact.g[k] - t)
+      normal = 1000;
+    else if (un > t && model->normal_law)
+      for (double b : model->normal_law->breakpoints()) normal += un > b;
+    const Vec ut = U_s * run.zs.segment(F.nd.first[k] + 1, d - 1);
+    const int tang = ut.norm() <= t ? 0 : d == 2 ? (ut[0] > 0 ? 1 : 2) : 1;
+    sig[static_cast<size_t>(k)] = 4 * normal + tang;
+  }
+  return sig;
+}
+
+// Why the exact solver should take over after @p stage, or "" (not yet).
+std::string ContactSolver::Impl::exact_due(Run& run, size_t stage, bool backend_failed) {
+  std::vector<int> sig = status_signature(run, stage);
+  const bool same = !run.prev_status.empty() && sig == run.prev_status;
+  run.prev_status = std::move(sig);
+  const OuterIteration& last = run.sol.history.back();
+  if (backend_failed)
+    return last.backend.status == SolveStatus::MAX_ITERATIONS
+               ? "backend " + backend->name() + " stalled (" + std::to_string(last.backend.iterations) +
+                     " iterations, solver.exact.stage_max_iter)"
+               : "backend " + backend->name() + " failed: " + to_string(last.backend.status);
+  if (!run.sol.fixed_point_converged) return "the fixed point with the backend did not converge: " + run.sol.message;
+  if (same) return "statuses unchanged since stage " + std::to_string(stage - 1);
+  if (stage + 1 == schedule.size()) return "last continuation stage";
+  if (static_cast<int>(stage) >= opt.exact_after_stage)
+    return "the smoothed neighbourhood of stage " + std::to_string(stage) + " (solver.exact.after_stage)";
+  return "";
+}
+
+// The exact solver from the current iterate (issue 15): the inner problem with λ frozen solved
+// exactly (driver/exact_inner.hpp), λ = F_b(u_ν) by Anderson acceleration, until the coupled
+// stationarity residual (the certificate's terms with λ = F_b(u_ν), λ not frozen) is at most
+// solver.exact.tol; then the exact polish. Only the condensed formulation has it.
+void ContactSolver::Impl::exact_solve(Run& run, size_t stage, const std::string& reason) {
+  const auto t0 = clk::now();
+  const Model& md = *model;
+  const int d = md.dim();
+  const Index nc = md.contact.size();
+  HandoverReport& H = run.sol.handover;
+  H.used = true;
+  H.after_stage = static_cast<int>(stage);
+  H.reason = reason;
+  log_info() << "exact solver takes over after stage " << stage << ": " << reason;
+
+  ExactInnerProblem P;
+  P.S = &F.cond->S();
+  P.y = F.load_scale * F.cond->y_C();
+  P.d = d;
+  P.w = md.contact.w;
+  P.g = md.contact.g;
+  P.law = md.normal_law.get();
+  P.fixed.assign(md.contact.fixed_local.begin(), md.contact.fixed_local.end());
+  const auto bounds = [&](const Vec& x) {
+    Vec l = Vec::Zero(nc);
+    if (md.friction)
+      for (Index k = 0; k < nc; ++k) l[k] = md.friction->F(x[d * k]);
+    return l;
+  };
+  // The certificate's traction scale (check/certificate.cpp): max(|f|∞/w̄, max λ, max |p_ν|).
+  const double f_trac = (md.f.size() ? md.f.cwiseAbs().maxCoeff() : 0.0) / (nc ? md.contact.w.mean() : 1.0);
+  const auto scale = [&](const Vec& x, const Vec& lam) {
+    double s = std::max(f_trac, nc ? lam.cwiseAbs().maxCoeff() : 0.0);
+    if (md.normal_law)
+      for (Index k = 0; k < nc; ++k) s = std::max(s, std::abs(md.normal_law->p(x[d * k])));
+    return s > 0 ? s : 1.0;
+  };
+
+  Vec x = U_s * run.zs, x_prev = x;
+  P.lambda = bounds(x);
+  Anderson aa(opt.anderson_memory);
+  double best = INF, floor_ref = INF;
+  for (int it = 0; it < opt.max_outer; ++it) {
+    P.traction_scale = scale(x, P.lambda);
+    const auto ti = clk::now();
+    const ExactInnerResult R = exact_inner_solve(P, x, opt.exact_inner);
+    H.inner_rounds += R.rounds;
+    H.newton_steps += R.newton_steps;
+    H.factorizations += R.factorizations;
+    H.inner_converged = R.converged;
+    H.note = R.note;
+    OuterIteration rec;
+    rec.k = run.k_total++;
+    rec.stage = static_cast<int>(stage);
+    rec.backend.status = R.converged ? SolveStatus::CONVERGED : SolveStatus::FAILED;
+    rec.backend.iterations = R.rounds;
+    rec.backend.f = R.energy;
+    rec.backend.kkt_norm = R.residual;
+    rec.backend.seconds = since(ti);
+    rec.backend.message = "exact inner solver" + (R.note.empty() ? std::string() : ": " + R.note);
+    rec.change_u = rel_change(x, x_prev);
+    x_prev = x;
+    const Vec lam = P.lambda, G = bounds(x);
+    rec.change_lambda = rel_change(G, lam);
+    rec.delta_lambda = nc ? (G - lam).cwiseAbs().maxCoeff() : 0.0;
+    rec.grad_norm = R.residual;
+    // The coupled residual: stationarity with λ = F_b(u_ν) itself.
+    P.lambda = G;
+    P.traction_scale = scale(x, G);
+    H.residual = exact_inner_residual(P, x);
+    run.sol.history.push_back(rec);
+    H.outer_iterations = it + 1;
+    log_info() << "exact " << it << ": inner " << (R.converged ? "converged" : "not converged") << " in " << R.rounds
+               << " rounds (" << R.newton_steps << " Newton steps), residual " << R.residual
+               << "; |dlambda|/|lambda| = " << rec.change_lambda << ", coupled residual " << H.residual;
+    if (H.residual <= opt.exact_inner.tol) {
+      H.fixed_point_converged = true;
+      break;
+    }
+    // The round-off floor: the coupled residual has not halved in 5 updates but is already below
+    // the user's acceptance tolerance (check.certificate_tol). Further updates only stir round-off;
+    // the certificate, computed from u alone, decides.
+    if (R.converged && it >= 5 && H.residual <= opt.certificate_tol && !(H.residual < 0.5 * floor_ref)) {
+      H.fixed_point_converged = true;
+      H.note = "coupled residual " + short_number(H.residual) +
+               " below check.certificate_tol but at its round-off floor above solver.exact.tol";
+      break;
+    }
+    if (it % 5 == 0) floor_ref = H.residual;
+    if (!lagged) break;  // λ does not depend on u: the inner answer is the answer
+    const double fn = rec.delta_lambda;
+    P.lambda = aa.next(lam, G);
+    // A safeguard: an accelerated step that made the update grow tenfold restarts the history.
+    if (fn > 10 * best) aa.reset();
+    best = std::min(best, fn);
+  }
+  run.zs = x / U_s;
+  if (F.friction) F.friction->set_lambda(P.lambda);
+  run.sol.backend_ok = true;
+  run.sol.message.clear();
+  run.sol.fixed_point_converged = H.fixed_point_converged;
+  if (!H.fixed_point_converged) {
+    if (!H.inner_converged)
+      run.sol.message = "backend exact (inner solver after stage " + std::to_string(stage) +
+                        ") did not converge: " + H.note;
+    else
+      run.sol.message = "fixed point lambda = F_b(u_nu) did not converge in the exact solver: " +
+                        std::to_string(H.outer_iterations) + " Anderson iterations (solver.fixed_point.max_iters), " +
+                        "coupled residual " + short_number(H.residual);
+  }
+  H.seconds = since(t0);
+  run.sol.timings["exact"] = H.seconds;
+  // The polish on the exact answer's statuses: kept only if the certificate improves, it takes the
+  // answer from solver.exact.tol to round-off (the paper scenes agree with the reference to 1e-12).
+  polish(run);
 }
 
 // The Γ3 unknowns (d per node, node order) of solver unknowns z.

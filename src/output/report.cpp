@@ -193,6 +193,29 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
   r["polish"] = {{"attempted", sol.polish.attempted},     {"accepted", sol.polish.accepted},
                  {"iterations", sol.polish.iterations},   {"certificate_before", sol.polish.before},
                  {"certificate_after", sol.polish.after}, {"note", sol.polish.note}};
+  {
+    // Issue 15: the exact solver's part, and whether the inner problem (λ frozen) is strongly convex.
+    const HandoverReport& h = sol.handover;
+    r["inner"] = {{"handover",
+                   {{"used", h.used},
+                    {"after_stage", h.after_stage},
+                    {"reason", h.reason},
+                    {"outer_iterations", h.outer_iterations},
+                    {"inner_rounds", h.inner_rounds},
+                    {"newton_steps", h.newton_steps},
+                    {"factorizations", h.factorizations},
+                    {"inner_converged", h.inner_converged},
+                    {"fixed_point_converged", h.fixed_point_converged},
+                    {"coupled_residual", h.residual},
+                    {"seconds", h.seconds},
+                    {"note", h.note}}}};
+    const InnerConvexity& c = sol.inner_convexity;
+    r["inner_convexity"] = {{"checked", c.checked},
+                            {"strongly_convex", c.checked && c.strongly_convex},
+                            {"softening", finite_or_null(c.softening)},
+                            {"min_eigenvalue", finite_or_null(c.min_eigenvalue)},
+                            {"note", c.note}};
+  }
   r["scales"] = {{"x_scale", sol.x_scale}, {"f_scale", sol.f_scale}};
   r["timings"] = merged_timings(md, sol);
   r["message"] = sol.message;

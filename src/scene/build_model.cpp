@@ -297,6 +297,15 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.smallness = scene.at("check").at("smallness").get<bool>();
   o.smallness_method = scene.at("check").at("smallness_method").get<std::string>();
   o.certify_below = s.at("continuation").at("certify_below").get<double>();
+  o.anderson_memory = s.at("fixed_point").at("anderson_memory").get<int>();
+  const auto& ex = s.at("exact");
+  o.exact = ex.at("enabled").get<bool>();
+  o.exact_inner.tol = ex.at("tol").get<double>();
+  o.exact_inner.max_rounds = ex.at("max_rounds").get<int>();
+  o.exact_inner.max_halvings = ex.at("max_halvings").get<int>();
+  o.exact_stage_max_iter = ex.at("stage_max_iter").get<int>();
+  o.exact_after_stage = ex.at("after_stage").get<int>();
+  o.convexity_max_unknowns = ex.at("convexity_max_unknowns").get<Index>();
   return o;
 }
 

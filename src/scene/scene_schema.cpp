@@ -360,6 +360,41 @@ std::vector<SchemaEntry> build_scene_schema() {
                           0),
                     1));
   t.push_back(at_least(key("/solver/fixed_point/stall_iters", "integer", D.stall_iters, "See stall_ratio."), 1));
+  t.push_back(at_most(at_least(key("/solver/fixed_point/anderson_memory", "integer", D.anderson_memory,
+                                   "Anderson acceleration of λ = F_b(u_ν) in the exact solver: the "
+                                   "number of past updates combined (0: the plain iteration)."),
+                               0),
+                      50));
+  t.push_back(section("/solver/exact",
+                      "The exact inner solver (no smoothing) and the hand-over to it (issue 15, condensed "
+                      "formulation): it takes over once the statuses stop changing between stages, or the "
+                      "backend stalls or fails."));
+  t.push_back(key("/solver/exact/enabled", "boolean", D.exact,
+                  "false: the ε-continuation and the polish alone, as before the exact solver."));
+  t.push_back(at_most(above(key("/solver/exact/tol", "number", D.exact_inner.tol,
+                                "Stationarity residual (certificate units) at which the exact solver stops."),
+                            0),
+                      1e-3));
+  t.push_back(at_least(key("/solver/exact/max_rounds", "integer", D.exact_inner.max_rounds,
+                           "Coordinate sweep + Newton rounds per inner solve."),
+                       1));
+  t.push_back(at_most(at_least(key("/solver/exact/max_halvings", "integer", D.exact_inner.max_halvings,
+                                   "Backtracking halvings of a Newton step on the exact energy."),
+                               1),
+                      60));
+  t.push_back(at_least(key("/solver/exact/after_stage", "integer", D.exact_after_stage,
+                           "Hand over after this continuation stage at the latest (earlier when the "
+                           "statuses stop changing or the backend stalls)."),
+                       0));
+  t.push_back(at_least(key("/solver/exact/stage_max_iter", "integer", D.exact_stage_max_iter,
+                           "Backend iterations per minimization while the exact solver can take over; "
+                           "more is a stall and hands over (0: solver.max_iter alone)."),
+                       0));
+  t.push_back(at_least(key("/solver/exact/convexity_max_unknowns", "integer",
+                           D.convexity_max_unknowns,
+                           "Check the strong convexity of the inner problem (a dense Cholesky) up to this "
+                           "many condensed unknowns."),
+                       0));
 
   // ------------------------------------------------------------------ check
   t.push_back(section("/check", "Acceptance of the computed solution (MODEL.md §3, §4)."));

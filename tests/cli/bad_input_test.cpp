@@ -253,7 +253,9 @@ INSTANTIATE_TEST_SUITE_P(
 // Not bad input but the other exit path of issue 6: an outer fixed point that does not contract
 // (the sliding scene of tests/stress/fixed_point_test.cpp at μ = 8) exits with code 3, a warning
 // naming the fixed point and suggesting relaxation, and report.json records the contraction factors;
-// with θ = 0.5 the same scene exits 0.
+// with θ = 0.5 the same scene exits 0. This is the continuation's own fixed point
+// (solver.exact.enabled = false); with the exact solver on, its Anderson-accelerated fixed
+// point certifies the scene (issue 15), exit 0.
 TEST(FixedPointCli, NonContractionExits3AndRelaxationSucceeds) {
   const fs::path dir = fs::temp_directory_path() / ("hemicontact_fp_cli_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -264,14 +266,17 @@ TEST(FixedPointCli, NonContractionExits3AndRelaxationSucceeds) {
                            "--set boundary.gamma2=[] --set loads.body_force=[20000,-500] "
                            "--set contact.friction.mu=8 --out " +
                            (dir / "out").string();
-  const auto r = hemicontact::test::run_cli(dir, args);
+  const auto by_default = hemicontact::test::run_cli(dir, args + " --set solver.exact.enabled=true");
+  EXPECT_EQ(by_default.code, hemicontact::EXIT_OK) << by_default.err;
+  const auto r = hemicontact::test::run_cli(dir, args + " --set solver.exact.enabled=false");
   EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
   EXPECT_NE(r.err.find("fixed point lambda = F_b(u_nu) does not contract"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("solver.fixed_point.relaxation"), std::string::npos) << r.err;
   const json rep = json::parse(hemicontact::test::slurp(dir / "out" / "report.json"));
   EXPECT_FALSE(rep["ok"].get<bool>());
   EXPECT_GT(rep["fixed_point"]["contraction_estimate"].get<double>(), 0.9);
-  const auto relaxed = hemicontact::test::run_cli(dir, args + " --set solver.fixed_point.relaxation=0.5");
+  const auto relaxed =
+      hemicontact::test::run_cli(dir, args + " --set solver.exact.enabled=false --set solver.fixed_point.relaxation=0.5");
   EXPECT_EQ(relaxed.code, hemicontact::EXIT_OK) << relaxed.err;
   const json rep2 = json::parse(hemicontact::test::slurp(dir / "out" / "report.json"));
   EXPECT_TRUE(rep2["ok"].get<bool>());
@@ -331,7 +336,7 @@ TEST(BadInputCli, IpoptOutputFileLeavesTheNamedFileAlone) {
 }
 
 // Issue 12: allow_not_converged never turns an uncertified answer into exit 0 (the non-contracting
-// scene of FixedPointCli: the fixed point fails and so does the certificate).
+// scene of FixedPointCli without the exact solver: the fixed point fails and so does the certificate).
 TEST(FixedPointCli, AllowNotConvergedDoesNotAcceptAFailedCertificate) {
   const fs::path dir = fs::temp_directory_path() / ("hemicontact_allow_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -340,7 +345,8 @@ TEST(FixedPointCli, AllowNotConvergedDoesNotAcceptAFailedCertificate) {
       dir, "solve " HEMICONTACT_SOURCE_DIR
            "/problems/sofonea2017-fig2.json --quiet --set mesh.n=16 --set check.smallness=false "
            "--set contact.gap=null --set boundary.gamma2=[] --set loads.body_force=[20000,-500] "
-           "--set contact.friction.mu=8 --set solver.fixed_point.allow_not_converged=true --out " +
+           "--set contact.friction.mu=8 --set solver.fixed_point.allow_not_converged=true "
+           "--set solver.exact.enabled=false --out " +
                (dir / "out").string());
   const json rep = json::parse(hemicontact::test::slurp(dir / "out" / "report.json"));
   ASSERT_FALSE(rep["certificate"]["passed"].get<bool>());

@@ -106,4 +106,18 @@ inline RandomScene draw_scene(unsigned seed, int n_min, int n_max) {
   return s;
 }
 
+/// Scene @p seed of the default-settings study (issue 15): the physics of draw_scene (E, ν, plane
+/// stress/strain, loads, the layer law c1, c2, c3, r1, r2, μ, g, the mesh, its perturbation and
+/// aspect; realistic and extreme alike) with NO solver override: ε, iteration caps and tolerances
+/// stay at their defaults. check.smallness stays off (a diagnostic, timed apart).
+inline RandomScene draw_default_scene(unsigned seed, int n_min, int n_max) {
+  RandomScene s = draw_scene(seed, n_min, n_max);
+  std::vector<std::string> o;
+  for (const auto& x : s.overrides)
+    if (x.rfind("solver.", 0) != 0) o.push_back(x);
+  s.overrides = o;
+  s.eps = 0;  // the default
+  return s;
+}
+
 }  // namespace hemicontact::stress

@@ -56,4 +56,32 @@ struct PolishResult {
   double after = 0;        ///< after (of the candidate)
   std::string note;        ///< why not accepted, if not
 };
+/// Whether the inner problem Φ_λ (driver/exact_inner.hpp) is strongly convex (issue 15): the smallest eigenvalue of S − α W_ν, the condensed
+/// Hessian of the convex part minus the softening of j_ν (α = the one-sided Lipschitz constant of
+/// ∂j_ν, (13)(d), W_ν = the weights on the normal rows), is positive. The friction term and the
+/// bound are convex and do not enter.
+struct InnerConvexity {
+  bool checked = false;         ///< false: not evaluated (note says why)
+  bool strongly_convex = false;  ///< min_eigenvalue > 0
+  double softening = 0;         ///< α_jν (+inf for a downward jump of p_ν)
+  double min_eigenvalue = 0;    ///< λ_min(S − α W_ν) (−inf for a downward jump)
+  std::string note;             ///< how it was decided
+};
+
+/// The hand-over from the smoothed continuation to the exact inner solver (driver/exact_inner.hpp).
+struct HandoverReport {
+  bool used = false;           ///< the exact solver produced the answer
+  int after_stage = -1;        ///< continuation stage after which it took over
+  std::string reason;          ///< why then: statuses settled, backend stalled or failed, last stage
+  int outer_iterations = 0;    ///< λ updates (Anderson-accelerated fixed point λ = F_b(u_ν))
+  int inner_rounds = 0;        ///< sweep + Newton rounds, summed over the outer iterations
+  int newton_steps = 0;        ///< accepted Newton steps, summed
+  int factorizations = 0;      ///< reduced-Hessian factorizations, summed
+  bool inner_converged = false;  ///< the last inner solve reached solver.exact.tol
+  bool fixed_point_converged = false;  ///< the coupled residual (λ = F_b(u_ν)) reached solver.exact.tol
+  double residual = 0;         ///< last coupled stationarity residual / traction scale
+  double seconds = 0;          ///< wall time of the exact solver
+  std::string note;            ///< why it stopped when not converged
+};
+
 }  // namespace hemicontact

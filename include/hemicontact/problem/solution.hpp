@@ -56,6 +56,8 @@ struct Solution {
   std::vector<std::string> skipped;       ///< what was not needed and not done
   std::string formulation;                ///< "full" or "condensed" (empty for a linear solve)
   PolishResult polish;                    ///< what the exact polish did
+  HandoverReport handover;                ///< the exact solver's part (issue 15)
+  InnerConvexity inner_convexity;         ///< is the inner problem (λ frozen) strongly convex?
   SmallnessReport smallness;              ///< the smallness condition (21)
   double start_energy = 0;                ///< smoothed energy at the start (first ε, λ frozen there)
   double x_scale = 1, f_scale = 1;        ///< the nondimensionalization used

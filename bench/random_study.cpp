@@ -1,0 +1,209 @@
+// hemicontact_random_study — issue 15's random-scene study with DEFAULT solver settings.
+//
+// Seeds 1..N of tests/stress/random_scenes.hpp (draw_default_scene: E, ν, plane stress/strain,
+// loads, layer law, μ, g, mesh, perturbation, aspect drawn over realistic and extreme ranges; no
+// solver override), each solved in this process with the default backend (or --backend), and timed
+// against the linear-elastic factor+solve of the same mesh (CHOLMOD, best of 3, same process).
+// Writes, in --out:
+//   random-default.csv   one row per seed (outcome, certificate, strong convexity, hand-over,
+//                        seconds, linear seconds, ratio, message, the command that reruns it)
+//   random-default.md    the summary table: certified counts (all / strongly convex), time ratios
+//                        (median, 90th percentile, max, scenes above 10x) and every scene that was
+//                        not certified with its reason.
+// Sample: hemicontact_random_study --seeds 1000 --out /tmp/random  (docs/stress/random-default.md
+// is the committed summary; the CSV is regenerated, not committed).
+
+#include "stress/random_scenes.hpp"
+
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/fem/sparse_cholesky.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace hemicontact;
+namespace fs = std::filesystem;
+
+namespace {
+
+using clk = std::chrono::steady_clock;
+double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
+
+std::string g3(double x) {
+  if (std::isnan(x)) return "-";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", x);
+  return b;
+}
+
+std::string csv_quote(std::string s) {
+  std::string o = "\"";
+  for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return o + "\"";
+}
+
+struct Row {
+  stress::RandomScene rs;
+  std::string outcome;  // certified | input error | not certified: <reason>
+  bool ok = false, input_error = false, convex_checked = false, convex = false, handover = false;
+  double certificate = NAN, min_eig = NAN, seconds = 0, linear = NAN, ratio = NAN;
+  std::string reason, message;
+};
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const size_t i = std::min(v.size() - 1, static_cast<size_t>(std::floor(q * (v.size() - 1) + 0.5)));
+  return v[i];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int seeds = 1000, n_min = 8, n_max = 16, first = 1;
+  std::string out = "random-study", backend;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const auto next = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--seeds") seeds = std::stoi(next());
+    else if (a == "--first") first = std::stoi(next());
+    else if (a == "--n-min") n_min = std::stoi(next());
+    else if (a == "--n-max") n_max = std::stoi(next());
+    else if (a == "--out") out = next();
+    else if (a == "--backend") backend = next();
+    else {
+      std::cerr << "usage: hemicontact_random_study [--seeds N] [--first S] [--n-min A] [--n-max B] [--backend NAME] [--out DIR]\n";
+      return 1;
+    }
+  }
+  set_log_level(LogLevel::QUIET);  // the outcome of every scene is in the CSV
+  fs::create_directories(out);
+  std::vector<Row> rows;
+  const auto t_all = clk::now();
+  for (int seed = first; seed < first + seeds; ++seed) {
+    Row r;
+    r.rs = stress::draw_default_scene(static_cast<unsigned>(seed), n_min, n_max);
+    std::vector<std::string> o = r.rs.overrides;
+    o.push_back("solver.exact.enabled=true");  // the exact solver (opt-in for now); nothing else
+    if (!backend.empty()) o.push_back("solver.backend=\"" + backend + "\"");
+    try {
+      const nlohmann::json scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o);
+      const Model md = build_model(scene, ".");
+      const SolveOptions opt = solve_options_from_scene(scene);
+      for (int rep = 0; rep < 3; ++rep) {
+        const auto t0 = clk::now();
+        SparseCholesky chol;
+        chol.compute(md.Kx);
+        const Vec x = chol.solve(md.fx);
+        const double t = since(t0);
+        if (!x.allFinite()) throw Error("linear solve not finite", EXIT_INTERNAL);
+        r.linear = std::isnan(r.linear) ? t : std::min(r.linear, t);
+      }
+      const auto t0 = clk::now();
+      const Solution s = solve(md, opt);
+      r.seconds = since(t0);
+      r.ok = s.ok();
+      r.certificate = s.certificate.max_residual;
+      r.convex_checked = s.inner_convexity.checked;
+      r.convex = s.inner_convexity.checked && s.inner_convexity.strongly_convex;
+      r.min_eig = s.inner_convexity.min_eigenvalue;
+      r.handover = s.handover.used;
+      r.message = s.message;
+      if (r.ok) {
+        r.outcome = "certified";
+      } else {
+        r.reason = !s.fixed_point_converged ? "fixed point"
+                   : !s.backend_ok          ? "backend"
+                                            : "certificate failed";
+        r.outcome = "not certified: " + r.reason;
+      }
+      r.ratio = r.seconds / r.linear;
+    } catch (const Error& e) {
+      r.input_error = e.code() == EXIT_INPUT;
+      r.outcome = r.input_error ? "input error" : "error";
+      r.message = e.what();
+    }
+    rows.push_back(r);
+    if (rows.size() % 50 == 0)
+      std::cerr << rows.size() << " scenes, " << since(t_all) << " s\n";
+  }
+
+  // CSV
+  std::ofstream csv(fs::path(out) / "random-default.csv");
+  csv << "seed,n,E,load_scale,mu,g,aspect,outcome,certificate,strongly_convex_checked,strongly_convex,min_eigenvalue,"
+         "handover,seconds,linear_seconds,ratio,message,command\n";
+  for (const auto& r : rows)
+    csv << r.rs.seed << ',' << r.rs.n << ',' << r.rs.E << ',' << r.rs.load_scale << ',' << r.rs.mu << ','
+        << (r.rs.gap_none ? std::string("none") : stress::num(r.rs.g)) << ',' << r.rs.aspect << ',' << r.outcome << ','
+        << r.certificate << ',' << r.convex_checked << ',' << r.convex << ',' << r.min_eig << ',' << r.handover << ','
+        << r.seconds << ',' << r.linear << ',' << r.ratio << ',' << csv_quote(r.message) << ','
+        << csv_quote(r.rs.command()) << '\n';
+
+  // Summary
+  int valid = 0, ok = 0, convex = 0, convex_ok = 0, handover = 0, input = 0, above10 = 0;
+  std::vector<double> ratios, ratios_ok;
+  double slowest = 0;
+  for (const auto& r : rows) {
+    if (r.input_error) {
+      ++input;
+      continue;
+    }
+    ++valid;
+    ok += r.ok;
+    convex += r.convex;
+    convex_ok += r.convex && r.ok;
+    handover += r.handover;
+    if (std::isfinite(r.ratio)) {
+      ratios.push_back(r.ratio);
+      above10 += r.ratio > 10;
+    }
+    slowest = std::max(slowest, r.seconds);
+  }
+  std::ostringstream md;
+  md << "### Random scenes with default settings (issue 15)\n\n"
+     << "Seeds " << first << ".." << first + seeds - 1 << " of `draw_default_scene` (tests/stress/random_scenes.hpp), n = "
+     << n_min << ".." << n_max << ", backend " << (backend.empty() ? "default (ipopt)" : backend)
+     << ", no solver override. Regenerate: `hemicontact_random_study --seeds " << seeds << " --out DIR`.\n\n"
+     << "| | scenes |\n|---|---|\n"
+     << "| drawn | " << rows.size() << " |\n"
+     << "| input errors (an inverted perturbed cell) | " << input << " |\n"
+     << "| solved | " << valid << " |\n"
+     << "| certified | " << ok << " (" << g3(100.0 * ok / std::max(valid, 1)) << " %) |\n"
+     << "| inner problem strongly convex | " << convex << " |\n"
+     << "| strongly convex and certified | " << convex_ok << " |\n"
+     << "| exact solver took over | " << handover << " |\n\n"
+     << "Time / linear factor+solve of the same mesh: median " << g3(percentile(ratios, 0.5)) << "x, 90th percentile "
+     << g3(percentile(ratios, 0.9)) << "x, max " << g3(ratios.empty() ? NAN : *std::max_element(ratios.begin(), ratios.end()))
+     << "x; " << above10 << " scenes above 10x. Slowest scene " << g3(slowest) << " s; total " << g3(since(t_all))
+     << " s.\n\n";
+  int listed = 0;
+  for (const auto& r : rows)
+    if (!r.ok && !r.input_error) {
+      if (!listed++) md << "Not certified (random-default.csv's `command` reruns each one):\n\n| seed | μ | g | strongly convex | reason | message |\n|---|---|---|---|---|---|\n";
+      std::string m = r.message.substr(0, 160);
+      for (char& c : m)
+        if (c == '|') c = '/';
+      md << "| " << r.rs.seed << " | " << g3(r.rs.mu) << " | " << (r.rs.gap_none ? std::string("none") : g3(r.rs.g))
+         << " | " << (r.convex_checked ? (r.convex ? "yes" : "no") : "not checked") << " | " << r.reason << " | " << m
+         << " |\n";
+    }
+  if (!listed) md << "Every solved scene was certified.\n";
+  std::ofstream(fs::path(out) / "random-default.md") << md.str();
+  std::cout << md.str();
+  return 0;
+}

@@ -1,0 +1,255 @@
+// The exact inner solver (driver/exact_inner.hpp, issue 15): exactness on small condensed problems
+// (its stationarity residual, and no feasible perturbation lowers the exact energy), the convexity
+// check and Anderson acceleration against closed forms, and through the solver: the hand-over
+// agrees with the polished continuation on the paper's scenes in 2D and 3D, and certifies a scene
+// whose plain fixed point does not converge.
+#include <hemicontact/driver/exact_inner.hpp>
+#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/output/report.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace hemicontact;
+
+namespace {
+
+// A random SPD "Schur complement" with a dominant diagonal of size ~ kappa and smooth coupling,
+// node by node d unknowns, and a random load y: the shape of a condensed contact problem.
+struct Random {
+  Mat S;
+  ExactInnerProblem P;
+  PiecewiseLinearLaw law = PiecewiseLinearLaw::paper(100, -100, 400, 0.1, 0.15);
+};
+
+Random random_problem(unsigned seed, int d, Index nc, double kappa, double mu, double g) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Random r;
+  const Index m = d * nc;
+  Mat B(m, m);
+  for (Index i = 0; i < m; ++i)
+    for (Index j = 0; j < m; ++j) B(i, j) = U(rng);
+  r.S = B * B.transpose() / static_cast<double>(m) + kappa * Mat::Identity(m, m);
+  r.P.S = &r.S;
+  r.P.d = d;
+  r.P.y = Vec(m);
+  for (Index i = 0; i < m; ++i) r.P.y[i] = 0.2 * U(rng);
+  for (Index k = 0; k < nc; ++k) r.P.y[d * k] = 0.12 + 0.1 * U(rng);  // around the kinks r1, r2 and g
+  r.P.w = Vec::Constant(nc, 0.5);
+  r.P.g = Vec::Constant(nc, g);
+  r.P.lambda = Vec(nc);
+  for (Index k = 0; k < nc; ++k) r.P.lambda[k] = mu * (1 + 0.5 * U(rng));
+  r.P.traction_scale = 1;
+  return r;
+}
+
+// Exactness: the residual is at the solver's tolerance and no feasible perturbation of one or
+// two unknowns (steps 1e-3..1e-7) lowers Φ_λ below the answer's value (a local minimizer of the
+// unsmoothed energy, not a smoothed one: a smoothed answer loses against these steps at the kinks).
+void expect_exact_minimizer(Random& r, unsigned seed) {
+  // the law must outlive P: attach after the move
+  r.P.law = &r.law;
+  Vec x = Vec::Zero(r.S.rows());
+  const ExactInnerOptions opt;
+  const ExactInnerResult R = exact_inner_solve(r.P, x, opt);
+  ASSERT_TRUE(R.converged) << R.note << " residual " << R.residual;
+  EXPECT_LE(exact_inner_residual(r.P, x), opt.tol);
+  const double E = exact_inner_energy(r.P, x);
+  EXPECT_NEAR(E, R.energy, 1e-12 * std::abs(E));
+  std::mt19937 rng(seed + 1000);
+  std::uniform_int_distribution<Index> pick(0, r.S.rows() - 1);
+  for (double h : {1e-3, 1e-5, 1e-7})
+    for (int trial = 0; trial < 40; ++trial) {
+      Vec z = x;
+      z[pick(rng)] += (trial % 2 ? h : -h);
+      z[pick(rng)] += (trial % 3 ? h : -h) * 0.5;
+      for (Index k = 0; k < r.P.w.size(); ++k) z[r.P.d * k] = std::min(z[r.P.d * k], r.P.g[k]);
+      // Round-off of Φ at the answer: ~1e-15 of its terms.
+      EXPECT_GE(exact_inner_energy(r.P, z), E - 1e-13 * (1 + std::abs(E))) << "h " << h;
+    }
+}
+
+}  // namespace
+
+// 2D and 3D, with and without the obstacle, strongly convex (kappa large against the softening
+// α w = 50) and not: the answer is a minimizer of the exact energy to round-off.
+TEST(ExactInner, MinimizesTheUnsmoothedEnergy2D) {
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    Random r = random_problem(seed, 2, 12, seed % 2 ? 200.0 : 20.0, 0.5 * seed, seed % 2 ? 0.15 : INF);
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    expect_exact_minimizer(r, seed);
+  }
+}
+
+TEST(ExactInner, MinimizesTheUnsmoothedEnergy3D) {
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    Random r = random_problem(seed, 3, 8, seed % 2 ? 200.0 : 20.0, 0.5 * seed, seed % 2 ? 0.15 : INF);
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    expect_exact_minimizer(r, seed);
+  }
+}
+
+// One node, S diagonal: the exact answer in closed form. Normal: S_νν (x − y_ν) + w p(x) = 0 with
+// p on its piece; y_ν = 0.5 beyond g = 0.15 → contact x_ν = g; tangential: soft threshold
+// x_τ = y_τ − w λ/S_ττ·sign (slip) or 0 (stick when |S_ττ y_τ| ≤ w λ).
+TEST(ExactInner, SingleNodeClosedForms) {
+  const PiecewiseLinearLaw law = PiecewiseLinearLaw::paper(100, -100, 400, 0.1, 0.15);
+  Mat S = Mat::Zero(2, 2);
+  S(0, 0) = 1000;
+  S(1, 1) = 500;
+  ExactInnerProblem P;
+  P.S = &S;
+  P.d = 2;
+  P.w = Vec::Constant(1, 0.5);
+  P.g = Vec::Constant(1, 0.15);
+  P.law = &law;
+  P.lambda = Vec::Constant(1, 10.0);
+  P.traction_scale = 100;
+  // contact and slip: 500·(x_τ − 0.3) + 0.5·10 = 0
+  P.y = Vec(2);
+  P.y << 0.5, 0.3;
+  Vec x = Vec::Zero(2);
+  ASSERT_TRUE(exact_inner_solve(P, x).converged);
+  EXPECT_EQ(x[0], 0.15);
+  EXPECT_NEAR(x[1], 0.3 - 0.5 * 10 / 500, 1e-15);
+  // compliance on (0, r1]: 1000 (x − 0.05) + 0.5·100 x = 0 → x = 50/1050; stick: 500·0.005 ≤ 5
+  P.y << 0.05, 0.005;
+  x.setZero();
+  ASSERT_TRUE(exact_inner_solve(P, x).converged);
+  EXPECT_NEAR(x[0], 50.0 / 1050.0, 1e-15);
+  EXPECT_EQ(x[1], 0.0);
+  // separated: y_ν < 0 → x_ν = y_ν, p = 0
+  P.y << -0.2, 0.0;
+  x.setConstant(0.1);
+  ASSERT_TRUE(exact_inner_solve(P, x).converged);
+  EXPECT_NEAR(x[0], -0.2, 1e-15);
+}
+
+// The check of strong convexity against a diagonal S: λ_min(S − α W_ν) in closed form.
+TEST(ExactInner, ConvexityCheckClosedForm) {
+  const PiecewiseLinearLaw law = PiecewiseLinearLaw::paper(100, -100, 400, 0.1, 0.15);  // α = 100
+  Mat S = Mat::Zero(4, 4);
+  S.diagonal() << 300, 80, 500, 90;  // two 2D nodes: normal rows 0, 2
+  const Vec w = Vec::Constant(2, 0.5);  // α w = 50
+  InnerConvexity c = inner_convexity(S, w, 2, &law, 100);
+  ASSERT_TRUE(c.checked);
+  EXPECT_TRUE(c.strongly_convex);
+  EXPECT_DOUBLE_EQ(c.softening, 100);
+  // Inverse iteration stops when its Rayleigh quotient changes by ≤ 1e-10 relative; at the
+  // eigenvalue ratio 80/90 the quotient converges like (80/90)² ≈ 0.79 per step, so its error is
+  // ≤ 0.79/(1 − 0.79) ≈ 4 times the last change: 4e-10 relative, 1e-8 absolute at 80 with margin.
+  EXPECT_NEAR(c.min_eigenvalue, 80, 4e-10 * 80 * 2);  // min(300 − 50, 80, 500 − 50, 90)
+  S(0, 0) = 20;                             // 20 − 50 = −30 < 0
+  c = inner_convexity(S, w, 2, &law, 100);
+  EXPECT_FALSE(c.strongly_convex);
+  EXPECT_NEAR(c.min_eigenvalue, -30, 1e-8);  // shifted: 20 of 130, ratio 0.15, fast
+  EXPECT_FALSE(inner_convexity(S, w, 2, &law, 3).checked);  // above the size cap
+}
+
+// Anderson on a linear map λ ↦ A λ + b whose plain iteration diverges (spectral radius 1.5):
+// with memory ≥ n it is a Krylov method and reaches the fixed point in a few steps.
+TEST(ExactInner, AndersonConvergesWhereThePlainIterationDiverges) {
+  Mat A(3, 3);
+  A << -1.5, 0.2, 0.0, 0.1, -1.2, 0.3, 0.0, 0.2, 0.5;
+  const Vec b = Vec::Constant(3, 5.0);
+  const Vec fixed = (Mat::Identity(3, 3) - A).partialPivLu().solve(b);
+  ASSERT_GT(fixed.minCoeff(), 0);  // inside the clamp λ ≥ 0
+  const auto run = [&](int memory) {
+    Anderson aa(memory);
+    Vec l = Vec::Constant(3, 1.0);
+    for (int it = 0; it < 12; ++it) l = aa.next(l, A * l + b);
+    return (l - fixed).norm();
+  };
+  EXPECT_LT(run(5), 1e-10 * fixed.norm());
+  EXPECT_GT(run(0), 1.0);
+}
+
+namespace {
+
+Solution solve_scene(const std::string& file, const std::vector<std::string>& o, Model& md) {
+  const nlohmann::json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/" + file, o);
+  md = build_model(s, ".");
+  return solve(md, solve_options_from_scene(s));
+}
+
+// u of two solutions agree to @p rel of the larger.
+void expect_same_u(const Solution& a, const Solution& b, double rel) {
+  const double s = std::max(a.u.cwiseAbs().maxCoeff(), b.u.cwiseAbs().maxCoeff());
+  EXPECT_LE((a.u - b.u).cwiseAbs().maxCoeff(), rel * s);
+}
+
+}  // namespace
+
+// The hand-over forced right after stage 0 (solver.exact.stage_max_iter = 1: every stage "stalls")
+// reaches the answer of the default path (continuation + polish), to round-off: both are certified
+// solutions of the same problem, unique here by (21).
+TEST(ExactHandover, AgreesWithThePolishedContinuation2D) {
+  for (const std::string file : {"sofonea2017-fig2.json", "sofonea2017-printed.json"}) {
+    SCOPED_TRACE(file);
+    Model md;
+    const Solution ref = solve_scene(file, {"mesh.n=8"}, md);  // the continuation + polish
+    ASSERT_TRUE(ref.ok()) << ref.message;
+    const Solution ex = solve_scene(file, {"mesh.n=8", "solver.exact.enabled=true", "solver.exact.stage_max_iter=1"}, md);
+    ASSERT_TRUE(ex.ok()) << ex.message;
+    EXPECT_TRUE(ex.handover.used);
+    EXPECT_EQ(ex.handover.after_stage, 0);
+    EXPECT_NE(ex.handover.reason.find("stalled"), std::string::npos) << ex.handover.reason;
+    EXPECT_TRUE(ex.handover.fixed_point_converged);
+    // The exact solver stops at the stationarity residual solver.exact.tol = 1e-10 (traction
+    // units); the condensed stiffness's condition on Γ3 (~10² at n = 8) makes that ≤ 1e-8 in u.
+    expect_same_u(ref, ex, 1e-8);
+    for (size_t k = 0; k < ref.status.size(); ++k) EXPECT_EQ(ref.status[k].str(), ex.status[k].str()) << k;
+    // (21) holds for the paper's data; the inner problem is strongly convex a fortiori.
+    EXPECT_TRUE(ex.inner_convexity.checked);
+    EXPECT_TRUE(ex.inner_convexity.strongly_convex);
+  }
+}
+
+TEST(ExactHandover, AgreesWithThePolishedContinuation3D) {
+  Model md;
+  const std::vector<std::string> o{"mesh.n=4", "check.smallness=false"};
+  const Solution ref = solve_scene("sofonea2017-3d.json", o, md);
+  ASSERT_TRUE(ref.ok()) << ref.message;
+  std::vector<std::string> o2 = o;
+  o2.insert(o2.end(), {"solver.exact.enabled=true", "solver.exact.stage_max_iter=1"});
+  const Solution ex = solve_scene("sofonea2017-3d.json", o2, md);
+  ASSERT_TRUE(ex.ok()) << ex.message;
+  EXPECT_TRUE(ex.handover.used);
+  expect_same_u(ref, ex, 1e-8);  // as in 2D
+  for (size_t k = 0; k < ref.status.size(); ++k) EXPECT_EQ(ref.status[k].str(), ex.status[k].str()) << k;
+}
+
+// The sliding scene of tests/stress/fixed_point_test.cpp at μ = 8: the plain λ = F_b(u_ν)
+// oscillates (ρ ≈ 1) and fails, with the backend or with the exact solver (anderson_memory = 0);
+// with the defaults the exact solver's Anderson-accelerated fixed point converges and certifies.
+TEST(ExactHandover, AndersonCertifiesWhereThePlainFixedPointFails) {
+  const std::vector<std::string> o{"mesh.n=16",          "check.smallness=false",
+                                   "contact.gap=null",   "boundary.gamma2=[]",
+                                   "loads.body_force=[20000,-500]", "contact.friction.mu=8",
+                                   "solver.exact.enabled=true"};
+  Model md;
+  std::vector<std::string> plain = o;
+  plain.push_back("solver.fixed_point.anderson_memory=0");
+  const Solution p = solve_scene("sofonea2017-fig2.json", plain, md);
+  EXPECT_FALSE(p.ok());
+  EXPECT_NE(p.message.find("fixed point"), std::string::npos) << p.message;
+  const Solution a = solve_scene("sofonea2017-fig2.json", o, md);
+  ASSERT_TRUE(a.ok()) << a.message;
+  EXPECT_TRUE(a.handover.used);
+  EXPECT_TRUE(a.handover.fixed_point_converged);
+  // solver.exact.tol = 1e-10 on the exact solver's residual; the certificate recomputes the
+  // tractions from the recovered u (another solve's round-off) with its own scale: a few times that.
+  EXPECT_LT(a.certificate.max_residual, 1e-9);
+  // report.json says what the exact solver did and whether the inner problem was strongly convex.
+  const SolveOptions defaults;  // a named object: GCC 12 warns about a temporary's string members
+  const nlohmann::json rep = make_report(md, a, defaults);
+  EXPECT_TRUE(rep.at("inner").at("handover").at("used").get<bool>());
+  EXPECT_TRUE(rep.at("inner_convexity").contains("strongly_convex"));
+}
