@@ -51,11 +51,13 @@ inline bool matplotlib_available() {
   return std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") == 0;
 }
 
-/// Run `hemicontact ARGS` (with optional leading environment assignments @p env), capturing its
-/// output in @p dir/out.txt and @p dir/err.txt.
+/// Run `hemicontact ARGS` (with optional leading environment assignments @p env) in the folder
+/// @p dir, capturing its output in @p dir/out.txt and @p dir/err.txt. The working folder is the
+/// test's own: a run without --out writes out/<scene> there, not into a folder that tests running
+/// in parallel (ctest -j) share and whose output lock they would contend for.
 inline CliOutcome run_cli(const std::filesystem::path& dir, const std::string& args, const std::string& env = "") {
-  const std::string cmd = env + " " + std::string(HEMICONTACT_CLI_PATH) + " " + args + " >" +
-                          (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
+  const std::string cmd = "cd '" + dir.string() + "' && " + env + " " + std::string(HEMICONTACT_CLI_PATH) + " " +
+                          args + " >" + (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
   const int status = std::system(cmd.c_str());
   CliOutcome r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
