@@ -113,7 +113,7 @@ SmallnessReport evaluate_smallness(const Model& md) {
   // Gram matrix of (u, v)_V = ∫ ε(u):ε(v): Voigt with engineering shears gives weight ½ on shears.
   Mat G = Mat::Identity(voigt_size(d), voigt_size(d));
   for (int k = d; k < voigt_size(d); ++k) G(k, k) = 0.5;
-  const SpMat Ke = md.dofs.reduce(assemble_stiffness(md.mesh, G));
+  const MovableSpMat Ke = md.dofs.reduce(assemble_stiffness(md.mesh, G));
   const Condensation cond(Ke, Vec::Zero(Ke.rows()), d * nc);
   std::tie(r.lambda_1, r.lambda_1nu) = gamma3_eigenvalues(md, cond.S());
   r.lhs = term(r.L_Fb, r.lambda_1) + term(r.alpha_j, r.lambda_1nu);

@@ -57,19 +57,24 @@ SpMat stiffness(const Mesh& m, const Mat& Ddyn) {
   const Eigen::Matrix<double, E::NVOIGT, E::NVOIGT> Dm = Ddyn;
   const auto adj = node_adjacency(m);
   const Index N = m.num_nodes(), n = N * D;
-  // Column d·a+i holds rows d·b+j for b ∈ adj(a), j < d: already sorted.
-  std::vector<int> outer(n + 1, 0);
+  // Column d·a+i holds rows d·b+j for b ∈ adj(a), j < d: already sorted. The pattern and values
+  // are written straight into K's compressed storage: building them in vectors and copying them in
+  // through a Map was one more pass over (and page faults on) the largest array of the run (issue 14).
+  SpMat K(n, n);
+  int* outer = K.outerIndexPtr();  // n + 1 entries, zeroed by the constructor
   for (Index a = 0; a < N; ++a)
     for (int i = 0; i < D; ++i) outer[D * a + i + 1] = static_cast<int>(adj.size(a) * D);
   for (Index c = 0; c < n; ++c) outer[c + 1] += outer[c];
-  std::vector<int> inner(outer[n]);
+  K.resizeNonZeros(outer[n]);
+  int* inner = K.innerIndexPtr();
+  double* values = K.valuePtr();
   for (Index a = 0; a < N; ++a)
     for (int i = 0; i < D; ++i) {
-      int* dst = inner.data() + outer[D * a + i];
+      int* dst = inner + outer[D * a + i];
       for (const int* b = adj.begin(a); b != adj.end(a); ++b)
         for (int j = 0; j < D; ++j) *dst++ = D * *b + j;
     }
-  std::vector<double> values(inner.size(), 0.0);
+  std::fill(values, values + outer[n], 0.0);
   for (Index c = 0; c < m.num_cells(); ++c) {
     double vol;
     const auto G = E::gradients(m, c, vol);
@@ -83,13 +88,13 @@ SpMat stiffness(const Mesh& m, const Mat& Ddyn) {
         const int nb = m.cells(c, b);
         const int slot = static_cast<int>(std::lower_bound(nb_first, nb_last, nb) - nb_first);
         for (int i = 0; i < D; ++i) {
-          double* col = values.data() + outer[D * na + i] + D * slot;
+          double* col = values + outer[D * na + i] + D * slot;
           for (int j = 0; j < D; ++j) col[j] += Ke(D * b + j, D * a + i);
         }
       }
     }
   }
-  return Eigen::Map<const SpMat>(n, n, static_cast<Index>(inner.size()), outer.data(), inner.data(), values.data());
+  return K;
 }
 
 template <int D>

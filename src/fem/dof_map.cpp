@@ -33,15 +33,17 @@ DofMap::DofMap(const Mesh& mesh, const std::vector<bool>& clamped, const Contact
   m_T.setFromTriplets(t.begin(), t.end());
 }
 
-SpMat DofMap::reduce(SpMat A) const {
+MovableSpMat DofMap::reduce(SpMat A) const {
   // Tᵀ A T without general sparse products (two of them cost ~2.6 s at 2.1M dofs): T is a
   // selection/permutation except for the rotations R_k of the Γ3 nodes, which only mix the d
   // components of one node. So: (1) rotate the Γ3 node blocks of A in place (the pattern is
   // unchanged because A has full d×d node blocks), (2) select and renumber rows/columns.
   // Falls back to the products if A lacks full node blocks.
   const int d = m_dim;
-  // A is ours (by value: a caller that moves its matrix in pays no copy, issue 14). Its pattern is
-  // checked before anything is rotated, so the fallback still sees the original values.
+  // A is ours: a caller that passes a temporary (a prvalue, e.g. assemble_stiffness(...)) pays no
+  // copy (C++17 elision); std::move would not help, Eigen 3.4's SparseMatrix has no move
+  // constructor. Its pattern is checked before anything is rotated, so the fallback still sees the
+  // original values.
   A.makeCompressed();
   SpMat& B = A;
   const Index n_full = B.rows();
@@ -111,33 +113,44 @@ SpMat DofMap::reduce(SpMat A) const {
       Eigen::Map<Vec>(val + p, d) = r;
       p += d;
     }
-  // Select free dofs and renumber; columns are re-sorted because Γ3 dofs move to the end.
+  // Select free dofs and renumber, straight into the result's compressed storage. The renumbering
+  // keeps the interior dofs in their order and moves the Γ3 dofs to the end, so in each column the
+  // interior rows come out sorted and only the few Γ3 rows (a handful of node blocks) need sorting:
+  // no general sort, no intermediate arrays (issue 14: assembly at the cost of a plain CSC one).
   const Index n = m_T.cols();
   std::vector<Index> full_of(n);
   for (Index f = 0; f < n_full; ++f)
     if (red[f] >= 0) full_of[red[f]] = f;
-  std::vector<int> ro(n + 1, 0);
+  MovableSpMat R(n, n);  // returned by move (a SpMat would be copied: no NRVO with two kinds of return)
+  int* ro = R.outerIndexPtr();  // n + 1 entries, zeroed by the constructor
   for (Index c = 0; c < n; ++c) {
     const Index j = full_of[c];
     int cnt = 0;
     for (int p = outer[j]; p < outer[j + 1]; ++p) cnt += red[inner[p]] >= 0;
     ro[c + 1] = ro[c] + cnt;
   }
-  std::vector<int> ri(ro[n]);
-  std::vector<double> rv(ro[n]);
-  std::vector<std::pair<int, double>> buf;
+  R.resizeNonZeros(ro[n]);
+  int* ri = R.innerIndexPtr();
+  double* rv = R.valuePtr();
   for (Index c = 0; c < n; ++c) {
     const Index j = full_of[c];
-    buf.clear();
-    for (int p = outer[j]; p < outer[j + 1]; ++p)
-      if (red[inner[p]] >= 0) buf.emplace_back(static_cast<int>(red[inner[p]]), val[p]);
-    std::sort(buf.begin(), buf.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (size_t k = 0; k < buf.size(); ++k) {
-      ri[ro[c] + k] = buf[k].first;
-      rv[ro[c] + k] = buf[k].second;
+    int k = ro[c];
+    for (int p = outer[j]; p < outer[j + 1]; ++p) {
+      const Index r = red[inner[p]];
+      if (r < 0) continue;
+      // Insertion into the sorted column: interior rows arrive in order (the loop does not move),
+      // Γ3 rows move past at most the other Γ3 entries of this column.
+      int q = k++;
+      while (q > ro[c] && ri[q - 1] > r) {
+        ri[q] = ri[q - 1];
+        rv[q] = rv[q - 1];
+        --q;
+      }
+      ri[q] = static_cast<int>(r);
+      rv[q] = val[p];
     }
   }
-  return Eigen::Map<const SpMat>(n, n, ro[n], ro.data(), ri.data(), rv.data());
+  return R;
 }
 
 SpMat DofMap::reduce_by_products(const SpMat& A) const {

@@ -244,13 +244,16 @@ Model build_model(const json& scene, Mesh mesh) {
   const auto t0 = clk::now();
   // A nonlinear law's K is its tangent at u = 0 (the small-strain stiffness): it sets the solver's
   // scales and the K(0) energy norm; equilibrium and energies use internal_force / elastic_energy.
-  SpMat K = md.material->is_linear() ? assemble_stiffness(md.mesh, *md.material)
-                                     : assemble_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))));
+  // K goes into reduce as a temporary and the result is moved in: Eigen 3.4's SparseMatrix has no
+  // move constructor, so std::move(K) would copy the largest array of the run (issue 14). The
+  // model keeps this one copy.
+  md.Kx = md.dofs.reduce(md.material->is_linear()
+                             ? assemble_stiffness(md.mesh, *md.material)
+                             : assemble_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d)))));
   const auto f0v = scene.at("loads").at("body_force").get<std::vector<double>>();
   if (static_cast<int>(f0v.size()) != d) input_error("loads.body_force: expected " + std::to_string(d) + " components");
   const Vec f0 = scene.at("loads").at("scale").get<double>() * Eigen::Map<const Vec>(f0v.data(), d);
   md.f = assemble_body_force(md.mesh, f0) + assemble_tractions(md.mesh);
-  md.Kx = md.dofs.reduce(std::move(K));  // in place: the model keeps this one copy
   md.fx = md.dofs.to_reduced(md.f);
   md.timings["assembly"] = since(t0);
   check_scales(md);

@@ -22,6 +22,33 @@ using IMat = Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>
 using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 /// Sparse matrix, column-major, int indices (what CHOLMOD and Ipopt take).
 using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+/// A SpMat that moves. Eigen 3.4's SparseMatrix has neither a move constructor nor a move
+/// assignment, so a struct holding one (the model's stiffness, the largest array of a run) is
+/// copied whenever it is moved: `model = build_model(...)` cost a full copy of K_x (issue 14). This
+/// holder moves by swap; everything else is SpMat's (it binds to `const SpMat&`).
+class MovableSpMat : public SpMat {
+ public:
+  using SpMat::SpMat;
+  using SpMat::operator=;
+  MovableSpMat() = default;
+  MovableSpMat(const MovableSpMat&) = default;
+  MovableSpMat& operator=(const MovableSpMat&) = default;
+  MovableSpMat(MovableSpMat&& o) noexcept { swap(o); }
+  MovableSpMat& operator=(MovableSpMat&& o) noexcept {
+    swap(o);
+    return *this;
+  }
+  MovableSpMat(const SpMat& o) : SpMat(o) {}  // NOLINT(google-explicit-constructor): a SpMat value
+  MovableSpMat(SpMat&& o) noexcept { swap(o); }  // NOLINT(google-explicit-constructor)
+  MovableSpMat& operator=(const SpMat& o) {
+    SpMat::operator=(o);
+    return *this;
+  }
+  MovableSpMat& operator=(SpMat&& o) noexcept {
+    swap(o);
+    return *this;
+  }
+};
 /// One sparse entry.
 using Triplet = Eigen::Triplet<double, int>;
 /// A list of sparse entries, summed on assembly.

@@ -35,15 +35,16 @@ class DofMap {
   /// @return Tᵀ v (reduced gradient of a full gradient; or x of a u that vanishes on Γ1).
   Vec to_reduced(const Vec& v) const { return m_T.transpose() * v; }
   /// @return Tᵀ A T (reduced stiffness of a full one). Fast path for matrices with full d×d node
-  /// blocks (every FE stiffness); otherwise computed by sparse products.
-  SpMat reduce(SpMat A) const;
+  /// blocks (every FE stiffness); otherwise computed by sparse products. Pass a temporary to avoid
+  /// a copy of A (Eigen 3.4's SparseMatrix cannot be moved).
+  MovableSpMat reduce(SpMat A) const;
   /// @return Tᵀ A T by two sparse products (reference implementation, any pattern).
   SpMat reduce_by_products(const SpMat& A) const;
 
  private:
   int m_dim = 2;
   Index m_n_interior = 0;
-  SpMat m_T;
+  MovableSpMat m_T;  // moves with the DofMap (core/types.hpp)
 };
 
 }  // namespace hemicontact

@@ -27,7 +27,7 @@ struct Model {
   ContactNodes contact;                                  ///< Γ3 nodes, weights, frames, g_i
   DofMap dofs;                                           ///< full ↔ reduced unknowns
   Vec f;                                                 ///< full load vector, eq. (17)
-  SpMat Kx;  ///< reduced stiffness Tᵀ K T (nonlinear F: tangent at u = 0); the only copy of K (issue 14)
+  MovableSpMat Kx;  ///< reduced stiffness Tᵀ K T (nonlinear F: tangent at u = 0); the only copy of K (issue 14)
   Vec fx;                                                ///< reduced load Tᵀ f
   std::shared_ptr<const PiecewiseLinearLaw> normal_law;  ///< exact p_ν; null: no soft layer
   std::shared_ptr<const FrictionBound> friction;         ///< F_b; null: frictionless
