@@ -84,3 +84,25 @@ TEST_P(DofMapByDiagonal, RoundTripAndLocalFrames) {
 
 INSTANTIATE_TEST_SUITE_P(AllDiagonals, DofMapByDiagonal,
                          ::testing::Values(Diagonal::RIGHT, Diagonal::LEFT, Diagonal::SYMMETRIC, Diagonal::CROSSED));
+
+// Issue 14: the reduced stiffness is the largest array of a run and must move, not be copied, from
+// reduce into the model and with the DofMap (Eigen 3.4's SparseMatrix has no move constructor;
+// MovableSpMat adds one). A copy would allocate new storage: the value array's address tells.
+TEST(MovableSpMat, ReducedStiffnessMovesWithoutACopy) {
+  const DofSetup s = make_setup(Diagonal::RIGHT);
+  MovableSpMat a = s.dofs.reduce(s.K);
+  const double* values = a.valuePtr();
+  const SpMat ref = a;  // a copy, to compare the values after the moves
+  MovableSpMat b = std::move(a);
+  EXPECT_EQ(b.valuePtr(), values);
+  MovableSpMat c;
+  c = std::move(b);
+  EXPECT_EQ(c.valuePtr(), values);
+  EXPECT_EQ(Mat(c - ref).cwiseAbs().maxCoeff(), 0.0);
+  const SpMat& as_spmat = c;  // still a SpMat for every reader
+  EXPECT_EQ(as_spmat.nonZeros(), ref.nonZeros());
+  DofMap d1 = s.dofs;
+  const double* t_values = d1.T().valuePtr();
+  const DofMap d2 = std::move(d1);
+  EXPECT_EQ(d2.T().valuePtr(), t_values);
+}
