@@ -28,16 +28,16 @@
 
 int main(int argc, char** argv) {
   using namespace hemicontact;
-  // glibc serves blocks above a dynamic threshold (128 KB to 32 MB) with mmap and gives them back
-  // on free, and trims the heap top above 128 KB. A solve allocates and frees arrays of tens of MB
-  // per phase (K, its reduction, the factor's workspaces, the VTU buffers), so each phase faulted
-  // in fresh pages again, and on a virtual machine a page fault costs microseconds. Keeping freed
-  // blocks of up to 256 MB in the heap lets the next phase reuse mapped pages: at h = 1/256, 67k
-  // page faults -> 54k (about one per page of the peak), 0.1-0.3 s of a 2 s run, peak memory
-  // 219 -> 229 MB (issue 14; measured with GLIBC_TUNABLES first). Larger arrays (the factor at
-  // h = 1/1024) are still mapped and unmapped on their own.
-  mallopt(M_MMAP_THRESHOLD, 256 << 20);
-  mallopt(M_TRIM_THRESHOLD, 512 << 20);
+  // glibc serves blocks above a dynamic threshold (128 KB at first, up to 32 MB) with mmap and
+  // gives them back on free, and trims the heap top above 128 KB. A solve allocates and frees
+  // arrays of MBs per phase (K, its reduction, workspaces, the VTU buffers), so each phase faulted
+  // in fresh pages again, and on a virtual machine a page fault costs microseconds. A fixed 32 MB
+  // threshold and a 128 MB trim threshold let the next phase reuse mapped pages: at h = 1/256,
+  // 67.8k page faults -> 57.3k with the same peak (218 MB). Larger values saved 3k faults more
+  // but raised the peak (229 MB at 256/512 MB, and 3.43 GB against 3.15 GB at h = 1/1024): blocks
+  // above 32 MB (K and the factor at h = 1/1024) keep being mapped and unmapped on their own.
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 128 << 20);
   const std::vector<std::string> args(argv + 1, argv + argc);
   // Ctrl-C or a kill while results are written: no half-written file under a final name, and a
   // word on what was kept (output/output_dir.hpp).
