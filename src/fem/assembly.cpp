@@ -97,6 +97,78 @@ SpMat stiffness(const Mesh& m, const Mat& Ddyn) {
   return K;
 }
 
+// K_x straight into the free dofs' pattern. Column x_c of a free component of node a holds the
+// free components of a's neighbours, all columns of one node sharing that row list; selection
+// order keeps interior rows sorted in node order, the Γ3 ones (Cartesian components of a node in
+// its d consecutive local slots, last) are sorted apart. An element's block (a, b) is placed by
+// one binary search for b's first free row per column of a: b's free components are consecutive.
+template <int D>
+MovableSpMat reduced_stiffness(const Mesh& m, const Mat& Ddyn, const DofMap& dofs) {
+  using E = P1<D>;
+  const Eigen::Matrix<double, E::NVOIGT, E::NVOIGT> Dm = Ddyn;
+  const auto adj = node_adjacency(m);
+  const std::vector<Index> sel = dofs.cartesian_selection();
+  const Index N = m.num_nodes(), n = dofs.n_free(), n_int = dofs.n_interior();
+  std::vector<int> n_free_of(N, 0);  // free components per node
+  for (Index a = 0; a < N; ++a)
+    for (int i = 0; i < D; ++i) n_free_of[a] += sel[D * a + i] >= 0;
+  MovableSpMat K(n, n);
+  int* outer = K.outerIndexPtr();  // n + 1 entries, zeroed by the constructor
+  for (Index a = 0; a < N; ++a) {
+    if (n_free_of[a] == 0) continue;
+    int cnt = 0;
+    for (const int* b = adj.begin(a); b != adj.end(a); ++b) cnt += n_free_of[*b];
+    for (int i = 0; i < D; ++i)
+      if (sel[D * a + i] >= 0) outer[sel[D * a + i] + 1] = cnt;
+  }
+  for (Index c = 0; c < n; ++c) outer[c + 1] += outer[c];
+  K.resizeNonZeros(outer[n]);
+  int* inner = K.innerIndexPtr();
+  double* values = K.valuePtr();
+  std::vector<int> rows;
+  for (Index a = 0; a < N; ++a) {
+    if (n_free_of[a] == 0) continue;
+    rows.clear();
+    for (const int* b = adj.begin(a); b != adj.end(a); ++b)
+      for (int j = 0; j < D; ++j)
+        if (sel[D * *b + j] >= 0) rows.push_back(static_cast<int>(sel[D * *b + j]));
+    // Interior rows are already in order; only the Γ3 ones (whole node blocks) need sorting.
+    const auto first_contact = std::stable_partition(rows.begin(), rows.end(), [&](int r) { return r < n_int; });
+    std::sort(first_contact, rows.end());
+    for (int i = 0; i < D; ++i)
+      if (sel[D * a + i] >= 0) std::copy(rows.begin(), rows.end(), inner + outer[sel[D * a + i]]);
+  }
+  std::fill(values, values + outer[n], 0.0);
+  for (Index c = 0; c < m.num_cells(); ++c) {
+    double vol;
+    const auto G = E::gradients(m, c, vol);
+    const auto B = E::strain_matrix(G);
+    const typename E::KMat Ke = vol * B.transpose() * Dm * B;
+    for (int a = 0; a < E::NV; ++a) {
+      const int na = m.cells(c, a);
+      if (n_free_of[na] == 0) continue;
+      for (int b = 0; b < E::NV; ++b) {
+        const int nb = m.cells(c, b);
+        if (n_free_of[nb] == 0) continue;
+        int j0 = 0;
+        while (sel[D * nb + j0] < 0) ++j0;
+        const int r0 = static_cast<int>(sel[D * nb + j0]);
+        for (int i = 0; i < D; ++i) {
+          const Index col = sel[D * na + i];
+          if (col < 0) continue;
+          const int p = static_cast<int>(std::lower_bound(inner + outer[col], inner + outer[col + 1], r0) - inner);
+          double* v = values + p;
+          for (int j = j0; j < D; ++j)
+            if (sel[D * nb + j] >= 0) *v++ += Ke(D * b + j, D * a + i);
+        }
+      }
+    }
+  }
+  if (!dofs.rotate_to_contact_frames(K))
+    throw Error("assemble_reduced_stiffness: a Γ3 node without its full block", EXIT_INTERNAL);
+  return K;
+}
+
 template <int D>
 RowMat strains(const Mesh& m, const Vec& u) {
   using E = P1<D>;
@@ -124,6 +196,14 @@ SpMat assemble_stiffness(const Mesh& mesh, const Mat& D) {
   if (D.rows() != voigt_size(mesh.dim) || D.cols() != D.rows())
     throw Error("assemble_stiffness: Voigt matrix of the wrong size", EXIT_INTERNAL);
   return mesh.dim == 2 ? stiffness<2>(mesh, D) : stiffness<3>(mesh, D);
+}
+
+MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const DofMap& dofs) {
+  if (D.rows() != voigt_size(mesh.dim) || D.cols() != D.rows())
+    throw Error("assemble_reduced_stiffness: Voigt matrix of the wrong size", EXIT_INTERNAL);
+  if (dofs.n_full() != mesh.num_nodes() * mesh.dim)
+    throw Error("assemble_reduced_stiffness: the DofMap belongs to another mesh", EXIT_INTERNAL);
+  return mesh.dim == 2 ? reduced_stiffness<2>(mesh, D, dofs) : reduced_stiffness<3>(mesh, D, dofs);
 }
 
 Vec assemble_body_force(const Mesh& mesh, const Vec& f0) {

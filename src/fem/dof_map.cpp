@@ -33,95 +33,88 @@ DofMap::DofMap(const Mesh& mesh, const std::vector<bool>& clamped, const Contact
   m_T.setFromTriplets(t.begin(), t.end());
 }
 
-MovableSpMat DofMap::reduce(SpMat A) const {
+std::vector<Index> DofMap::cartesian_selection() const {
+  const int d = m_dim;
+  std::vector<Index> sel(static_cast<size_t>(m_T.rows()), -1);
+  for (Index c = 0; c < m_n_interior; ++c)
+    for (SpMat::InnerIterator it(m_T, c); it; ++it) sel[it.row()] = c;
+  // A Γ3 node's column block c..c+d−1 holds R_k: every nonzero names the node (it.row() / d).
+  for (Index c = m_n_interior; c < m_T.cols(); c += d) {
+    Index node = -1;
+    for (int k = 0; k < d && node < 0; ++k)
+      for (SpMat::InnerIterator it(m_T, c + k); it; ++it) node = it.row() / d;
+    for (int i = 0; i < d; ++i) sel[d * node + i] = c + i;
+  }
+  return sel;
+}
+
+bool DofMap::rotate_to_contact_frames(SpMat& A) const {
+  const int d = m_dim;
+  const Index n = m_T.cols(), n_contact = (n - m_n_interior) / d;
+  if (A.rows() != n || A.cols() != n || !A.isCompressed()) return false;
+  int* outer = A.outerIndexPtr();
+  int* inner = A.innerIndexPtr();
+  double* val = A.valuePtr();
+  const int n_int = static_cast<int>(m_n_interior);
+  // R_k from T's Γ3 column block: column k of R_k is the local axis k (ν, τ...) in x, y(, z).
+  std::vector<Mat> R(static_cast<size_t>(n_contact), Mat::Zero(d, d));
+  for (Index k = 0; k < n_contact; ++k)
+    for (int c = 0; c < d; ++c)
+      for (SpMat::InnerIterator it(m_T, m_n_interior + d * k + c); it; ++it) R[k](it.row() % d, c) = it.value();
+  // In place needs (a) the d columns of a Γ3 node to share one row pattern and (b) in every column,
+  // the rows of a Γ3 node to be d consecutive entries. Both are checked before anything changes.
+  // Γ3 rows are the last entries of each column (rows are sorted and Γ3 dofs come last).
+  const auto first_contact_row = [&](Index j) {
+    return static_cast<int>(std::lower_bound(inner + outer[j], inner + outer[j + 1], n_int) - inner);
+  };
+  for (Index k = 0; k < n_contact; ++k) {
+    const Index c0 = m_n_interior + d * k;
+    const Index len = outer[c0 + 1] - outer[c0];
+    for (int c = 1; c < d; ++c)
+      if (outer[c0 + c + 1] - outer[c0 + c] != len ||
+          !std::equal(inner + outer[c0], inner + outer[c0 + 1], inner + outer[c0 + c]))
+        return false;
+  }
+  for (Index j = 0; j < n; ++j)
+    for (int p = first_contact_row(j); p < outer[j + 1]; p += d)
+      if ((inner[p] - n_int) % d != 0 || p + d > outer[j + 1] || inner[p + d - 1] != inner[p] + d - 1) return false;
+  // Columns: A[:, block_k] ← A[:, block_k] R_k; then rows: A[block_k, :] ← R_kᵀ A[block_k, :].
+  for (Index k = 0; k < n_contact; ++k) {
+    const Index c0 = m_n_interior + d * k;
+    const Index len = outer[c0 + 1] - outer[c0];
+    Mat cols(len, d);
+    for (int c = 0; c < d; ++c) cols.col(c) = Eigen::Map<const Vec>(val + outer[c0 + c], len);
+    cols = cols * R[k];
+    for (int c = 0; c < d; ++c) Eigen::Map<Vec>(val + outer[c0 + c], len) = cols.col(c);
+  }
+  Vec r(d);
+  for (Index j = 0; j < n; ++j)
+    for (int p = first_contact_row(j); p < outer[j + 1]; p += d) {
+      r.noalias() = R[(inner[p] - n_int) / d].transpose() * Eigen::Map<const Vec>(val + p, d);
+      Eigen::Map<Vec>(val + p, d) = r;
+    }
+  return true;
+}
+
+MovableSpMat DofMap::reduce(const SpMat& A) const {
   // Tᵀ A T without general sparse products (two of them cost ~2.6 s at 2.1M dofs): T is a
   // selection/permutation except for the rotations R_k of the Γ3 nodes, which only mix the d
-  // components of one node. So: (1) rotate the Γ3 node blocks of A in place (the pattern is
-  // unchanged because A has full d×d node blocks), (2) select and renumber rows/columns.
-  // Falls back to the products if A lacks full node blocks.
-  const int d = m_dim;
-  // A is ours: a caller that passes a temporary (a prvalue, e.g. assemble_stiffness(...)) pays no
-  // copy (C++17 elision); std::move would not help, Eigen 3.4's SparseMatrix has no move
-  // constructor. Its pattern is checked before anything is rotated, so the fallback still sees the
-  // original values.
-  A.makeCompressed();
-  SpMat& B = A;
-  const Index n_full = B.rows();
-  std::vector<Index> red(n_full, -1);  // full dof → reduced index (after rotation: local component)
-  std::vector<Mat> rot;                // per Γ3 node: R (columns ν, τ...)
-  std::vector<Index> rot_node;         // its mesh node
-  for (Index c = 0; c < m_T.cols(); ++c) {
-    for (SpMat::InnerIterator it(m_T, c); it; ++it) {
-      if (c < m_n_interior) red[it.row()] = c;
-    }
-  }
-  for (Index c = m_n_interior; c < m_T.cols(); c += d) {
-    Mat R = Mat::Zero(d, d);
-    Index node = -1;
-    for (int k = 0; k < d; ++k)
-      for (SpMat::InnerIterator it(m_T, c + k); it; ++it) {
-        node = it.row() / d;
-        R(it.row() % d, k) = it.value();
-      }
-    for (int k = 0; k < d; ++k) red[d * node + k] = c + k;
-    rot.push_back(R);
-    rot_node.push_back(node);
-  }
-  int* outer = B.outerIndexPtr();
-  int* inner = B.innerIndexPtr();
-  double* val = B.valuePtr();
-  // The fast path needs (a) the d columns of a rotated node to share one row pattern and (b) in
-  // every column, the rows of a rotated node to be d consecutive entries.
-  std::vector<int> is_rot(n_full / d, -1);
-  for (size_t q = 0; q < rot.size(); ++q) is_rot[rot_node[q]] = static_cast<int>(q);
-  for (size_t q = 0; q < rot.size(); ++q) {
-    const Index v = rot_node[q];
-    const Index len = outer[d * v + 1] - outer[d * v];
-    for (int k = 1; k < d; ++k)
-      if (outer[d * v + k + 1] - outer[d * v + k] != len ||
-          !std::equal(inner + outer[d * v], inner + outer[d * v + 1], inner + outer[d * v + k]))
-        return reduce_by_products(A);
-  }
-  for (Index j = 0; j < B.cols(); ++j)
-    for (int p = outer[j]; p < outer[j + 1];) {
-      if (is_rot[inner[p] / d] < 0) {
-        ++p;
-        continue;
-      }
-      if (inner[p] % d != 0 || p + d > outer[j + 1] || inner[p + d - 1] != inner[p] + d - 1)
-        return reduce_by_products(A);
-      p += d;
-    }
-  for (size_t q = 0; q < rot.size(); ++q) {
-    const Index v = rot_node[q];
-    const Mat& R = rot[q];
-    // Columns d·v..d·v+d−1 share one row pattern: B[:, block] ← B[:, block] R.
-    const Index len = outer[d * v + 1] - outer[d * v];
-    Mat cols(len, d);
-    for (int k = 0; k < d; ++k) cols.col(k) = Eigen::Map<const Vec>(val + outer[d * v + k], len);
-    cols = cols * R;
-    for (int k = 0; k < d; ++k) Eigen::Map<Vec>(val + outer[d * v + k], len) = cols.col(k);
-  }
-  for (Index j = 0; j < B.cols(); ++j)
-    for (int p = outer[j]; p < outer[j + 1];) {
-      const int q = is_rot[inner[p] / d];
-      if (q < 0) {
-        ++p;
-        continue;
-      }
-      Vec r = rot[q].transpose() * Eigen::Map<const Vec>(val + p, d);
-      Eigen::Map<Vec>(val + p, d) = r;
-      p += d;
-    }
+  // components of one node. So: (1) select and renumber rows/columns (Γ3 nodes still in x, y(, z)),
+  // (2) rotate the Γ3 node blocks in place. Falls back to the products if A lacks full node blocks.
+  if (!A.isCompressed()) return reduce_by_products(A);
+  const std::vector<Index> red = cartesian_selection();
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  const double* val = A.valuePtr();
   // Select free dofs and renumber, straight into the result's compressed storage. The renumbering
   // keeps the interior dofs in their order and moves the Γ3 dofs to the end, so in each column the
   // interior rows come out sorted and only the few Γ3 rows (a handful of node blocks) need sorting:
   // no general sort, no intermediate arrays (issue 14: assembly at the cost of a plain CSC one).
   const Index n = m_T.cols();
   std::vector<Index> full_of(n);
-  for (Index f = 0; f < n_full; ++f)
+  for (Index f = 0; f < A.rows(); ++f)
     if (red[f] >= 0) full_of[red[f]] = f;
-  MovableSpMat R(n, n);  // returned by move (a SpMat would be copied: no NRVO with two kinds of return)
+  MovableSpMat R(n, n);  // returned by move (a SpMat would be copied: Eigen 3.4 cannot move it)
   int* ro = R.outerIndexPtr();  // n + 1 entries, zeroed by the constructor
   for (Index c = 0; c < n; ++c) {
     const Index j = full_of[c];
@@ -150,6 +143,7 @@ MovableSpMat DofMap::reduce(SpMat A) const {
       rv[q] = val[p];
     }
   }
+  if (!rotate_to_contact_frames(R)) return reduce_by_products(A);
   return R;
 }
 

@@ -244,12 +244,9 @@ Model build_model(const json& scene, Mesh mesh) {
   const auto t0 = clk::now();
   // A nonlinear law's K is its tangent at u = 0 (the small-strain stiffness): it sets the solver's
   // scales and the K(0) energy norm; equilibrium and energies use internal_force / elastic_energy.
-  // K goes into reduce as a temporary and the result is moved in: Eigen 3.4's SparseMatrix has no
-  // move constructor, so std::move(K) would copy the largest array of the run (issue 14). The
-  // model keeps this one copy.
-  md.Kx = md.dofs.reduce(md.material->is_linear()
-                             ? assemble_stiffness(md.mesh, *md.material)
-                             : assemble_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d)))));
+  // K_x = Tᵀ K T straight into the free dofs' pattern: the full K is never built (issue 14). The
+  // model keeps this one copy (moved in: MovableSpMat).
+  md.Kx = assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs);
   const auto f0v = scene.at("loads").at("body_force").get<std::vector<double>>();
   if (static_cast<int>(f0v.size()) != d) input_error("loads.body_force: expected " + std::to_string(d) + " components");
   const Vec f0 = scene.at("loads").at("scale").get<double>() * Eigen::Map<const Vec>(f0v.data(), d);

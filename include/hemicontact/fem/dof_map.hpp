@@ -35,9 +35,17 @@ class DofMap {
   /// @return Tᵀ v (reduced gradient of a full gradient; or x of a u that vanishes on Γ1).
   Vec to_reduced(const Vec& v) const { return m_T.transpose() * v; }
   /// @return Tᵀ A T (reduced stiffness of a full one). Fast path for matrices with full d×d node
-  /// blocks (every FE stiffness); otherwise computed by sparse products. Pass a temporary to avoid
-  /// a copy of A (Eigen 3.4's SparseMatrix cannot be moved).
-  MovableSpMat reduce(SpMat A) const;
+  /// blocks (every FE stiffness); otherwise computed by sparse products.
+  MovableSpMat reduce(const SpMat& A) const;
+  /// @return for each full dof its index in x, −1 if eliminated (Γ1, rollers); a Γ3 node's d
+  /// Cartesian components get its d local slots (contact_dof(k, 0..d−1)), before the rotation
+  /// into (ν, τ...) that rotate_to_contact_frames applies. Interior indices increase with the full
+  /// dof; Γ3 ones come last. What assembly needs to build Tᵀ K T without the full K.
+  std::vector<Index> cartesian_selection() const;
+  /// A ← R_kᵀ A R_k on every Γ3 node block, in place: turns the selected, renumbered (Cartesian)
+  /// matrix into Tᵀ K T. @return false, with A untouched, if A (n_free × n_free, compressed,
+  /// sorted) lacks full d×d Γ3 node blocks.
+  bool rotate_to_contact_frames(SpMat& A) const;
   /// @return Tᵀ A T by two sparse products (reference implementation, any pattern).
   SpMat reduce_by_products(const SpMat& A) const;
 
