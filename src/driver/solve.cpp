@@ -652,8 +652,9 @@ std::string ContactSolver::Impl::exact_due(Run& run, size_t stage, bool backend_
   if (backend_failed)
     return last.backend.status == SolveStatus::MAX_ITERATIONS
                ? "backend " + backend->name() + " stalled (" + std::to_string(last.backend.iterations) +
-                     " iterations, solver.exact.stage_max_iter)"
-               : "backend " + backend->name() + " failed: " + to_string(last.backend.status);
+                     " iterations, the cap is min(solver.max_iter, solver.exact.stage_max_iter))"
+               : "backend " + backend->name() + " failed: " + to_string(last.backend.status) + " (" +
+                     last.backend.message + ")";
   if (!run.sol.fixed_point_converged) return "the fixed point with the backend did not converge: " + run.sol.message;
   if (same) return "statuses unchanged since stage " + std::to_string(stage - 1);
   if (stage + 1 == schedule.size()) return "last continuation stage";

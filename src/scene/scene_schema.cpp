@@ -370,7 +370,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                       "formulation): it takes over once the statuses stop changing between stages, or the "
                       "backend stalls or fails."));
   t.push_back(key("/solver/exact/enabled", "boolean", D.exact,
-                  "false: the ε-continuation and the polish alone, as before the exact solver."));
+                  "Default true (issue 15). false: the ε-continuation and the polish alone (the design's path)."));
   t.push_back(at_most(above(key("/solver/exact/tol", "number", D.exact_inner.tol,
                                 "Stationarity residual (certificate units) at which the exact solver stops."),
                             0),

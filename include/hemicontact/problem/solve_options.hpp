@@ -94,11 +94,10 @@ struct SolveOptions {
   // Issue 15: the exact inner solver (driver/exact_inner.hpp) and the hand-over to it.
   /// Hand the condensed problem to the exact solver after the continuation stage whose statuses
   /// (read at 10 ε) equal the previous stage's, after a backend failure or stall, and after the
-  /// last stage when the polished answer is not certified. false: the continuation alone.
-  /// Off by default for now: the suite's tests of the continuation's own path (polish, stages,
-  /// non-convergence messages) have not all been moved to name it; the random study
-  /// (bench/random_study.cpp) and tests/driver/exact_inner_test.cpp switch it on.
-  bool exact = false;
+  /// last stage when the polished answer is not certified. false: the continuation alone (the
+  /// design's path; tests of that path's own behaviour set it explicitly). Needs the condensed
+  /// formulation; in the full space the continuation runs alone whatever this says.
+  bool exact = true;
   ExactInnerOptions exact_inner;  ///< the exact solver's tolerance and caps
   /// Hand over after this continuation stage at the latest. Stage 0 (ε = 1e-2 U) already puts the
   /// iterate in the statuses' neighbourhood; every later stage costs backend iterations on an ever
