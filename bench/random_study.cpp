@@ -29,6 +29,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -60,6 +61,7 @@ struct Row {
   bool ok = false, input_error = false, convex_checked = false, convex = false, handover = false;
   double certificate = NAN, min_eig = NAN, seconds = 0, linear = NAN, ratio = NAN;
   std::string reason, message;
+  std::map<std::string, double> timings;  // the solve's own split (Solution::timings)
 };
 
 double percentile(std::vector<double> v, double q) {
@@ -99,7 +101,6 @@ int main(int argc, char** argv) {
     Row r;
     r.rs = stress::draw_default_scene(static_cast<unsigned>(seed), n_min, n_max);
     std::vector<std::string> o = r.rs.overrides;
-    o.push_back("solver.exact.enabled=true");  // the exact solver (opt-in for now); nothing else
     if (!backend.empty()) o.push_back("solver.backend=\"" + backend + "\"");
     try {
       const nlohmann::json scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o);
@@ -124,6 +125,7 @@ int main(int argc, char** argv) {
       r.min_eig = s.inner_convexity.min_eigenvalue;
       r.handover = s.handover.used;
       r.message = s.message;
+      r.timings = s.timings;
       if (r.ok) {
         r.outcome = "certified";
       } else {
@@ -203,6 +205,29 @@ int main(int argc, char** argv) {
          << " |\n";
     }
   if (!listed) md << "Every solved scene was certified.\n";
+  // The slowest scenes relative to their linear solve, with the solve's own time split: where the
+  // time goes (set-up diagnostics, condensation, backend, exact solver, polish, certificate).
+  std::vector<const Row*> by_ratio;
+  for (const auto& r : rows)
+    if (std::isfinite(r.ratio)) by_ratio.push_back(&r);
+  std::sort(by_ratio.begin(), by_ratio.end(), [](const Row* a, const Row* b) { return a->ratio > b->ratio; });
+  if (!by_ratio.empty()) {
+    const auto t = [](const Row& r, const char* k) {
+      const auto it = r.timings.find(k);
+      return it == r.timings.end() ? std::string("-") : g3(1e3 * it->second);
+    };
+    md << "\nSlowest against the linear solve (times in ms; `smallness` and `convexity` are the set-up "
+          "diagnostics, `backend` the continuation's minimizations):\n\n"
+          "| seed | n | ratio | total | linear | smallness | convexity | condensation | backend | exact | polish | "
+          "certificate | outcome |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (size_t i = 0; i < std::min<size_t>(10, by_ratio.size()); ++i) {
+      const Row& r = *by_ratio[i];
+      md << "| " << r.rs.seed << " | " << r.rs.n << " | " << g3(r.ratio) << " | " << g3(1e3 * r.seconds) << " | "
+         << g3(1e3 * r.linear) << " | " << t(r, "smallness") << " | " << t(r, "inner_convexity") << " | "
+         << t(r, "factorization_total") << " | " << t(r, "backend") << " | " << t(r, "exact") << " | "
+         << t(r, "polish") << " | " << t(r, "certificate") << " | " << r.outcome << " |\n";
+    }
+  }
   std::ofstream(fs::path(out) / "random-default.md") << md.str();
   std::cout << md.str();
   return 0;
