@@ -76,6 +76,7 @@ double percentile(std::vector<double> v, double q) {
 int main(int argc, char** argv) {
   int seeds = 1000, n_min = 8, n_max = 16, first = 1;
   std::string out = "random-study", backend;
+  std::vector<std::string> sets;  // --set KEY=VALUE: a solver override on every scene (not the default study)
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const auto next = [&]() -> std::string {
@@ -88,8 +89,9 @@ int main(int argc, char** argv) {
     else if (a == "--n-max") n_max = std::stoi(next());
     else if (a == "--out") out = next();
     else if (a == "--backend") backend = next();
+    else if (a == "--set") sets.push_back(next());
     else {
-      std::cerr << "usage: hemicontact_random_study [--seeds N] [--first S] [--n-min A] [--n-max B] [--backend NAME] [--out DIR]\n";
+      std::cerr << "usage: hemicontact_random_study [--seeds N] [--first S] [--n-min A] [--n-max B] [--backend NAME] [--set KEY=VALUE]... [--out DIR]\n";
       return 1;
     }
   }
@@ -102,6 +104,7 @@ int main(int argc, char** argv) {
     r.rs = stress::draw_default_scene(static_cast<unsigned>(seed), n_min, n_max);
     std::vector<std::string> o = r.rs.overrides;
     if (!backend.empty()) o.push_back("solver.backend=\"" + backend + "\"");
+    o.insert(o.end(), sets.begin(), sets.end());
     try {
       const nlohmann::json scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o);
       const Model md = build_model(scene, ".");
@@ -180,7 +183,12 @@ int main(int argc, char** argv) {
   md << "### Random scenes with default settings (issue 15)\n\n"
      << "Seeds " << first << ".." << first + seeds - 1 << " of `draw_default_scene` (tests/stress/random_scenes.hpp), n = "
      << n_min << ".." << n_max << ", backend " << (backend.empty() ? "default (ipopt)" : backend)
-     << ", no solver override. Regenerate: `hemicontact_random_study --seeds " << seeds << " --out DIR`.\n\n"
+     << (sets.empty() ? std::string(", no solver override") : ", overrides: " + [&] {
+          std::string j;
+          for (const auto& x : sets) j += (j.empty() ? "" : ", ") + x;
+          return j;
+        }())
+     << ". Regenerate: `hemicontact_random_study --seeds " << seeds << " --out DIR`.\n\n"
      << "| | scenes |\n|---|---|\n"
      << "| drawn | " << rows.size() << " |\n"
      << "| input errors (an inverted perturbed cell) | " << input << " |\n"

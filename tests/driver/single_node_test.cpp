@@ -106,6 +106,7 @@ struct Case {
   json gap = "inf";
   json friction = {{"type", "coulomb_layer"}, {"mu", MU}};
   bool all_stages = false;  ///< solver.continuation.certify_below = 0: no early stop once certified
+  bool continuation_only = false;  ///< solver.exact.enabled = false: the continuation's path alone
 };
 
 /// How solve() is configured: the default (formulation auto → condensed for this linear material,
@@ -134,6 +135,7 @@ json make_scene(const Case& c, const std::string& pipeline = "default") {
   json s = scene;
   // Every stage of the continuation: no early stop and no hand-over to the exact inner solver
   // (which ends the continuation once the statuses are known; issue 15).
+  if (c.continuation_only) s["solver"]["exact"]["enabled"] = false;
   if (c.all_stages) {
     s["solver"]["continuation"]["certify_below"] = 0;
     s["solver"]["exact"]["enabled"] = false;
@@ -413,13 +415,14 @@ TEST_P(SingleNode, TrescaSkipsFixedPoint) {
   for (const auto& s : r.sol.skipped) skipped |= s.rfind("fixed_point", 0) == 0;
   EXPECT_TRUE(skipped) << "Solution.skipped should mention fixed_point";
   // One minimization per continuation stage, no loop; when the exact inner solver took over (the
-  // condensed pipelines), its records follow the continuation's, and it too runs λ once: one outer
-  // iteration, λ = b unchanged.
+  // condensed pipelines: before any stage, the inner problem being strongly convex, or after one),
+  // its records follow the continuation's, and it too runs λ once: one outer iteration, λ = b
+  // unchanged.
   const int exact_records = r.sol.handover.used ? r.sol.handover.outer_iterations : 0;
   if (r.sol.handover.used) {
     EXPECT_EQ(exact_records, 1);
   }
-  int max_stage = 0;
+  int max_stage = -1;  // no stage ran: −1
   for (const auto& h : r.sol.history) max_stage = std::max(max_stage, h.stage);
   EXPECT_EQ(static_cast<int>(r.sol.history.size()) - exact_records, max_stage + 1);  // one per stage, no loop
   for (const auto& h : r.sol.history) EXPECT_EQ(h.change_lambda, 0.0);
@@ -480,6 +483,7 @@ TEST(SingleNodeEarlyStop, CertifiedBeforeTheLastStageGivesTheSameAnswer) {
   Case c;
   c.F_nu = (K_NU + W * C1) * target;
   c.F_tau = 3.0 * W * MU * p_hand(target);
+  c.continuation_only = true;  // the continuation's own early stop, against its own all stages
   const Solved early = run(c, "default");
   c.all_stages = true;
   const Solved all = run(c, "default");

@@ -104,6 +104,15 @@ struct SolveOptions {
   /// less smooth problem, which the exact solver does not need (issue 15: ipopt 5–25 s where the
   /// exact solver takes 0.02 s on the same scene).
   int exact_after_stage = 0;
+  /// When the exact solver starts, before any ε-stage: "convex" — when the inner problem Φ_λ is
+  /// strongly convex (inner_convexity, decided at set-up), its minimizer is unique and the exact
+  /// solver's monotone sweeps reach it from any start (driver/exact_inner.hpp), so the smoothed
+  /// neighbourhood is not needed and its cost (a backend minimization, on small meshes most of the
+  /// solve) is saved; "always" — on every condensed problem (a not strongly convex Φ_λ may then end
+  /// in another of its stationary points than the continuation's); "never" — the continuation's
+  /// stage 0 first. When the start from scratch is not certified, the continuation runs as if it
+  /// had not been tried (the hand-over rules above apply).
+  std::string exact_start = "convex";
   /// Backend iterations per minimization while the exact solver can take over: a stage that needs
   /// more is a stalled one (the smoothed problem grows nearly nonsmooth as ε → 0) and hands over.
   /// The paper's scenes need about 20 (README); 0: solver.max_iter alone.
