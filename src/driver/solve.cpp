@@ -430,6 +430,22 @@ Solution ContactSolver::solve(const Vec* z0) {
   }
   Solution sol = I.continuation(z0, t_start);
   if (!first_note.empty()) sol.handover.note = first_note + sol.handover.note;
+  // The last resort, where the exact solver was not tried from the start: the continuation's
+  // neighbourhood can lead the coupled fixed point astray when Φ_λ is not strongly convex (several
+  // stationary points), while a start from scratch is certified. Only a certified answer replaces
+  // the continuation's, and it says so; otherwise the continuation's answer and verdict stand.
+  if (!sol.ok() && first_note.empty() && I.exact_available() && I.opt.exact_start != "never") {
+    Impl::Run last = I.start(z0);
+    last.sol.start_energy = sol.start_energy;
+    I.exact_solve(last, -1, "the continuation's answer was not certified (" + sol.message + ")");
+    I.certify(last, t_start);
+    if (last.sol.ok()) {
+      last.sol.skipped.push_back("continuation: its answer was not certified; the exact solver's from the start was");
+      return std::move(last.sol);
+    }
+    log_info() << "exact solver from the start: not certified either (" << last.sol.message << ")";
+    sol.timings["solve_total"] = last.sol.timings["solve_total"];  // the time both took
+  }
   return sol;
 }
 
@@ -719,8 +735,8 @@ void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& re
   H.used = true;
   H.after_stage = stage;
   H.reason = reason;
-  const std::string when = stage < 0 ? "before the continuation" : "after stage " + std::to_string(stage);
-  log_info() << "exact solver " << (stage < 0 ? "starts " : "takes over ") << when << ": " << reason;
+  const std::string when = stage < 0 ? "from the start, no eps-stage" : "after stage " + std::to_string(stage);
+  log_info() << "exact solver " << (stage < 0 ? "runs " : "takes over ") << when << ": " << reason;
 
   ExactInnerProblem P;
   P.S = &F.cond->S();
