@@ -29,6 +29,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -60,6 +61,7 @@ struct Row {
   bool ok = false, input_error = false, convex_checked = false, convex = false, handover = false;
   double certificate = NAN, min_eig = NAN, seconds = 0, linear = NAN, ratio = NAN;
   std::string reason, message;
+  std::map<std::string, double> timings;  // the solve's own split (Solution::timings)
 };
 
 double percentile(std::vector<double> v, double q) {
@@ -74,6 +76,7 @@ double percentile(std::vector<double> v, double q) {
 int main(int argc, char** argv) {
   int seeds = 1000, n_min = 8, n_max = 16, first = 1;
   std::string out = "random-study", backend;
+  std::vector<std::string> sets;  // --set KEY=VALUE: a solver override on every scene (not the default study)
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const auto next = [&]() -> std::string {
@@ -86,8 +89,9 @@ int main(int argc, char** argv) {
     else if (a == "--n-max") n_max = std::stoi(next());
     else if (a == "--out") out = next();
     else if (a == "--backend") backend = next();
+    else if (a == "--set") sets.push_back(next());
     else {
-      std::cerr << "usage: hemicontact_random_study [--seeds N] [--first S] [--n-min A] [--n-max B] [--backend NAME] [--out DIR]\n";
+      std::cerr << "usage: hemicontact_random_study [--seeds N] [--first S] [--n-min A] [--n-max B] [--backend NAME] [--set KEY=VALUE]... [--out DIR]\n";
       return 1;
     }
   }
@@ -99,8 +103,8 @@ int main(int argc, char** argv) {
     Row r;
     r.rs = stress::draw_default_scene(static_cast<unsigned>(seed), n_min, n_max);
     std::vector<std::string> o = r.rs.overrides;
-    o.push_back("solver.exact.enabled=true");  // the exact solver (opt-in for now); nothing else
     if (!backend.empty()) o.push_back("solver.backend=\"" + backend + "\"");
+    o.insert(o.end(), sets.begin(), sets.end());
     try {
       const nlohmann::json scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o);
       const Model md = build_model(scene, ".");
@@ -124,6 +128,7 @@ int main(int argc, char** argv) {
       r.min_eig = s.inner_convexity.min_eigenvalue;
       r.handover = s.handover.used;
       r.message = s.message;
+      r.timings = s.timings;
       if (r.ok) {
         r.outcome = "certified";
       } else {
@@ -178,7 +183,12 @@ int main(int argc, char** argv) {
   md << "### Random scenes with default settings (issue 15)\n\n"
      << "Seeds " << first << ".." << first + seeds - 1 << " of `draw_default_scene` (tests/stress/random_scenes.hpp), n = "
      << n_min << ".." << n_max << ", backend " << (backend.empty() ? "default (ipopt)" : backend)
-     << ", no solver override. Regenerate: `hemicontact_random_study --seeds " << seeds << " --out DIR`.\n\n"
+     << (sets.empty() ? std::string(", no solver override") : ", overrides: " + [&] {
+          std::string j;
+          for (const auto& x : sets) j += (j.empty() ? "" : ", ") + x;
+          return j;
+        }())
+     << ". Regenerate: `hemicontact_random_study --seeds " << seeds << " --out DIR`.\n\n"
      << "| | scenes |\n|---|---|\n"
      << "| drawn | " << rows.size() << " |\n"
      << "| input errors (an inverted perturbed cell) | " << input << " |\n"
@@ -203,6 +213,29 @@ int main(int argc, char** argv) {
          << " |\n";
     }
   if (!listed) md << "Every solved scene was certified.\n";
+  // The slowest scenes relative to their linear solve, with the solve's own time split: where the
+  // time goes (set-up diagnostics, condensation, backend, exact solver, polish, certificate).
+  std::vector<const Row*> by_ratio;
+  for (const auto& r : rows)
+    if (std::isfinite(r.ratio)) by_ratio.push_back(&r);
+  std::sort(by_ratio.begin(), by_ratio.end(), [](const Row* a, const Row* b) { return a->ratio > b->ratio; });
+  if (!by_ratio.empty()) {
+    const auto t = [](const Row& r, const char* k) {
+      const auto it = r.timings.find(k);
+      return it == r.timings.end() ? std::string("-") : g3(1e3 * it->second);
+    };
+    md << "\nSlowest against the linear solve (times in ms; `smallness` and `convexity` are the set-up "
+          "diagnostics, `backend` the continuation's minimizations):\n\n"
+          "| seed | n | ratio | total | linear | smallness | convexity | condensation | backend | exact | polish | "
+          "certificate | outcome |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (size_t i = 0; i < std::min<size_t>(10, by_ratio.size()); ++i) {
+      const Row& r = *by_ratio[i];
+      md << "| " << r.rs.seed << " | " << r.rs.n << " | " << g3(r.ratio) << " | " << g3(1e3 * r.seconds) << " | "
+         << g3(1e3 * r.linear) << " | " << t(r, "smallness") << " | " << t(r, "inner_convexity") << " | "
+         << t(r, "factorization_total") << " | " << t(r, "backend") << " | " << t(r, "exact") << " | "
+         << t(r, "polish") << " | " << t(r, "certificate") << " | " << r.outcome << " |\n";
+    }
+  }
   std::ofstream(fs::path(out) / "random-default.md") << md.str();
   std::cout << md.str();
   return 0;

@@ -239,8 +239,11 @@ struct ContactSolver::Impl {
   bool exact_available() const { return opt.exact && F.cond != nullptr; }
   std::vector<int> status_signature(const Run& run, size_t stage) const;
   std::string exact_due(Run& run, size_t stage, bool backend_failed);
-  void exact_solve(Run& run, size_t stage, const std::string& reason);
+  /// @p stage: the continuation stage it takes over after, −1 before any (exact_first).
+  void exact_solve(Run& run, int stage, const std::string& reason);
+  std::string exact_first() const;
   void certify(Run& run, clk::time_point t_start) const;
+  Solution continuation(const Vec* z0, clk::time_point t_start);
   Vec gamma3(const Vec& z) const;
   Vec friction_bounds(const Vec& zs) const;
 };
@@ -254,6 +257,8 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
                 ": this command runs the cholmod engine only; the petsc engine runs `hemicontact solve` "
                 "(hemicontact-mpi)");
   I.backend = make_backend(opt.backend);
+  // The backend's options are checked now: the exact solver may answer without running it.
+  I.backend->check_options(opt.backend_options);
 
   // Nothing nonlinear and no obstacle: one sparse Cholesky solve is the answer (no backend at all).
   if (!md.normal_law && !md.friction && md.gap.is_infinite() && md.material->is_linear() &&
@@ -403,6 +408,50 @@ Solution ContactSolver::solve(const Vec* z0) {
   const auto t_start = clk::now();
   Impl& I = *m;
   if (I.linear) return I.linear_answer(t_start);
+  // Issue 15: where no neighbourhood is needed (solver.exact.start), the exact solver starts at
+  // once; a certified answer ends the solve before any ε-stage, anything else is forgotten and the
+  // continuation runs from the same start (its hand-over rules still apply).
+  std::string first_note;
+  if (const std::string why = I.exact_first(); !why.empty()) {
+    Impl::Run first = I.start(z0);
+    I.set_smoothing(0);
+    first.sol.start_energy = I.F.energy->value(I.U_s * first.zs);
+    I.exact_solve(first, -1, why);
+    I.certify(first, t_start);
+    if (first.sol.ok()) {
+      first.sol.skipped.push_back("continuation: not run, the exact solver's answer from the start was certified (" +
+                                  why + "; solver.exact.start)");
+      return std::move(first.sol);
+    }
+    first_note = "the exact solver from the start was not certified (" + first.sol.message +
+                 "), so the continuation ran; ";
+    log_info() << "exact solver from the start: not certified (" << first.sol.message
+               << "); the continuation runs from the same start";
+  }
+  Solution sol = I.continuation(z0, t_start);
+  if (!first_note.empty()) sol.handover.note = first_note + sol.handover.note;
+  // The last resort, where the exact solver was not tried from the start: the continuation's
+  // neighbourhood can lead the coupled fixed point astray when Φ_λ is not strongly convex (several
+  // stationary points), while a start from scratch is certified. Only a certified answer replaces
+  // the continuation's, and it says so; otherwise the continuation's answer and verdict stand.
+  if (!sol.ok() && first_note.empty() && I.exact_available() && I.opt.exact_start != "never") {
+    Impl::Run last = I.start(z0);
+    last.sol.start_energy = sol.start_energy;
+    I.exact_solve(last, -1, "the continuation's answer was not certified (" + sol.message + ")");
+    I.certify(last, t_start);
+    if (last.sol.ok()) {
+      last.sol.skipped.push_back("continuation: its answer was not certified; the exact solver's from the start was");
+      return std::move(last.sol);
+    }
+    log_info() << "exact solver from the start: not certified either (" << last.sol.message << ")";
+    sol.timings["solve_total"] = last.sol.timings["solve_total"];  // the time both took
+  }
+  return sol;
+}
+
+// The continuation (solve.hpp's pseudo-code) from @p z0, with the hand-over to the exact solver.
+Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_start) {
+  Impl& I = *this;
   Impl::Run run = I.start(z0);
   // A copy polished and certified; returned when it passes (then no further stage runs).
   const auto certified_trial = [&](size_t stage, bool last) -> std::optional<Solution> {
@@ -437,7 +486,7 @@ Solution ContactSolver::solve(const Vec* z0) {
       if (!why.empty()) {
         if (ok && !tried && run.sol.fixed_point_converged)
           if (auto sol = certified_trial(stage, last)) return std::move(*sol);
-        I.exact_solve(run, stage, why);
+        I.exact_solve(run, static_cast<int>(stage), why);
         I.certify(run, t_start);
         return std::move(run.sol);
       }
@@ -643,6 +692,16 @@ std::vector<int> ContactSolver::Impl::status_signature(const Run& run, size_t st
   return sig;
 }
 
+// Why the exact solver starts before any continuation stage (solver.exact.start), or "" (it does not).
+std::string ContactSolver::Impl::exact_first() const {
+  if (!exact_available() || opt.exact_start == "never") return "";
+  if (opt.exact_start == "always") return "solver.exact.start = always";
+  if (convexity.checked && convexity.strongly_convex)
+    return "the inner problem is strongly convex (smallest eigenvalue of S - alpha W_nu " +
+           short_number(convexity.min_eigenvalue) + " > 0): its minimizer is reached from any start";
+  return "";
+}
+
 // Why the exact solver should take over after @p stage, or "" (not yet).
 std::string ContactSolver::Impl::exact_due(Run& run, size_t stage, bool backend_failed) {
   std::vector<int> sig = status_signature(run, stage);
@@ -652,8 +711,9 @@ std::string ContactSolver::Impl::exact_due(Run& run, size_t stage, bool backend_
   if (backend_failed)
     return last.backend.status == SolveStatus::MAX_ITERATIONS
                ? "backend " + backend->name() + " stalled (" + std::to_string(last.backend.iterations) +
-                     " iterations, solver.exact.stage_max_iter)"
-               : "backend " + backend->name() + " failed: " + to_string(last.backend.status);
+                     " iterations, the cap is min(solver.max_iter, solver.exact.stage_max_iter))"
+               : "backend " + backend->name() + " failed: " + to_string(last.backend.status) + " (" +
+                     last.backend.message + ")";
   if (!run.sol.fixed_point_converged) return "the fixed point with the backend did not converge: " + run.sol.message;
   if (same) return "statuses unchanged since stage " + std::to_string(stage - 1);
   if (stage + 1 == schedule.size()) return "last continuation stage";
@@ -666,16 +726,17 @@ std::string ContactSolver::Impl::exact_due(Run& run, size_t stage, bool backend_
 // exactly (driver/exact_inner.hpp), λ = F_b(u_ν) by Anderson acceleration, until the coupled
 // stationarity residual (the certificate's terms with λ = F_b(u_ν), λ not frozen) is at most
 // solver.exact.tol; then the exact polish. Only the condensed formulation has it.
-void ContactSolver::Impl::exact_solve(Run& run, size_t stage, const std::string& reason) {
+void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& reason) {
   const auto t0 = clk::now();
   const Model& md = *model;
   const int d = md.dim();
   const Index nc = md.contact.size();
   HandoverReport& H = run.sol.handover;
   H.used = true;
-  H.after_stage = static_cast<int>(stage);
+  H.after_stage = stage;
   H.reason = reason;
-  log_info() << "exact solver takes over after stage " << stage << ": " << reason;
+  const std::string when = stage < 0 ? "from the start, no eps-stage" : "after stage " + std::to_string(stage);
+  log_info() << "exact solver " << (stage < 0 ? "runs " : "takes over ") << when << ": " << reason;
 
   ExactInnerProblem P;
   P.S = &F.cond->S();
@@ -715,7 +776,7 @@ void ContactSolver::Impl::exact_solve(Run& run, size_t stage, const std::string&
     H.note = R.note;
     OuterIteration rec;
     rec.k = run.k_total++;
-    rec.stage = static_cast<int>(stage);
+    rec.stage = stage;
     rec.backend.status = R.converged ? SolveStatus::CONVERGED : SolveStatus::FAILED;
     rec.backend.iterations = R.rounds;
     rec.backend.f = R.energy;
@@ -765,8 +826,7 @@ void ContactSolver::Impl::exact_solve(Run& run, size_t stage, const std::string&
   run.sol.fixed_point_converged = H.fixed_point_converged;
   if (!H.fixed_point_converged) {
     if (!H.inner_converged)
-      run.sol.message = "backend exact (inner solver after stage " + std::to_string(stage) +
-                        ") did not converge: " + H.note;
+      run.sol.message = "backend exact (inner solver " + when + ") did not converge: " + H.note;
     else
       run.sol.message = "fixed point lambda = F_b(u_nu) did not converge in the exact solver: " +
                         std::to_string(H.outer_iterations) + " Anderson iterations (solver.fixed_point.max_iters), " +

@@ -173,6 +173,13 @@ class IpoptBackend final : public NlpBackend {
  public:
   std::string name() const override { return "ipopt"; }
   bool uses_hessian() const override { return true; }
+  void check_options(const BackendOptions& options) const override {
+    if (options.extra.empty()) return;  // nothing to check: no application (its set-up costs ~ms)
+    Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+    if (const auto console = app->Jnlst()->GetJournal("console"); Ipopt::IsValid(console))
+      console->SetAllPrintLevels(Ipopt::J_NONE);  // our Error names the option
+    for (const auto& [key, value] : options.extra) set_passthrough(*app, key, value);
+  }
 
  protected:
   SolveResult do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) override;

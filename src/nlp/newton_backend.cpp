@@ -325,6 +325,7 @@ class NewtonBackend final : public NlpBackend {
  public:
   std::string name() const override { return "newton"; }
   bool uses_hessian() const override { return true; }
+  void check_options(const BackendOptions& options) const override { (void)parse_options(options); }
 
  protected:
   SolveResult do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) override;

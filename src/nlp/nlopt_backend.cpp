@@ -369,6 +369,10 @@ class NloptBackend final : public NlpBackend {
       : m_spec(std::move(spec)), m_local(local), m_global(global) {}
   std::string name() const override { return "nlopt:" + m_spec; }
   bool uses_hessian() const override { return false; }
+  void check_options(const BackendOptions& options) const override {
+    const LocalAlgorithm* local = nullptr;
+    (void)parse_extra(options, local);
+  }
 
  protected:
   SolveResult do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) override;

@@ -370,7 +370,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                       "formulation): it takes over once the statuses stop changing between stages, or the "
                       "backend stalls or fails."));
   t.push_back(key("/solver/exact/enabled", "boolean", D.exact,
-                  "false: the ε-continuation and the polish alone, as before the exact solver."));
+                  "Default true (issue 15). false: the ε-continuation and the polish alone (the design's path)."));
   t.push_back(at_most(above(key("/solver/exact/tol", "number", D.exact_inner.tol,
                                 "Stationarity residual (certificate units) at which the exact solver stops."),
                             0),
@@ -386,6 +386,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "Hand over after this continuation stage at the latest (earlier when the "
                            "statuses stop changing or the backend stalls)."),
                        0));
+  t.push_back(key("/solver/exact/start", "string", D.exact_start,
+                  "Start the exact solver before any continuation stage: convex = when the inner "
+                  "problem is strongly convex (unique minimizer, reached from any start); always; "
+                  "never = after stage 0 at the earliest. Not certified from there: the continuation runs.",
+                  {"convex", "always", "never"}));
   t.push_back(at_least(key("/solver/exact/stage_max_iter", "integer", D.exact_stage_max_iter,
                            "Backend iterations per minimization while the exact solver can take over; "
                            "more is a stall and hands over (0: solver.max_iter alone)."),

@@ -234,13 +234,33 @@ TEST_F(Cli, UnknownBackend) {
 
 TEST_F(Cli, NonConvergenceIsLoud) {
   // One Ipopt iteration cannot solve the contact problem: exit 3 and a warning, unless allowed.
-  // (Without the polish: its active-set rounds can turn even such a rough iterate into a certified
-  // answer, which is then rightly accepted.)
+  // The continuation's own exit (solver.exact.enabled = false: with the exact inner solver behind
+  // it, a stalled backend hands over instead, see NonConvergenceOfTheExactSolverIsLoud). Without
+  // the polish: its active-set rounds can turn even such a rough iterate into a certified answer,
+  // which is then rightly accepted.
   json s = scene();
-  s["solver"] = {{"max_iter", 1}, {"polish", false}};
+  s["solver"] = {{"max_iter", 1}, {"polish", false}, {"exact", {{"enabled", false}}}};
   const CliRun r = run("solve " + write(s) + " --out " + (dir / "nc").string());
   EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
   EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
   const json rep = json::parse(slurp(dir / "nc" / "report.json"));
   EXPECT_FALSE(rep["ok"].get<bool>());
+}
+
+TEST_F(Cli, NonConvergenceOfTheExactSolverIsLoud) {
+  // The default path (the exact inner solver takes over after stage 0 or a stall) has its own ways
+  // to fail, and they are as loud. One Ipopt iteration stalls stage 0 far from the answer (λ frozen
+  // at F_b of a rough u_ν), the exact solver takes over, and with one outer iteration allowed
+  // (solver.fixed_point.max_iters = 1) its λ = F_b(u_ν) has moved by O(1) relative: the fixed
+  // point did not converge. Exit 3, a warning, ok = false in report.json, the hand-over recorded
+  // there. Without the polish, whose own λ iteration would otherwise certify the answer (rightly).
+  json s = scene();
+  s["solver"] = {{"max_iter", 1}, {"polish", false}, {"fixed_point", {{"max_iters", 1}}}};
+  const CliRun r = run("solve " + write(s) + " --out " + (dir / "nc").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
+  EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("exact solver"), std::string::npos) << r.err;
+  const json rep = json::parse(slurp(dir / "nc" / "report.json"));
+  EXPECT_FALSE(rep["ok"].get<bool>());
+  EXPECT_TRUE(rep["inner"]["handover"]["used"].get<bool>()) << rep["inner"].dump();
 }

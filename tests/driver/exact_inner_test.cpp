@@ -187,16 +187,18 @@ void expect_same_u(const Solution& a, const Solution& b, double rel) {
 
 }  // namespace
 
-// The hand-over forced right after stage 0 (solver.exact.stage_max_iter = 1: every stage "stalls")
-// reaches the answer of the default path (continuation + polish), to round-off: both are certified
-// solutions of the same problem, unique here by (21).
+// The hand-over forced right after stage 0 (solver.exact.stage_max_iter = 1: every stage "stalls";
+// solver.exact.start = never: no start before stage 0) reaches the answer of the continuation +
+// polish alone (solver.exact.enabled = false), to round-off: both are certified solutions of the
+// same problem, unique here by (21).
 TEST(ExactHandover, AgreesWithThePolishedContinuation2D) {
   for (const std::string file : {"sofonea2017-fig2.json", "sofonea2017-printed.json"}) {
     SCOPED_TRACE(file);
     Model md;
-    const Solution ref = solve_scene(file, {"mesh.n=8"}, md);  // the continuation + polish
+    const Solution ref = solve_scene(file, {"mesh.n=8", "solver.exact.enabled=false"}, md);  // the continuation + polish
     ASSERT_TRUE(ref.ok()) << ref.message;
-    const Solution ex = solve_scene(file, {"mesh.n=8", "solver.exact.enabled=true", "solver.exact.stage_max_iter=1"}, md);
+    const Solution ex = solve_scene(
+        file, {"mesh.n=8", "solver.exact.enabled=true", "solver.exact.start=\"never\"", "solver.exact.stage_max_iter=1"}, md);
     ASSERT_TRUE(ex.ok()) << ex.message;
     EXPECT_TRUE(ex.handover.used);
     EXPECT_EQ(ex.handover.after_stage, 0);
@@ -215,15 +217,69 @@ TEST(ExactHandover, AgreesWithThePolishedContinuation2D) {
 TEST(ExactHandover, AgreesWithThePolishedContinuation3D) {
   Model md;
   const std::vector<std::string> o{"mesh.n=4", "check.smallness=false"};
-  const Solution ref = solve_scene("sofonea2017-3d.json", o, md);
+  std::vector<std::string> o1 = o;
+  o1.push_back("solver.exact.enabled=false");  // the continuation + polish alone
+  const Solution ref = solve_scene("sofonea2017-3d.json", o1, md);
   ASSERT_TRUE(ref.ok()) << ref.message;
   std::vector<std::string> o2 = o;
-  o2.insert(o2.end(), {"solver.exact.enabled=true", "solver.exact.stage_max_iter=1"});
+  o2.insert(o2.end(), {"solver.exact.enabled=true", "solver.exact.start=\"never\"", "solver.exact.stage_max_iter=1"});
   const Solution ex = solve_scene("sofonea2017-3d.json", o2, md);
   ASSERT_TRUE(ex.ok()) << ex.message;
   EXPECT_TRUE(ex.handover.used);
   expect_same_u(ref, ex, 1e-8);  // as in 2D
   for (size_t k = 0; k < ref.status.size(); ++k) EXPECT_EQ(ref.status[k].str(), ex.status[k].str()) << k;
+}
+
+// solver.exact.start = convex (the default): the paper scenes' inner problems are strongly convex
+// (smallest eigenvalue of S − α W_ν > 0), so the exact solver starts at once, no ε-stage runs, and
+// the answer is the continuation's (solver.exact.enabled = false) to the same margin as above.
+TEST(ExactStart, StronglyConvexScenesNeedNoContinuation) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+      {"sofonea2017-fig2.json", {"mesh.n=8"}},
+      {"sofonea2017-printed.json", {"mesh.n=8"}},
+      {"sofonea2017-3d.json", {"mesh.n=4", "check.smallness=false"}}};
+  for (const auto& [file, o] : cases) {
+    SCOPED_TRACE(file);
+    Model md;
+    std::vector<std::string> o1 = o;
+    o1.push_back("solver.exact.enabled=false");
+    const Solution ref = solve_scene(file, o1, md);
+    ASSERT_TRUE(ref.ok()) << ref.message;
+    EXPECT_FALSE(ref.handover.used);
+    const Solution ex = solve_scene(file, o, md);
+    ASSERT_TRUE(ex.ok()) << ex.message;
+    ASSERT_TRUE(ex.inner_convexity.checked && ex.inner_convexity.strongly_convex);
+    EXPECT_TRUE(ex.handover.used);
+    EXPECT_EQ(ex.handover.after_stage, -1);
+    EXPECT_NE(ex.handover.reason.find("strongly convex"), std::string::npos) << ex.handover.reason;
+    EXPECT_TRUE(ex.handover.fixed_point_converged);
+    for (const auto& h : ex.history) EXPECT_EQ(h.stage, -1);  // no ε-stage ran
+    EXPECT_EQ(static_cast<int>(ex.history.size()), ex.handover.outer_iterations);
+    bool said = false;
+    for (const auto& s : ex.skipped) said = said || s.rfind("continuation: not run", 0) == 0;
+    EXPECT_TRUE(said);
+    expect_same_u(ref, ex, 1e-8);
+    for (size_t k = 0; k < ref.status.size(); ++k) EXPECT_EQ(ref.status[k].str(), ex.status[k].str()) << k;
+  }
+}
+
+// When the exact solver's start is not certified, it is forgotten and the continuation runs from
+// the same start, and the report says so. The sliding scene below with the plain fixed point
+// (anderson_memory = 0, which oscillates there) fails from the start; the continuation then runs
+// (its minimizations are stage ≥ 0) and, with the same plain iteration, also fails, loudly.
+TEST(ExactStart, NotCertifiedFromTheStartTheContinuationRuns) {
+  const std::vector<std::string> o{"mesh.n=16",          "check.smallness=false",
+                                   "contact.gap=null",   "boundary.gamma2=[]",
+                                   "loads.body_force=[20000,-500]", "contact.friction.mu=8",
+                                   "solver.exact.start=\"always\"", "solver.fixed_point.anderson_memory=0"};
+  Model md;
+  const Solution p = solve_scene("sofonea2017-fig2.json", o, md);
+  EXPECT_FALSE(p.ok());
+  EXPECT_NE(p.handover.note.find("the exact solver from the start was not certified"), std::string::npos)
+      << p.handover.note;
+  bool continuation_ran = false;
+  for (const auto& h : p.history) continuation_ran = continuation_ran || h.stage >= 0;
+  EXPECT_TRUE(continuation_ran);
 }
 
 // The sliding scene of tests/stress/fixed_point_test.cpp at μ = 8: the plain λ = F_b(u_ν)

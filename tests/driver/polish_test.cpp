@@ -52,8 +52,10 @@ void check_polish_recovers_exact_solution(const std::string& scene, const std::s
   ASSERT_TRUE(reference.ok()) << reference.message;
 
   std::vector<std::string> smoothed = mesh;
+  // The continuation alone (solver.exact.enabled=false): the exact inner solver would hand back
+  // an exact answer, and this test needs the smoothed one as the polish's input.
   smoothed.insert(smoothed.end(), {"solver.polish=false", "solver.eps_tau=" + eps, "solver.eps_nu=" + eps,
-                                   "solver.continuation.eps_start=1e-2"});
+                                   "solver.continuation.eps_start=1e-2", "solver.exact.enabled=false"});
   const Case smooth = load(scene, smoothed);
   const Solution rough = solve(smooth.md, smooth.opt);
   ASSERT_GT(rough.certificate.max_residual, 1e-9) << "the smoothed answer is already exact: no test";

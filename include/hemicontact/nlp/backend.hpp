@@ -74,6 +74,11 @@ class NlpBackend {
   /// @throws Error naming the backend for a malformed problem (EXIT_INTERNAL) or empty bounds
   ///         (EXIT_INPUT), and whatever do_minimize throws for bad options.
   SolveResult minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options);
+  /// Refuse pass-through options (BackendOptions::extra) this backend would refuse in minimize(),
+  /// without minimizing anything: the driver checks them at set-up, so that a scene's bad option
+  /// is an input error even when the backend is never run (the exact solver may answer alone).
+  /// @throws Error (EXIT_INPUT) naming the option, as minimize() would.
+  virtual void check_options(const BackendOptions& options) const { (void)options; }
 
  protected:
   /// The algorithm, on a checked problem with n ≥ 1 unknowns and x inside the bounds. Sets status,

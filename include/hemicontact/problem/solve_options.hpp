@@ -94,17 +94,25 @@ struct SolveOptions {
   // Issue 15: the exact inner solver (driver/exact_inner.hpp) and the hand-over to it.
   /// Hand the condensed problem to the exact solver after the continuation stage whose statuses
   /// (read at 10 ε) equal the previous stage's, after a backend failure or stall, and after the
-  /// last stage when the polished answer is not certified. false: the continuation alone.
-  /// Off by default for now: the suite's tests of the continuation's own path (polish, stages,
-  /// non-convergence messages) have not all been moved to name it; the random study
-  /// (bench/random_study.cpp) and tests/driver/exact_inner_test.cpp switch it on.
-  bool exact = false;
+  /// last stage when the polished answer is not certified. false: the continuation alone (the
+  /// design's path; tests of that path's own behaviour set it explicitly). Needs the condensed
+  /// formulation; in the full space the continuation runs alone whatever this says.
+  bool exact = true;
   ExactInnerOptions exact_inner;  ///< the exact solver's tolerance and caps
   /// Hand over after this continuation stage at the latest. Stage 0 (ε = 1e-2 U) already puts the
   /// iterate in the statuses' neighbourhood; every later stage costs backend iterations on an ever
   /// less smooth problem, which the exact solver does not need (issue 15: ipopt 5–25 s where the
   /// exact solver takes 0.02 s on the same scene).
   int exact_after_stage = 0;
+  /// When the exact solver starts, before any ε-stage: "convex" — when the inner problem Φ_λ is
+  /// strongly convex (inner_convexity, decided at set-up), its minimizer is unique and the exact
+  /// solver's monotone sweeps reach it from any start (driver/exact_inner.hpp), so the smoothed
+  /// neighbourhood is not needed and its cost (a backend minimization, on small meshes most of the
+  /// solve) is saved; "always" — on every condensed problem (a not strongly convex Φ_λ may then end
+  /// in another of its stationary points than the continuation's); "never" — the continuation's
+  /// stage 0 first. When the start from scratch is not certified, the continuation runs as if it
+  /// had not been tried (the hand-over rules above apply).
+  std::string exact_start = "convex";
   /// Backend iterations per minimization while the exact solver can take over: a stage that needs
   /// more is a stalled one (the smoothed problem grows nearly nonsmooth as ε → 0) and hands over.
   /// The paper's scenes need about 20 (README); 0: solver.max_iter alone.
