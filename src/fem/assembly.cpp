@@ -49,6 +49,15 @@ Adjacency node_adjacency(const Mesh& m) {
   return adj;
 }
 
+// The element stiffness |T| Bᵀ D B of cell c (Cartesian components, nodes in cell order).
+template <int D>
+typename P1<D>::KMat element_stiffness(const Mesh& m, Index c,
+                                       const Eigen::Matrix<double, P1<D>::NVOIGT, P1<D>::NVOIGT>& Dm) {
+  double vol;
+  const auto B = P1<D>::strain_matrix(P1<D>::gradients(m, c, vol));
+  return vol * B.transpose() * Dm * B;
+}
+
 // Direct assembly into a precomputed compressed pattern: no triplet list (which at 2M cells would
 // hold 75M entries, 1.2 GB, and cost a sort), each element block lands at a looked-up position.
 template <int D>
@@ -76,10 +85,7 @@ SpMat stiffness(const Mesh& m, const Mat& Ddyn) {
     }
   std::fill(values, values + outer[n], 0.0);
   for (Index c = 0; c < m.num_cells(); ++c) {
-    double vol;
-    const auto G = E::gradients(m, c, vol);
-    const auto B = E::strain_matrix(G);
-    const typename E::KMat Ke = vol * B.transpose() * Dm * B;
+    const typename E::KMat Ke = element_stiffness<D>(m, c, Dm);
     for (int a = 0; a < E::NV; ++a) {
       const int na = m.cells(c, a);
       const int* nb_first = adj.begin(na);
@@ -140,10 +146,7 @@ MovableSpMat reduced_stiffness(const Mesh& m, const Mat& Ddyn, const DofMap& dof
   }
   std::fill(values, values + outer[n], 0.0);
   for (Index c = 0; c < m.num_cells(); ++c) {
-    double vol;
-    const auto G = E::gradients(m, c, vol);
-    const auto B = E::strain_matrix(G);
-    const typename E::KMat Ke = vol * B.transpose() * Dm * B;
+    const typename E::KMat Ke = element_stiffness<D>(m, c, Dm);
     for (int a = 0; a < E::NV; ++a) {
       const int na = m.cells(c, a);
       if (n_free_of[na] == 0) continue;
