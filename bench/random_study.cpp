@@ -59,8 +59,9 @@ struct Row {
   stress::RandomScene rs;
   std::string outcome;  // certified | input error | not certified: <reason>
   bool ok = false, input_error = false, convex_checked = false, convex = false, handover = false;
-  double certificate = NAN, min_eig = NAN, seconds = 0, linear = NAN, ratio = NAN;
+  double certificate = NAN, min_eig = NAN, seconds = 0, linear = NAN, ratio = NAN, energy = NAN;
   std::string reason, message;
+  std::string path;  // which of the solve's routes gave the answer (path_of)
   std::map<std::string, double> timings;  // the solve's own split (Solution::timings)
 };
 
@@ -69,6 +70,21 @@ double percentile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
   const size_t i = std::min(v.size() - 1, static_cast<size_t>(std::floor(q * (v.size() - 1) + 0.5)));
   return v[i];
+}
+
+// Which route of ContactSolver::solve gave the answer, read off the notes it leaves (solve.cpp):
+// the exact solver from the start, the continuation after a start that was not certified, the last
+// resort after a continuation that was not, or the continuation alone. Where the inner problem is
+// not strongly convex the routes may end in different stationary points; with `energy` this column
+// lets two runs of the study be compared.
+std::string path_of(const Solution& s) {
+  for (const auto& k : s.skipped) {
+    if (k.rfind("continuation: not run", 0) == 0) return "exact from start";
+    if (k.rfind("continuation: its answer was not certified", 0) == 0) return "last resort";
+  }
+  if (s.handover.note.rfind("the exact solver from the start was not certified", 0) == 0)
+    return "continuation after exact start";
+  return "continuation";
 }
 
 }  // namespace
@@ -129,6 +145,8 @@ int main(int argc, char** argv) {
       r.handover = s.handover.used;
       r.message = s.message;
       r.timings = s.timings;
+      r.energy = s.energy;
+      r.path = path_of(s);
       if (r.ok) {
         r.outcome = "certified";
       } else {
@@ -151,19 +169,21 @@ int main(int argc, char** argv) {
   // CSV
   std::ofstream csv(fs::path(out) / "random-default.csv");
   csv << "seed,n,E,load_scale,mu,g,aspect,outcome,certificate,strongly_convex_checked,strongly_convex,min_eigenvalue,"
-         "handover,seconds,linear_seconds,ratio,message,command\n";
+         "handover,path,energy,seconds,linear_seconds,ratio,message,command\n";
   for (const auto& r : rows)
     csv << r.rs.seed << ',' << r.rs.n << ',' << r.rs.E << ',' << r.rs.load_scale << ',' << r.rs.mu << ','
         << (r.rs.gap_none ? std::string("none") : stress::num(r.rs.g)) << ',' << r.rs.aspect << ',' << r.outcome << ','
         << r.certificate << ',' << r.convex_checked << ',' << r.convex << ',' << r.min_eig << ',' << r.handover << ','
-        << r.seconds << ',' << r.linear << ',' << r.ratio << ',' << csv_quote(r.message) << ','
+        << r.path << ',' << stress::num(r.energy) << ',' << r.seconds << ',' << r.linear << ',' << r.ratio << ',' << csv_quote(r.message) << ','
         << csv_quote(r.rs.command()) << '\n';
 
   // Summary
   int valid = 0, ok = 0, convex = 0, convex_ok = 0, handover = 0, input = 0, above10 = 0;
   std::vector<double> ratios, ratios_ok;
   double slowest = 0;
+  std::map<std::string, int> certified_by_path;
   for (const auto& r : rows) {
+    if (r.ok) ++certified_by_path[r.path];
     if (r.input_error) {
       ++input;
       continue;
@@ -196,7 +216,9 @@ int main(int argc, char** argv) {
      << "| certified | " << ok << " (" << g3(100.0 * ok / std::max(valid, 1)) << " %) |\n"
      << "| inner problem strongly convex | " << convex << " |\n"
      << "| strongly convex and certified | " << convex_ok << " |\n"
-     << "| exact solver took over | " << handover << " |\n\n"
+     << "| exact solver took over | " << handover << " |\n";
+  for (const auto& [path, count] : certified_by_path) md << "| certified by: " << path << " | " << count << " |\n";
+  md << "\n"
      << "Time / linear factor+solve of the same mesh: median " << g3(percentile(ratios, 0.5)) << "x, 90th percentile "
      << g3(percentile(ratios, 0.9)) << "x, max " << g3(ratios.empty() ? NAN : *std::max_element(ratios.begin(), ratios.end()))
      << "x; " << above10 << " scenes above 10x. Slowest scene " << g3(slowest) << " s; total " << g3(since(t_all))

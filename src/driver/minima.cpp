@@ -201,6 +201,10 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   for (const std::string& name : mopt.backends) {
     SolveOptions o = opt;
     o.backend = name;
+    // solver.exact.start = auto: the continuation's neighbourhoods for the starts whose inner problem
+    // is not strongly convex, since reaching different stationary points is what minima is for
+    // (solve_options.hpp; minima-softening: 6 distinct minima this way, 3 with "always").
+    if (o.exact_start == "auto") o.exact_start = "convex";
     const bool first = !solver;
     if (first)
       solver = std::make_unique<ContactSolver>(md, o);

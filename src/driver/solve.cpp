@@ -423,6 +423,16 @@ Solution ContactSolver::solve(const Vec* z0) {
                                   why + "; solver.exact.start)");
       return std::move(first.sol);
     }
+    if (!I.opt.exact_start_fallback) {
+      // No continuation after a failed start (solve_options.hpp: it certified none of the 1000
+      // random scenes where the start failed, and costs most of a failing solve): the answer stands
+      // as not certified, with its reason and the key that would try the continuation.
+      first.sol.skipped.push_back("continuation: not run after the exact solver's start was not certified "
+                                  "(solver.exact.fallback = false; true tries it, as does solver.exact.start = never)");
+      log_info() << "exact solver from the start: not certified (" << first.sol.message
+                 << "); the continuation is not tried (solver.exact.fallback = false)";
+      return std::move(first.sol);
+    }
     first_note = "the exact solver from the start was not certified (" + first.sol.message +
                  "), so the continuation ran; ";
     log_info() << "exact solver from the start: not certified (" << first.sol.message
@@ -696,6 +706,7 @@ std::vector<int> ContactSolver::Impl::status_signature(const Run& run, size_t st
 std::string ContactSolver::Impl::exact_first() const {
   if (!exact_available() || opt.exact_start == "never") return "";
   if (opt.exact_start == "always") return "solver.exact.start = always";
+  if (opt.exact_start == "auto") return "solver.exact.start = auto (always, for a solve)";
   if (convexity.checked && convexity.strongly_convex)
     return "the inner problem is strongly convex (smallest eigenvalue of S - alpha W_nu " +
            short_number(convexity.min_eigenvalue) + " > 0): its minimizer is reached from any start";

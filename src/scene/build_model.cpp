@@ -306,6 +306,7 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.exact_stage_max_iter = ex.at("stage_max_iter").get<int>();
   o.exact_after_stage = ex.at("after_stage").get<int>();
   o.exact_start = ex.at("start").get<std::string>();
+  o.exact_start_fallback = ex.at("fallback").get<bool>();
   o.convexity_max_unknowns = ex.at("convexity_max_unknowns").get<Index>();
   return o;
 }

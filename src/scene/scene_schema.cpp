@@ -389,8 +389,12 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(key("/solver/exact/start", "string", D.exact_start,
                   "Start the exact solver before any continuation stage: convex = when the inner "
                   "problem is strongly convex (unique minimizer, reached from any start); always; "
-                  "never = after stage 0 at the earliest. Not certified from there: the continuation runs.",
-                  {"convex", "always", "never"}));
+                  "never = after stage 0 at the earliest; auto = always for a solve, convex for the "
+                  "starts of minima. Not certified from there: see fallback.",
+                  {"auto", "convex", "always", "never"}));
+  t.push_back(key("/solver/exact/fallback", "boolean", D.exact_start_fallback,
+                  "When the exact solver's answer from the start is not certified, run the continuation "
+                  "from the same start (true) or stop with that answer and its reason (false)."));
   t.push_back(at_least(key("/solver/exact/stage_max_iter", "integer", D.exact_stage_max_iter,
                            "Backend iterations per minimization while the exact solver can take over; "
                            "more is a stall and hands over (0: solver.max_iter alone)."),

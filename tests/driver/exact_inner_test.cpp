@@ -230,14 +230,15 @@ TEST(ExactHandover, AgreesWithThePolishedContinuation3D) {
   for (size_t k = 0; k < ref.status.size(); ++k) EXPECT_EQ(ref.status[k].str(), ex.status[k].str()) << k;
 }
 
-// solver.exact.start = convex (the default): the paper scenes' inner problems are strongly convex
-// (smallest eigenvalue of S − α W_ν > 0), so the exact solver starts at once, no ε-stage runs, and
-// the answer is the continuation's (solver.exact.enabled = false) to the same margin as above.
+// solver.exact.start = convex (what minima uses): the paper scenes' inner problems are strongly
+// convex (smallest eigenvalue of S − α W_ν > 0), so the exact solver starts at once, no ε-stage
+// runs, and the answer is the continuation's (solver.exact.enabled = false) to the same margin as
+// above.
 TEST(ExactStart, StronglyConvexScenesNeedNoContinuation) {
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
-      {"sofonea2017-fig2.json", {"mesh.n=8"}},
-      {"sofonea2017-printed.json", {"mesh.n=8"}},
-      {"sofonea2017-3d.json", {"mesh.n=4", "check.smallness=false"}}};
+      {"sofonea2017-fig2.json", {"mesh.n=8", "solver.exact.start=\"convex\""}},
+      {"sofonea2017-printed.json", {"mesh.n=8", "solver.exact.start=\"convex\""}},
+      {"sofonea2017-3d.json", {"mesh.n=4", "check.smallness=false", "solver.exact.start=\"convex\""}}};
   for (const auto& [file, o] : cases) {
     SCOPED_TRACE(file);
     Model md;
@@ -263,15 +264,17 @@ TEST(ExactStart, StronglyConvexScenesNeedNoContinuation) {
   }
 }
 
-// When the exact solver's start is not certified, it is forgotten and the continuation runs from
-// the same start, and the report says so. The sliding scene below with the plain fixed point
-// (anderson_memory = 0, which oscillates there) fails from the start; the continuation then runs
-// (its minimizations are stage ≥ 0) and, with the same plain iteration, also fails, loudly.
+// With solver.exact.fallback = true, when the exact solver's start is not certified, it is
+// forgotten and the continuation runs from the same start, and the report says so. The sliding
+// scene below with the plain fixed point (anderson_memory = 0, which oscillates there) fails from
+// the start; the continuation then runs (its minimizations are stage ≥ 0) and, with the same plain
+// iteration, also fails, loudly.
 TEST(ExactStart, NotCertifiedFromTheStartTheContinuationRuns) {
   const std::vector<std::string> o{"mesh.n=16",          "check.smallness=false",
                                    "contact.gap=null",   "boundary.gamma2=[]",
                                    "loads.body_force=[20000,-500]", "contact.friction.mu=8",
-                                   "solver.exact.start=\"always\"", "solver.fixed_point.anderson_memory=0"};
+                                   "solver.exact.start=\"always\"", "solver.fixed_point.anderson_memory=0",
+                                   "solver.exact.fallback=true"};
   Model md;
   const Solution p = solve_scene("sofonea2017-fig2.json", o, md);
   EXPECT_FALSE(p.ok());
@@ -280,6 +283,41 @@ TEST(ExactStart, NotCertifiedFromTheStartTheContinuationRuns) {
   bool continuation_ran = false;
   for (const auto& h : p.history) continuation_ran = continuation_ran || h.stage >= 0;
   EXPECT_TRUE(continuation_ran);
+}
+
+// The default (start = auto, fallback = false): the same failing scene stops after the exact
+// solver's start, with no ε-stage, not certified, its reason (the fixed point) in the message and
+// the key that would try the continuation in `skipped`.
+TEST(ExactStart, DefaultStopsAfterAStartThatIsNotCertified) {
+  const std::vector<std::string> o{"mesh.n=16",          "check.smallness=false",
+                                   "contact.gap=null",   "boundary.gamma2=[]",
+                                   "loads.body_force=[20000,-500]", "contact.friction.mu=8",
+                                   "solver.fixed_point.anderson_memory=0"};
+  Model md;
+  const Solution p = solve_scene("sofonea2017-fig2.json", o, md);
+  EXPECT_FALSE(p.ok());
+  EXPECT_FALSE(p.fixed_point_converged);
+  EXPECT_NE(p.message.find("fixed point"), std::string::npos) << p.message;
+  ASSERT_FALSE(p.history.empty());
+  for (const auto& h : p.history) EXPECT_EQ(h.stage, -1);  // no ε-stage ran
+  bool said = false;
+  for (const auto& s : p.skipped) said = said || s.find("solver.exact.fallback = false") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
+// start = auto is "always" for a solve: on a scene whose inner problem is not strongly convex
+// (minima-softening: a layer that breaks through, α_jν = 1e5) no ε-stage runs, the reason names auto,
+// and the answer is certified.
+TEST(ExactStart, AutoStartsTheExactSolverOnANotStronglyConvexScene) {
+  const std::vector<std::string> o{"check.smallness=false"};
+  Model md;
+  const Solution a = solve_scene("minima-softening.json", o, md);
+  ASSERT_TRUE(a.inner_convexity.checked);
+  ASSERT_FALSE(a.inner_convexity.strongly_convex);
+  ASSERT_TRUE(a.ok()) << a.message;
+  EXPECT_EQ(a.handover.after_stage, -1);
+  EXPECT_NE(a.handover.reason.find("auto"), std::string::npos) << a.handover.reason;
+  for (const auto& h : a.history) EXPECT_EQ(h.stage, -1);
 }
 
 // The sliding scene of tests/stress/fixed_point_test.cpp at μ = 8: the plain λ = F_b(u_ν)
