@@ -3,7 +3,7 @@
 // Seeds 1..N of tests/stress/random_scenes.hpp (draw_default_scene: E, ν, plane stress/strain,
 // loads, layer law, μ, g, mesh, perturbation, aspect drawn over realistic and extreme ranges; no
 // solver override), each solved in this process with the default backend (or --backend), and timed
-// against the linear-elastic factor+solve of the same mesh (CHOLMOD, best of 3, same process).
+// against the linear-elastic factor+solve of the same mesh (CHOLMOD, both best of 3, same process).
 // Writes, in --out:
 //   random-default.csv   one row per seed (outcome, certificate, strong convexity, hand-over,
 //                        seconds, linear seconds, ratio, message, the command that reruns it)
@@ -134,9 +134,18 @@ int main(int argc, char** argv) {
         if (!x.allFinite()) throw Error("linear solve not finite", EXIT_INTERNAL);
         r.linear = std::isnan(r.linear) ? t : std::min(r.linear, t);
       }
-      const auto t0 = clk::now();
-      const Solution s = solve(md, opt);
-      r.seconds = since(t0);
+      // Best of 3 like the linear solve above, so that a preemption on a shared machine does not
+      // decide a ratio (the solve is deterministic: the three answers are the same).
+      Solution s;
+      for (int rep = 0; rep < 3; ++rep) {
+        const auto t0 = clk::now();
+        Solution sr = solve(md, opt);
+        const double t = since(t0);
+        if (rep == 0 || t < r.seconds) {  // the fastest run's own time split, for the table below
+          r.seconds = t;
+          s = std::move(sr);
+        }
+      }
       r.ok = s.ok();
       r.certificate = s.certificate.max_residual;
       r.convex_checked = s.inner_convexity.checked;
