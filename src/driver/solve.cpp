@@ -235,7 +235,8 @@ struct ContactSolver::Impl {
   void set_smoothing(size_t stage);
   OuterIteration minimize(Run& run, size_t stage);
   void relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta);
-  void polish(Run& run);
+  /// The polish (when @p attempt and solver.polish), then x and u from the iterate.
+  void polish(Run& run, bool attempt = true);
   bool exact_available() const { return opt.exact && F.cond != nullptr; }
   std::vector<int> status_signature(const Run& run, size_t stage) const;
   std::string exact_due(Run& run, size_t stage, bool backend_failed);
@@ -641,11 +642,11 @@ void ContactSolver::Impl::relax_lambda(Run& run, OuterIteration& rec, bool measu
 
 // The exact polish on the identified statuses (driver/polish.hpp), then x and u. Polished even
 // after a backend failure: the certificate, not the backend's word, decides.
-void ContactSolver::Impl::polish(Run& run) {
+void ContactSolver::Impl::polish(Run& run, bool attempt) {
   Solution& sol = run.sol;
   sol.contraction_estimate = contraction_estimate(sol.history);
   Vec z = U_s * run.zs;
-  if (F.cond && opt.polish && sol.fixed_point_converged) {
+  if (F.cond && opt.polish && attempt && sol.fixed_point_converged) {
     const auto t1 = clk::now();
     sol.polish = polish_condensed(*model, *F.cond, opt, z, F.load_scale);
     sol.timings["polish"] = since(t1);
@@ -847,6 +848,13 @@ void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& re
   run.sol.timings["exact"] = H.seconds;
   // The polish on the exact answer's statuses: kept only if the certificate improves, it takes the
   // answer from solver.exact.tol to round-off (the paper scenes agree with the reference to 1e-12).
+  // An answer already at round-off (solver.exact.polish_above) does not need it.
+  if (H.fixed_point_converged && H.residual <= opt.exact_inner.polish_above) {
+    polish(run, false);  // x, u and the rest of the answer, without the polish itself
+    run.sol.skipped.push_back("polish: the exact solver's coupled residual " + short_number(H.residual) +
+                              " is at round-off already (solver.exact.polish_above)");
+    return;
+  }
   polish(run);
 }
 

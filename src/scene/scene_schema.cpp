@@ -375,6 +375,10 @@ std::vector<SchemaEntry> build_scene_schema() {
                                 "Stationarity residual (certificate units) at which the exact solver stops."),
                             0),
                       1e-3));
+  t.push_back(at_least(key("/solver/exact/polish_above", "number", D.exact_inner.polish_above,
+                           "The polish after the exact solver runs only when the exact solver's coupled "
+                           "residual (certificate units) is above this; below it the answer is at round-off."),
+                       0));
   t.push_back(at_least(key("/solver/exact/max_rounds", "integer", D.exact_inner.max_rounds,
                            "Coordinate sweep + Newton rounds per inner solve."),
                        1));

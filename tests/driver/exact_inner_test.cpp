@@ -320,6 +320,26 @@ TEST(ExactStart, AutoStartsTheExactSolverOnANotStronglyConvexScene) {
   for (const auto& h : a.history) EXPECT_EQ(h.stage, -1);
 }
 
+// solver.exact.polish_above: the polish runs after the exact solver only when the coupled residual
+// is above it. With 0 it always runs (on an answer already at round-off it may be accepted or
+// rejected: a rejected polish leaves the answer as it was); with 1e-3 (above solver.exact.tol, so
+// every converged answer qualifies) it is skipped and `skipped` says why. Both are certified, with
+// the same u to round-off of the certificate's scale.
+TEST(ExactHandover, PolishAfterTheExactSolverOnlyAboveRoundOff) {
+  Model md;
+  const Solution always = solve_scene("sofonea2017-fig2.json", {"mesh.n=8", "solver.exact.polish_above=0"}, md);
+  ASSERT_TRUE(always.ok()) << always.message;
+  EXPECT_TRUE(always.polish.attempted);
+  const Solution skip = solve_scene("sofonea2017-fig2.json", {"mesh.n=8", "solver.exact.polish_above=1e-3"}, md);
+  ASSERT_TRUE(skip.ok()) << skip.message;
+  EXPECT_FALSE(skip.polish.attempted);
+  bool said = false;
+  for (const auto& k : skip.skipped) said = said || k.rfind("polish: the exact solver's coupled residual", 0) == 0;
+  EXPECT_TRUE(said);
+  EXPECT_LE(skip.certificate.max_residual, 1e-10);  // solver.exact.tol, and the certificate's margin
+  EXPECT_LE((skip.u - always.u).cwiseAbs().maxCoeff(), 1e-9 * always.u.cwiseAbs().maxCoeff());
+}
+
 // The sliding scene of tests/stress/fixed_point_test.cpp at μ = 8: the plain λ = F_b(u_ν)
 // oscillates (ρ ≈ 1) and fails, with the backend or with the exact solver (anderson_memory = 0);
 // with the defaults the exact solver's Anderson-accelerated fixed point converges and certifies.

@@ -12,6 +12,7 @@
 
 #include "../support/cli_runner.hpp"
 #include "../support/expect_error.hpp"
+#include "../support/polish_check.hpp"
 
 #include <gtest/gtest.h>
 
@@ -57,8 +58,7 @@ TEST(Scene3D, CertifiedSymmetricWithCentreStick) {
   const Solution& sol = s.sol;
   ASSERT_TRUE(sol.ok()) << sol.message;
   EXPECT_LE(sol.certificate.max_residual, 1e-8);
-  EXPECT_TRUE(sol.polish.attempted);
-  EXPECT_TRUE(sol.polish.accepted) << sol.polish.note;
+  EXPECT_TRUE(hemicontact::test::polished_or_at_roundoff(sol));
   ASSERT_EQ(s.md.contact.size(), 7 * 7);
   const auto counts = sol.status_counts();
   // Fig. 2 in 3D: the centre node sticks, every other node slips; both layer regimes occur.
