@@ -340,6 +340,30 @@ TEST(ExactHandover, PolishAfterTheExactSolverOnlyAboveRoundOff) {
   EXPECT_LE((skip.u - always.u).cwiseAbs().maxCoeff(), 1e-9 * always.u.cwiseAbs().maxCoeff());
 }
 
+// The Anderson fixed point at its cap (solver.fixed_point.max_iters) with the coupled residual
+// already below check.certificate_tol: the certificate decides, as at the round-off floor. The
+// sliding scene with the layer ×10 and μ = 12 (docs/stress/theta.md) needs about 50 updates from
+// the start; with a cap of 20 and certificate_tol 1e-12 — far below its residual there — it is
+// still refused, naming the fixed point.
+TEST(ExactHandover, AtTheCapTheCertificateDecides) {
+  const std::vector<std::string> o{"mesh.n=16", "check.smallness=false", "contact.gap=null", "boundary.gamma2=[]",
+                                   "loads.body_force=[20000,-500]", "contact.normal_law.c1=1000",
+                                   "contact.normal_law.c2=-1000", "contact.normal_law.c3=4000",
+                                   "contact.friction.mu=12"};
+  Model md;
+  const Solution a = solve_scene("sofonea2017-fig2.json", o, md);
+  ASSERT_TRUE(a.ok()) << a.message;
+  EXPECT_LE(a.certificate.max_residual, 1e-8);
+  if (a.handover.outer_iterations >= 50)
+    EXPECT_NE(a.handover.note.find("below check.certificate_tol"), std::string::npos) << a.handover.note;
+  std::vector<std::string> tight = o;
+  tight.insert(tight.end(), {"solver.fixed_point.max_iters=20", "check.certificate_tol=1e-12"});
+  const Solution t = solve_scene("sofonea2017-fig2.json", tight, md);
+  EXPECT_FALSE(t.ok());
+  EXPECT_FALSE(t.fixed_point_converged);
+  EXPECT_NE(t.message.find("fixed point"), std::string::npos) << t.message;
+}
+
 // The sliding scene of tests/stress/fixed_point_test.cpp at μ = 8: the plain λ = F_b(u_ν)
 // oscillates (ρ ≈ 1) and fails, with the backend or with the exact solver (anderson_memory = 0);
 // with the defaults the exact solver's Anderson-accelerated fixed point converges and certifies.
