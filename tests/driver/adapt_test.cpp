@@ -11,6 +11,7 @@
 // Contact problem: the Fig. 2 scene adapts from n = 8 with every level certified, Γ3 weights
 // summing to |Γ3| = 1 on every mesh, and the estimate going down.
 #include <hemicontact/driver/adapt.hpp>
+#include <hemicontact/check/smallness.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/fem/prolongation.hpp>
 #include <hemicontact/scene/build_model.hpp>
@@ -89,6 +90,12 @@ TEST(Adapt, Fig2SceneEveryLevelCertified) {
     SCOPED_TRACE("level " + std::to_string(L.level));
     EXPECT_TRUE(L.ok);
     EXPECT_LE(L.certificate, 1e-8);
+    // The phases are disjoint parts of the level (the log line and bookkeeping are outside them).
+    for (double t : {L.build_seconds, L.setup_seconds, L.contact_seconds, L.estimate_seconds, L.refine_seconds})
+      EXPECT_GE(t, 0.0);
+    EXPECT_LE(L.build_seconds + L.setup_seconds + L.contact_seconds + L.estimate_seconds + L.refine_seconds,
+              L.seconds);
+    EXPECT_NEAR(L.setup_seconds + L.contact_seconds, L.solve_seconds, 1e-12);
   }
   for (double w : weight_sums) EXPECT_NEAR(w, 1.0, 1e-13);
   EXPECT_LT(r.history.back().estimate, r.history.front().estimate);
@@ -97,6 +104,27 @@ TEST(Adapt, Fig2SceneEveryLevelCertified) {
   const json rep = adapt_report(r, a);
   EXPECT_EQ(rep.at("history").size(), r.history.size());
   EXPECT_EQ(rep.at("final_estimate").get<double>(), r.history.back().estimate);
+}
+
+// (21) on the final mesh comes from that mesh's condensation (the bracket, no factorization); the
+// exact evaluation on the same mesh must lie inside the bracket, and both must agree on the verdict.
+TEST(Adapt, SmallnessOnTheFinalMeshFromItsCondensation) {
+  const json scene = load_scene(PROBLEMS + "/sofonea2017-fig2.json", {"mesh.n=8", "adapt.target_error=0.08"});
+  const SolveOptions sopt = solve_options_from_scene(scene);
+  ASSERT_TRUE(sopt.smallness);
+  const AdaptResult r = run_adaptive(scene, build_mesh(scene, PROBLEMS), adapt_options_from_scene(scene), sopt);
+  ASSERT_TRUE(r.reached) << r.stop_reason;
+  const SmallnessReport& q = r.solution.smallness;
+  ASSERT_TRUE(q.computed);
+  EXPECT_EQ(q.method, "bound");
+  EXPECT_TRUE(q.holds);
+  EXPECT_EQ(r.solution.timings.count("smallness"), 1u);
+  const SmallnessReport exact = evaluate_smallness(r.model);
+  EXPECT_TRUE(exact.holds);
+  // Round-off of two different eigenvalue computations: relative 1e-10 on each end.
+  EXPECT_LE(q.lhs_lower, exact.lhs * (1 + 1e-10));
+  EXPECT_GE(q.lhs_upper, exact.lhs * (1 - 1e-10));
+  EXPECT_LT(q.lhs, q.m_F);
 }
 
 TEST(Adapt, StopsBeforeMaxDofs) {

@@ -12,7 +12,7 @@
 ///
 /// The smallness diagnostic (21) is not evaluated on the intermediate levels (it says nothing about
 /// the adaptive choice and costs an extra eigenvalue computation): only on the final mesh when the
-/// scene asks for it.
+/// scene asks for it, from that mesh's condensation as a plain solve does (ContactSolver::smallness).
 
 #include <hemicontact/check/estimator.hpp>
 #include <hemicontact/mesh/bisection.hpp>
@@ -52,7 +52,12 @@ struct AdaptLevel {
   double energy_norm = 0;        ///< ‖u_h‖_E
   double seconds = 0;            ///< this level: model build + solve + estimate (+ refinement after it)
   double cumulative_seconds = 0; ///< from the start of run_adaptive (mesh generation included)
-  double solve_seconds = 0;      ///< the solve alone
+  double solve_seconds = 0;      ///< the solve alone (factorization and condensation included)
+  /// The level's phases (wall seconds; they add up to `seconds` but for bookkeeping): the model
+  /// (Γ3 nodes, weights, K, f), the solver's set-up (fill-reducing ordering, factorization, Schur
+  /// complement onto Γ3), the solve from the carried start (exact solver, polish, certificate), the
+  /// estimator, and the refinement (Dörfler marking, bisection, prolongation of u; 0 on the last level).
+  double build_seconds = 0, setup_seconds = 0, contact_seconds = 0, estimate_seconds = 0, refine_seconds = 0;
   double certificate = 0;        ///< certificate max residual
   bool ok = false;               ///< converged and certified
   Index marked = 0;              ///< cells marked by Dörfler (0 on the last level)
