@@ -162,12 +162,20 @@ ErrorEstimate estimate_error(const Model& md, const Solution& sol, EstimatorKind
   return e;
 }
 
-std::vector<char> dorfler_mark(const Vec& eta, double theta) {
-  std::vector<char> marked(static_cast<size_t>(eta.size()), 0);
-  if (eta.size() == 0) return marked;
+namespace {
+// Cell indices by decreasing indicator (ties by index: deterministic).
+std::vector<Index> by_indicator(const Vec& eta) {
   std::vector<Index> order(static_cast<size_t>(eta.size()));
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](Index a, Index b) { return eta[a] > eta[b] || (eta[a] == eta[b] && a < b); });
+  return order;
+}
+}  // namespace
+
+std::vector<char> dorfler_mark(const Vec& eta, double theta) {
+  std::vector<char> marked(static_cast<size_t>(eta.size()), 0);
+  if (eta.size() == 0) return marked;
+  const std::vector<Index> order = by_indicator(eta);
   const double total = eta.squaredNorm(), goal = theta * total;
   double sum = 0;
   double last = INF;
@@ -176,6 +184,22 @@ std::vector<char> dorfler_mark(const Vec& eta, double theta) {
     if (sum >= goal && eta[c] < last * (1 - 1e-12)) break;
     marked[static_cast<size_t>(c)] = 1;
     sum += eta[c] * eta[c];
+    last = eta[c];
+  }
+  return marked;
+}
+
+std::vector<char> mark_largest(const Vec& eta, Index count) {
+  std::vector<char> marked(static_cast<size_t>(eta.size()), 0);
+  if (eta.size() == 0 || count <= 0) return marked;
+  const std::vector<Index> order = by_indicator(eta);
+  Index n = 0;
+  double last = INF;
+  for (Index c : order) {
+    // Past the count, keep marking only the cells tied (to round-off) with the last one marked.
+    if (n >= count && eta[c] < last * (1 - 1e-12)) break;
+    marked[static_cast<size_t>(c)] = 1;
+    ++n;
     last = eta[c];
   }
   return marked;

@@ -5,7 +5,9 @@
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <optional>
 
 namespace hemicontact {
@@ -25,6 +27,10 @@ AdaptOptions adapt_options_from_scene(const nlohmann::json& scene) {
   o.max_dofs = a.at("max_dofs").get<Index>();
   o.max_levels = a.at("max_levels").get<int>();
   o.theta = a.at("theta").get<double>();
+  o.landing = a.at("landing").get<double>();
+  if (o.landing > 0 && o.landing < 1)
+    input_error("adapt.landing: " + std::to_string(o.landing) +
+                " aims below the predicted need; use 0 (off) or a factor >= 1");
   o.estimator = parse_estimator(a.at("estimator").get<std::string>());
   o.bisection = parse_bisection_rule(a.at("bisection").get<std::string>());
   return o;
@@ -82,9 +88,27 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
     std::optional<Bisection> next;
     const auto t_refine = clk::now();
     if (stop.empty()) {
-      const std::vector<char> marked = dorfler_mark(est.eta, aopt.theta);
-      for (char c : marked) L.marked += c;
+      std::vector<char> marked = dorfler_mark(est.eta, aopt.theta);
       next = bisect(md.mesh, marked, aopt.bisection);
+      // Landing (AdaptOptions::landing): the nodes the target needs at the rate N^(−1/2), with the
+      // margin; a bigger Dörfler step is cut to the largest indicators, in proportion to the new
+      // nodes it would have made (the closure makes the count approximate, hence the margin).
+      const double ratio = L.estimate / aopt.target_error;  // > 1: the target is not reached
+      const double need = aopt.landing * ratio * ratio * static_cast<double>(L.nodes);
+      const Index n_next = next->mesh.num_nodes();
+      if (aopt.landing > 0 && need < static_cast<double>(n_next)) {
+        Index k = 0;
+        for (char c : marked) k += c;
+        const double share = (need - static_cast<double>(L.nodes)) / static_cast<double>(n_next - L.nodes);
+        const Index k_land = std::max<Index>(1, std::llround(share * static_cast<double>(k)));
+        marked = mark_largest(est.eta, k_land);
+        next = bisect(md.mesh, marked, aopt.bisection);
+        L.landed = true;
+        log_info() << "adapt level " << level << ": landing, the target needs about " << std::llround(need)
+                   << " nodes (margin " << aopt.landing << "): " << k_land << " of Dörfler's " << k
+                   << " cells marked, " << next->mesh.num_nodes() << " nodes instead of " << n_next;
+      }
+      for (char c : marked) L.marked += c;
       // The next mesh's free unknowns are at most 2 per node: refuse it beyond max_dofs.
       if (2 * next->mesh.num_nodes() > aopt.max_dofs) {
         stop = "max_dofs";
@@ -129,6 +153,7 @@ nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt) {
   j["target_error"] = aopt.target_error;
   j["estimator"] = to_string(aopt.estimator);
   j["theta"] = aopt.theta;
+  j["landing"] = aopt.landing;
   j["bisection"] = aopt.bisection == BisectionRule::BISEC3 ? "bisec3" : "newest_vertex";
   j["max_dofs"] = aopt.max_dofs;
   j["max_levels"] = aopt.max_levels;
@@ -156,7 +181,8 @@ nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt) {
                  {"cumulative_seconds", L.cumulative_seconds},
                  {"certificate", L.certificate},
                  {"ok", L.ok},
-                 {"marked", L.marked}});
+                 {"marked", L.marked},
+                 {"landed", L.landed}});
   j["history"] = h;
   return j;
 }

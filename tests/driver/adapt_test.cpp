@@ -127,6 +127,43 @@ TEST(Adapt, SmallnessOnTheFinalMeshFromItsCondensation) {
   EXPECT_LT(q.lhs, q.m_F);
 }
 
+// Landing: from n = 8 the fig2 estimates are 0.0957 (1276 unknowns), 0.0687 (2556), 0.0499 (4824).
+// For a target of 0.06 the need predicted at 2556 unknowns, 1.1 × (0.0687/0.06)² × 1339 nodes ≈ 1930,
+// is below Dörfler's next mesh (2499 nodes): the marking is cut, and the cut step must still reach
+// the target (no extra level) on a smaller mesh than Dörfler's.
+TEST(Adapt, LandingCutsTheLastStepToThePredictedNeed) {
+  const json scene = load_scene(PROBLEMS + "/sofonea2017-fig2.json",
+                                {"mesh.n=8", "adapt.target_error=0.06", "check.smallness=false"});
+  AdaptOptions a = adapt_options_from_scene(scene);
+  ASSERT_DOUBLE_EQ(a.landing, 1.1);
+  const SolveOptions sopt = solve_options_from_scene(scene);
+  const AdaptResult landed = run_adaptive(scene, build_mesh(scene, PROBLEMS), a, sopt);
+  a.landing = 0;
+  const AdaptResult plain = run_adaptive(scene, build_mesh(scene, PROBLEMS), a, sopt);
+  ASSERT_TRUE(landed.reached) << landed.stop_reason;
+  ASSERT_TRUE(plain.reached) << plain.stop_reason;
+  ASSERT_EQ(landed.history.size(), plain.history.size());
+  const size_t last = landed.history.size() - 1;
+  for (size_t i = 0; i + 1 < last; ++i) {
+    EXPECT_FALSE(landed.history[i].landed) << i;
+    EXPECT_EQ(landed.history[i].nodes, plain.history[i].nodes) << i;  // the same sequence up to there
+  }
+  const AdaptLevel& before = landed.history[last - 1];
+  EXPECT_TRUE(before.landed);
+  EXPECT_FALSE(plain.history[last - 1].landed);
+  EXPECT_LE(landed.history[last].estimate, 0.06);
+  EXPECT_LT(landed.history[last].nodes, plain.history[last].nodes);
+  // Near the prediction: the node count of a cut marking is approximate (closure), within 25 %.
+  const double r = before.estimate / 0.06, need = 1.1 * r * r * static_cast<double>(before.nodes);
+  EXPECT_NEAR(static_cast<double>(landed.history[last].nodes), need, 0.25 * need);
+  EXPECT_TRUE(adapt_report(landed, adapt_options_from_scene(scene)).at("history")[last - 1].at("landed").get<bool>());
+}
+
+TEST(Adapt, LandingBelowOneIsRefused) {
+  const json scene = load_scene(PROBLEMS + "/sofonea2017-fig2.json", {"adapt.target_error=0.06", "adapt.landing=0.5"});
+  EXPECT_THROW(adapt_options_from_scene(scene), Error);
+}
+
 TEST(Adapt, StopsBeforeMaxDofs) {
   const json scene = load_scene(PROBLEMS + "/sofonea2017-fig2.json",
                                 {"mesh.n=8", "adapt.target_error=0.001", "adapt.max_dofs=600", "check.smallness=false"});
