@@ -5,8 +5,11 @@
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <optional>
 
@@ -14,6 +17,33 @@ namespace hemicontact {
 namespace {
 using clk = std::chrono::steady_clock;
 double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
+
+// OpenBLAS's thread count for a scope (AdaptOptions::blas_threads), restored at its end, also when
+// a level throws. Looked up at run time: a build against another BLAS links no OpenBLAS symbol.
+class ScopedBlasThreads {
+ public:
+  explicit ScopedBlasThreads(int n) {
+    if (n <= 0 || std::getenv("OPENBLAS_NUM_THREADS")) return;
+    auto* get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    m_set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    if (!get || !m_set) {
+      m_set = nullptr;
+      return;
+    }
+    m_old = get();
+    if (m_old == n) m_set = nullptr;
+    else m_set(n);
+  }
+  ~ScopedBlasThreads() {
+    if (m_set) m_set(m_old);
+  }
+  ScopedBlasThreads(const ScopedBlasThreads&) = delete;
+  ScopedBlasThreads& operator=(const ScopedBlasThreads&) = delete;
+
+ private:
+  void (*m_set)(int) = nullptr;
+  int m_old = 0;
+};
 }  // namespace
 
 bool adapt_requested(const nlohmann::json& scene) {
@@ -28,6 +58,7 @@ AdaptOptions adapt_options_from_scene(const nlohmann::json& scene) {
   o.max_levels = a.at("max_levels").get<int>();
   o.theta = a.at("theta").get<double>();
   o.landing = a.at("landing").get<double>();
+  o.blas_threads = a.at("blas_threads").get<int>();
   if (o.landing > 0 && o.landing < 1)
     input_error("adapt.landing: " + std::to_string(o.landing) +
                 " aims below the predicted need; use 0 (off) or a factor >= 1");
@@ -41,6 +72,7 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
   const auto t_start = clk::now();
   if (mesh.dim != 2) input_error("adapt: adaptive refinement is implemented for 2D meshes only (mesh.type = box is 3D)");
   label_longest_edges(mesh);
+  const ScopedBlasThreads blas_threads(aopt.blas_threads);
   SolveOptions level_opt = sopt;
   level_opt.smallness = false;  // evaluated once, on the final mesh (file comment)
   AdaptResult r;
@@ -154,6 +186,7 @@ nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt) {
   j["estimator"] = to_string(aopt.estimator);
   j["theta"] = aopt.theta;
   j["landing"] = aopt.landing;
+  j["blas_threads"] = aopt.blas_threads;
   j["bisection"] = aopt.bisection == BisectionRule::BISEC3 ? "bisec3" : "newest_vertex";
   j["max_dofs"] = aopt.max_dofs;
   j["max_levels"] = aopt.max_levels;

@@ -20,6 +20,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+
+#include <dlfcn.h>
 
 using namespace hemicontact;
 using json = nlohmann::json;
@@ -162,6 +165,27 @@ TEST(Adapt, LandingCutsTheLastStepToThePredictedNeed) {
 TEST(Adapt, LandingBelowOneIsRefused) {
   const json scene = load_scene(PROBLEMS + "/sofonea2017-fig2.json", {"adapt.target_error=0.06", "adapt.landing=0.5"});
   EXPECT_THROW(adapt_options_from_scene(scene), Error);
+}
+
+// adapt.blas_threads: OpenBLAS runs that many threads during the loop and its own count after it.
+TEST(Adapt, BlasThreadsDuringTheLoopOnly) {
+  auto* get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  auto* set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (!get || !set || std::getenv("OPENBLAS_NUM_THREADS")) GTEST_SKIP() << "not OpenBLAS, or its count set by the environment";
+  const int before = get();
+  set(2);  // whatever the machine: a count that the loop must change and restore
+  const json scene = load_scene(PROBLEMS + "/sofonea2017-fig2.json",
+                                {"mesh.n=8", "adapt.target_error=0.2", "check.smallness=false"});
+  const AdaptOptions a = adapt_options_from_scene(scene);
+  ASSERT_EQ(a.blas_threads, 1);
+  std::vector<int> during;
+  run_adaptive(scene, build_mesh(scene, PROBLEMS), a, solve_options_from_scene(scene),
+               [&](const AdaptLevel&, const Model&, const Solution&, const ErrorEstimate&) { during.push_back(get()); });
+  const int after = get();
+  set(before);
+  ASSERT_FALSE(during.empty());
+  for (int n : during) EXPECT_EQ(n, 1);
+  EXPECT_EQ(after, 2);
 }
 
 TEST(Adapt, StopsBeforeMaxDofs) {

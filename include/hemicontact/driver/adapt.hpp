@@ -45,6 +45,12 @@ struct AdaptOptions {
   /// just short of the target doubles N once more (fig2 from n = 64: 107k unknowns at 1.08 %,
   /// then 190k).
   double landing = 1.1;
+  /// OpenBLAS threads during the loop (restored after it; 0: leave the BLAS as configured; an
+  /// OPENBLAS_NUM_THREADS in the environment wins). The levels' 2D factorizations have small
+  /// supernodes, where BLAS threads only synchronize: on the 2-core machine of issue 17 the fig2
+  /// run to 1 % took 1.42 s CPU / 1.47 s wall with OpenBLAS's default 2 threads and 0.90 / 0.98 s
+  /// with 1. No effect with another BLAS (the OpenBLAS entry points are looked up at run time).
+  int blas_threads = 1;
   EstimatorKind estimator = EstimatorKind::ZZ;
   BisectionRule bisection = BisectionRule::BISEC3;
 };
