@@ -19,9 +19,11 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/output/output_dir.hpp>
 
+#include <dlfcn.h>
 #include <malloc.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <string>
 #include <vector>
@@ -38,6 +40,17 @@ int main(int argc, char** argv) {
   // above 32 MB (K and the factor at h = 1/1024) keep being mapped and unmapped on their own.
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 128 << 20);
+  // CHOLMOD 3 (SuiteSparse 5.x, Debian's) is compiled with CHOLMOD_OMP_NUM_THREADS = 4: each
+  // supernode of a numeric factorization opens an OpenMP team of 4 threads (to clear and scatter
+  // into its block) whatever the machine has. On 2 cores, shared with other work, those teams
+  // spin and wait for descheduled threads: the fig2 adaptive run to 1 % took 1.84 s of CPU
+  // instead of 1.31 s (issue 17). With dynamic adjustment (OpenMP's dyn-var) the runtime gives a
+  // team at most the idle processors (libgomp: online processors minus the load average, at
+  // least 1). Only the team sizes change, not the arithmetic (the parallel loops clear and copy
+  // entries; the BLAS is OpenBLAS's own threads). An explicit OMP_DYNAMIC is left as the user set it.
+  // libgomp is already loaded as CHOLMOD's dependency; looked up, so the build needs no OpenMP flags.
+  if (!std::getenv("OMP_DYNAMIC"))
+    if (auto* set_dynamic = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"))) set_dynamic(1);
   const std::vector<std::string> args(argv + 1, argv + argc);
   // Ctrl-C or a kill while results are written: no half-written file under a final name, and a
   // word on what was kept (output/output_dir.hpp).

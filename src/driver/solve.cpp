@@ -357,6 +357,14 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
 
 ContactSolver::~ContactSolver() = default;
 
+SmallnessReport ContactSolver::smallness() const {
+  const Impl& I = *m;
+  const Model& md = *I.model;
+  // The same choice as the constructor's (report_smallness there).
+  if (I.opt.smallness_method == "exact" || md.dim() == 3 || !I.F.cond) return evaluate_smallness(md);
+  return evaluate_smallness(md, I.F.cond->S());
+}
+
 void ContactSolver::set_backend(const std::string& name) {
   m->backend = make_backend(name);
   m->opt.backend = name;

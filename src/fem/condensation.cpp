@@ -124,7 +124,8 @@ struct Condensation::Impl {
     if (L) cholmod_free_factor(&L, &c);
     cholmod_finish(&c);
   }
-  Vec solve(const Vec& b) {
+  Mat LCC;  // the factor's trailing m×m block (lower triangular): S = L_CC L_CCᵀ
+  Vec solve(const Vec& b, int system = CHOLMOD_A) {
     cholmod_dense B{};
     B.nrow = b.size();
     B.ncol = 1;
@@ -133,7 +134,8 @@ struct Condensation::Impl {
     B.x = const_cast<double*>(b.data());
     B.xtype = CHOLMOD_REAL;
     B.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense* X = cholmod_solve(CHOLMOD_A, L, &B, &c);
+    cholmod_dense* X = cholmod_solve(system, L, &B, &c);
+    if (!X) throw Error("condensation: CHOLMOD solve failed", EXIT_INTERNAL);
     Vec x = Eigen::Map<Vec>(static_cast<double*>(X->x), b.size());
     cholmod_free_dense(&X, &c);
     return x;
@@ -201,7 +203,8 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m, const std::str
   //    super[s]..super[s+1]−1 as a dense column-major block with rows s[pi[s]..pi[s+1]) stored at x[px[s]].
   t0 = clk::now();
   if (!L->is_super) throw Error("condensation: expected a supernodal factor", EXIT_INTERNAL);
-  Mat LCC = Mat::Zero(m, m);
+  Mat& LCC = m_impl->LCC;
+  LCC = Mat::Zero(m, m);
   const auto* super = static_cast<const int*>(L->super);
   const auto* pi = static_cast<const int*>(L->pi);
   const auto* px = static_cast<const int*>(L->px);
@@ -230,10 +233,17 @@ Condensation::~Condensation() = default;
 Vec Condensation::solve(const Vec& b) const { return m_impl->solve(b); }
 
 Vec Condensation::recover(const Vec& x_C, double load_scale) const {
+  // x = s y + K⁻¹ [0; S d], d = x_C − s y_C. With L Lᵀ = P K Pᵀ, P leaving the trailing block in
+  // place (checked at the analysis), the forward half of that solve is known in closed form:
+  // L w = [0; L_CC L_CCᵀ d] gives w = [0; L_CCᵀ d] (L_II w_I = 0). Only the backward half
+  // z = L⁻ᵀ w and x = Pᵀ z are left: half the cost of a full solve (the polish recovers several
+  // candidates per solve; issue 17).
   const Index n = m_y.size(), m = this->m();
-  Vec rhs = Vec::Zero(n);
-  rhs.tail(m) = m_S * (x_C - load_scale * m_y.tail(m));
-  Vec x = load_scale * m_y + m_impl->solve(rhs);
+  Vec w = Vec::Zero(n);
+  w.tail(m) = m_impl->LCC.triangularView<Eigen::Lower>().transpose() * (x_C - load_scale * m_y.tail(m));
+  const Vec z = m_impl->solve(w, CHOLMOD_Lt);
+  Vec x = m_impl->solve(z, CHOLMOD_Pt);
+  x += load_scale * m_y;
   x.tail(m) = x_C;  // exact, not up to the solve's round-off
   return x;
 }

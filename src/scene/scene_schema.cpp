@@ -451,6 +451,17 @@ std::vector<SchemaEntry> build_scene_schema() {
                                 "refined (θ = 1: all)."),
                             0),
                       1));
+  t.push_back(at_least(key("/adapt/landing", "number", 1.1,
+                           "The last step: when the Dörfler step would overshoot landing × N* nodes, "
+                           "N* = N (η/target)² the need predicted by the optimal rate η ∝ N^(-1/2), "
+                           "only the largest indicators are marked, about as many as reach it; 0: off, "
+                           "else >= 1 (the margin, against a step that falls short of the target)."),
+                       0));
+  t.push_back(at_least(key("/adapt/blas_threads", "integer", 1,
+                           "OpenBLAS threads during the adaptive loop, restored after it (0: leave the "
+                           "BLAS as configured; OPENBLAS_NUM_THREADS in the environment wins). The 2D "
+                           "levels' small supernodes gain nothing from BLAS threads (docs/adaptivity.md)."),
+                       0));
   t.push_back(key("/adapt/estimator", "string", "zz",
                   "zz: Zienkiewicz–Zhu recovery of the strain; residual: element residuals, traction "
                   "jumps, Γ2 traction and Γ3 contact-traction mismatch.",

@@ -105,3 +105,18 @@ TEST(Dorfler, MarksTheFewestCellsHoldingTheBulk) {
   EXPECT_EQ(m, (std::vector<char>(6, 1)));
   EXPECT_THROW(parse_estimator("kelly"), Error);
 }
+
+// The count largest, in the order Dörfler uses, with ties at the last one included.
+TEST(Dorfler, MarkLargestIsAPrefixOfDorflersOrder) {
+  Vec eta(6);
+  eta << 1, 4, 2, 3, 0.5, 2;
+  EXPECT_EQ(mark_largest(eta, 0), (std::vector<char>(6, 0)));
+  EXPECT_EQ(mark_largest(eta, 2), (std::vector<char>{0, 1, 0, 1, 0, 0}));
+  // The third largest (2) is tied with cell 5: both marked, 4 cells.
+  EXPECT_EQ(mark_largest(eta, 3), (std::vector<char>{0, 1, 1, 1, 0, 1}));
+  EXPECT_EQ(mark_largest(eta, 100), (std::vector<char>(6, 1)));
+  // A subset of Dörfler's set whenever it marks no more cells.
+  const std::vector<char> d = dorfler_mark(eta, 0.8), k = mark_largest(eta, 2);
+  for (size_t i = 0; i < d.size(); ++i) EXPECT_LE(k[i], d[i]);
+}
+

@@ -57,4 +57,12 @@ ErrorEstimate estimate_error(const Model& md, const Solution& sol, EstimatorKind
 /// @return a flag per cell
 std::vector<char> dorfler_mark(const Vec& eta, double theta);
 
+/// @brief The @p count cells with the largest indicators (all cells if @p count ≥ their number),
+/// plus every cell tied to round-off with the last one, as in dorfler_mark (a symmetric marking for
+/// symmetric indicators). Dörfler's set is such a prefix of the same order, so a smaller count
+/// marks a subset of it: the adaptive loop's last step (adapt.landing).
+/// @param eta indicators η_T @param count how many cells at least (0: none)
+/// @return a flag per cell
+std::vector<char> mark_largest(const Vec& eta, Index count);
+
 }  // namespace hemicontact

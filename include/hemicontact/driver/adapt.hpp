@@ -8,11 +8,12 @@
 ///                                              z0 = the previous level's u carried to this mesh
 ///     η     ← estimate_error(model, u)         per cell; relative η / ‖u‖_E
 ///     stop when η/‖u‖_E ≤ target_error, the level cap is reached, or the next mesh would exceed max_dofs
-///     mesh  ← bisect(mesh, dorfler_mark(η, θ))  conforming, no hanging nodes
+///     mesh  ← bisect(mesh, dorfler_mark(η, θ))  conforming, no hanging nodes; the marking cut to the
+///                                              largest η_T when it overshoots the predicted need (landing)
 ///
 /// The smallness diagnostic (21) is not evaluated on the intermediate levels (it says nothing about
 /// the adaptive choice and costs an extra eigenvalue computation): only on the final mesh when the
-/// scene asks for it.
+/// scene asks for it, from that mesh's condensation as a plain solve does (ContactSolver::smallness).
 
 #include <hemicontact/check/estimator.hpp>
 #include <hemicontact/mesh/bisection.hpp>
@@ -34,6 +35,22 @@ struct AdaptOptions {
   Index max_dofs = 400000;     ///< never solve a mesh with more free unknowns than this
   int max_levels = 30;         ///< at most this many meshes (the first included)
   double theta = 0.5;          ///< Dörfler bulk parameter θ ∈ (0, 1]
+  /// The last step's size (0: off, else ≥ 1). Adaptive P1 meshes follow η ≈ C N^(−1/2) (on the
+  /// fig2 scene η√N = 3.42–3.47 over levels 6–12), so the target needs about
+  /// N* = N (η/target)² unknowns. When Dörfler's marking would give a next mesh of more than
+  /// landing · N* nodes, only the largest indicators are marked (mark_largest, a subset of
+  /// Dörfler's set), as many as should give about landing · N*. The margin (10 %: η√N varies by
+  /// ±1 % over the fine levels, the node count of a cut marking is off by a few %) is there
+  /// because a step that misses the target costs a further level. Without it, a sequence that stops
+  /// just short of the target doubles N once more (fig2 from n = 64: 107k unknowns at 1.08 %,
+  /// then 190k).
+  double landing = 1.1;
+  /// OpenBLAS threads during the loop (restored after it; 0: leave the BLAS as configured; an
+  /// OPENBLAS_NUM_THREADS in the environment wins). The levels' 2D factorizations have small
+  /// supernodes, where BLAS threads only synchronize: on the 2-core machine of issue 17 the fig2
+  /// run to 1 % took 1.42 s CPU / 1.47 s wall with OpenBLAS's default 2 threads and 0.90 / 0.98 s
+  /// with 1. No effect with another BLAS (the OpenBLAS entry points are looked up at run time).
+  int blas_threads = 1;
   EstimatorKind estimator = EstimatorKind::ZZ;
   BisectionRule bisection = BisectionRule::BISEC3;
 };
@@ -52,10 +69,16 @@ struct AdaptLevel {
   double energy_norm = 0;        ///< ‖u_h‖_E
   double seconds = 0;            ///< this level: model build + solve + estimate (+ refinement after it)
   double cumulative_seconds = 0; ///< from the start of run_adaptive (mesh generation included)
-  double solve_seconds = 0;      ///< the solve alone
+  double solve_seconds = 0;      ///< the solve alone (factorization and condensation included)
+  /// The level's phases (wall seconds; they add up to `seconds` but for bookkeeping): the model
+  /// (Γ3 nodes, weights, K, f), the solver's set-up (fill-reducing ordering, factorization, Schur
+  /// complement onto Γ3), the solve from the carried start (exact solver, polish, certificate), the
+  /// estimator, and the refinement (Dörfler marking, bisection, prolongation of u; 0 on the last level).
+  double build_seconds = 0, setup_seconds = 0, contact_seconds = 0, estimate_seconds = 0, refine_seconds = 0;
   double certificate = 0;        ///< certificate max residual
   bool ok = false;               ///< converged and certified
   Index marked = 0;              ///< cells marked by Dörfler (0 on the last level)
+  bool landed = false;           ///< the marking was cut to the predicted need (AdaptOptions::landing)
 };
 
 /// The result of run_adaptive.

@@ -65,6 +65,11 @@ class ContactSolver {
   LaggedEnergy lagged_energy(const Solution& sol);
   /// Switch the NLP backend, keeping the factorization and everything else (minima over backends).
   void set_backend(const std::string& name);
+  /// Evaluate the smallness condition (21) for the model as the constructor does when
+  /// check.smallness is on: from this solver's condensation (the bracket, no factorization) when
+  /// there is one and check.smallness_method = auto in 2D, exactly otherwise. For callers that
+  /// decide only after the solve whether they want it (the adaptive loop's final mesh).
+  SmallnessReport smallness() const;
   /// Solve from now on for loads @p s × the original model's, keeping the factorization: only
   /// y = K⁻¹f scales. @p scaled is the original model with f, fx scaled by s (the certificate is
   /// evaluated on it); it must outlive the solves. Used by load paths.
