@@ -354,8 +354,9 @@ TEST(ExactHandover, AtTheCapTheCertificateDecides) {
   const Solution a = solve_scene("sofonea2017-fig2.json", o, md);
   ASSERT_TRUE(a.ok()) << a.message;
   EXPECT_LE(a.certificate.max_residual, 1e-8);
-  if (a.handover.outer_iterations >= 50)
+  if (a.handover.outer_iterations >= 50) {
     EXPECT_NE(a.handover.note.find("below check.certificate_tol"), std::string::npos) << a.handover.note;
+  }
   std::vector<std::string> tight = o;
   tight.insert(tight.end(), {"solver.fixed_point.max_iters=20", "check.certificate_tol=1e-12"});
   const Solution t = solve_scene("sofonea2017-fig2.json", tight, md);
