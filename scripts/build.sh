@@ -8,7 +8,9 @@ bash scripts/install-deps.sh
 build="${BUILD_DIR:-build}"
 jobs="${JOBS:-$(nproc)}"
 mkdir -p "$build"
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >"$build/configure.log" 2>&1 || {
+# Unity batches of test files (HEMICONTACT_UNITY_BUILD): ~40 % less compile time for the suite,
+# which is most of a fresh build; a developer iterating on one test file can configure without it.
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DHEMICONTACT_UNITY_BUILD=ON >"$build/configure.log" 2>&1 || {
   cat "$build/configure.log" >&2
   exit 1
 }

@@ -16,9 +16,11 @@ mkdir -p "$build"
 # PETSc is left out (-DHEMICONTACT_WITH_PETSC=OFF): OpenMPI keeps allocations until exit, which
 # LeakSanitizer would report; the petsc engine's tests run in the regular build.
 # Line tables for readable reports (full -g costs 10% more compile time), assertions on (no
-# NDEBUG: Eigen's index checks too), -O1 to keep the instrumented suite fast; no benchmarks.
+# NDEBUG: Eigen's index checks too), -O1 to keep the instrumented suite fast; no benchmarks; the
+# test files in unity batches, as in scripts/build.sh.
 CC=clang-14 CXX=clang++-14 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" \
-  -DHEMICONTACT_SANITIZE=ON -DHEMICONTACT_BUILD_FUZZ=ON -DHEMICONTACT_BUILD_BENCH=OFF -DHEMICONTACT_WITH_PETSC=OFF >"$build/configure.log" 2>&1 || {
+  -DHEMICONTACT_SANITIZE=ON -DHEMICONTACT_BUILD_FUZZ=ON -DHEMICONTACT_BUILD_BENCH=OFF -DHEMICONTACT_WITH_PETSC=OFF \
+  -DHEMICONTACT_UNITY_BUILD=ON >"$build/configure.log" 2>&1 || {
   cat "$build/configure.log" >&2
   exit 1
 }

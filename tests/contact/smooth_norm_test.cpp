@@ -25,7 +25,7 @@
 namespace hemicontact {
 namespace {
 
-constexpr double U = DBL_EPSILON;
+constexpr double ULP = DBL_EPSILON;
 const double EPSILONS[] = {1e-8, 1e-4, 1e-2, 1.0};
 
 // ---------------------------------------------------------------- scalar law
@@ -49,10 +49,10 @@ TEST_P(SmoothNormScalar, ExactOutsideAndOffsetInside) {
     const double y = s * eps;
     SCOPED_TRACE("y/eps = " + std::to_string(s));
     EXPECT_GE(f0(y, eps) - y, 0.0);
-    EXPECT_LE(f0(y, eps) - y, eps / 3 * (1 + 4 * U));
+    EXPECT_LE(f0(y, eps) - y, eps / 3 * (1 + 4 * ULP));
     // The polynomial form of the header, evaluated independently (≲ 4 ulp of ε).
     const double poly = -y * y * y / (3 * eps * eps) + y * y / eps + eps / 3;
-    EXPECT_NEAR(f0(y, eps), poly, 8 * U * eps);
+    EXPECT_NEAR(f0(y, eps), poly, 8 * ULP * eps);
   }
   // f1_over_y is finite at 0 with the limit 2/ε; f2_term's y = 0 branch is 0.
   EXPECT_EQ(f1_over_y(0.0, eps), 2.0 / eps);
@@ -67,10 +67,10 @@ TEST_P(SmoothNormScalar, IdentitiesAndBounds) {
     const double y = eps * 2.0 * i / 400.0 * (1 - 1e-7);  // never exactly on ε
     SCOPED_TRACE("y/eps = " + std::to_string(y / eps));
     // f1/y · y = f1: both sides are 2–3 roundings of the same quantity → ≤ 8 ulp apart.
-    EXPECT_NEAR(f1_over_y(y, eps) * y, f1(y, eps), 8 * U * f1(y, eps));
+    EXPECT_NEAR(f1_over_y(y, eps) * y, f1(y, eps), 8 * ULP * f1(y, eps));
     // f2_term = (f1′ y − f1)/y³, evaluated directly (cancellation-free check: compare y³·f2).
     const double direct = df1(y, eps) * y - f1(y, eps);
-    EXPECT_NEAR(f2_term(y, eps) * y * y * y, direct, 16 * U * (1.0 + std::abs(direct)));
+    EXPECT_NEAR(f2_term(y, eps) * y * y * y, direct, 16 * ULP * (1.0 + std::abs(direct)));
     // 0 ≤ f1 ≤ 1 (exactly in floating point: fl(t(2 − t)) ≤ 1, see f1) and f1′ ≥ 0 (convexity).
     EXPECT_GE(f1(y, eps), 0.0);
     EXPECT_LE(f1(y, eps), 1.0);
@@ -91,8 +91,8 @@ TEST_P(SmoothNormScalar, DerivativesMatchFiniteDifferences) {
     const double g = test::fd_gradient([&](const Vec& v) { return f0(v[0], eps); }, x, h)[0];
     const double d = test::fd_gradient([&](const Vec& v) { return f1(v[0], eps); }, x, h)[0];
     // f0‴ = −2/ε² inside, 0 outside; f1‴ = 0 inside (f1 is quadratic) and outside.
-    EXPECT_NEAR(g, f1(y, eps), step * step / 3 / (eps * eps) + 8 * U * (y + eps) / step + U * y / step);
-    EXPECT_NEAR(d, df1(y, eps), 8 * U * 2.0 / step + df1(y, eps) * U * y / step);
+    EXPECT_NEAR(g, f1(y, eps), step * step / 3 / (eps * eps) + 8 * ULP * (y + eps) / step + ULP * y / step);
+    EXPECT_NEAR(d, df1(y, eps), 8 * ULP * 2.0 / step + df1(y, eps) * ULP * y / step);
   }
 }
 
@@ -118,12 +118,12 @@ void check_vector_case(double eps) {
 
       // Exactness for |u| ≥ ε (value and gradient = the true norm's).
       if (s > 1.0) {
-        EXPECT_NEAR(smooth_norm(u, eps), y, 2 * U * y);
-        EXPECT_TRUE(test::near_rel(smooth_norm_gradient(u, eps), u / y, 4 * U, 0.0));
+        EXPECT_NEAR(smooth_norm(u, eps), y, 2 * ULP * y);
+        EXPECT_TRUE(test::near_rel(smooth_norm_gradient(u, eps), u / y, 4 * ULP, 0.0));
       }
       // |∇| = f1(|u|) ≤ 1: the smoothed friction force stays in the cone. The product
       // (f1/y)·u can exceed f1 by a few roundings, hence the 4u slack.
-      EXPECT_LE(smooth_norm_gradient(u, eps).norm(), 1.0 + 4 * U);
+      EXPECT_LE(smooth_norm_gradient(u, eps).norm(), 1.0 + 4 * ULP);
 
       const double h = 1e-3 * std::min({eps, std::abs(y - eps), y});
       const double step = h * std::max(1.0, u.cwiseAbs().maxCoeff());
@@ -138,13 +138,13 @@ void check_vector_case(double eps) {
       // more derivative (÷ min(ε, y)) for the gradient; round-off as in the file comment.
       const double m = std::min(eps, y);
       const double f3 = 2 / (eps * eps) + 6 / (y * y);
-      EXPECT_TRUE(test::near_rel(g_fd, g, 0.0, step * step / 6 * f3 + 8 * U * (y + eps) / step + U * y / step));
+      EXPECT_TRUE(test::near_rel(g_fd, g, 0.0, step * step / 6 * f3 + 8 * ULP * (y + eps) / step + ULP * y / step));
       EXPECT_TRUE(
-          test::near_rel(H_fd, H, 0.0, step * step / 6 * f3 * 6 / m + 8 * U * 2.0 / step + (2 / eps) * U * y / step));
+          test::near_rel(H_fd, H, 0.0, step * step / 6 * f3 * 6 / m + 8 * ULP * 2.0 / step + (2 / eps) * ULP * y / step));
       // Symmetric, positive semidefinite (eigenvalues f1/y and f1′, both ≥ 0).
       EXPECT_TRUE(test::near_rel(H, H.transpose(), 0.0, 0.0));
       const Eigen::SelfAdjointEigenSolver<Mat> es(H);
-      EXPECT_GE(es.eigenvalues().minCoeff(), -4 * U * (2 / eps));
+      EXPECT_GE(es.eigenvalues().minCoeff(), -4 * ULP * (2 / eps));
       ++checked;
     }
   }
@@ -158,7 +158,7 @@ void check_vector_case(double eps) {
   const V tiny = V::Constant(1e-300);
   const Mat Ht = smooth_norm_hessian(tiny, eps);
   EXPECT_TRUE(Ht.allFinite());
-  EXPECT_TRUE(test::near_rel(Ht, (2 / eps) * Mat::Identity(K, K), 4 * U, 0.0));
+  EXPECT_TRUE(test::near_rel(Ht, (2 / eps) * Mat::Identity(K, K), 4 * ULP, 0.0));
 }
 
 class SmoothNormVector : public ::testing::TestWithParam<VecParam> {};
@@ -184,8 +184,8 @@ TEST(SmoothNormHessian, OneDimensionalReducesToDf1) {
     for (double s : {0.2, 0.9, 1.5}) {
       SCOPED_TRACE("eps = " + std::to_string(eps) + ", y/eps = " + std::to_string(s));
       const Eigen::Matrix<double, 1, 1> u = Eigen::Matrix<double, 1, 1>::Constant(-s * eps);
-      EXPECT_NEAR(smooth_norm_hessian(u, eps)(0, 0), df1(s * eps, eps), 8 * U * 2 / eps);
-      EXPECT_NEAR(smooth_norm_gradient(u, eps)(0), -f1(s * eps, eps), 4 * U);
+      EXPECT_NEAR(smooth_norm_hessian(u, eps)(0, 0), df1(s * eps, eps), 8 * ULP * 2 / eps);
+      EXPECT_NEAR(smooth_norm_gradient(u, eps)(0), -f1(s * eps, eps), 4 * ULP);
     }
   }
 }

@@ -17,15 +17,15 @@ using json = nlohmann::json;
 
 namespace {
 
-const std::string PROBLEMS = HEMICONTACT_SOURCE_DIR "/problems";
+const std::string PROBLEMS_DIR = HEMICONTACT_SOURCE_DIR "/problems";
 
-json scene_of(const std::string& name) { return load_scene(PROBLEMS + "/sofonea2017-" + name + ".json"); }
+json scene_of(const std::string& name) { return load_scene(PROBLEMS_DIR + "/sofonea2017-" + name + ".json"); }
 
 // Each scene's study (levels 4, 8, 16 against 32) is run once and shared by the tests.
 const ConvergenceStudy& study_of(const std::string& name) {
   static std::map<std::string, ConvergenceStudy> cache;
   auto it = cache.find(name);
-  if (it == cache.end()) it = cache.emplace(name, run_convergence(scene_of(name), PROBLEMS, {16, 4, 8}, 32)).first;
+  if (it == cache.end()) it = cache.emplace(name, run_convergence(scene_of(name), PROBLEMS_DIR, {16, 4, 8}, 32)).first;
   return it->second;
 }
 
@@ -83,7 +83,7 @@ TEST_P(ConvergenceStudyScenes, ErrorsDecreaseAtAnObservedOrderInBand) {
 INSTANTIATE_TEST_SUITE_P(PaperScenes, ConvergenceStudyScenes, ::testing::Values("printed", "fig2"));
 
 TEST(ConvergenceStudy, ReferenceAgainstItselfHasNoError) {
-  const ConvergenceStudy st = run_convergence(scene_of("fig2"), PROBLEMS, {4, 8}, 8);
+  const ConvergenceStudy st = run_convergence(scene_of("fig2"), PROBLEMS_DIR, {4, 8}, 8);
   ASSERT_EQ(st.levels.size(), 2u);
   EXPECT_GT(st.levels[0].error, 0.0);
   EXPECT_EQ(st.levels[1].n, 8);
@@ -100,7 +100,7 @@ TEST(ConvergenceStudy, EachLevelIsAnnouncedWithItsErrorAsItEnds) {
   std::vector<size_t> levels_so_far;
   std::vector<double> errors;
   const ConvergenceStudy st = run_convergence(
-      scene_of("fig2"), PROBLEMS, {8, 4, 16}, 16,
+      scene_of("fig2"), PROBLEMS_DIR, {8, 4, 16}, 16,
       [&](const ConvergenceStudy& so_far, int n, const Model& md, const Solution& sol) {
         seen.push_back(n);
         levels_so_far.push_back(so_far.levels.size());
@@ -121,7 +121,7 @@ TEST(ConvergenceStudy, EachLevelIsAnnouncedWithItsErrorAsItEnds) {
 
 TEST(ConvergenceStudy, LevelsMustDivideTheReference) {
   try {
-    run_convergence(scene_of("fig2"), PROBLEMS, {4, 6, 12, 5}, 32);
+    run_convergence(scene_of("fig2"), PROBLEMS_DIR, {4, 6, 12, 5}, 32);
     FAIL() << "expected an Error";
   } catch (const Error& e) {
     const std::string msg = e.what();
@@ -130,15 +130,15 @@ TEST(ConvergenceStudy, LevelsMustDivideTheReference) {
     EXPECT_NE(msg.find("32"), std::string::npos) << msg;
     EXPECT_EQ(msg.find("4,"), std::string::npos) << msg;
   }
-  EXPECT_THROW(run_convergence(scene_of("fig2"), PROBLEMS, {}, 32), Error);
-  EXPECT_THROW(run_convergence(scene_of("fig2"), PROBLEMS, {0, 4}, 32), Error);
-  EXPECT_THROW(run_convergence(scene_of("fig2"), PROBLEMS, {64}, 32), Error);  // finer than the reference
+  EXPECT_THROW(run_convergence(scene_of("fig2"), PROBLEMS_DIR, {}, 32), Error);
+  EXPECT_THROW(run_convergence(scene_of("fig2"), PROBLEMS_DIR, {0, 4}, 32), Error);
+  EXPECT_THROW(run_convergence(scene_of("fig2"), PROBLEMS_DIR, {64}, 32), Error);  // finer than the reference
 }
 
 TEST(ConvergenceStudy, NonNestedMeshesAreFlagged) {
   // A perturbed mesh is not a refinement of another: still measured, but flagged.
-  const json scene = load_scene(PROBLEMS + "/sofonea2017-printed.json", {"mesh.perturb=0.2"});
-  const ConvergenceStudy st = run_convergence(scene, PROBLEMS, {4}, 8);
+  const json scene = load_scene(PROBLEMS_DIR + "/sofonea2017-printed.json", {"mesh.perturb=0.2"});
+  const ConvergenceStudy st = run_convergence(scene, PROBLEMS_DIR, {4}, 8);
   ASSERT_EQ(st.levels.size(), 1u);
   EXPECT_FALSE(st.levels[0].nested);
   EXPECT_GT(st.levels[0].error, 0.0);
@@ -223,7 +223,7 @@ TEST(ConvergenceRateFit, NeedsTwoLevelsCoarserThanTheReference) {
 // (the Kuhn split of a cube is a union of Kuhn splits of its 8 sub-cubes), every solve is
 // certified, and the error decreases from level to level.
 TEST(ConvergenceStudy3D, BoxLevelsAreNestedAndConverge) {
-  const ConvergenceStudy st = run_convergence(scene_of("3d"), PROBLEMS, {2, 4}, 8);
+  const ConvergenceStudy st = run_convergence(scene_of("3d"), PROBLEMS_DIR, {2, 4}, 8);
   ASSERT_EQ(st.levels.size(), 2u);
   EXPECT_TRUE(st.ok());
   for (const auto& l : st.levels) {
@@ -241,7 +241,7 @@ TEST(ConvergenceStudy, GmshMeshesAreRefused) {
   s["mesh"]["type"] = "gmsh";
   s["mesh"]["file"] = "x.msh";
   try {
-    run_convergence(s, PROBLEMS, {4}, 8);
+    run_convergence(s, PROBLEMS_DIR, {4}, 8);
     ADD_FAILURE() << "a gmsh scene was accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), EXIT_INPUT);

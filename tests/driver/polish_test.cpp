@@ -23,7 +23,7 @@ struct Case {
   SolveOptions opt;
 };
 
-Case load(const std::string& scene, const std::vector<std::string>& overrides) {
+Case load_case(const std::string& scene, const std::vector<std::string>& overrides) {
   const nlohmann::json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/" + scene + ".json", overrides);
   Case c{build_model(s, "."), {}};
   c.opt = solve_options_from_scene(s);
@@ -47,7 +47,7 @@ Solution evaluate(const Case& c, const Condensation& cond, const Vec& x_C) {
 // and no node sits in a smoothing window, so the smoothed answer would already be exact.
 void check_polish_recovers_exact_solution(const std::string& scene, const std::string& n, const std::string& eps) {
   const std::vector<std::string> mesh = {"mesh.n=" + n, "mesh.perturb=0.1"};
-  const Case exact = load(scene, mesh);
+  const Case exact = load_case(scene, mesh);
   const Solution reference = solve(exact.md, exact.opt);
   ASSERT_TRUE(reference.ok()) << reference.message;
 
@@ -56,7 +56,7 @@ void check_polish_recovers_exact_solution(const std::string& scene, const std::s
   // an exact answer, and this test needs the smoothed one as the polish's input.
   smoothed.insert(smoothed.end(), {"solver.polish=false", "solver.eps_tau=" + eps, "solver.eps_nu=" + eps,
                                    "solver.continuation.eps_start=1e-2", "solver.exact.enabled=false"});
-  const Case smooth = load(scene, smoothed);
+  const Case smooth = load_case(scene, smoothed);
   const Solution rough = solve(smooth.md, smooth.opt);
   ASSERT_GT(rough.certificate.max_residual, 1e-9) << "the smoothed answer is already exact: no test";
 
@@ -93,7 +93,7 @@ TEST(Polish, RecoversTheExactSolutionFromASmoothedOne3D) {
 // only because its certificate is lower: the contract of accept_if_better, not a promise of the
 // solution (that is the continuation's job).
 TEST(Polish, KeepsExactAnswersAndOnlyAcceptsImprovements) {
-  const Case c = load("sofonea2017-fig2", {"mesh.n=16"});
+  const Case c = load_case("sofonea2017-fig2", {"mesh.n=16"});
   const Solution sol = solve(c.md, c.opt);
   ASSERT_TRUE(sol.ok()) << sol.message;
   const Index d = c.md.dim(), nc = c.md.contact.size();

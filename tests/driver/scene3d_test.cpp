@@ -29,15 +29,15 @@ using json = nlohmann::json;
 
 namespace {
 
-struct Solved {
+struct Solved3D {
   Model md;
   SolveOptions opt;
   Solution sol;
 };
 
-Solved solve_3d(const std::vector<std::string>& overrides) {
+Solved3D solve_3d(const std::vector<std::string>& overrides) {
   const json scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json", overrides);
-  Solved s{build_model(scene, HEMICONTACT_SOURCE_DIR "/problems"), solve_options_from_scene(scene), {}};
+  Solved3D s{build_model(scene, HEMICONTACT_SOURCE_DIR "/problems"), solve_options_from_scene(scene), {}};
   s.sol = solve(s.md, s.opt);
   return s;
 }
@@ -54,7 +54,7 @@ Index mirror(const Model& md, Index k, int axis) {
 }  // namespace
 
 TEST(Scene3D, CertifiedSymmetricWithCentreStick) {
-  const Solved s = solve_3d({"mesh.n=6"});
+  const Solved3D s = solve_3d({"mesh.n=6"});
   const Solution& sol = s.sol;
   ASSERT_TRUE(sol.ok()) << sol.message;
   EXPECT_LE(sol.certificate.max_residual, 1e-8);
@@ -99,20 +99,20 @@ TEST(Scene3D, CertifiedSymmetricWithCentreStick) {
 // Every backend family solves the 3D scene to the same answer; the local NLopt ones at tol 1e-6
 // are then polished (3D Newton on the statuses) to the same certified solution.
 TEST(Scene3D, BackendsAgree) {
-  const Solved ref = solve_3d({"mesh.n=4", "solver.backend=ipopt"});
+  const Solved3D ref = solve_3d({"mesh.n=4", "solver.backend=ipopt"});
   ASSERT_TRUE(ref.sol.ok()) << ref.sol.message;
   const double U = ref.sol.certificate.length_scale;
   for (const std::string b : {"newton", "nlopt:LD_LBFGS", "nlopt:LD_MMA"}) {
     SCOPED_TRACE(b);
     std::vector<std::string> o = {"mesh.n=4", "solver.backend=" + b};
     if (b.rfind("nlopt", 0) == 0) o.push_back("solver.tol=1e-6");
-    const Solved s = solve_3d(o);
+    const Solved3D s = solve_3d(o);
     ASSERT_TRUE(s.sol.ok()) << s.sol.message;
     EXPECT_LE(s.sol.certificate.max_residual, 1e-8);
     EXPECT_LE((s.sol.u - ref.sol.u).cwiseAbs().maxCoeff(), 1e-8 * U);
   }
   // The full (uncondensed) formulation needs no polish to pass with the projected Newton backend.
-  const Solved full = solve_3d({"mesh.n=4", "solver.backend=newton", "solver.formulation=full"});
+  const Solved3D full = solve_3d({"mesh.n=4", "solver.backend=newton", "solver.formulation=full"});
   ASSERT_TRUE(full.sol.ok()) << full.sol.message;
   EXPECT_LE((full.sol.u - ref.sol.u).cwiseAbs().maxCoeff(), 1e-8 * U);
 }
@@ -120,7 +120,7 @@ TEST(Scene3D, BackendsAgree) {
 // 3D outputs: report.json nodes carry slip_dir (unit, null when sticking) and slip_angle_deg;
 // gamma3.csv has the 3D columns after the 2D ones.
 TEST(Scene3D, ReportAndCsvCarryTheSlipDirection) {
-  const Solved s = solve_3d({"mesh.n=2"});
+  const Solved3D s = solve_3d({"mesh.n=2"});
   ASSERT_TRUE(s.sol.ok()) << s.sol.message;
   const json r = make_report(s.md, s.sol, s.opt);
   ASSERT_EQ(r["nodes"].size(), 9u);

@@ -143,18 +143,18 @@ json make_scene(const Case& c, const std::string& pipeline = "default") {
   return validate_scene(s);
 }
 
-struct Solved {
+struct NodeSolved {
   std::string pipeline;
   Model md;
   SolveOptions opt;
   Solution sol;
 };
 
-Solved run(const Case& c, const std::string& pipeline) {
+NodeSolved run(const Case& c, const std::string& pipeline) {
   const json scene = make_scene(c, pipeline);
   Mesh mesh = one_triangle();
   assign_scene_boundary(mesh, scene);
-  Solved r{pipeline, build_model(scene, std::move(mesh)), solve_options_from_scene(scene), {}};
+  NodeSolved r{pipeline, build_model(scene, std::move(mesh)), solve_options_from_scene(scene), {}};
   r.sol = solve(r.md, r.opt);
   return r;
 }
@@ -179,7 +179,7 @@ double u_tau_hand(double F_tau, double lambda) {
 }
 
 /// Everything every case asserts.
-void check_case(const Case& c, const Expected& e, const Solved& r) {
+void check_case(const Case& c, const Expected& e, const NodeSolved& r) {
   const Solution& sol = r.sol;
   ASSERT_TRUE(sol.backend_ok) << sol.message;
   ASSERT_TRUE(sol.fixed_point_converged) << sol.message;
@@ -299,7 +299,7 @@ TEST_P(SingleNode, ComplianceStick) {
   e.u_tau = u_tau_hand(c.F_tau, e.lambda);
   ASSERT_EQ(e.u_tau, 0.0);
   e.status = "compliance/stick";
-  const Solved r = run(c, GetParam());
+  const NodeSolved r = run(c, GetParam());
   check_case(c, e, r);
   // Stick: |u_τ| ≤ 1e-8·U (the status tolerance) and |σ_τ| = |F_τ|/w < λ.
   EXPECT_LE(std::abs(r.sol.state.u_tau[0]), TOL * e.u_nu);
@@ -325,7 +325,7 @@ TEST_P(SingleNode, SofteningSlipPlus) {
   e.u_tau = (c.F_tau - W * e.lambda) / K_TAU;
   ASSERT_GT(e.u_tau, 0.0);
   e.status = "compliance/slip+";
-  const Solved r = run(c, GetParam());
+  const NodeSolved r = run(c, GetParam());
   check_case(c, e, r);
   // Slip: the friction force is on the cone, opposite to the slip: σ_τ = −λ.
   EXPECT_NEAR(r.sol.state.sigma_tau[0], -e.lambda, TOL * c.F_nu / W);
@@ -348,7 +348,7 @@ TEST_P(SingleNode, ObstacleSlipMinus) {
   e.u_tau = (c.F_tau + W * e.lambda) / K_TAU;
   ASSERT_LT(e.u_tau, 0.0);
   e.status = "contact/slip-";
-  const Solved r = run(c, GetParam());
+  const NodeSolved r = run(c, GetParam());
   check_case(c, e, r);
   // σ_ν from the state: (k_ν g − F_ν)/w = −p(g) − R/w.
   EXPECT_NEAR(r.sol.state.sigma_nu[0], -p_hand(g) - R / W, TOL * c.F_nu / W);
@@ -386,7 +386,7 @@ TEST_P(SingleNode, SeparatedNoFriction) {
   ASSERT_EQ(e.lambda, 0.0);
   e.u_tau = c.F_tau / K_TAU;
   e.status = "separated/slip+";
-  const Solved r = run(c, GetParam());
+  const NodeSolved r = run(c, GetParam());
   check_case(c, e, r);
   EXPECT_NEAR(r.sol.state.sigma_tau[0], 0.0, TOL * c.F_tau / W);
   EXPECT_EQ(r.sol.j_term, 0.0);
@@ -409,7 +409,7 @@ TEST_P(SingleNode, TrescaSkipsFixedPoint) {
   e.u_tau = u_tau_hand(c.F_tau, b);
   ASSERT_GT(e.u_tau, 0.0);
   e.status = "compliance/slip+";
-  const Solved r = run(c, GetParam());
+  const NodeSolved r = run(c, GetParam());
   check_case(c, e, r);
   bool skipped = false;
   for (const auto& s : r.sol.skipped) skipped |= s.rfind("fixed_point", 0) == 0;
@@ -459,7 +459,7 @@ TEST_P(SingleNode, CoulombFixedPointConverges) {
   ASSERT_GT(e.u_tau, 0.0);
   e.status = "compliance/slip+";
   c.all_stages = true;  // the final stage's fixed-point loop is what is tested here
-  const Solved r = run(c, GetParam());
+  const NodeSolved r = run(c, GetParam());
   check_case(c, e, r);
   for (const auto& s : r.sol.skipped) EXPECT_NE(s.rfind("fixed_point", 0), 0u) << s;
   const auto& h = r.sol.history;
@@ -484,9 +484,9 @@ TEST(SingleNodeEarlyStop, CertifiedBeforeTheLastStageGivesTheSameAnswer) {
   c.F_nu = (K_NU + W * C1) * target;
   c.F_tau = 3.0 * W * MU * p_hand(target);
   c.continuation_only = true;  // the continuation's own early stop, against its own all stages
-  const Solved early = run(c, "default");
+  const NodeSolved early = run(c, "default");
   c.all_stages = true;
-  const Solved all = run(c, "default");
+  const NodeSolved all = run(c, "default");
   ASSERT_TRUE(early.sol.certificate.passed);
   ASSERT_TRUE(all.sol.certificate.passed);
   EXPECT_LT(early.sol.history.size(), all.sol.history.size());

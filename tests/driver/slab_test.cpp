@@ -58,14 +58,14 @@ json slab_scene(int dim, int n, int ny, double nu = 0.0, bool rollers = false) {
   return validate_scene(s);
 }
 
-struct Solved {
+struct SlabSolved {
   Model md;
   Solution sol;
 };
 
-Solved solve_slab(int dim, int n, int ny = 2, double nu = 0.0, bool rollers = false) {
+SlabSolved solve_slab(int dim, int n, int ny = 2, double nu = 0.0, bool rollers = false) {
   const json scene = slab_scene(dim, n, ny, nu, rollers);
-  Solved s{build_model(scene, "."), {}};
+  SlabSolved s{build_model(scene, "."), {}};
   s.sol = solve(s.md, solve_options_from_scene(scene));
   return s;
 }
@@ -77,7 +77,7 @@ struct Gap3D2D {
   int compared = 0, status_mismatches = 0;
 };
 
-Gap3D2D compare(const Solved& a, const Solved& b, double thickness) {
+Gap3D2D compare(const SlabSolved& a, const SlabSolved& b, double thickness) {
   Gap3D2D g;
   const double U = a.sol.u.cwiseAbs().maxCoeff();
   std::vector<Index> match(b.md.contact.size(), -1);
@@ -130,8 +130,8 @@ TEST(Slab, MatchesPlaneStrainAndTheGapShrinksWithH) {
   const int levels[3] = {4, 8, 16};
   for (int l = 0; l < 3; ++l) {
     const int n = levels[l], ny = 2;
-    const Solved s2 = solve_slab(2, n), s3 = solve_slab(3, n, ny);
-    for (const Solved* s : {&s2, &s3}) {
+    const SlabSolved s2 = solve_slab(2, n), s3 = solve_slab(3, n, ny);
+    for (const SlabSolved* s : {&s2, &s3}) {
       ASSERT_TRUE(s->sol.ok()) << s->sol.message;
       EXPECT_LE(s->sol.certificate.max_residual, 1e-8);
     }
@@ -172,8 +172,8 @@ TEST(Slab, RollersMatchPlaneStrainWithPoisson) {
   const int levels[3] = {4, 8, 16};
   for (int l = 0; l < 3; ++l) {
     const int n = levels[l], ny = 1;
-    const Solved s2 = solve_slab(2, n, ny, nu), s3 = solve_slab(3, n, ny, nu, true);
-    for (const Solved* s : {&s2, &s3}) {
+    const SlabSolved s2 = solve_slab(2, n, ny, nu), s3 = solve_slab(3, n, ny, nu, true);
+    for (const SlabSolved* s : {&s2, &s3}) {
       ASSERT_TRUE(s->sol.ok()) << s->sol.message;
       EXPECT_LE(s->sol.certificate.max_residual, 1e-8);
     }

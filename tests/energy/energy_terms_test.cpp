@@ -61,8 +61,8 @@ namespace hemicontact {
 namespace {
 
 // The paper's law (32).
-constexpr double C1 = 100, C2 = -100, C3 = 400, R1 = 0.1, R2 = 0.15;
-constexpr double KINKS[] = {0.0, R1, R2};
+constexpr double LAW_C1 = 100, LAW_C2 = -100, LAW_C3 = 400, LAW_R1 = 0.1, LAW_R2 = 0.15;
+constexpr double KINKS[] = {0.0, LAW_R1, LAW_R2};
 
 constexpr double kRtol = 1e-5;               // truncation part (file comment)
 constexpr double kRound = 64 * DBL_EPSILON;  // round-off part (file comment)
@@ -157,7 +157,7 @@ Problem make_problem(int dim, double eps, unsigned seed = 7, Index n_int = 5) {
   p.lambda.resize(p.nc);
   for (Index k = 0; k < p.nc; ++k) p.lambda[k] = 0.5 + u01(rng);
   p.lambda[p.nc - 1] = 0.0;  // a node without friction (the term skips it)
-  p.exact = std::make_shared<const PiecewiseLinearLaw>(PiecewiseLinearLaw::paper(C1, C2, C3, R1, R2));
+  p.exact = std::make_shared<const PiecewiseLinearLaw>(PiecewiseLinearLaw::paper(LAW_C1, LAW_C2, LAW_C3, LAW_R1, LAW_R2));
   p.law = std::make_shared<const MollifiedLaw>(p.exact, eps);
   return p;
 }
@@ -336,7 +336,7 @@ bool outside_windows(const Problem& p, double r) {
   return true;
 }
 /// Slope of the exact law at r (off the kinks).
-double branch_slope(double r) { return r < 0 ? 0.0 : r < R1 ? C1 : r < R2 ? C2 : C3; }
+double branch_slope(double r) { return r < 0 ? 0.0 : r < LAW_R1 ? LAW_C1 : r < LAW_R2 ? LAW_C2 : LAW_C3; }
 
 /// A random unit vector of d−1 components.
 Vec random_direction(int nt, std::mt19937& rng) {
@@ -378,7 +378,7 @@ struct LawPoint {
 /// |r − r_k| < ε/2.
 std::vector<LawPoint> law_points(const Problem& p) {
   std::vector<LawPoint> pts;
-  const double lo[] = {-INF, 0.0, R1, R2}, hi[] = {0.0, R1, R2, INF};
+  const double lo[] = {-INF, 0.0, LAW_R1, LAW_R2}, hi[] = {0.0, LAW_R1, LAW_R2, INF};
   for (int b = 0; b < 4; ++b) {
     std::vector<double> cand;
     for (double delta : {100 * p.eps, 10 * p.eps}) {
@@ -684,7 +684,7 @@ TEST_P(EnergyFd, CondensedTotal) {
 // Psd::CLAMP on the softening branch (c2 < 0): the normal term's curvature is clamped to 0 and
 // the composite (K SPD + clamped nodal terms + convex friction) is PSD; Psd::NONE keeps w c2.
 TEST_P(EnergyFd, ClampOnSofteningBranch) {
-  const double r = 0.5 * (R1 + R2);  // middle of (r1, r2)
+  const double r = 0.5 * (LAW_R1 + LAW_R2);  // middle of (r1, r2)
   std::mt19937 rng(16);
   Vec x = random_point(p_, rng);
   x[p_.nu(0)] = r;
@@ -704,11 +704,11 @@ TEST_P(EnergyFd, ClampOnSofteningBranch) {
   const Fn fn = of_term(term, p_.blocks);
   const Mat Hn = symmetric_from_lower(fn.hessian(x, Psd::NONE));
   const Mat Hc = symmetric_from_lower(fn.hessian(x, Psd::CLAMP));
-  EXPECT_NEAR(Hn(p_.nu(0), p_.nu(0)), w0 * C2, kIdentity * w0 * 600);  // negative curvature w c2
+  EXPECT_NEAR(Hn(p_.nu(0), p_.nu(0)), w0 * LAW_C2, kIdentity * w0 * 600);  // negative curvature w c2
   EXPECT_EQ(Hc(p_.nu(0), p_.nu(0)), 0.0);
   Eigen::SelfAdjointEigenSolver<Mat> ec(Hc), en(Hn);
   EXPECT_GE(ec.eigenvalues().minCoeff(), -1e-12 * scale);
-  EXPECT_LE(en.eigenvalues().minCoeff(), w0 * C2 * (1 - 1e-12));
+  EXPECT_LE(en.eigenvalues().minCoeff(), w0 * LAW_C2 * (1 - 1e-12));
   // CLAMP differs from NONE only where the curvature is negative.
   for (Index k = 0; k < p_.nc; ++k) {
     const double dp = p_.nodes.w[k] * p_.law->dp(x[p_.nu(k)]);
@@ -722,7 +722,7 @@ TEST_P(EnergyFd, ClampOnSofteningBranch) {
   Eigen::SelfAdjointEigenSolver<Mat> tc(Tc), tn(Tn);
   EXPECT_GE(tc.eigenvalues().minCoeff(), -1e-12 * scale);
   // Rayleigh quotient at e_ν0: K_νν + w c2 ≤ 5 − 0.2·100 < 0, so NONE is indefinite.
-  const double rq = p_.K.coeff(p_.nu(0), p_.nu(0)) + w0 * C2;
+  const double rq = p_.K.coeff(p_.nu(0), p_.nu(0)) + w0 * LAW_C2;
   ASSERT_LT(rq, 0.0);
   EXPECT_LE(tn.eigenvalues().minCoeff(), rq + 1e-12 * scale);
   EXPECT_NEAR((Tn - Tc).cwiseAbs().sum(), (Hn - Hc).cwiseAbs().sum(), 1e-12 * scale);
@@ -962,7 +962,7 @@ TEST(ContactEnergy, OwnsItsLawAndLayout) {
   const Eval ref_n = eval(NormalComplianceEnergy(p.layout(p.blocks), p.law), p.blocks, x);
   std::unique_ptr<NormalComplianceEnergy> normal;
   {
-    auto exact = std::make_shared<const PiecewiseLinearLaw>(PiecewiseLinearLaw::paper(C1, C2, C3, R1, R2));
+    auto exact = std::make_shared<const PiecewiseLinearLaw>(PiecewiseLinearLaw::paper(LAW_C1, LAW_C2, LAW_C3, LAW_R1, LAW_R2));
     normal = std::make_unique<NormalComplianceEnergy>(p.layout(p.blocks),
                                                       std::make_shared<const MollifiedLaw>(exact, p.eps));
   }  // the law and the layout now live in the term only

@@ -45,7 +45,7 @@ Field2 body_force(double a, double b) {
   };
 }
 
-const LinearElastic& paper_material() {
+const LinearElastic& paper_linear_elastic() {
   static const LinearElastic mat(2000, 0.4, PlaneMode::STRESS);
   return mat;
 }
@@ -89,7 +89,7 @@ TEST(DunavantRule, ExactToDegreeFour) {
 // truncation error h²/6 · |∂³σ| ≈ 2e-9 · π³ · |D| ~ 1e-4 absolute against |f0| ~ 1e4, i.e. 1e-8
 // relative, and round-off ε|σ|/h ≈ 2e-12 · |D| ~ 1e-8 absolute is smaller still; 1e-6 relative leaves a margin.
 TEST(ManufacturedSolution, BodyForceIsMinusDivSigma) {
-  const auto& mat = paper_material();
+  const auto& mat = paper_linear_elastic();
   const Eigen::Matrix3d D = mat.D();
   const Field2 f0 = body_force(mat.a(), mat.b());
   const double h = 1e-4;
@@ -114,7 +114,7 @@ class Convergence : public ::testing::TestWithParam<Diagonal> {};
 // Quadrature: degree 4 is exact for f0·φ up to O(h⁵) per cell, far below the O(h) / O(h²) errors.
 TEST_P(Convergence, ObservedOrders) {
   const Diagonal diag = GetParam();
-  const auto& mat = paper_material();
+  const auto& mat = paper_linear_elastic();
   const Field2 f0 = body_force(mat.a(), mat.b());
   const std::vector<int> ns = {4, 8, 16, 32, 64};
   std::vector<double> e_energy, e_l2;

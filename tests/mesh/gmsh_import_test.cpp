@@ -38,7 +38,7 @@ std::string error_of(const std::string& path) {
   return "(no error)";
 }
 
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+bool has_text(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
 double group_measure(const Mesh& m, const std::string& name) {
   double s = 0;
@@ -68,7 +68,7 @@ TEST(GmshImport, UnitSquare) {
   EXPECT_EQ(m.num_nodes(), 16);
   EXPECT_EQ(m.num_cells(), 18);
   EXPECT_EQ(m.num_facets(), 12);
-  EXPECT_TRUE(contains(m.origin, "unit_square_3x3.msh"));
+  EXPECT_TRUE(has_text(m.origin, "unit_square_3x3.msh"));
   double area = 0;
   for (Index c = 0; c < m.num_cells(); ++c) {
     EXPECT_GT(m.cell_measure(c), 0.0) << "cell " << c;
@@ -144,18 +144,18 @@ TEST(GmshImport, PhysicalSelectors) {
 TEST(GmshImport, ContactGroupWithInteriorFacetIsRejected) {
   SKIP_WITHOUT_GMSH();
   const std::string e = error_of(data("unit_square_3x3_interior_contact.msh"));
-  EXPECT_TRUE(contains(e, "unit_square_3x3_interior_contact.msh")) << e;
-  EXPECT_TRUE(contains(e, "physical group 'contact' contains facet (5, 12) which is not on the boundary")) << e;
+  EXPECT_TRUE(has_text(e, "unit_square_3x3_interior_contact.msh")) << e;
+  EXPECT_TRUE(has_text(e, "physical group 'contact' contains facet (5, 12) which is not on the boundary")) << e;
 }
 
 TEST(GmshImport, UnreadableFilesNameTheFile) {
   SKIP_WITHOUT_GMSH();
   std::string e = error_of(data("no_such_file.msh"));
-  EXPECT_TRUE(contains(e, "no_such_file.msh") && contains(e, "cannot open")) << e;
+  EXPECT_TRUE(has_text(e, "no_such_file.msh") && has_text(e, "cannot open")) << e;
 
   const std::string garbage = write_temp("hemicontact_garbage.msh", "this is not a mesh\n");
   e = error_of(garbage);
-  EXPECT_TRUE(contains(e, "gmsh file '" + garbage + "'")) << e;
+  EXPECT_TRUE(has_text(e, "gmsh file '" + garbage + "'")) << e;
 
   // A valid file with a line element but no triangles.
   const std::string lines = write_temp("hemicontact_lines_only.msh",
@@ -163,7 +163,7 @@ TEST(GmshImport, UnreadableFilesNameTheFile) {
                                        "$Nodes\n1 2 1 2\n1 1 0 2\n1\n2\n0 0 0\n1 0 0\n$EndNodes\n"
                                        "$Elements\n1 1 1 1\n1 1 1 1\n1 1 2\n$EndElements\n");
   e = error_of(lines);
-  EXPECT_TRUE(contains(e, "hemicontact_lines_only.msh") && contains(e, "no triangles")) << e;
+  EXPECT_TRUE(has_text(e, "hemicontact_lines_only.msh") && has_text(e, "no triangles")) << e;
 
   // Quadrilateral cells are not P1 triangles.
   const std::string quad = write_temp("hemicontact_quad.msh",
@@ -171,7 +171,7 @@ TEST(GmshImport, UnreadableFilesNameTheFile) {
                                       "$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n"
                                       "$Elements\n1 1 1 1\n2 1 3 1\n1 1 2 3 4\n$EndElements\n");
   e = error_of(quad);
-  EXPECT_TRUE(contains(e, "hemicontact_quad.msh") && contains(e, "MSH type 3") && contains(e, "triangles")) << e;
+  EXPECT_TRUE(has_text(e, "hemicontact_quad.msh") && has_text(e, "MSH type 3") && has_text(e, "triangles")) << e;
 }
 
 // tests/data/unit_cube_6tets.msh: the unit cube as 6 tetrahedra (8 nodes), physical surface
@@ -227,5 +227,5 @@ TEST(GmshImport, UnitCubeTetrahedra) {
 TEST(GmshImport, FallbackWithoutGmsh) {
   if (HEMICONTACT_HAS_GMSH) GTEST_SKIP() << "built with the Gmsh API; the fallback is not compiled";
   const std::string e = error_of(data("unit_square_3x3.msh"));
-  EXPECT_TRUE(contains(e, "not compiled in") && contains(e, "libgmsh-dev")) << e;
+  EXPECT_TRUE(has_text(e, "not compiled in") && has_text(e, "libgmsh-dev")) << e;
 }

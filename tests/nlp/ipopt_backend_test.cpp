@@ -33,7 +33,7 @@ namespace {
 /// Options for tests that compare with an exact answer to 1e-9. An interior point stops at a
 /// distance ≈ tol·G/z from an active bound (G = max(1, ‖∇f(x0)‖∞), z the multiplier), ~1e-9 for
 /// the default tol = 1e-10 and these O(10-200) gradients; 1e-12 leaves a margin of 10-100.
-BackendOptions accurate() {
+BackendOptions accurate_ipopt() {
   BackendOptions o;
   o.tol = 1e-12;
   return o;
@@ -160,7 +160,7 @@ TEST(IpoptBackend, BoxQpMatchesEnumeratedSolution) {
   const Vec exact = solve_box_qp_by_enumeration(q.A, q.b, q.lower, q.upper);
   const auto backend = make_backend("ipopt");
   Vec x = Vec::Zero(6);
-  const SolveResult r = backend->minimize(make_problem(f, q.lower, q.upper), x, accurate());
+  const SolveResult r = backend->minimize(make_problem(f, q.lower, q.upper), x, accurate_ipopt());
   EXPECT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_TRUE(r.ok());
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9) << "x = " << x.transpose() << "\nexact = " << exact.transpose();
@@ -178,7 +178,7 @@ TEST(IpoptBackend, StartOutsideBoundsIsProjected) {
   const QuadraticObjective f(q.A, q.b);
   const Vec exact = solve_box_qp_by_enumeration(q.A, q.b, q.lower, q.upper);
   Vec x = Vec::Constant(6, 50.0);
-  const SolveResult r = make_backend("ipopt")->minimize(make_problem(f, q.lower, q.upper), x, accurate());
+  const SolveResult r = make_backend("ipopt")->minimize(make_problem(f, q.lower, q.upper), x, accurate_ipopt());
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9);
 }
@@ -193,11 +193,11 @@ TEST(IpoptBackend, FixedVariableAndWarmStartWithIt) {
   const Vec exact = solve_box_qp_by_enumeration(q.A, q.b, q.lower, q.upper);
   const auto backend = make_backend("ipopt");
   Vec x = Vec::Zero(6);
-  const SolveResult r = backend->minimize(make_problem(f, q.lower, q.upper), x, accurate());
+  const SolveResult r = backend->minimize(make_problem(f, q.lower, q.upper), x, accurate_ipopt());
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(x[2], 0.3);
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9);
-  const SolveResult warm = backend->minimize(make_problem(f, q.lower, q.upper), x, accurate());
+  const SolveResult warm = backend->minimize(make_problem(f, q.lower, q.upper), x, accurate_ipopt());
   ASSERT_TRUE(warm.ok()) << warm.message;
   EXPECT_LE(warm.iterations, 5);
   EXPECT_LE((x - exact).cwiseAbs().maxCoeff(), 1e-9);
@@ -212,7 +212,7 @@ TEST_P(IpoptDoubleWell, ReachesClosedFormMinimizer) {
   const Vec lower = (Vec(2) << c.lower_x, -INF).finished();
   const Vec upper = (Vec(2) << c.upper_x, INF).finished();
   Vec x = (Vec(2) << c.x0, c.y0).finished();
-  const SolveResult r = make_backend("ipopt")->minimize(make_problem(f, lower, upper), x, accurate());
+  const SolveResult r = make_backend("ipopt")->minimize(make_problem(f, lower, upper), x, accurate_ipopt());
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_NEAR(x[0], c.x_star, 1e-9);
   EXPECT_NEAR(x[1], c.y_star, 1e-9);
@@ -230,7 +230,7 @@ TEST(IpoptBackend, RosenbrockWithActiveBound) {
   const Vec lower = (Vec(2) << -1.5, -1.5).finished();
   const Vec upper = (Vec(2) << 0.5, 2.0).finished();
   Vec x = (Vec(2) << -1.2, 1.0).finished();  // the classic start
-  const SolveResult r = make_backend("ipopt")->minimize(make_problem(f, lower, upper), x, accurate());
+  const SolveResult r = make_backend("ipopt")->minimize(make_problem(f, lower, upper), x, accurate_ipopt());
   ASSERT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_NEAR(x[0], 0.5, 1e-9);
   EXPECT_NEAR(x[1], 0.25, 1e-9);
@@ -245,7 +245,7 @@ TEST(IpoptBackend, ChainedRosenbrockInactiveBounds) {
   const RosenbrockObjective f(n);
   Vec x = Vec::Constant(n, 0.5);
   const SolveResult r =
-      make_backend("ipopt")->minimize(make_problem(f, Vec::Zero(n), Vec::Constant(n, 2.0)), x, accurate());
+      make_backend("ipopt")->minimize(make_problem(f, Vec::Zero(n), Vec::Constant(n, 2.0)), x, accurate_ipopt());
   ASSERT_EQ(r.status, SolveStatus::CONVERGED) << r.message;
   EXPECT_LE((x - Vec::Ones(n)).cwiseAbs().maxCoeff(), 1e-8);
 }
@@ -302,9 +302,9 @@ TEST(IpoptBackend, WarmStartFromSolutionTakesFewIterations) {
   const Vec exact = solve_box_qp_by_enumeration(q.A, q.b, q.lower, q.upper);
   const auto backend = make_backend("ipopt");
   Vec x = Vec::Zero(6);
-  const SolveResult cold = backend->minimize(p, x, accurate());
+  const SolveResult cold = backend->minimize(p, x, accurate_ipopt());
   ASSERT_TRUE(cold.ok()) << cold.message;
-  const SolveResult warm = backend->minimize(p, x, accurate());  // same object: keeps z
+  const SolveResult warm = backend->minimize(p, x, accurate_ipopt());  // same object: keeps z
   ASSERT_TRUE(warm.ok()) << warm.message;
   EXPECT_LE(warm.iterations, 5) << "cold start took " << cold.iterations;
   EXPECT_LT(warm.iterations, cold.iterations);
@@ -321,10 +321,10 @@ TEST(IpoptBackend, WarmStartAfterSmallChangeBeatsColdStart) {
   const Vec exact2 = solve_box_qp_by_enumeration(q.A, b2, q.lower, q.upper);
   const auto backend = make_backend("ipopt");
   Vec x = Vec::Zero(6);
-  ASSERT_TRUE(backend->minimize(make_problem(f1, q.lower, q.upper), x, accurate()).ok());
-  const SolveResult warm = backend->minimize(make_problem(f2, q.lower, q.upper), x, accurate());
+  ASSERT_TRUE(backend->minimize(make_problem(f1, q.lower, q.upper), x, accurate_ipopt()).ok());
+  const SolveResult warm = backend->minimize(make_problem(f2, q.lower, q.upper), x, accurate_ipopt());
   Vec x_cold = Vec::Zero(6);
-  const SolveResult cold = make_backend("ipopt")->minimize(make_problem(f2, q.lower, q.upper), x_cold, accurate());
+  const SolveResult cold = make_backend("ipopt")->minimize(make_problem(f2, q.lower, q.upper), x_cold, accurate_ipopt());
   ASSERT_TRUE(warm.ok() && cold.ok()) << warm.message << " / " << cold.message;
   EXPECT_LT(warm.iterations, cold.iterations);
   EXPECT_LE((x - exact2).cwiseAbs().maxCoeff(), 1e-9);

@@ -28,7 +28,7 @@ namespace fs = std::filesystem;
 #define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << "message: " << (text)
 
 /// The message of the Error thrown by @p f (and that it is an input error); "" if none.
-std::string input_error_of(const std::function<void()>& f) {
+std::string config_input_error_of(const std::function<void()>& f) {
   try {
     f();
   } catch (const Error& e) {
@@ -175,14 +175,14 @@ TEST(SceneSchema, OpenObjectsAcceptAnything) {
 TEST(SceneSchemaErrors, UnknownKeyNamesDottedPathWithHint) {
   json s = minimal_scene();
   s["mesh"]["nn"] = 4;
-  const std::string msg = input_error_of([&] { validate_scene(s); });
+  const std::string msg = config_input_error_of([&] { validate_scene(s); });
   EXPECT_CONTAINS(msg, "scene: unknown key 'mesh.nn' (did you mean 'mesh.n'?)");
 }
 
 TEST(SceneSchemaErrors, UnknownKeyInsideArrayElement) {
   json s = minimal_scene();
   s["boundary"]["gamma1"][0]["traction"] = {1, 0};  // only Γ2 selectors carry a traction
-  const std::string msg = input_error_of([&] { validate_scene(s); });
+  const std::string msg = config_input_error_of([&] { validate_scene(s); });
   EXPECT_CONTAINS(msg, "unknown key 'boundary.gamma1[0].traction'");
   EXPECT_CONTAINS(msg, "boundary.gamma2[*].traction");
 }
@@ -190,66 +190,66 @@ TEST(SceneSchemaErrors, UnknownKeyInsideArrayElement) {
 TEST(SceneSchemaErrors, UnknownKeyHintFromElsewhereOrList) {
   json s = minimal_scene();
   s["solver"]["mu"] = 0.2;
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "did you mean 'contact.friction.mu'?");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "did you mean 'contact.friction.mu'?");
   s = minimal_scene();
   s["output"]["zzzzzz"] = true;
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "(allowed here: vtu, vtu_format, csv, plot)");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "(allowed here: vtu, vtu_format, csv, plot)");
   s = minimal_scene();
   s["solver"]["continuation/eps_start"] = 1e-3;  // a '/' in a key must not address a row
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "unknown key 'solver.continuation/eps_start'");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "unknown key 'solver.continuation/eps_start'");
 }
 
 TEST(SceneSchemaErrors, WrongType) {
   json s = minimal_scene();
   s["mesh"]["nx"] = "abc";
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
                   "scene key 'mesh.nx': expected integer, got string \"abc\"");
   s["mesh"]["nx"] = 2.5;
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "scene key 'mesh.nx': expected integer, got number 2.5");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.nx': expected integer, got number 2.5");
   s["mesh"]["nx"] = 1e10;  // integral but beyond int
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "expected integer");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "expected integer");
   s = minimal_scene();
   s["mesh"]["n"] = true;
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
                   "scene key 'mesh.n': expected integer or null, got boolean true");
   s = minimal_scene();
   s["boundary"]["gamma2"] = {{{"side", "left"}, {"traction", {1, "x"}}}};
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
                   "scene key 'boundary.gamma2[0].traction': expected number[]");
   s = minimal_scene();
   s["boundary"]["gamma1"] = {{"side", "top"}};  // an object, not a list of selectors
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "scene key 'boundary.gamma1': expected array");
-  EXPECT_CONTAINS(input_error_of([] { validate_scene(json::array()); }), "top level must be a JSON object");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'boundary.gamma1': expected array");
+  EXPECT_CONTAINS(config_input_error_of([] { validate_scene(json::array()); }), "top level must be a JSON object");
 }
 
 TEST(SceneSchemaErrors, EnumListsOptions) {
   json s = minimal_scene();
   s["mesh"]["diagonal"] = "diag";
-  const std::string msg = input_error_of([&] { validate_scene(s); });
+  const std::string msg = config_input_error_of([&] { validate_scene(s); });
   EXPECT_CONTAINS(msg, "scene key 'mesh.diagonal': \"diag\" is not one of: right, left, symmetric, crossed");
   s = minimal_scene();
   s["boundary"]["gamma1"][0]["side"] = "up";
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
                   "'boundary.gamma1[0].side': \"up\" is not one of: left, right, bottom, top");
 }
 
 TEST(SceneSchemaErrors, RequiredMissing) {
   json s = minimal_scene();
   s["material"].erase("E");
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "scene: missing required key 'material.E'");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene: missing required key 'material.E'");
   s = minimal_scene();
   s.erase("boundary");
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "missing required key 'boundary.gamma1'");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "missing required key 'boundary.gamma1'");
   s = paper_scene();
   s["contact"]["gap"].erase("points");
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "missing required key 'contact.gap.points'");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "missing required key 'contact.gap.points'");
 }
 
 TEST(SceneSchemaErrors, Ranges) {
   const auto with = [](const std::string& pointer, const json& v) {
     json s = minimal_scene();
     s[json::json_pointer(pointer)] = v;
-    return input_error_of([&] { validate_scene(s); });
+    return config_input_error_of([&] { validate_scene(s); });
   };
   EXPECT_CONTAINS(with("/material/E", -1), "scene key 'material.E' must be > 0, got -1");
   EXPECT_CONTAINS(with("/material/E", 0), "must be > 0, got 0");
@@ -271,23 +271,23 @@ TEST(SceneSchemaErrors, Ranges) {
 TEST(SceneSchemaErrors, NonFiniteNumbers) {
   json s = minimal_scene();
   s["material"]["E"] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "scene key 'material.E': number is not finite (nan)");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'material.E': number is not finite (nan)");
   s = minimal_scene();
   s["solver"]["options"]["x"] = {1.0, std::numeric_limits<double>::infinity()};  // even in open objects
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "'solver.options.x[1]': number is not finite (inf)");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "'solver.options.x[1]': number is not finite (inf)");
 }
 
 TEST(SceneSchemaErrors, SelectorNeedsExactlyOneOfSideAndPhysical) {
   json s = paper_scene();
   s["boundary"]["gamma2"][1]["physical"] = "right_wall";
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
                   "scene key 'boundary.gamma2[1]': set exactly one of 'side' and 'physical', not both");
   s = paper_scene();
   s["boundary"]["gamma3"][0].erase("side");
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "scene key 'boundary.gamma3[0]': set exactly one of");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'boundary.gamma3[0]': set exactly one of");
   s = paper_scene();
   s["boundary"]["gamma2"][0]["to"] = 0.5;  // from = 0.5
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
                   "'boundary.gamma2[0]': empty range [from, to) = [0.5, 0.5)");
 }
 
@@ -298,30 +298,30 @@ TEST(SceneSchemaErrors, Gap) {
     EXPECT_NO_THROW(validate_scene(s)) << ok;
   }
   s["contact"]["gap"] = -0.1;
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "contact.gap: negative thickness g = -0.1");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "contact.gap: negative thickness g = -0.1");
   s["contact"]["gap"] = "infinite";
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "contact.gap: the only string allowed is \"inf\"");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "contact.gap: the only string allowed is \"inf\"");
   s["contact"]["gap"] = json::array({0.1});
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
                   "'contact.gap': expected number or string or object or null");
 
   json t = paper_scene();
   t["contact"]["gap"]["along"] = "r";
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }), "'contact.gap.along': \"r\" is not one of: x, y, z");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(t); }), "'contact.gap.along': \"r\" is not one of: x, y, z");
   t = paper_scene();
   t["contact"]["gap"]["alnog"] = "x";
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(t); }),
                   "unknown key 'contact.gap.alnog' (did you mean 'contact.gap.along'?)");
   t = paper_scene();
   t["contact"]["gap"]["points"] = {{0, 0.1}, {1, -0.1}};
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }), "'contact.gap.points[1]': negative thickness g = -0.1");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(t); }), "'contact.gap.points[1]': negative thickness g = -0.1");
   t["contact"]["gap"]["points"] = {{0.5, 0.1}, {0.5, 0.1}};
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }), "'contact.gap.points[1]': x must be strictly increasing");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(t); }), "'contact.gap.points[1]': x must be strictly increasing");
   t["contact"]["gap"]["points"] = {{0.5, 0.1, 3}};
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }), "'contact.gap.points[0]': expected a pair");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(t); }), "'contact.gap.points[0]': expected a pair");
   t = paper_scene();
   t["contact"]["friction"]["points"] = {{1, 0}, {0, 1}};  // the law tables share the shape check
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(t); }), "'contact.friction.points[1]': x must be non-decreasing");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(t); }), "'contact.friction.points[1]': x must be non-decreasing");
   // ...but a repeated r is allowed there: it is a jump of the law.
   t = paper_scene();
   t["contact"]["normal_law"] = {{"type", "table"}, {"points", {{0, 0}, {0.1, 10}, {0.1, 2}}}};
@@ -368,25 +368,25 @@ TEST(SceneOverrides, LaterOverrideWinsAndCreatesFromNothing) {
 
 TEST(SceneOverrides, MalformedAssignments) {
   json s = paper_scene();
-  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "mesh.n"); }), "--set 'mesh.n': expected path=value");
-  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "mesh..n=3"); }), "--set 'mesh..n=3': malformed path");
-  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "=3"); }), "malformed path");
-  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "boundary.gamma2.7.from=0"); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { apply_override(s, "mesh.n"); }), "--set 'mesh.n': expected path=value");
+  EXPECT_CONTAINS(config_input_error_of([&] { apply_override(s, "mesh..n=3"); }), "--set 'mesh..n=3': malformed path");
+  EXPECT_CONTAINS(config_input_error_of([&] { apply_override(s, "=3"); }), "malformed path");
+  EXPECT_CONTAINS(config_input_error_of([&] { apply_override(s, "boundary.gamma2.7.from=0"); }),
                   "index 7 out of range ('boundary.gamma2' has 4 elements)");
-  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "boundary.gamma2.first.from=0"); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { apply_override(s, "boundary.gamma2.first.from=0"); }),
                   "'boundary.gamma2' is an array; 'first' is not an index");
-  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "material.E.value=3"); }),
+  EXPECT_CONTAINS(config_input_error_of([&] { apply_override(s, "material.E.value=3"); }),
                   "cannot set a key inside 'material.E', which is integer 2000");
-  EXPECT_CONTAINS(input_error_of([&] { apply_override(s, "material.E=1e999"); }), "--set 'material.E=1e999'");
+  EXPECT_CONTAINS(config_input_error_of([&] { apply_override(s, "material.E=1e999"); }), "--set 'material.E=1e999'");
 }
 
 TEST(SceneOverrides, OverrideToUnknownKeyIsReportedAsUnknown) {
   json s = paper_scene();
   apply_override(s, "mesh.nn=128");
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "unknown key 'mesh.nn' (did you mean 'mesh.n'?)");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "unknown key 'mesh.nn' (did you mean 'mesh.n'?)");
   s = paper_scene();
   apply_override(s, "mesh.n=abc");  // not JSON → a string → a type error, not silently 0
-  EXPECT_CONTAINS(input_error_of([&] { validate_scene(s); }), "'mesh.n': expected integer or null, got string \"abc\"");
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "'mesh.n': expected integer or null, got string \"abc\"");
 }
 
 // ---------------------------------------------------------------- files
@@ -413,31 +413,31 @@ TEST_F(SceneFiles, LoadAppliesOverridesThenValidates) {
   EXPECT_EQ(e["mesh"]["nx"], 4);
   EXPECT_EQ(get_string(e, "solver.backend"), "newton");
   EXPECT_EQ(e, validate_scene(e));
-  EXPECT_CONTAINS(input_error_of([&] { load_scene(path, {"mesh.nn=4"}); }), "unknown key 'mesh.nn'");
+  EXPECT_CONTAINS(config_input_error_of([&] { load_scene(path, {"mesh.nn=4"}); }), "unknown key 'mesh.nn'");
 }
 
 TEST_F(SceneFiles, MissingFile) {
-  EXPECT_CONTAINS(input_error_of([&] { load_scene((m_dir / "x.json").string(), {}); }), "x.json' not found");
-  EXPECT_CONTAINS(input_error_of([&] { load_scene(m_dir.string(), {}); }), "is a directory");
+  EXPECT_CONTAINS(config_input_error_of([&] { load_scene((m_dir / "x.json").string(), {}); }), "x.json' not found");
+  EXPECT_CONTAINS(config_input_error_of([&] { load_scene(m_dir.string(), {}); }), "is a directory");
 }
 
 TEST_F(SceneFiles, MalformedJsonGivesLineAndColumn) {
   //                                       line 3: `  "mesh": {"n": 4,},` → column 19 is the '}'
   const std::string path = write("bad.json", "{\n  \"description\": \"x\",\n  \"mesh\": {\"n\": 4,},\n}\n");
-  const std::string msg = input_error_of([&] { load_scene(path, {}); });
+  const std::string msg = config_input_error_of([&] { load_scene(path, {}); });
   EXPECT_CONTAINS(msg, "scene file '" + path + "': parse error at line 3, column 19: ");
   EXPECT_CONTAINS(msg, "syntax error");
   // An error at the end of a line is placed on that line, not on the next one.
   const std::string path2 = write("bad2.json", "{\n  \"a\": tru\n}");
-  EXPECT_CONTAINS(input_error_of([&] { load_scene(path2, {}); }), "parse error at line 2, column 11");
+  EXPECT_CONTAINS(config_input_error_of([&] { load_scene(path2, {}); }), "parse error at line 2, column 11");
 }
 
 TEST_F(SceneFiles, DuplicateKeyIsAnError) {
   const std::string path =
       write("dup.json", R"({"boundary": {"gamma2": [{"side": "left"}, {"side": "left", "from": 0, "from": 1}]}})");
-  EXPECT_CONTAINS(input_error_of([&] { load_scene(path, {}); }), "duplicate key 'boundary.gamma2[1].from'");
+  EXPECT_CONTAINS(config_input_error_of([&] { load_scene(path, {}); }), "duplicate key 'boundary.gamma2[1].from'");
   const std::string path2 = write("dup2.json", R"({"mesh": {"n": 2}, "mesh": {"n": 3}})");
-  EXPECT_CONTAINS(input_error_of([&] { load_scene(path2, {}); }), "duplicate key 'mesh'");
+  EXPECT_CONTAINS(config_input_error_of([&] { load_scene(path2, {}); }), "duplicate key 'mesh'");
 }
 
 TEST(SceneDirectory, ParentOrDot) {
