@@ -179,6 +179,15 @@ Solution solve_scene(const std::string& file, const std::vector<std::string>& o,
   return solve(md, solve_options_from_scene(s));
 }
 
+// The sliding scene of tests/stress/fixed_point_test.cpp (no obstacle, no Γ2 traction, a body force
+// that pushes the body sideways over the layer) at friction coefficient @p mu, plus @p extra.
+std::vector<std::string> sliding_scene(const std::string& mu, std::vector<std::string> extra) {
+  std::vector<std::string> o{"mesh.n=16",          "check.smallness=false", "contact.gap=null",
+                             "boundary.gamma2=[]", "loads.body_force=[20000,-500]", "contact.friction.mu=" + mu};
+  o.insert(o.end(), extra.begin(), extra.end());
+  return o;
+}
+
 // u of two solutions agree to @p rel of the larger.
 void expect_same_u(const Solution& a, const Solution& b, double rel) {
   const double s = std::max(a.u.cwiseAbs().maxCoeff(), b.u.cwiseAbs().maxCoeff());
@@ -270,11 +279,8 @@ TEST(ExactStart, StronglyConvexScenesNeedNoContinuation) {
 // the start; the continuation then runs (its minimizations are stage ≥ 0) and, with the same plain
 // iteration, also fails, loudly.
 TEST(ExactStart, NotCertifiedFromTheStartTheContinuationRuns) {
-  const std::vector<std::string> o{"mesh.n=16",          "check.smallness=false",
-                                   "contact.gap=null",   "boundary.gamma2=[]",
-                                   "loads.body_force=[20000,-500]", "contact.friction.mu=8",
-                                   "solver.exact.start=\"always\"", "solver.fixed_point.anderson_memory=0",
-                                   "solver.exact.fallback=true"};
+  const std::vector<std::string> o = sliding_scene(
+      "8", {"solver.exact.start=\"always\"", "solver.fixed_point.anderson_memory=0", "solver.exact.fallback=true"});
   Model md;
   const Solution p = solve_scene("sofonea2017-fig2.json", o, md);
   EXPECT_FALSE(p.ok());
@@ -289,10 +295,7 @@ TEST(ExactStart, NotCertifiedFromTheStartTheContinuationRuns) {
 // solver's start, with no ε-stage, not certified, its reason (the fixed point) in the message and
 // the key that would try the continuation in `skipped`.
 TEST(ExactStart, DefaultStopsAfterAStartThatIsNotCertified) {
-  const std::vector<std::string> o{"mesh.n=16",          "check.smallness=false",
-                                   "contact.gap=null",   "boundary.gamma2=[]",
-                                   "loads.body_force=[20000,-500]", "contact.friction.mu=8",
-                                   "solver.fixed_point.anderson_memory=0"};
+  const std::vector<std::string> o = sliding_scene("8", {"solver.fixed_point.anderson_memory=0"});
   Model md;
   const Solution p = solve_scene("sofonea2017-fig2.json", o, md);
   EXPECT_FALSE(p.ok());
@@ -346,10 +349,8 @@ TEST(ExactHandover, PolishAfterTheExactSolverOnlyAboveRoundOff) {
 // the start; with a cap of 20 and certificate_tol 1e-12 — far below its residual there — it is
 // still refused, naming the fixed point.
 TEST(ExactHandover, AtTheCapTheCertificateDecides) {
-  const std::vector<std::string> o{"mesh.n=16", "check.smallness=false", "contact.gap=null", "boundary.gamma2=[]",
-                                   "loads.body_force=[20000,-500]", "contact.normal_law.c1=1000",
-                                   "contact.normal_law.c2=-1000", "contact.normal_law.c3=4000",
-                                   "contact.friction.mu=12"};
+  const std::vector<std::string> o = sliding_scene(
+      "12", {"contact.normal_law.c1=1000", "contact.normal_law.c2=-1000", "contact.normal_law.c3=4000"});
   Model md;
   const Solution a = solve_scene("sofonea2017-fig2.json", o, md);
   ASSERT_TRUE(a.ok()) << a.message;
@@ -369,10 +370,7 @@ TEST(ExactHandover, AtTheCapTheCertificateDecides) {
 // oscillates (ρ ≈ 1) and fails, with the backend or with the exact solver (anderson_memory = 0);
 // with the defaults the exact solver's Anderson-accelerated fixed point converges and certifies.
 TEST(ExactHandover, AndersonCertifiesWhereThePlainFixedPointFails) {
-  const std::vector<std::string> o{"mesh.n=16",          "check.smallness=false",
-                                   "contact.gap=null",   "boundary.gamma2=[]",
-                                   "loads.body_force=[20000,-500]", "contact.friction.mu=8",
-                                   "solver.exact.enabled=true"};
+  const std::vector<std::string> o = sliding_scene("8", {"solver.exact.enabled=true"});
   Model md;
   std::vector<std::string> plain = o;
   plain.push_back("solver.fixed_point.anderson_memory=0");

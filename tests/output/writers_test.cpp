@@ -12,6 +12,7 @@
 #include <hemicontact/fem/assembly.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include "../support/expect_error.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -40,8 +41,6 @@ namespace {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
-
-#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << "text: " << (text)
 
 /// The scene of the brief: a 4×4 square on a soft layer with the paper's law (32).
 json test_scene(int n = 4) {

@@ -11,6 +11,7 @@
 #include <functional>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/scene/config.hpp>
+#include "../support/expect_error.hpp"
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -24,8 +25,6 @@ namespace {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
-
-#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << "message: " << (text)
 
 /// The message of the Error thrown by @p f (and that it is an input error); "" if none.
 std::string config_input_error_of(const std::function<void()>& f) {

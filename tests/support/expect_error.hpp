@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+/// Expect the string @p text to contain @p part (the text is printed when it does not).
+#define EXPECT_CONTAINS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << "text: " << (text)
+
 namespace hemicontact::test {
 
 /// Expect @p fn to throw an input Error whose message contains every string of @p parts.
