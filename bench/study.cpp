@@ -58,7 +58,6 @@ namespace {
 
 using clk = std::chrono::steady_clock;
 double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
-const double NaN = std::numeric_limits<double>::quiet_NaN();
 
 // A number for the CSV and messages; empty when not finite (not available).
 std::string fmt(double v, int prec = 6) {

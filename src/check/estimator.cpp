@@ -2,6 +2,7 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/fem/p1.hpp>
+#include <hemicontact/mesh/edge_key.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -71,10 +72,6 @@ ErrorEstimate zz(const Model& md, const Solution& sol) {
   return e;
 }
 
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
 
 ErrorEstimate residual(const Model& md, const Solution& sol) {
   const Mesh& m = md.mesh;

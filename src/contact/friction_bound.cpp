@@ -1,23 +1,16 @@
 #include <hemicontact/contact/friction_bound.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/core/types.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <utility>
 
 namespace hemicontact {
 
 namespace {
-
-std::string num(double x) {
-  std::ostringstream os;
-  os << std::setprecision(10) << x;
-  return os.str();
-}
 
 // F_b(r) interpolated from the table values themselves rather than from the ramp/step sum form:
 // a zero value stays exactly zero (no rounding noise of a + b r + Σ …), so the (15c) equality
@@ -52,29 +45,29 @@ void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale, const s
   // r ≤ 0. With slope_left = 0 and zero values at every breakpoint ≤ 0 and at 0 itself, the
   // piecewise-linear F_b vanishes on all of (−∞, 0].
   if (f.slope_left() != 0.0)
-    input_error(context + ": F_b has slope " + num(scale * f.slope_left()) + " left of r = " + num(rk.front()) +
+    input_error(context + ": F_b has slope " + fmt(scale * f.slope_left(), 10) + " left of r = " + fmt(rk.front(), 10) +
                 " (slope_left)" + zero_rule);
   for (std::size_t k = 0; k < rk.size() && rk[k] <= 0.0; ++k) {
     if (left[k] != 0.0)
-      input_error(context + ": F_b(" + num(rk[k]) + (left[k] != right[k] ? "^-" : "") + ") = " + num(scale * left[k]) +
+      input_error(context + ": F_b(" + fmt(rk[k], 10) + (left[k] != right[k] ? "^-" : "") + ") = " + fmt(scale * left[k], 10) +
                   zero_rule);
-    if (right[k] != 0.0) input_error(context + ": F_b(" + num(rk[k]) + ") = " + num(scale * right[k]) + zero_rule);
+    if (right[k] != 0.0) input_error(context + ": F_b(" + fmt(rk[k], 10) + ") = " + fmt(scale * right[k], 10) + zero_rule);
   }
   const double v0 = table_value(f, 0.0);
-  if (v0 != 0.0) input_error(context + ": F_b(0) = " + num(scale * v0) + zero_rule);
+  if (v0 != 0.0) input_error(context + ": F_b(0) = " + fmt(scale * v0, 10) + zero_rule);
 
   // r ≥ 0. F_b(0) = 0, so nonnegative one-sided values at the positive breakpoints and a
   // nonnegative final slope make F_b ≥ 0 on [0, ∞).
   for (std::size_t k = 0; k < rk.size(); ++k) {
     if (rk[k] <= 0.0) continue;
     if (left[k] < 0.0)
-      input_error(context + ": F_b(" + num(rk[k]) + (left[k] != right[k] ? "^-" : "") + ") = " + num(scale * left[k]) +
+      input_error(context + ": F_b(" + fmt(rk[k], 10) + (left[k] != right[k] ? "^-" : "") + ") = " + fmt(scale * left[k], 10) +
                   sign_rule);
-    if (right[k] < 0.0) input_error(context + ": F_b(" + num(rk[k]) + ") = " + num(scale * right[k]) + sign_rule);
+    if (right[k] < 0.0) input_error(context + ": F_b(" + fmt(rk[k], 10) + ") = " + fmt(scale * right[k], 10) + sign_rule);
   }
   if (f.slope_right() < 0.0)
-    input_error(context + ": F_b decreases with slope " + num(scale * f.slope_right()) +
-                " beyond r = " + num(rk.back()) + " (slope_right), so it becomes negative" + sign_rule);
+    input_error(context + ": F_b decreases with slope " + fmt(scale * f.slope_right(), 10) +
+                " beyond r = " + fmt(rk.back(), 10) + " (slope_right), so it becomes negative" + sign_rule);
 }
 
 // ---------------------------------------------------------------- CoulombLayerBound
@@ -82,7 +75,7 @@ void check_friction_bound_15c(const PiecewiseLinearLaw& f, double scale, const s
 CoulombLayerBound::CoulombLayerBound(double mu, std::shared_ptr<const PiecewiseLinearLaw> p, const std::string& context)
     : m_mu(mu), m_law(std::move(p)) {
   if (!(std::isfinite(mu) && mu >= 0.0))
-    input_error(context + ".mu: friction coefficient must be a finite number >= 0 (got " + num(mu) + ")");
+    input_error(context + ".mu: friction coefficient must be a finite number >= 0 (got " + fmt(mu, 10) + ")");
   if (!m_law) input_error(context + ".type: 'coulomb_layer' (F_b = mu p_nu, eq. (34)) needs a normal law");
   try {
     check_friction_bound_15c(*m_law, m_mu, context);
@@ -104,15 +97,15 @@ bool CoulombLayerBound::depends_on_u_nu() const { return m_mu > 0.0; }
 
 std::string CoulombLayerBound::describe() const {
   const double L = lipschitz();
-  return "coulomb_layer F_b = " + num(m_mu) +
-         " p_nu(u_nu) (34), L_Fb = " + (std::isinf(L) ? std::string("inf") : num(L));
+  return "coulomb_layer F_b = " + fmt(m_mu, 10) +
+         " p_nu(u_nu) (34), L_Fb = " + (std::isinf(L) ? std::string("inf") : fmt(L, 10));
 }
 
 // ---------------------------------------------------------------- TrescaBound
 
 TrescaBound::TrescaBound(double bound, const std::string& context) : m_bound(bound) {
   if (!(std::isfinite(bound) && bound >= 0.0))
-    input_error(context + ".bound: Tresca slip bound must be a finite number >= 0 (got " + num(bound) + ")");
+    input_error(context + ".bound: Tresca slip bound must be a finite number >= 0 (got " + fmt(bound, 10) + ")");
 }
 
 double TrescaBound::F(double /*r*/) const { return m_bound; }
@@ -121,7 +114,7 @@ double TrescaBound::lipschitz() const { return 0.0; }
 
 bool TrescaBound::depends_on_u_nu() const { return false; }
 
-std::string TrescaBound::describe() const { return "tresca F_b = " + num(m_bound); }
+std::string TrescaBound::describe() const { return "tresca F_b = " + fmt(m_bound, 10); }
 
 // ---------------------------------------------------------------- TableBound
 
@@ -145,7 +138,7 @@ bool TableBound::depends_on_u_nu() const {
 
 std::string TableBound::describe() const {
   const double L = lipschitz();
-  return "table F_b, L_Fb = " + (std::isinf(L) ? std::string("inf") : num(L)) + ": " + m_table.describe();
+  return "table F_b, L_Fb = " + (std::isinf(L) ? std::string("inf") : fmt(L, 10)) + ": " + m_table.describe();
 }
 
 }  // namespace hemicontact

@@ -1,6 +1,7 @@
 #include <hemicontact/contact/piecewise_linear_law.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/core/types.hpp>
 
 #include <algorithm>
@@ -13,17 +14,9 @@ namespace hemicontact {
 
 namespace {
 
-// Ten significant digits: enough to tell apart the two values of an error message
-// ("r decreases (0.1 after 0.2)") without printing rounding noise.
-std::string num(double x) {
-  std::ostringstream os;
-  os << std::setprecision(10) << x;
-  return os.str();
-}
-
 std::string list(const std::vector<double>& v, const char* sep) {
   std::ostringstream os;
-  for (std::size_t i = 0; i < v.size(); ++i) os << (i ? sep : "") << num(v[i]);
+  for (std::size_t i = 0; i < v.size(); ++i) os << (i ? sep : "") << fmt(v[i], 10);
   return os.str();
 }
 
@@ -41,7 +34,7 @@ PiecewiseLinearLaw::PiecewiseLinearLaw(std::vector<Point> points, std::optional<
     const auto [r, p] = m_points[i];
     const std::string at = key + "[" + std::to_string(i) + "]";
     if (!std::isfinite(r) || !std::isfinite(p))
-      input_error(at + ": values must be finite (r = " + num(r) + ", p = " + num(p) + ")");
+      input_error(at + ": values must be finite (r = " + fmt(r, 10) + ", p = " + fmt(p, 10) + ")");
     if (i == 0) {
       m_r.push_back(r);
       m_p_left.push_back(p);
@@ -50,12 +43,12 @@ PiecewiseLinearLaw::PiecewiseLinearLaw(std::vector<Point> points, std::optional<
     }
     const double r_prev = m_points[i - 1][0];
     if (r < r_prev)
-      input_error(at + ": r decreases (" + num(r) + " after " + num(r_prev) + "): p_nu must be a function of r");
+      input_error(at + ": r decreases (" + fmt(r, 10) + " after " + fmt(r_prev, 10) + "): p_nu must be a function of r");
     if (r == r_prev) {
       // A second point at the same r is the right limit of a jump; a third one would leave
       // the value of p between the two limits undefined, so it is rejected.
       if (i >= 2 && m_points[i - 2][0] == r)
-        input_error(at + ": r = " + num(r) + " appears three times; a jump is exactly two points with the same r");
+        input_error(at + ": r = " + fmt(r, 10) + " appears three times; a jump is exactly two points with the same r");
       m_p_right.back() = p;
       continue;
     }
@@ -71,16 +64,16 @@ PiecewiseLinearLaw::PiecewiseLinearLaw(std::vector<Point> points, std::optional<
     // Two distinct but nearly equal r with different p give an overflowing slope: a jump
     // must be written as two equal r, not as a steep segment.
     if (!std::isfinite(s))
-      input_error(key + "[" + std::to_string(k + 1) + "]: slope of the segment from r = " + num(m_r[k]) +
-                  " to r = " + num(m_r[k + 1]) + " is not finite (write a jump as two points with equal r)");
+      input_error(key + "[" + std::to_string(k + 1) + "]: slope of the segment from r = " + fmt(m_r[k], 10) +
+                  " to r = " + fmt(m_r[k + 1], 10) + " is not finite (write a jump as two points with equal r)");
     segment.push_back(s);
   }
   // null slopes continue the neighbouring segment; a table with one distinct r has none,
   // and then p is constant on each side of it.
   const double sl = slope_left.value_or(segment.empty() ? 0.0 : segment.front());
   const double sr = slope_right.value_or(segment.empty() ? 0.0 : segment.back());
-  if (!std::isfinite(sl)) input_error(context + ".slope_left: must be finite (got " + num(sl) + ")");
-  if (!std::isfinite(sr)) input_error(context + ".slope_right: must be finite (got " + num(sr) + ")");
+  if (!std::isfinite(sl)) input_error(context + ".slope_left: must be finite (got " + fmt(sl, 10) + ")");
+  if (!std::isfinite(sr)) input_error(context + ".slope_right: must be finite (got " + fmt(sr, 10) + ")");
 
   m_slopes.reserve(nb + 1);
   m_slopes.push_back(sl);
@@ -98,12 +91,12 @@ PiecewiseLinearLaw PiecewiseLinearLaw::paper(double c1, double c2, double c3, do
                                              const std::string& context) {
   const std::pair<const char*, double> values[] = {{"c1", c1}, {"c2", c2}, {"c3", c3}, {"r1", r1}, {"r2", r2}};
   for (const auto& [name, v] : values)
-    if (!std::isfinite(v)) input_error(context + "." + name + ": must be finite (got " + num(v) + ")");
-  if (!(r1 > 0.0)) input_error(context + ".r1: (32) requires 0 < r1 < r2 (got r1 = " + num(r1) + ")");
+    if (!std::isfinite(v)) input_error(context + "." + name + ": must be finite (got " + fmt(v, 10) + ")");
+  if (!(r1 > 0.0)) input_error(context + ".r1: (32) requires 0 < r1 < r2 (got r1 = " + fmt(r1, 10) + ")");
   if (!(r2 > r1))
-    input_error(context + ".r2: (32) requires 0 < r1 < r2 (got r1 = " + num(r1) + ", r2 = " + num(r2) + ")");
+    input_error(context + ".r2: (32) requires 0 < r1 < r2 (got r1 = " + fmt(r1, 10) + ", r2 = " + fmt(r2, 10) + ")");
   PiecewiseLinearLaw law({{0.0, 0.0}, {r1, c1 * r1}, {r2, c1 * r1 + c2 * (r2 - r1)}}, 0.0, c3, context);
-  law.m_origin = "paper (32) c1=" + num(c1) + " c2=" + num(c2) + " c3=" + num(c3) + " r1=" + num(r1) + " r2=" + num(r2);
+  law.m_origin = "paper (32) c1=" + fmt(c1, 10) + " c2=" + fmt(c2, 10) + " c3=" + fmt(c3, 10) + " r1=" + fmt(r1, 10) + " r2=" + fmt(r2, 10);
   return law;
 }
 
@@ -170,7 +163,7 @@ std::string PiecewiseLinearLaw::describe() const {
     os << ", jumps [" << list(m_jump, ", ") << "]";
   }
   const double alpha = one_sided_lipschitz();
-  os << ", alpha_jnu = " << (std::isinf(alpha) ? std::string("inf") : num(alpha));
+  os << ", alpha_jnu = " << (std::isinf(alpha) ? std::string("inf") : fmt(alpha, 10));
   return os.str();
 }
 

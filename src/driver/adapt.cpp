@@ -1,5 +1,6 @@
 #include <hemicontact/driver/adapt.hpp>
 
+#include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/solve.hpp>
@@ -15,9 +16,6 @@
 
 namespace hemicontact {
 namespace {
-using clk = std::chrono::steady_clock;
-double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
-
 // OpenBLAS's thread count for a scope (AdaptOptions::blas_threads), restored at its end, also when
 // a level throws. Looked up at run time: a build against another BLAS links no OpenBLAS symbol.
 class ScopedBlasThreads {

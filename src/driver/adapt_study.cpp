@@ -1,5 +1,6 @@
 #include <hemicontact/driver/adapt_study.hpp>
 
+#include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/solve.hpp>
@@ -13,10 +14,7 @@
 
 namespace hemicontact {
 namespace {
-
 using json = nlohmann::json;
-using clk = std::chrono::steady_clock;
-double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
 
 json with_mesh(json scene, int n) {
   scene["mesh"]["n"] = n;

@@ -1,6 +1,7 @@
 #include <hemicontact/driver/convergence.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
@@ -19,16 +20,6 @@
 
 namespace hemicontact {
 namespace {
-
-const double NaN = std::numeric_limits<double>::quiet_NaN();
-
-// Shortest text that reads back to the same double; empty when not finite (CSV "no value").
-std::string num(double v) {
-  if (!std::isfinite(v)) return "";
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
 
 int parse_level(const std::string& s) {
   try {
@@ -101,7 +92,7 @@ ConvergenceLevel solve_level(const Model& md, const SolveOptions& opt, const nlo
   r.message = sol.message;
   if (!r.ok)
     log_warn() << "convergence: n = " << n << ": "
-               << (r.converged ? "certificate failed (max residual " + num(r.certificate_residual) + ")"
+               << (r.converged ? "certificate failed (max residual " + csv_number(r.certificate_residual) + ")"
                                : "not converged: " + sol.message);
   return r;
 }

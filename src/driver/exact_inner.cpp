@@ -11,8 +11,6 @@
 namespace hemicontact {
 namespace {
 
-constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
-
 bool held(const ExactInnerProblem& P, Index k, int c) {
   return !P.fixed.empty() && (P.fixed[static_cast<size_t>(k)] & (1u << c));
 }

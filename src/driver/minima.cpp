@@ -6,7 +6,9 @@
 
 #include <hemicontact/driver/minima.hpp>
 
+#include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/energy/energy_term.hpp>
 
@@ -25,16 +27,8 @@
 
 namespace hemicontact {
 namespace {
-
 using json = nlohmann::json;
-using clk = std::chrono::steady_clock;
-double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
 
-std::string fmt(double v, int prec = 6) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
 
 // ‖a − b‖_E = sqrt(a(a − b, a − b)).
 double energy_distance(const Model& md, const Vec& a, const Vec& b) {

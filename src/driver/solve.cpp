@@ -4,6 +4,7 @@
 #include <hemicontact/check/contact_status.hpp>
 #include <hemicontact/check/smallness.hpp>
 #include <hemicontact/contact/mollified_law.hpp>
+#include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/exact_inner.hpp>
@@ -23,9 +24,6 @@
 
 namespace hemicontact {
 namespace {
-
-using clk = std::chrono::steady_clock;
-double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
 
 double rel_change(const Vec& a, const Vec& b) {
   if (a.size() == 0) return 0.0;
@@ -50,7 +48,6 @@ double contraction_estimate(const std::vector<OuterIteration>& history) {
 }
 
 namespace {
-
 // "0.83 (last 0.91)" or "not measured": the geometric mean of the defined ρ_k and the last one.
 std::string contraction_text(const std::vector<OuterIteration>& history) {
   const double est = contraction_estimate(history);
@@ -96,7 +93,6 @@ std::string fixed_point_stall(const SolveOptions& opt, double change, const std:
 }  // namespace
 
 namespace {
-
 // What the continuation / fixed-point loop works on: an energy in the solver's unknowns z, the
 // bounds, where each Γ3 node's (ν, τ) unknowns are in z, and the map back to the reduced x.
 struct Formulation {

@@ -1,5 +1,6 @@
 #include <hemicontact/fem/condensation.hpp>
 
+#include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 
 #include <cholmod.h>
@@ -10,9 +11,6 @@
 
 namespace hemicontact {
 namespace {
-
-using clk = std::chrono::steady_clock;
-double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
 
 // A cholmod_sparse view (no copy) of the lower triangle of a compressed Eigen matrix.
 cholmod_sparse view_lower(const SpMat& A) {

@@ -1,5 +1,6 @@
 #include <hemicontact/fem/sparse_cholesky.hpp>
 
+#include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 
 #include <Eigen/CholmodSupport>
@@ -13,12 +14,6 @@ struct SparseCholesky::Impl {
   Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> llt;
   double t_analyze = 0, t_factor = 0;
 };
-
-namespace {
-double since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 SparseCholesky::SparseCholesky() : m(std::make_unique<Impl>()) {
   // One ordering, nested dissection (NESDIS), instead of CHOLMOD's default of trying AMD and then

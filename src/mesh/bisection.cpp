@@ -1,6 +1,7 @@
 #include <hemicontact/mesh/bisection.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/mesh/edge_key.hpp>
 
 #include <algorithm>
 #include <cstdint>
@@ -8,11 +9,6 @@
 
 namespace hemicontact {
 namespace {
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
 
 void require_2d(const Mesh& m, const char* what) {
   if (m.dim != 2)

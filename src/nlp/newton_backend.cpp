@@ -64,6 +64,7 @@
 
 #include "nlp/backend_factories.hpp"
 
+#include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 
@@ -81,9 +82,6 @@
 
 namespace hemicontact {
 namespace {
-
-using clk = std::chrono::steady_clock;
-double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
 
 constexpr double EPS_BINDING_PER_TOL = 10.0;  // ε_b = 10·tol (see the top of the file)
 constexpr double ARMIJO_SIGMA = 1e-4;

@@ -83,6 +83,7 @@
 
 #include "nlp/backend_factories.hpp"
 
+#include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 
@@ -101,8 +102,6 @@
 
 namespace hemicontact {
 namespace {
-
-using clk = std::chrono::steady_clock;
 
 constexpr Index DENSE_MAX_N = 3000;        // SLSQP and MLSL: largest n accepted
 constexpr int VECTOR_STORAGE = 20;         // Luksan codes: stored correction pairs

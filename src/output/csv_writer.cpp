@@ -1,6 +1,7 @@
 #include <hemicontact/output/csv_writer.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/output/output_dir.hpp>
 
 #include <charconv>
@@ -8,17 +9,6 @@
 #include <string>
 
 namespace hemicontact {
-namespace {
-
-// Shortest text that reads back to the same double ("inf" for g = +∞).
-void put(std::string& out, double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, r.ptr);
-}
-
-}  // namespace
-
 void write_gamma3_csv(const std::string& path, const Model& md, const Solution& sol) {
   const ContactNodes& cn = md.contact;
   const ContactState& s = sol.state;
@@ -36,11 +26,11 @@ void write_gamma3_csv(const std::string& path, const Model& md, const Solution& 
     out += std::to_string(k) + ',' + std::to_string(cn.node[k]);
     for (int c = 0; c < d; ++c) {
       out += ',';
-      put(out, md.mesh.points(cn.node[k], c));
+      append_round_trip(out, md.mesh.points(cn.node[k], c));
     }
     for (double v : {cn.w[k], cn.g[k], s.u_nu[k], s.u_tau[k], s.sigma_nu[k], s.sigma_tau[k], s.xi[k], s.lambda[k]}) {
       out += ',';
-      put(out, v);
+      append_round_trip(out, v);
     }
     out += ',' + sol.status[k].str();
     if (d == 3) {
@@ -48,7 +38,7 @@ void write_gamma3_csv(const std::string& path, const Model& md, const Solution& 
       const double nan = std::numeric_limits<double>::quiet_NaN();
       for (double v : {s.slip_dir(k, 0), s.slip_dir(k, 1), s.slip_dir(k, 2), s.slip_angle_deg[k]}) {
         out += ',';
-        put(out, slip ? v : nan);
+        append_round_trip(out, slip ? v : nan);
       }
     }
     out += '\n';

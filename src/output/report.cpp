@@ -2,6 +2,7 @@
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/output/output_dir.hpp>
 
 #include <algorithm>
@@ -16,11 +17,6 @@ namespace {
 
 using json = nlohmann::json;
 
-std::string fmt(double v, int prec = 6) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
 
 struct BackendTotals {
   long long iterations = 0, evaluations = 0;

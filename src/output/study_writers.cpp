@@ -5,6 +5,7 @@
 
 #include <hemicontact/check/contact_status.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/output/output_dir.hpp>
 
 #include <algorithm>
@@ -22,19 +23,7 @@ namespace {
 using json = nlohmann::json;
 const char* const STATUS_KEYS[] = {"separated", "compliance", "contact", "stick", "slip+", "slip-", "slip"};
 
-// Shortest text that reads back to the same double; empty when not finite (CSV "no value").
-std::string num(double v) {
-  if (!std::isfinite(v)) return "";
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
 
-std::string fmt(double v, int prec = 6) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
 
 // Shortest round-trip form for the CSV (as the other writers do).
 std::string exact(double v) {
@@ -91,14 +80,14 @@ void write_convergence_csv(const std::string& path, const ConvergenceStudy& stud
   out += ",certificate_max_residual,converged,certified,ok\n";
   for (const auto& l : study.levels) {
     out += std::to_string(l.n);
-    for (double v : {l.h, l.h_max}) out += "," + num(v);
+    for (double v : {l.h, l.h_max}) out += "," + csv_number(v);
     out += "," + std::to_string(l.dofs);
-    for (double v : {l.energy_norm, l.error, l.order, l.seconds}) out += "," + num(v);
+    for (double v : {l.energy_norm, l.error, l.order, l.seconds}) out += "," + csv_number(v);
     for (const char* k : STATUS_KEYS) {
       const auto it = l.status_counts.find(k);
       out += "," + std::to_string(it == l.status_counts.end() ? 0 : it->second);
     }
-    out += "," + num(l.certificate_residual);
+    out += "," + csv_number(l.certificate_residual);
     for (bool b : {l.converged, l.certified, l.ok}) out += b ? ",1" : ",0";
     out += '\n';
   }

@@ -3,6 +3,7 @@
 #include <hemicontact/config.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/fem/assembly.hpp>
 #include <hemicontact/output/output_dir.hpp>
 
@@ -21,13 +22,6 @@
 
 namespace hemicontact {
 namespace {
-
-// Shortest text that reads back to the same double: exact and diff-friendly.
-void put(std::string& out, double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, r.ptr);
-}
 
 void check_sizes(const Model& md, const Solution& sol) {
   const Index nc = md.contact.size();
@@ -158,7 +152,7 @@ class VtuLayout {
     for (size_t k = 0; k < n; ++k) {
       xml += (k % per_line == 0) ? "          " : " ";
       if (a.type == "Float64")
-        put(xml, a.f[k]);
+        append_round_trip(xml, a.f[k]);
       else
         xml += std::to_string(a.i[k]);
       if ((k + 1) % per_line == 0 || k + 1 == n) xml += '\n';
@@ -334,7 +328,7 @@ void write_pvd(const std::string& path, const std::vector<std::pair<double, std:
       "  <Collection>\n";
   for (const auto& [t, file] : entries) {
     out += "    <DataSet timestep=\"";
-    put(out, t);
+    append_round_trip(out, t);
     out += "\" part=\"0\" file=\"" + file + "\"/>\n";
   }
   out += "  </Collection>\n</VTKFile>\n";

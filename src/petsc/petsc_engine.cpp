@@ -3,6 +3,7 @@
 #include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/contact/mollified_law.hpp>
 #include <hemicontact/contact/smooth_norm.hpp>
+#include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 
@@ -26,9 +27,6 @@
 
 namespace hemicontact::petsc_engine {
 namespace {
-
-using clk = std::chrono::steady_clock;
-double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
 
 // A PETSc call that fails is a bug or a resource problem, not bad input: EXIT_INTERNAL, naming it.
 #define HC_PETSC(call)                                                                                    \
@@ -148,7 +146,6 @@ std::string tao_type(const std::string& backend) {
 }
 
 namespace {
-
 // The distributed problem: K, f and the bounds in PETSc, the Γ3 nodes this rank owns, the smoothing
 // and frozen friction bounds, and the counters for the report.
 class Engine {

@@ -1,6 +1,7 @@
 #include <hemicontact/scene/build_model.hpp>
 
 #include <hemicontact/contact/law_factory.hpp>
+#include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/fem/assembly.hpp>
@@ -19,10 +20,7 @@
 
 namespace hemicontact {
 namespace {
-
 using json = nlohmann::json;
-using clk = std::chrono::steady_clock;
-double since(clk::time_point t0) { return std::chrono::duration<double>(clk::now() - t0).count(); }
 
 double number_or(const json& v, double fallback) { return v.is_null() ? fallback : v.get<double>(); }
 

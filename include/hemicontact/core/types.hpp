@@ -56,5 +56,7 @@ using Triplets = std::vector<Triplet>;
 
 /// +infinity, used for absent bounds (no rigid obstacle: g = +inf).
 constexpr double INF = std::numeric_limits<double>::infinity();
+/// Not a number: a value that was not computed (CSV and JSON write it as empty / null).
+constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace hemicontact
