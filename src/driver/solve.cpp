@@ -711,10 +711,11 @@ std::vector<int> ContactSolver::Impl::status_signature(const Run& run, size_t st
 std::string ContactSolver::Impl::exact_first() const {
   if (!exact_available() || opt.exact_start == "never") return "";
   if (opt.exact_start == "always") return "solver.exact.start = always";
-  if (opt.exact_start == "auto") return "solver.exact.start = auto (always, for a solve)";
+  // The convex reason first under auto too: it tells the user the minimizer is unique.
   if (convexity.checked && convexity.strongly_convex)
     return "the inner problem is strongly convex (smallest eigenvalue of S - alpha W_nu " +
            short_number(convexity.min_eigenvalue) + " > 0): its minimizer is reached from any start";
+  if (opt.exact_start == "auto") return "solver.exact.start = auto (always, for a solve)";
   return "";
 }
 

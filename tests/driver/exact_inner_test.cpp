@@ -321,6 +321,10 @@ TEST(ExactStart, AutoStartsTheExactSolverOnANotStronglyConvexScene) {
   EXPECT_EQ(a.handover.after_stage, -1);
   EXPECT_NE(a.handover.reason.find("auto"), std::string::npos) << a.handover.reason;
   for (const auto& h : a.history) EXPECT_EQ(h.stage, -1);
+  // Where the inner problem is strongly convex the reason says so (the minimizer is unique).
+  const Solution c = solve_scene("sofonea2017-fig2.json", {"mesh.n=8"}, md);
+  ASSERT_TRUE(c.ok()) << c.message;
+  EXPECT_NE(c.handover.reason.find("strongly convex"), std::string::npos) << c.handover.reason;
 }
 
 // solver.exact.polish_above: the polish runs after the exact solver only when the coupled residual
