@@ -231,12 +231,16 @@ OutputLock prepare_output_dir(const std::string& dir, bool overwrite, const std:
       if (has_results) fs::remove(p / "report.json", ec);
     }
   }
+  // The interrupt message before the manifest: from the moment the manifest exists (what a watcher,
+  // or the tests, take as "the run has started writing") a signal says that the results are
+  // incomplete. Setting it after left a window in which SIGTERM ended the run without a word.
+  g_dir = dir;
+  update_interrupt_message();
   // A fresh, empty manifest; writing it also proves that the folder is writable (permission bits
   // do not tell about read-only mounts, ACLs or root).
   std::ofstream f(manifest, std::ios::trunc);
   if (!f || !f.flush()) throw Error(name + ": directory is not writable", EXIT_OUTPUT);
-  g_dir = dir;
-  update_interrupt_message();
+  update_interrupt_message();  // from the fresh manifest: nothing written yet
   return lock;
 }
 
