@@ -294,8 +294,7 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
 
   I.F = make_formulation(md, opt, I.setup_timings);
   Formulation& F = I.F;
-  if (opt.smallness && !exact_first)
-    report_smallness(F.cond ? evaluate_smallness(md, F.cond->S()) : evaluate_smallness(md));
+  if (opt.smallness && !exact_first) report_smallness(smallness());
   I.lagged = md.friction && md.friction->depends_on_u_nu();
   if (!md.material->is_linear()) {
     const std::string why =
@@ -356,7 +355,8 @@ ContactSolver::~ContactSolver() = default;
 SmallnessReport ContactSolver::smallness() const {
   const Impl& I = *m;
   const Model& md = *I.model;
-  // The same choice as the constructor's (report_smallness there).
+  // The constructor's choice too: the bracket from the condensation where there is one (2D, method
+  // auto), the exact evaluation otherwise.
   if (I.opt.smallness_method == "exact" || md.dim() == 3 || !I.F.cond) return evaluate_smallness(md);
   return evaluate_smallness(md, I.F.cond->S());
 }
