@@ -21,19 +21,24 @@ struct Adjacency {
   Index size(Index a) const { return ptr[a + 1] - ptr[a]; }
 };
 
-Adjacency node_adjacency(const Mesh& m) {
+// @p keep (optional): only these nodes get their lists (the others are empty), so that a rank of
+// the petsc engine holds the graph of its own nodes only.
+Adjacency node_adjacency(const Mesh& m, const std::vector<char>* keep = nullptr) {
   const int nv = m.dim + 1;
   const Index N = m.num_nodes();
+  const auto kept = [keep](Index a) { return !keep || (*keep)[static_cast<size_t>(a)]; };
   std::vector<Index> count(N + 1, 0);  // with repeats: nv per cell a node is in
   for (Index c = 0; c < m.num_cells(); ++c)
-    for (int a = 0; a < nv; ++a) count[m.cells(c, a) + 1] += nv;
+    for (int a = 0; a < nv; ++a)
+      if (kept(m.cells(c, a))) count[m.cells(c, a) + 1] += nv;
   for (Index a = 0; a < N; ++a) count[a + 1] += count[a];
   std::vector<int> raw(count[N]);
   std::vector<Index> fill(count.begin(), count.end() - 1);
   for (Index c = 0; c < m.num_cells(); ++c)
     for (int a = 0; a < nv; ++a) {
       const int na = m.cells(c, a);
-      for (int b = 0; b < nv; ++b) raw[fill[na]++] = m.cells(c, b);
+      if (kept(na))
+        for (int b = 0; b < nv; ++b) raw[fill[na]++] = m.cells(c, b);
     }
   Adjacency adj;
   adj.ptr.assign(N + 1, 0);
@@ -108,20 +113,28 @@ SpMat stiffness(const Mesh& m, const Mat& Ddyn) {
 // order keeps interior rows sorted in node order, the Γ3 ones (Cartesian components of a node in
 // its d consecutive local slots, last) are sorted apart. An element's block (a, b) is placed by
 // one binary search for b's first free row per column of a: b's free components are consecutive.
+// Only the columns [lo, hi) (whole nodes) are filled, the others left empty: a rank's rows.
 template <int D>
-MovableSpMat reduced_stiffness(const Mesh& m, const Mat& Ddyn, const DofMap& dofs) {
+MovableSpMat reduced_stiffness(const Mesh& m, const Mat& Ddyn, const DofMap& dofs, Index lo, Index hi) {
   using E = P1<D>;
   const Eigen::Matrix<double, E::NVOIGT, E::NVOIGT> Dm = Ddyn;
-  const auto adj = node_adjacency(m);
   const std::vector<Index> sel = dofs.cartesian_selection();
   const Index N = m.num_nodes(), n = dofs.n_free(), n_int = dofs.n_interior();
+  const bool all = lo <= 0 && hi >= n;
   std::vector<int> n_free_of(N, 0);  // free components per node
+  std::vector<char> own(all ? 0 : static_cast<size_t>(N), 0);  // a free column of the node in [lo, hi)
   for (Index a = 0; a < N; ++a)
-    for (int i = 0; i < D; ++i) n_free_of[a] += sel[D * a + i] >= 0;
+    for (int i = 0; i < D; ++i) {
+      const Index c = sel[D * a + i];
+      n_free_of[a] += c >= 0;
+      if (!all && c >= lo && c < hi) own[static_cast<size_t>(a)] = 1;
+    }
+  const auto adj = node_adjacency(m, all ? nullptr : &own);
+  const auto owned = [&](Index a) { return n_free_of[a] > 0 && (all || own[static_cast<size_t>(a)]); };
   MovableSpMat K(n, n);
   int* outer = K.outerIndexPtr();  // n + 1 entries, zeroed by the constructor
   for (Index a = 0; a < N; ++a) {
-    if (n_free_of[a] == 0) continue;
+    if (!owned(a)) continue;
     int cnt = 0;
     for (const int* b = adj.begin(a); b != adj.end(a); ++b) cnt += n_free_of[*b];
     for (int i = 0; i < D; ++i)
@@ -133,7 +146,7 @@ MovableSpMat reduced_stiffness(const Mesh& m, const Mat& Ddyn, const DofMap& dof
   double* values = K.valuePtr();
   std::vector<int> rows;
   for (Index a = 0; a < N; ++a) {
-    if (n_free_of[a] == 0) continue;
+    if (!owned(a)) continue;
     rows.clear();
     for (const int* b = adj.begin(a); b != adj.end(a); ++b)
       for (int j = 0; j < D; ++j)
@@ -146,10 +159,15 @@ MovableSpMat reduced_stiffness(const Mesh& m, const Mat& Ddyn, const DofMap& dof
   }
   std::fill(values, values + outer[n], 0.0);
   for (Index c = 0; c < m.num_cells(); ++c) {
+    if (!all) {
+      bool any = false;
+      for (int a = 0; a < E::NV && !any; ++a) any = owned(m.cells(c, a));
+      if (!any) continue;
+    }
     const typename E::KMat Ke = element_stiffness<D>(m, c, Dm);
     for (int a = 0; a < E::NV; ++a) {
       const int na = m.cells(c, a);
-      if (n_free_of[na] == 0) continue;
+      if (!owned(na)) continue;
       for (int b = 0; b < E::NV; ++b) {
         const int nb = m.cells(c, b);
         if (n_free_of[nb] == 0) continue;
@@ -201,12 +219,15 @@ SpMat assemble_stiffness(const Mesh& mesh, const Mat& D) {
   return mesh.dim == 2 ? stiffness<2>(mesh, D) : stiffness<3>(mesh, D);
 }
 
-MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const DofMap& dofs) {
+MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const DofMap& dofs, Index col_lo,
+                                        Index col_hi) {
   if (D.rows() != voigt_size(mesh.dim) || D.cols() != D.rows())
     throw Error("assemble_reduced_stiffness: Voigt matrix of the wrong size", EXIT_INTERNAL);
   if (dofs.n_full() != mesh.num_nodes() * mesh.dim)
     throw Error("assemble_reduced_stiffness: the DofMap belongs to another mesh", EXIT_INTERNAL);
-  return mesh.dim == 2 ? reduced_stiffness<2>(mesh, D, dofs) : reduced_stiffness<3>(mesh, D, dofs);
+  if (col_hi < 0) col_hi = dofs.n_free();
+  return mesh.dim == 2 ? reduced_stiffness<2>(mesh, D, dofs, col_lo, col_hi)
+                       : reduced_stiffness<3>(mesh, D, dofs, col_lo, col_hi);
 }
 
 Vec assemble_body_force(const Mesh& mesh, const Vec& f0) {

@@ -97,7 +97,8 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   share(code, message, comm);
   if (code != 0) throw Error(message, static_cast<ExitCode>(code));
 
-  Model md = build_model(scene, scene_directory(a.scene));
+  // No K_x in the model: each rank assembles its own rows into PETSc (petsc_engine.cpp).
+  Model md = build_model(scene, scene_directory(a.scene), /*stiffness=*/false);
   petsc_engine::EngineReport er;
   Solution sol = petsc_engine::solve(md, opt, comm, er);
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -6,6 +6,7 @@
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/fem/assembly.hpp>
 
 #include <petscksp.h>
 #include <petsctao.h>
@@ -153,6 +154,11 @@ class Engine {
   Engine(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep);
   ~Engine() {
     if (rigid) MatNullSpaceDestroy(&rigid);
+    // K lives no longer than the engine: after the solve, nothing may apply it.
+    if (owns_apply)
+      md.Kx_apply = [](const Vec&) -> Vec {
+        throw Error("K_x is not kept after the petsc engine's solve (its rows lived on the ranks)", EXIT_INTERNAL);
+      };
   }
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
@@ -208,6 +214,7 @@ class Engine {
   long newton_total = 0, krylov_total = 0, polish_krylov = 0, polish_newton = 0;
   nlohmann::json stages = nlohmann::json::array();
   std::map<std::string, double> timings;
+  bool owns_apply = false;  // md.Kx_apply set by assemble(), reading K and work
 };
 
 Engine::Engine(Model& m, const SolveOptions& o, MPI_Comm c, EngineReport& r) : md(m), opt(o), comm(c), rep(r) {
@@ -264,7 +271,13 @@ void Engine::distribute() {
 // column-major matrix) with exact preallocation, and its part of f and of the bounds.
 void Engine::assemble() {
   const auto t0 = clk::now();
-  const SpMat& Kx = md.Kx;
+  // The model built by hemicontact-mpi keeps no K_x (build_model(..., stiffness = false)): this
+  // rank assembles its own columns, i.e. rows, and frees them once PETSc holds them. A model that
+  // does keep K_x (tests that build one) is read as it is.
+  MovableSpMat own;
+  if (md.Kx.size() == 0)
+    own = assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs, lo, hi);
+  const SpMat& Kx = md.Kx.size() == 0 ? static_cast<const SpMat&>(own) : static_cast<const SpMat&>(md.Kx);
   const PetscInt nloc = hi - lo;
   std::vector<PetscInt> dnz(static_cast<size_t>(nloc), 0), onz(static_cast<size_t>(nloc), 0);
   for (PetscInt i = lo; i < hi; ++i)
@@ -290,8 +303,22 @@ void Engine::assemble() {
   HC_PETSC(MatAssemblyBegin(K.m, MAT_FINAL_ASSEMBLY));
   HC_PETSC(MatAssemblyEnd(K.m, MAT_FINAL_ASSEMBLY));
   HC_PETSC(MatSetOption(K.m, MAT_SYMMETRIC, PETSC_TRUE));
-  // The model keeps K_x: it is its only stiffness (issue 14), which the certificate's internal
-  // force and a(u, u) read (evaluate_solution).
+  own = MovableSpMat();
+  // Without K_x in the model, the certificate's internal force and a(u, u) (evaluate_solution)
+  // apply this rank's rows through PETSc: every rank evaluates the same candidates together.
+  if (md.Kx.size() == 0) {
+    md.Kx_apply = [this](const Vec& x) {
+      PVec xv, y;
+      HC_PETSC(MatCreateVecs(K.m, &xv.v, &y.v));
+      PetscScalar* p;
+      HC_PETSC(VecGetArray(xv.v, &p));
+      for (PetscInt i = lo; i < hi; ++i) p[i - lo] = x[i];
+      HC_PETSC(VecRestoreArray(xv.v, &p));
+      HC_PETSC(MatMult(K.m, xv.v, y.v));
+      return gather(y.v);
+    };
+    owns_apply = true;
+  }
 
   for (PVec* v : {&f, &lower, &upper, &zs, &zfree, &work, &grad}) HC_PETSC(MatCreateVecs(K.m, &v->v, nullptr));
   PetscScalar *pf, *pl, *pu;

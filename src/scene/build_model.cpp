@@ -127,8 +127,17 @@ double estimate_solve_memory(double nodes, int dim) {
   return 1e8 + fill;
 }
 
-void check_memory(double nodes, int dim, const std::string& size_keys) {
-  const double need = estimate_solve_memory(nodes, dim), have = available_memory();
+double estimate_petsc_memory(double nodes, int dim) {
+  const double n = std::max(1.0, dim * nodes);
+  // The petsc engine keeps no factorization: per unknown, its rows of K and of the Newton matrix,
+  // the AMG hierarchy and the vectors (bench/README.md measures ~1.5-2 KB in 3D), plus the mesh and
+  // a few gathered vectors on every rank (~0.2 KB each, two ranks assumed), plus ~0.1 GB per rank.
+  return 2e8 + 2400.0 * n;
+}
+
+void check_memory(double nodes, int dim, const std::string& size_keys, bool petsc) {
+  const double need = petsc ? estimate_petsc_memory(nodes, dim) : estimate_solve_memory(nodes, dim);
+  const double have = available_memory();
   if (have > 0 && need > have) {
     char count[32];
     std::snprintf(count, sizeof count, "%.3g", nodes);
@@ -139,6 +148,7 @@ void check_memory(double nodes, int dim, const std::string& size_keys) {
 
 Mesh build_mesh(const json& scene, const std::string& scene_dir) {
   const json& m = scene.at("mesh");
+  const bool petsc = scene.at("solver").at("engine") == "petsc";
   Mesh mesh;
   auto t0 = clk::now();
   if (m.at("type") == "gmsh") {
@@ -146,11 +156,11 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
     std::filesystem::path p = m.at("file").get<std::string>();
     if (p.is_relative()) p = std::filesystem::path(scene_dir) / p;
     mesh = read_gmsh(p.string());
-    check_memory(static_cast<double>(mesh.num_nodes()), mesh.dim, "mesh.file '" + p.string() + "'");
+    check_memory(static_cast<double>(mesh.num_nodes()), mesh.dim, "mesh.file '" + p.string() + "'", petsc);
   } else if (m.at("type") == "box") {
     // Before the mesh is generated: 1e6 cells a side must be refused, not allocated.
     check_memory((m.at("nx").get<double>() + 1) * (m.at("ny").get<double>() + 1) * (m.at("nz").get<double>() + 1), 3,
-                 m.at("n").is_null() ? "mesh.nx, mesh.ny, mesh.nz" : "mesh.n = " + m.at("n").dump());
+                 m.at("n").is_null() ? "mesh.nx, mesh.ny, mesh.nz" : "mesh.n = " + m.at("n").dump(), petsc);
     BoxSpec s;
     const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>(),
                z = m.at("z").get<std::vector<double>>();
@@ -173,7 +183,7 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
   } else {
     RectangleSpec s;
     check_memory((m.at("nx").get<double>() + 1) * (m.at("ny").get<double>() + 1), 2,
-                 m.at("n").is_null() ? "mesh.nx, mesh.ny" : "mesh.n = " + m.at("n").dump());
+                 m.at("n").is_null() ? "mesh.nx, mesh.ny" : "mesh.n = " + m.at("n").dump(), petsc);
     const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>();
     if (x.size() != 2 || y.size() != 2) input_error("mesh.x, mesh.y: each is an interval [a, b]");
     s.x0 = x[0];
@@ -206,16 +216,16 @@ void assign_scene_boundary(Mesh& mesh, const json& scene) {
   assign_boundary(mesh, spec);
 }
 
-Model build_model(const json& scene, const std::string& scene_dir) {
+Model build_model(const json& scene, const std::string& scene_dir, bool stiffness) {
   auto t0 = clk::now();
   Mesh mesh = build_mesh(scene, scene_dir);
   const double t_mesh = since(t0);
-  Model md = build_model(scene, std::move(mesh));
+  Model md = build_model(scene, std::move(mesh), stiffness);
   md.timings["mesh"] = t_mesh;
   return md;
 }
 
-Model build_model(const json& scene, Mesh mesh) {
+Model build_model(const json& scene, Mesh mesh, bool stiffness) {
   Model md;
   md.scene = scene;
   md.mesh = std::move(mesh);
@@ -244,7 +254,8 @@ Model build_model(const json& scene, Mesh mesh) {
   // scales and the K(0) energy norm; equilibrium and energies use internal_force / elastic_energy.
   // K_x = Tᵀ K T straight into the free dofs' pattern: the full K is never built (issue 14). The
   // model keeps this one copy (moved in: MovableSpMat).
-  md.Kx = assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs);
+  if (stiffness)
+    md.Kx = assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs);
   const auto f0v = scene.at("loads").at("body_force").get<std::vector<double>>();
   if (static_cast<int>(f0v.size()) != d) input_error("loads.body_force: expected " + std::to_string(d) + " components");
   const Vec f0 = scene.at("loads").at("scale").get<double>() * Eigen::Map<const Vec>(f0v.data(), d);

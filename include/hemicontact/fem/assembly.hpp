@@ -22,7 +22,11 @@ SpMat assemble_stiffness(const Mesh& mesh, const Mat& D);
 /// (Γ1 and roller-held components never enter; Γ3 node blocks rotated into (ν, τ...) in place):
 /// equal to dofs.reduce(assemble_stiffness(mesh, D)) without the full K, which at 2.1M dofs was a
 /// 450 MB array assembled, reduced and freed (issue 14).
-MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const DofMap& dofs);
+/// @param col_lo, col_hi only the columns [col_lo, col_hi) are assembled (whole nodes; the others
+/// stay empty): K_x is symmetric, so they are the rows a rank of the petsc engine owns (issue 16),
+/// and the node graph is built for those nodes only. Default: all.
+MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const DofMap& dofs, Index col_lo = 0,
+                                        Index col_hi = -1);
 
 /// Body force: ∫Ω f0·φ_a = |T|/(d+1) f0 per cell node, exact for constant f0 and P1.
 Vec assemble_body_force(const Mesh& mesh, const Vec& f0);

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -29,6 +30,10 @@ struct Model {
   Vec f;                                                 ///< full load vector, eq. (17)
   MovableSpMat Kx;  ///< reduced stiffness Tᵀ K T (nonlinear F: tangent at u = 0); the only copy of K (issue 14)
   Vec fx;                                                ///< reduced load Tᵀ f
+  /// y = K_x x when this process does not keep K_x (Kx empty): the petsc engine's distributed model
+  /// (issue 16), where each rank holds only its rows of K_x, inside PETSc. Collective there: the
+  /// certificate (internal_force) and a(u, u) call it on every rank at once.
+  std::function<Vec(const Vec&)> Kx_apply;
   std::shared_ptr<const PiecewiseLinearLaw> normal_law;  ///< exact p_ν; null: no soft layer
   std::shared_ptr<const FrictionBound> friction;         ///< F_b; null: frictionless
   std::map<std::string, double> timings;                 ///< seconds: mesh, assembly, ...

@@ -22,7 +22,9 @@ void assign_scene_boundary(Mesh& mesh, const nlohmann::json& scene);
 
 /// Build the model from an effective scene and a mesh whose boundary parts are already assigned
 /// (assign_scene_boundary); the scene's "mesh" block is then not read. Used by tests and studies.
-Model build_model(const nlohmann::json& scene, Mesh mesh);
+/// @param stiffness false: K_x is not assembled (the petsc engine assembles each rank's own rows
+/// into PETSc and sets Model::Kx_apply; issue 16).
+Model build_model(const nlohmann::json& scene, Mesh mesh, bool stiffness = true);
 
 /// @brief Estimated peak memory (bytes) of a default solve on a mesh of @p nodes nodes in
 /// dimension @p dim (fitted to measured runs: see build_model.cpp).
@@ -31,11 +33,15 @@ double estimate_solve_memory(double nodes, int dim);
 /// @brief Refuse (Error, EXIT_INPUT) a mesh whose solve would need more memory than the machine
 /// has available (MemAvailable), naming the estimate, what is available and @p size_keys, the
 /// keys that set the size ("mesh.n = 1000000"). Called before a generated mesh is allocated.
-void check_memory(double nodes, int dim, const std::string& size_keys);
+/// @param petsc the estimate of the petsc engine (no factorization) instead of the cholmod engine's.
+void check_memory(double nodes, int dim, const std::string& size_keys, bool petsc = false);
+
+/// @brief Estimated peak memory (bytes, all ranks) of the petsc engine on @p nodes nodes.
+double estimate_petsc_memory(double nodes, int dim);
 
 /// Build the whole model from an effective (validated) scene.
 /// @throws Error naming the key for every semantic input problem (no Γ1, negative g, ν ≥ 0.5, ...).
-Model build_model(const nlohmann::json& scene, const std::string& scene_dir);
+Model build_model(const nlohmann::json& scene, const std::string& scene_dir, bool stiffness = true);
 
 /// @return the options of an effective scene.
 SolveOptions solve_options_from_scene(const nlohmann::json& scene);
