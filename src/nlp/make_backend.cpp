@@ -75,6 +75,10 @@ std::vector<Entry> registry() {
   const Factory tao = nullptr;
 #endif
   const char* const tao_missing = "install libpetsc-real-dev and rebuild: the petsc engine (hemicontact-mpi)";
+  r.push_back({"ssn", "ssn",
+               "petsc engine (solver.engine = petsc, MPI; its default): semismooth Newton on the unsmoothed "
+               "statuses, CG + GAMG with the rigid-body modes",
+               tao_missing, tao});
   r.push_back({"tao:bnls", "tao:bnls",
                "petsc engine (solver.engine = petsc, MPI): TAO bounded Newton line search, CG + BoomerAMG",
                tao_missing, tao});

@@ -35,7 +35,7 @@ namespace {
 using namespace hemicontact;
 
 const char* const HELP =
-    "usage: hemicontact-mpi solve SCENE.json [--out DIR] [--set path=value]... [--backend tao:bnls|tao:bntr|tao:bntl]\n"
+    "usage: hemicontact-mpi solve SCENE.json [--out DIR] [--set path=value]... [--backend ssn|tao:bnls|tao:bntr|tao:bntl]\n"
     "                             [--force] [--quiet] [--plot [--magnification M]]\n"
     "The petsc engine of `hemicontact solve` (solver.engine = petsc), normally run through it:\n"
     "  mpirun -np P hemicontact solve SCENE.json --set solver.engine='\"petsc\"' --out DIR\n"
@@ -99,6 +99,14 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
 
   // No K_x in the model: each rank assembles its own rows into PETSc (petsc_engine.cpp).
   Model md = build_model(scene, scene_directory(a.scene), /*stiffness=*/false);
+  {
+    long pages = 0, resident = 0;
+    if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+      if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+      std::fclose(f);
+    }
+    log_info() << "model built: memory " << resident * 4 / 1024 << " MB (rank 0)";
+  }
   petsc_engine::EngineReport er;
   Solution sol = petsc_engine::solve(md, opt, comm, er);
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

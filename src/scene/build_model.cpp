@@ -283,6 +283,9 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.petsc.newton_pc = pe.at("newton_pc").get<std::string>();
   o.petsc.acceptable_tol = pe.at("acceptable_tol").get<double>();
   o.petsc.polish_max_iters = pe.at("polish_max_iters").get<int>();
+  o.petsc.ssn_max_iters = pe.at("ssn_max_iters").get<int>();
+  o.petsc.ssn_rtol = pe.at("ssn_rtol").get<double>();
+  o.petsc.pc_rebuild = pe.at("pc_rebuild").get<double>();
   o.petsc.options = pe.at("options").get<std::string>();
   o.polish = s.at("polish").get<bool>();
   o.backend_options.tol = s.at("tol").get<double>();

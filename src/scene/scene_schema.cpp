@@ -294,6 +294,19 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(at_least(key("/solver/petsc/polish_max_iters", "integer", D.petsc.polish_max_iters,
                            "Newton iterations of the exact polish on the identified statuses."),
                        1));
+  t.push_back(at_least(key("/solver/petsc/ssn_max_iters", "integer", D.petsc.ssn_max_iters,
+                           "Backend ssn (semismooth Newton): step cap; statuses are read again at every "
+                           "step, and reaching the cap is exit code 3."),
+                       1));
+  t.push_back(below(above(key("/solver/petsc/ssn_rtol", "number", D.petsc.ssn_rtol,
+                              "Backend ssn: CG rtol of a step while statuses still change (a step with "
+                              "no change uses ksp_rtol)."),
+                          0),
+                    1));
+  t.push_back(at_least(key("/solver/petsc/pc_rebuild", "number", D.petsc.pc_rebuild,
+                           "Backend ssn: reuse the AMG hierarchy until a step takes more than this times "
+                           "the CG iterations of the step that built it."),
+                       1));
   t.push_back(key("/solver/petsc/options", "string", D.petsc.options,
                   "Extra PETSc options, verbatim (e.g. \"-ksp_monitor\"); not checked here."));
   t.push_back(key("/solver/formulation", "string", D.formulation,

@@ -3,8 +3,11 @@
 // small meshes, P = 1 and 2; then its bad input. In a build without PETSc, the engine asked for
 // must be refused naming the package.
 //
-// Agreement tolerances: both engines end with the exact polish, which solves the unsmoothed
-// conditions of (22) on the same statuses to round-off (driver/polish.hpp, src/petsc/), so the
+// Both of the engine's methods are checked: ssn (its default: semismooth Newton on the unsmoothed
+// statuses) on every case, TAO's bounded Newton (smoothing continuation, then the polish) on two.
+//
+// Agreement tolerances: both engines end on the unsmoothed conditions of (22), solved on the same
+// statuses to round-off (driver/polish.hpp, the ssn steps and the polish in src/petsc/), so the
 // answers differ by the conditioning of the status system times machine precision: κ ~ 1e4 for
 // these meshes (h = 1/16, 3D 1/4) gives ~1e-12; the 1e-8 is the bound asserted, and the
 // certificate of each answer must pass at 1e-8 (check.certificate_tol).
@@ -56,9 +59,12 @@ struct Case {
   std::string scene;
   std::string sets;  // mesh size
   int np;
+  std::string backend = "";  // "": the engine's default (ssn)
 };
 
-void PrintTo(const Case& c, std::ostream* os) { *os << c.scene << " np=" << c.np; }
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.scene << " np=" << c.np << " " << (c.backend.empty() ? "ssn" : c.backend);
+}
 
 class PetscAgreement : public ::testing::TestWithParam<Case> {};
 
@@ -68,14 +74,16 @@ TEST_P(PetscAgreement, SameAnswerAsCholmod) {
   const std::string common = problem(c.scene) + " " + c.sets + " --quiet --set output.vtu=false";
   const CliOutcome ref = run_cli(dir, "solve " + common + " --out " + (dir / "cholmod").string());
   ASSERT_EQ(ref.code, 0) << ref.err;
-  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + " --out " + (dir / "petsc").string());
+  const std::string backend = c.backend.empty() ? "" : " --backend " + c.backend;
+  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + backend + " --out " + (dir / "petsc").string());
   ASSERT_EQ(got.code, 0) << got.err << got.out;
   const json a = json::parse(slurp(dir / "cholmod" / "report.json"));
   const json b = json::parse(slurp(dir / "petsc" / "report.json"));
 
-  // The engine's record: ranks as asked, TAO's counts present and positive.
+  // The engine's record: ranks and method as asked, Newton and Krylov counts present and positive.
   ASSERT_EQ(b.at("engine"), "petsc");
   EXPECT_EQ(b.at("petsc").at("ranks").get<int>(), c.np);
+  EXPECT_EQ(b.at("petsc").at("method"), c.backend.empty() ? "ssn" : c.backend);
   EXPECT_GT(b.at("petsc").at("newton_iterations").get<long>(), 0);
   EXPECT_GT(b.at("petsc").at("krylov_iterations").get<long>(), 0);
 
@@ -100,8 +108,8 @@ TEST_P(PetscAgreement, SameAnswerAsCholmod) {
     const double ea = a.at(key).get<double>(), eb = b.at(key).get<double>();
     EXPECT_LE(std::abs(ea - eb), 1e-8 * std::abs(ea)) << key;
   }
-  std::printf("[petsc] %s np=%d: max|du|/max|u| on Gamma3 = %.2e, certificate %.2e, Newton %ld, Krylov %ld\n",
-              c.scene.c_str(), c.np, diff / scale, b.at("certificate").at("max_residual").get<double>(),
+  std::printf("[petsc] %s np=%d %s: max|du|/max|u| on Gamma3 = %.2e, certificate %.2e, Newton %ld, Krylov %ld\n",
+              c.scene.c_str(), c.np, b.at("petsc").at("method").get<std::string>().c_str(), diff / scale, b.at("certificate").at("max_residual").get<double>(),
               b.at("petsc").at("newton_iterations").get<long>(), b.at("petsc").at("krylov_iterations").get<long>());
   fs::remove_all(dir);
 }
@@ -109,15 +117,42 @@ TEST_P(PetscAgreement, SameAnswerAsCholmod) {
 INSTANTIATE_TEST_SUITE_P(PaperScenes, PetscAgreement,
                          ::testing::Values(Case{"sofonea2017-fig2", "--set mesh.n=16", 1},
                                            Case{"sofonea2017-fig2", "--set mesh.n=16", 2},
+                                           Case{"sofonea2017-printed", "--set mesh.n=16", 1},
                                            Case{"sofonea2017-printed", "--set mesh.n=16", 2},
                                            Case{"sofonea2017-3d", "--set mesh.n=4", 1},
-                                           Case{"sofonea2017-3d", "--set mesh.n=4", 2}));
+                                           Case{"sofonea2017-3d", "--set mesh.n=8", 2},
+                                           // n = 16: slip reversals at the stick limit (the
+                                           // projection and one-step stick hold of run_ssn)
+                                           Case{"sofonea2017-3d", "--set mesh.n=16", 2},
+                                           Case{"sofonea2017-fig2", "--set mesh.n=16", 2, "tao:bnls"},
+                                           Case{"sofonea2017-3d", "--set mesh.n=4", 2, "tao:bnls"}));
 
-TEST(PetscEngine, BackendsListTao) {
+TEST(PetscEngine, BackendsListSsnAndTao) {
   const fs::path dir = scratch("backends");
   const CliOutcome r = run_cli(dir, "backends");
   ASSERT_EQ(r.code, 0);
-  for (const char* name : {"tao:bnls", "tao:bntr", "tao:bntl"}) EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  for (const char* name : {"ssn", "tao:bnls", "tao:bntr", "tao:bntl"})
+    EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  fs::remove_all(dir);
+}
+
+TEST(PetscEngine, SsnInTheCholmodEngineNamesTheEngine) {
+  const fs::path dir = scratch("ssn-cholmod");
+  const CliOutcome r = run_cli(
+      dir, "solve " + problem("sofonea2017-fig2") + " --set mesh.n=4 --backend ssn --out " + (dir / "o").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_NE(r.err.find("solver.engine"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
+TEST(PetscEngine, SsnStepCapExits3NamingTheKey) {
+  const fs::path dir = scratch("ssn-cap");
+  // fig2 at n = 16 needs 9 steps (statuses change in the first 6): 2 cannot finish.
+  const CliOutcome r = run_mpi(dir, 2,
+                               "solve " + problem("sofonea2017-fig2") +
+                                   " --set mesh.n=16 --set solver.petsc.ssn_max_iters=2 --out " + (dir / "o").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
+  EXPECT_NE((r.err + r.out).find("solver.petsc.ssn_max_iters"), std::string::npos) << r.err << r.out;
   fs::remove_all(dir);
 }
 
@@ -157,8 +192,8 @@ TEST(PetscEngine, MoreRanksThanCellsIsRefused) {
 
 TEST(PetscEngine, DivergedKrylovSolveExits3NamingTheReason) {
   const fs::path dir = scratch("ksp");
-  // One CG iteration cannot reduce the residual by 1e-10 on this mesh: the elastic solve stops at
-  // the cap, KSP_DIVERGED_ITS, and the run says so with exit code 3 (not converged).
+  // One CG iteration cannot reduce the residual by 1e-2 on this mesh: ssn's first Newton step
+  // stops at the cap, KSP_DIVERGED_ITS, and the run says so with exit code 3 (not converged).
   const CliOutcome r =
       run_mpi(dir, 2, "solve " + problem("sofonea2017-fig2") + " --set mesh.n=16 --set solver.petsc.ksp_max_it=1 --out " +
                           (dir / "o").string());

@@ -32,6 +32,17 @@ struct PetscEngineOptions {
   double acceptable_tol = 1e-6;
   /// Newton iterations of the exact polish (full space, statuses fixed).
   int polish_max_iters = 30;
+  /// Backend "ssn" (semismooth Newton on the unsmoothed statuses, issue 16): the step cap. Each
+  /// step reads every Γ3 node's status again from the current iterate, so cycling between status
+  /// sets (possible with a nonmonotone p_ν) ends here with exit 3.
+  int ssn_max_iters = 60;
+  /// Backend "ssn": the Krylov rtol of a step while statuses still change (inexact Newton: such a
+  /// step only has to find the next status set); a step with no status change uses ksp_rtol.
+  double ssn_rtol = 1e-2;
+  /// Backend "ssn": the AMG hierarchy built on the first step's matrix is reused for later steps
+  /// (only Γ3 rows change) until a step needs more than this times the Krylov iterations of the
+  /// step that built it; then it is rebuilt on the current matrix.
+  double pc_rebuild = 2.0;
   /// Extra PETSc options, verbatim (e.g. "-ksp_monitor -pc_gamg_threshold 0.02").
   std::string options;
 };
