@@ -10,6 +10,7 @@
 
 #include <petscksp.h>
 #include <petsctao.h>
+#include <malloc.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -377,6 +378,7 @@ void Engine::assemble() {
   HC_PETSC(VecRestoreArray(lower.v, &pl));
   HC_PETSC(VecRestoreArray(upper.v, &pu));
   timings["petsc_assembly"] = since(t0);
+  malloc_trim(0);  // the rank's own K_x and node graph, freed above, back to the system
   log_info() << "petsc: " << size << " rank(s), rows " << lo << ".." << hi << " of " << n << " on rank 0, assembled in "
              << short_number(timings["petsc_assembly"]) << " s, memory " << short_number(double(current_rss_kb()) / 1024.0)
              << " MB (rank 0)";
@@ -1081,7 +1083,7 @@ Solution Engine::run_ssn(clk::time_point t0) {
     HC_PETSC(VecSet(fixv.v, 0.0));
     fixed.clear();
     const PetscScalar *px, *pd;
-    PetscScalar *pr, *pb, *pf;
+    PetscScalar *pr, *pf;
     HC_PETSC(VecGetArrayRead(x.v, &px));
     HC_PETSC(VecGetArrayRead(diagK.v, &pd));
     HC_PETSC(VecGetArray(R.v, &pr));

@@ -63,7 +63,8 @@ struct Case {
 };
 
 void PrintTo(const Case& c, std::ostream* os) {
-  *os << c.scene << " np=" << c.np << " " << (c.backend.empty() ? "ssn" : c.backend);
+  *os << c.scene << " " << c.sets.substr(c.sets.rfind(' ') + 1) << " np=" << c.np << " "
+      << (c.backend.empty() ? "ssn" : c.backend);
 }
 
 class PetscAgreement : public ::testing::TestWithParam<Case> {};
