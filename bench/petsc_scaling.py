@@ -3,8 +3,10 @@
 n^3 boxes, run as `mpirun -np P hemicontact solve ... --set solver.engine="petsc"` for each n and P,
 one run at a time. Reads each run's report.json and prints one row per run: unknowns, ranks, wall
 time (the whole process, measured here), the solve's own time, peak memory summed over the ranks
-(getrusage, from report.json "petsc"), bytes per unknown, Newton and Krylov counts, Krylov per
-Newton step, the certificate, and the speedup against P = 1 of the same n. The CSV goes to --out.
+(getrusage, from report.json "petsc"), bytes per unknown, the method (ssn by default; --backend
+tao:bnls for TAO), Newton and Krylov counts, Krylov per Newton step (mean and largest), how many
+times the AMG hierarchy was built, the certificate, and the speedup against P = 1 of the same n.
+The CSV goes to --out.
 
   python3 bench/petsc_scaling.py --build build --levels 8,16,24,32 --ranks 1,2 --out /tmp/petsc-scaling
 
@@ -28,6 +30,7 @@ def main() -> int:
     ap.add_argument("--levels", default="8,16,24,32", help="box cells per side, comma-separated")
     ap.add_argument("--ranks", default="1,2", help="MPI ranks, comma-separated")
     ap.add_argument("--set", action="append", default=[], help="extra --set path=value for every run")
+    ap.add_argument("--backend", default="", help="ssn (the engine's default) or tao:bnls, tao:bntr, tao:bntl")
     ap.add_argument("--out", required=True, help="folder for the runs and scaling.csv")
     a = ap.parse_args()
     exe = Path(a.build) / "hemicontact"
@@ -48,6 +51,8 @@ def main() -> int:
                    "--quiet", "--force", "--out", str(run)]
             for s in a.set:
                 cmd += ["--set", s]
+            if a.backend:
+                cmd += ["--backend", a.backend]
             t0 = time.monotonic()
             r = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
             wall = time.monotonic() - t0
@@ -62,7 +67,10 @@ def main() -> int:
                 "peak_mb_sum": round(pe["peak_rss_mb_sum"], 1), "bytes_per_dof": round(pe["bytes_per_dof"]),
                 "newton": pe["newton_iterations"], "krylov": pe["krylov_iterations"],
                 "krylov_per_newton": round(pe["krylov_per_newton"], 1),
-                "minimizations": len(pe["minimizations"]), "polish_newton": pe["polish_newton_iterations"],
+                "method": pe.get("method", ""),
+                "krylov_max_step": max((m.get("krylov", 0) for m in pe["minimizations"]), default=0),
+                "pc_builds": sum(1 for m in pe["minimizations"] if m.get("pc_built")),
+                "polish_newton": pe["polish_newton_iterations"],
                 "certificate": rep["certificate"]["max_residual"], "statuses": json.dumps(rep["status_counts"]),
             }
             if p == 1:

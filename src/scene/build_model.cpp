@@ -130,9 +130,10 @@ double estimate_solve_memory(double nodes, int dim) {
 double estimate_petsc_memory(double nodes, int dim) {
   const double n = std::max(1.0, dim * nodes);
   // The petsc engine keeps no factorization: per unknown, its rows of K and of the Newton matrix,
-  // the AMG hierarchy and the vectors (bench/README.md measures ~1.5-2 KB in 3D), plus the mesh and
-  // a few gathered vectors on every rank (~0.2 KB each, two ranks assumed), plus ~0.1 GB per rank.
-  return 2e8 + 2400.0 * n;
+  // the GAMG hierarchy (with the six rigid-body modes, ~2.4 KB: the largest part) and the vectors,
+  // plus the mesh and a few gathered vectors on every rank: 4.2 KB per unknown measured on 2 ranks
+  // (bench/README.md, petsc_scaling.py: 70^3 box, 1.06M unknowns, 4.2 GB), plus ~0.1 GB per rank.
+  return 2e8 + 4200.0 * n;
 }
 
 void check_memory(double nodes, int dim, const std::string& size_keys, bool petsc) {

@@ -264,15 +264,16 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(key("/solver/engine", "string", D.engine,
                   "cholmod: one process, sparse Cholesky (CHOLMOD) and static condensation. petsc: the "
                   "distributed engine (hemicontact-mpi, run as mpirun -np P hemicontact solve ...): "
-                  "unknowns spread over the MPI ranks, TAO bounded Newton (backends tao:bnls, tao:bntr, "
-                  "tao:bntl; the default ipopt means tao:bnls there), CG with algebraic multigrid, the same "
-                  "continuation, fixed point, exact polish (full space) and certificate. Only `solve`; "
+                  "unknowns and the assembly of K spread over the MPI ranks, semismooth Newton on the "
+                  "unsmoothed statuses (backend ssn; the default ipopt means ssn there) or TAO bounded "
+                  "Newton with the continuation, fixed point and exact polish (tao:bnls, tao:bntr, "
+                  "tao:bntl), CG with algebraic multigrid, the same certificate. Only `solve`; "
                   "needs a build with PETSc (libpetsc-real-dev).",
                   {"cholmod", "petsc"}));
   t.push_back(section("/solver/petsc", "Settings of the petsc engine (solver.engine = petsc)."));
   t.push_back(below(above(key("/solver/petsc/ksp_rtol", "number", D.petsc.ksp_rtol,
-                              "Relative residual reduction of each CG solve (elastic solve, TAO's "
-                              "Newton steps, polish steps)."),
+                              "Relative residual reduction of each CG solve (ssn: the floor of its "
+                              "steps' rtol; tao:*: elastic solve, TAO's Newton steps, polish steps)."),
                           0),
                     1));
   t.push_back(at_least(key("/solver/petsc/ksp_max_it", "integer", D.petsc.ksp_max_it,
@@ -280,8 +281,8 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "(exit code 3)."),
                        1));
   t.push_back(key("/solver/petsc/pc", "string", D.petsc.pc,
-                  "Preconditioner of the full-size solves (elastic solve, polish): gamg (rigid-body "
-                  "modes as near-null space) or hypre (BoomerAMG).",
+                  "Preconditioner of the full-size solves (ssn's steps; tao:*: elastic solve, "
+                  "polish): gamg (rigid-body modes as near-null space) or hypre (BoomerAMG).",
                   {"gamg", "hypre"}));
   t.push_back(key("/solver/petsc/newton_pc", "string", D.petsc.newton_pc,
                   "Preconditioner of TAO's Newton steps (the Hessian on the inactive set): hypre "

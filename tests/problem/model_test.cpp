@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <vector>
 
 using namespace hemicontact;
 
@@ -93,4 +95,75 @@ TEST(Model, ReducedAssemblyEqualsTheReducedFullStiffness) {
   check(half_scene(8));
   const auto scene3d = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json", {"mesh.n=4", "mesh.perturb=0.1"});
   check(build_model(scene3d, HEMICONTACT_SOURCE_DIR "/problems"));
+}
+
+// Issue 16: each rank of the petsc engine assembles only its own columns (= rows, K_x symmetric),
+// split at node boundaries. Every such slice must be exactly those columns of K_x and nothing else:
+// on the half fig2 scene (perturbed mesh, a roller on a Γ3 node: node blocks of uneven size) and
+// on the 3D box (Γ3 frames, 3 × 3 blocks).
+TEST(Model, ColumnRangeAssemblyIsThoseColumnsOfKx) {
+  const Model md2 = half_scene(8);
+  const Model md3 = build_model(load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json",
+                                           {"mesh.n=4", "mesh.perturb=0.2"}),
+                                HEMICONTACT_SOURCE_DIR "/problems");
+  for (const Model* m : {&md2, &md3}) {
+    const SpMat& Kx = m->Kx;
+    const Index n = Kx.cols();
+    // The first x index of every node with a free component: the admissible split points.
+    std::vector<Index> first;
+    const std::vector<Index> sel = m->dofs.cartesian_selection();
+    for (Index v = 0; v < m->mesh.num_nodes(); ++v) {
+      Index lo = n;
+      for (int c = 0; c < m->dim(); ++c)
+        if (sel[m->dim() * v + c] >= 0) lo = std::min(lo, sel[m->dim() * v + c]);
+      if (lo < n) first.push_back(lo);
+    }
+    std::sort(first.begin(), first.end());
+    ASSERT_GT(first.size(), 6u);
+    const Mat D = m->material->tangent(Vec::Zero(voigt_size(m->dim())));
+    const double scale = Kx.coeffs().cwiseAbs().maxCoeff();
+    Index covered = 0;
+    for (int part = 0; part < 3; ++part) {
+      const Index lo = first[first.size() * part / 3];
+      const Index hi = part == 2 ? n : first[first.size() * (part + 1) / 3];
+      const SpMat slice = assemble_reduced_stiffness(m->mesh, D, m->dofs, lo, hi);
+      ASSERT_EQ(slice.rows(), n);
+      ASSERT_EQ(slice.cols(), n);
+      double diff = 0;
+      for (Index j = 0; j < n; ++j) {
+        const bool in = j >= lo && j < hi;
+        if (!in) {
+          EXPECT_EQ(slice.col(j).nonZeros(), 0) << "column " << j << " outside [" << lo << ", " << hi << ")";
+          continue;
+        }
+        ++covered;
+        diff = std::max(diff, (Vec(slice.col(j)) - Vec(Kx.col(j))).cwiseAbs().maxCoeff());
+      }
+      EXPECT_LE(diff, 1e-14 * scale) << "columns [" << lo << ", " << hi << ")";
+    }
+    EXPECT_EQ(covered, n);
+  }
+}
+
+// The petsc engine's model keeps no K_x and applies it as an operator instead (Model::Kx_apply):
+// the internal force, a(u, v) and the elastic energy must then be those of K_x.
+TEST(Model, StiffnessOperatorInPlaceOfKxGivesTheSameForms) {
+  const Model md = half_scene(8);
+  Model lean = build_model(load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2-half.json",
+                                      {"mesh.n=8", "mesh.perturb=0.2"}),
+                           HEMICONTACT_SOURCE_DIR "/problems", /*stiffness=*/false);
+  ASSERT_EQ(lean.Kx.size(), 0);
+  int calls = 0;
+  lean.Kx_apply = [&md, &calls](const Vec& x) -> Vec {
+    ++calls;
+    return md.Kx * x;
+  };
+  const Vec u = md.dofs.to_full(random_vector(md.dofs.n_free(), 3));
+  const Vec v = md.dofs.to_full(random_vector(md.dofs.n_free(), 4));
+  const double s = std::abs(md.a(u, u));
+  EXPECT_NEAR(lean.a(u, v), md.a(u, v), 1e-13 * s);
+  EXPECT_NEAR(lean.elastic_energy(u), md.elastic_energy(u), 1e-13 * s);
+  EXPECT_LE((lean.internal_force(u) - md.internal_force(u)).cwiseAbs().maxCoeff(),
+            1e-13 * md.internal_force(u).cwiseAbs().maxCoeff());
+  EXPECT_EQ(calls, 3);  // a(u, v), ½ a(u, u), the internal force: none read an empty K_x
 }

@@ -12,16 +12,18 @@ namespace hemicontact {
 /// Settings of the distributed PETSc engine (solver.engine = "petsc", hemicontact-mpi; src/petsc/).
 /// The member initialisers are the defaults' one home (the scene schema injects them).
 struct PetscEngineOptions {
-  /// Relative residual reduction of each Krylov solve (CG): the elastic solve K z = f that sets the
-  /// scales, every Newton step inside TAO, and every polish step. The polish is a Newton iteration
+  /// Relative residual reduction of each Krylov solve (CG): with tao:*, the elastic solve K z = f
+  /// that sets the scales, every Newton step inside TAO, and every polish step; with ssn, the floor
+  /// of its steps' inexact-Newton rtol (ssn_rtol). The polish is a Newton iteration
   /// on the residual of (22), so its answer's accuracy is set by the residual, not by this: each
   /// step reduces the error by ~ksp_rtol, and 1e-10 reaches round-off in two or three steps.
   double ksp_rtol = 1e-10;
   /// Krylov iterations per solve; a solve that stops at this cap (or diverges) is a failure that
   /// names PETSc's reason (KSP_DIVERGED_ITS, ...), exit code 3.
   int ksp_max_it = 2000;
-  /// Preconditioner of the full-size solves (elastic solve, polish): "gamg" (smoothed aggregation
-  /// with the rigid-body modes as near-null space) or "hypre" (BoomerAMG).
+  /// Preconditioner of the full-size solves (ssn's steps; with tao:*, the elastic solve and the
+  /// polish): "gamg" (smoothed aggregation with the rigid-body modes as near-null space) or "hypre"
+  /// (BoomerAMG).
   std::string pc = "gamg";
   /// Preconditioner of TAO's Newton steps, whose matrix is the Hessian restricted to the inactive
   /// set (it changes size): "hypre" (BoomerAMG) or "gamg".
@@ -75,7 +77,7 @@ struct ExactInnerOptions {
 struct SolveOptions {
   std::string backend = "ipopt";     ///< NLP backend name
   /// "cholmod" (this process: CHOLMOD factorization, condensation) or "petsc" (hemicontact-mpi:
-  /// distributed unknowns, TAO bounded Newton, CG + algebraic multigrid; run under mpirun).
+  /// distributed unknowns and assembly, semismooth Newton (ssn) or TAO, CG + GAMG; run under mpirun).
   std::string engine = "cholmod";
   PetscEngineOptions petsc;          ///< the petsc engine's settings
   std::string formulation = "auto";  ///< "full", "condensed" or "auto" (condensed for linear materials)
