@@ -23,7 +23,6 @@
 
 #include <malloc.h>
 #include <petscsys.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -105,14 +104,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   // keeps in the heap: returned to the system here, since every rank holds the model (measured:
   // 586 -> ~100 MB per rank on the 70^3 box).
   malloc_trim(0);
-  {
-    long pages = 0, resident = 0;
-    if (FILE* f = std::fopen("/proc/self/statm", "r")) {
-      if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
-      std::fclose(f);
-    }
-    log_info() << "model built: memory " << resident * (sysconf(_SC_PAGESIZE) / 1024) / 1024 << " MB (rank 0)";
-  }
+  log_info() << "model built: memory " << petsc_engine::current_rss_kb() / 1024 << " MB (rank 0)";
   petsc_engine::EngineReport er;
   Solution sol = petsc_engine::solve(md, opt, comm, er);
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

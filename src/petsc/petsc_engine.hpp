@@ -46,6 +46,9 @@ struct EngineReport {
 ///         every rank throws the same error.
 Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report);
 
+/// @return this process's resident memory now (kB), from /proc/self/statm (0 if unreadable).
+long current_rss_kb();
+
 /// @return the TAO type of a backend name ("tao:bnls" → "bnls"); "ipopt", the scene default, means
 /// tao:bnls here. @throws Error EXIT_INPUT naming solver.backend for any other backend.
 std::string tao_type(const std::string& backend);

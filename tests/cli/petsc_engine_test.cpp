@@ -148,7 +148,7 @@ TEST(PetscEngine, SsnInTheCholmodEngineNamesTheEngine) {
 
 TEST(PetscEngine, SsnStepCapExits3NamingTheKey) {
   const fs::path dir = scratch("ssn-cap");
-  // fig2 at n = 16 needs 9 steps (statuses change in the first 6): 2 cannot finish.
+  // fig2 at n = 16 needs 8 steps (statuses change in the first 5): 2 cannot finish.
   const CliOutcome r = run_mpi(dir, 2,
                                "solve " + problem("sofonea2017-fig2") +
                                    " --set mesh.n=16 --set solver.petsc.ssn_max_iters=2 --out " + (dir / "o").string());
