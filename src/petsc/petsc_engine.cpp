@@ -223,6 +223,7 @@ class Engine {
   void scaled_bound(::Vec b, ::Vec out) const;  // b / U_s, ±PETSC_INFINITY kept (no overflow)
   void ksp_check(KSP ksp, const std::string& what) const;
   void set_pc(KSP ksp, const std::string& type) const;
+  void create_cg(PKsp& ksp, const char* prefix, KSPNormType norm = KSP_NORM_DEFAULT) const;
   Solution evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const;
 
   Model& md;  // not changed
@@ -433,6 +434,20 @@ void Engine::set_pc(KSP ksp, const std::string& type) const {
   }
 }
 
+// CG with the full-size preconditioner (solver.petsc.pc) at ksp_rtol, under the options prefix
+// @p prefix: the elastic solve, the polish and ssn's steps. The user's PETSc options, read last,
+// win over these settings.
+void Engine::create_cg(PKsp& ksp, const char* prefix, KSPNormType norm) const {
+  HC_PETSC(KSPCreate(comm, &ksp.k));
+  HC_PETSC(KSPSetType(ksp.k, KSPCG));
+  HC_PETSC(KSPSetOptionsPrefix(ksp.k, prefix));
+  if (norm != KSP_NORM_DEFAULT) HC_PETSC(KSPSetNormType(ksp.k, norm));
+  set_pc(ksp.k, opt.petsc.pc);
+  HC_PETSC(KSPSetTolerances(ksp.k, opt.petsc.ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, opt.petsc.ksp_max_it));
+  HC_PETSC(KSPSetFromOptions(ksp.k));
+  hypre_defaults(ksp.k);
+}
+
 // A Krylov solve that did not converge stops the run with PETSc's reason (EXIT_NOT_CONVERGED):
 // every rank sees the same reason, so every rank throws the same error.
 void Engine::ksp_check(KSP ksp, const std::string& what) const {
@@ -451,14 +466,8 @@ void Engine::ksp_check(KSP ksp, const std::string& what) const {
 void Engine::elastic_solve() {
   const auto t0 = clk::now();
   PKsp ksp;
-  HC_PETSC(KSPCreate(comm, &ksp.k));
+  create_cg(ksp, "elastic_");
   HC_PETSC(KSPSetOperators(ksp.k, K.m, K.m));
-  HC_PETSC(KSPSetType(ksp.k, KSPCG));
-  HC_PETSC(KSPSetOptionsPrefix(ksp.k, "elastic_"));
-  set_pc(ksp.k, opt.petsc.pc);
-  HC_PETSC(KSPSetTolerances(ksp.k, opt.petsc.ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, opt.petsc.ksp_max_it));
-  HC_PETSC(KSPSetFromOptions(ksp.k));
-  hypre_defaults(ksp.k);
   HC_PETSC(KSPSolve(ksp.k, f.v, zfree.v));
   ksp_check(ksp.k, "elastic solve K z = f");
   PetscInt its;
@@ -810,13 +819,7 @@ PolishResult Engine::polish(Eigen::VectorXd& x_io, const SolveOptions& read_opt,
   HC_PETSC(VecDuplicate(f.v, &dx.v));
   HC_PETSC(MatDuplicate(K.m, MAT_DO_NOT_COPY_VALUES, &J.m));
   HC_PETSC(MatSetNearNullSpace(J.m, rigid));
-  HC_PETSC(KSPCreate(comm, &ksp.k));
-  HC_PETSC(KSPSetType(ksp.k, KSPCG));
-  HC_PETSC(KSPSetOptionsPrefix(ksp.k, "polish_"));
-  set_pc(ksp.k, opt.petsc.pc);
-  HC_PETSC(KSPSetTolerances(ksp.k, opt.petsc.ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, opt.petsc.ksp_max_it));
-  HC_PETSC(KSPSetFromOptions(ksp.k));
-  hypre_defaults(ksp.k);
+  create_cg(ksp, "polish_");
   // The start: the smoothed answer with the fixed unknowns set to their values.
   std::vector<PetscInt> fixed;
   {
@@ -1036,16 +1039,9 @@ Solution Engine::run_ssn(clk::time_point t0) {
   HC_PETSC(MatGetDiagonal(K.m, diagK.v));
   HC_PETSC(MatDuplicate(K.m, MAT_DO_NOT_COPY_VALUES, &J.m));
   HC_PETSC(MatSetNearNullSpace(J.m, rigid));
-  HC_PETSC(KSPCreate(comm, &ksp.k));
-  HC_PETSC(KSPSetType(ksp.k, KSPCG));
-  HC_PETSC(KSPSetOptionsPrefix(ksp.k, "ssn_"));
   // rtol on the true residual: the inexact-Newton forcing terms and the hierarchy's quality
   // (iterations per decade) then mean what they say.
-  HC_PETSC(KSPSetNormType(ksp.k, KSP_NORM_UNPRECONDITIONED));
-  set_pc(ksp.k, opt.petsc.pc);
-  HC_PETSC(KSPSetTolerances(ksp.k, opt.petsc.ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, opt.petsc.ksp_max_it));
-  HC_PETSC(KSPSetFromOptions(ksp.k));
-  hypre_defaults(ksp.k);
+  create_cg(ksp, "ssn_", KSP_NORM_UNPRECONDITIONED);
   gamg_defaults(ksp.k);
   HC_PETSC(VecSet(x.v, 0.0));
   // A fixed unknown's row keeps a diagonal of K's own size (the mean K_ii), not 1 against
@@ -1090,6 +1086,7 @@ Solution Engine::run_ssn(clk::time_point t0) {
       const auto iv = static_cast<PetscInt>(md.dofs.contact_dof(kk, 0));
       const PetscInt l = iv - lo;
       const double w = md.contact.w[kk], xn = px[l], g = md.contact.g[kk];
+      slip_dir[q].setZero();  // set below if the node slides this step
       double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
       int st = 0;
       const double p = md.normal_law ? md.normal_law->p(xn) : 0.0;
@@ -1142,8 +1139,6 @@ Solution Engine::run_ssn(clk::time_point t0) {
         const auto& r = md.normal_law->breakpoints();
         st |= 32 * static_cast<int>(1 + (std::upper_bound(r.begin(), r.end(), xn) - r.begin()));
       }
-      if (!(st & 2) && !(w * lam > 0 && !roller)) slip_dir[q].setZero();
-      if (st & 2) slip_dir[q].setZero();
       status[q] = st;
       if (st != prev_status[q]) ++changed;
       PetscInt idx[3] = {iv, iv + 1, iv + 2};
@@ -1178,9 +1173,7 @@ Solution Engine::run_ssn(clk::time_point t0) {
     const auto t_ksp = clk::now();
     HC_PETSC(VecSet(dx.v, 0.0));
     HC_PETSC(KSPSolve(ksp.k, rhs.v, dx.v));
-    KSPConvergedReason reason;
     PetscInt its;
-    HC_PETSC(KSPGetConvergedReason(ksp.k, &reason));
     HC_PETSC(KSPGetIterationNumber(ksp.k, &its));
     krylov_total += its;
     ++newton_total;
