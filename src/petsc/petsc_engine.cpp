@@ -198,9 +198,18 @@ class Engine {
 
  private:
   Solution run_ssn(clk::time_point t0);
+  // The rows of K that ssn's J changes (those with a column on a Γ3 unknown), saved so that K can
+  // be changed in place and put back exactly.
+  struct BandRows {
+    std::vector<PetscInt> rows, start, cols;  // row r's entries: cols[start[r] .. start[r + 1])
+    std::vector<PetscScalar> vals;
+  };
+  BandRows save_band() const;
+  void restore_band(const BandRows& b) const;
   // ---- set-up
   void distribute();
   void assemble();
+  void tao_vectors();  // the bounds and TAO's work vectors (not made for ssn)
   void near_null_space();
   void elastic_solve();
   // ---- the smoothed energy in scaled unknowns (callbacks of TAO)
@@ -354,13 +363,26 @@ void Engine::assemble() {
     owns_apply = true;
   }
 
-  for (PVec* v : {&f, &lower, &upper, &zs, &zfree, &work, &grad}) HC_PETSC(MatCreateVecs(K.m, &v->v, nullptr));
-  PetscScalar *pf, *pl, *pu;
+  HC_PETSC(MatCreateVecs(K.m, &f.v, nullptr));
+  PetscScalar* pf;
   HC_PETSC(VecGetArray(f.v, &pf));
+  for (PetscInt i = lo; i < hi; ++i) pf[i - lo] = md.fx[i];
+  HC_PETSC(VecRestoreArray(f.v, &pf));
+  // The bounds and the TAO path's work vectors: ssn reads g and the rollers from the model.
+  if (tao_type(opt.backend) != "ssn") tao_vectors();
+  timings["petsc_assembly"] = since(t0);
+  malloc_trim(0);  // the rank's own K_x and node graph, freed above, back to the system
+  log_info() << "petsc: " << size << " rank(s), rows " << lo << ".." << hi << " of " << n << " on rank 0, assembled in "
+             << short_number(timings["petsc_assembly"]) << " s, memory " << short_number(double(current_rss_kb()) / 1024.0)
+             << " MB (rank 0)";
+}
+
+void Engine::tao_vectors() {
+  for (PVec* v : {&lower, &upper, &zs, &zfree, &work, &grad}) HC_PETSC(MatCreateVecs(K.m, &v->v, nullptr));
+  PetscScalar *pl, *pu;
   HC_PETSC(VecGetArray(lower.v, &pl));
   HC_PETSC(VecGetArray(upper.v, &pu));
   for (PetscInt i = lo; i < hi; ++i) {
-    pf[i - lo] = md.fx[i];
     pl[i - lo] = PETSC_NINFINITY;
     pu[i - lo] = PETSC_INFINITY;
   }
@@ -371,22 +393,16 @@ void Engine::assemble() {
     for (int c = 1; c < d; ++c)
       if (roller_fixed(md, k, c)) pl[i + c] = pu[i + c] = 0;
   }
-  HC_PETSC(VecRestoreArray(f.v, &pf));
   HC_PETSC(VecRestoreArray(lower.v, &pl));
   HC_PETSC(VecRestoreArray(upper.v, &pu));
-  timings["petsc_assembly"] = since(t0);
-  malloc_trim(0);  // the rank's own K_x and node graph, freed above, back to the system
-  log_info() << "petsc: " << size << " rank(s), rows " << lo << ".." << hi << " of " << n << " on rank 0, assembled in "
-             << short_number(timings["petsc_assembly"]) << " s, memory " << short_number(double(current_rss_kb()) / 1024.0)
-             << " MB (rank 0)";
 }
 
 // The rigid-body modes of the body (2D: 2 translations, 1 rotation; 3D: 3 + 3) in the reduced
 // unknowns, x = Tᵀ r (DofMap: Γ3 nodes in their local frames), orthonormalized: GAMG's near-null
-// space, without which smoothed aggregation of elasticity loses its h-independence.
+// space (solver.petsc.near_null_space: the translations only, or all of them).
 void Engine::near_null_space() {
   const Index N = md.mesh.num_nodes();
-  const int nm = d == 2 ? 3 : 6;
+  const int nm = opt.petsc.near_null_space == "rigid" ? (d == 2 ? 3 : 6) : d;
   std::vector<::Vec> modes(static_cast<size_t>(nm), nullptr);
   for (int m = 0; m < nm; ++m) {
     Eigen::VectorXd r = Eigen::VectorXd::Zero(N * d);
@@ -1002,6 +1018,38 @@ void Engine::finish(Solution& s, Eigen::VectorXd x, clk::time_point t0) {
   rep.json["bytes_per_dof"] = n > 0 ? double(rss_sum) * 1024.0 / double(n) : 0.0;
 }
 
+Engine::BandRows Engine::save_band() const {
+  std::vector<char> on_gamma3(static_cast<size_t>(n), 0);
+  for (Index k = 0; k < md.contact.size(); ++k)
+    for (int c = 0; c < d; ++c) on_gamma3[static_cast<size_t>(md.dofs.contact_dof(k, c))] = 1;
+  BandRows b;
+  b.start.push_back(0);
+  for (PetscInt i = lo; i < hi; ++i) {
+    PetscInt nc;
+    const PetscInt* cols;
+    const PetscScalar* vals;
+    HC_PETSC(MatGetRow(K.m, i, &nc, &cols, &vals));
+    if (std::any_of(cols, cols + nc, [&](PetscInt j) { return on_gamma3[static_cast<size_t>(j)] != 0; })) {
+      b.rows.push_back(i);
+      b.cols.insert(b.cols.end(), cols, cols + nc);
+      b.vals.insert(b.vals.end(), vals, vals + nc);
+      b.start.push_back(static_cast<PetscInt>(b.cols.size()));
+    }
+    HC_PETSC(MatRestoreRow(K.m, i, &nc, &cols, &vals));
+  }
+  return b;
+}
+
+// The same values written back over the same places (INSERT_VALUES): K is bitwise as assembled.
+void Engine::restore_band(const BandRows& b) const {
+  for (size_t r = 0; r < b.rows.size(); ++r) {
+    const PetscInt s0 = b.start[r], nc = b.start[r + 1] - s0;
+    HC_PETSC(MatSetValues(K.m, 1, &b.rows[r], nc, b.cols.data() + s0, b.vals.data() + s0, INSERT_VALUES));
+  }
+  HC_PETSC(MatAssemblyBegin(K.m, MAT_FINAL_ASSEMBLY));
+  HC_PETSC(MatAssemblyEnd(K.m, MAT_FINAL_ASSEMBLY));
+}
+
 // Backend "ssn": a semismooth (active-set) Newton method on the unsmoothed conditions of (22) in
 // the full space, every status read again at every step from the current iterate x and the
 // residual R = K x − f (the complementarity functions of the primal-dual active-set method, with
@@ -1033,12 +1081,16 @@ Solution Engine::run_ssn(clk::time_point t0) {
   sol.skipped.push_back("polish: ssn's steps are the polish's, with statuses updated");
 
   PVec x, R, dx, rhs, fixv, diagK;
-  PMat J;
   PKsp ksp;
   for (PVec* v : {&x, &R, &dx, &rhs, &fixv, &diagK}) HC_PETSC(VecDuplicate(f.v, &v->v));
   HC_PETSC(MatGetDiagonal(K.m, diagK.v));
-  HC_PETSC(MatDuplicate(K.m, MAT_DO_NOT_COPY_VALUES, &J.m));
-  HC_PETSC(MatSetNearNullSpace(J.m, rigid));
+  // No second matrix: each step's J is K itself, changed in place (Γ3 blocks added, fixed rows and
+  // columns zeroed) and put back from the saved rows before K is read again. A copy of K would cost
+  // ~0.5 KB per unknown (44 nonzeros per row in 3D), a quarter of the memory bound of issue 16.
+  const BandRows band = save_band();
+  HC_PETSC(MatSetOption(K.m, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+  HC_PETSC(MatSetOption(K.m, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
+  ::Mat& J = K.m;
   // rtol on the true residual: the inexact-Newton forcing terms and the hierarchy's quality
   // (iterations per decade) then mean what they say.
   create_cg(ksp, "ssn_", KSP_NORM_UNPRECONDITIONED);
@@ -1069,9 +1121,9 @@ Solution Engine::run_ssn(clk::time_point t0) {
   const auto t_loop = clk::now();
   int k = 0;
   for (k = 1; k <= opt.petsc.ssn_max_iters; ++k) {
+    if (k > 1) restore_band(band);  // K again: the last step's J changed it
     HC_PETSC(MatMult(K.m, x.v, R.v));
     HC_PETSC(VecAXPY(R.v, -1.0, f.v));
-    HC_PETSC(MatCopy(K.m, J.m, SAME_NONZERO_PATTERN));
     HC_PETSC(VecSet(fixv.v, 0.0));
     fixed.clear();
     const PetscScalar *px, *pd;
@@ -1142,14 +1194,14 @@ Solution Engine::run_ssn(clk::time_point t0) {
       status[q] = st;
       if (st != prev_status[q]) ++changed;
       PetscInt idx[3] = {iv, iv + 1, iv + 2};
-      HC_PETSC(MatSetValues(J.m, d, idx, d, idx, B, ADD_VALUES));
+      HC_PETSC(MatSetValues(J, d, idx, d, idx, B, ADD_VALUES));
     }
     HC_PETSC(VecRestoreArrayRead(x.v, &px));
     HC_PETSC(VecRestoreArrayRead(diagK.v, &pd));
     HC_PETSC(VecRestoreArray(R.v, &pr));
     HC_PETSC(VecRestoreArray(fixv.v, &pf));
-    HC_PETSC(MatAssemblyBegin(J.m, MAT_FINAL_ASSEMBLY));
-    HC_PETSC(MatAssemblyEnd(J.m, MAT_FINAL_ASSEMBLY));
+    HC_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+    HC_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
     long changed_all = 0;
     MPI_Allreduce(&changed, &changed_all, 1, MPI_LONG, MPI_SUM, comm);
     prev_status = status;
@@ -1158,16 +1210,27 @@ Solution Engine::run_ssn(clk::time_point t0) {
     // MatZeroRowsColumns removes move their contribution to the right-hand side.
     HC_PETSC(VecCopy(R.v, rhs.v));
     HC_PETSC(VecScale(rhs.v, -1.0));
-    HC_PETSC(MatZeroRowsColumns(J.m, static_cast<PetscInt>(fixed.size()), fixed.data(), diag_scale, fixv.v, rhs.v));
+    HC_PETSC(MatZeroRowsColumns(J, static_cast<PetscInt>(fixed.size()), fixed.data(), diag_scale, fixv.v, rhs.v));
     PetscReal res;
     HC_PETSC(VecNorm(rhs.v, NORM_INFINITY, &res));
+    // Converged at this iterate: the statuses it gives are those of the last step, and the residual
+    // of the semismooth system (equilibrium on the free rows, the fixed unknowns' misfit times the
+    // diagonal) is at most ssn_tol of the load scale. No step is taken: at 10⁷ unknowns the steps
+    // that only confirmed round-off cost 50 s each.
+    if (k > 1 && changed_all == 0 && res / F_s <= opt.petsc.ssn_tol) {
+      converged = true;
+      log_info() << "ssn " << k << ": statuses held, residual " << short_number(res / F_s)
+                 << " <= solver.petsc.ssn_tol: converged";
+      --k;  // the steps taken
+      break;
+    }
     // Inexact Newton: a step that may still change statuses needs only ssn_rtol; once they hold,
     // ssn_rtol² per step (the λ coupling contracts by about that much anyway), never below ksp_rtol.
     const double rtol = std::max(opt.petsc.ksp_rtol, changed_all > 0 ? opt.petsc.ssn_rtol
                                                                      : opt.petsc.ssn_rtol * opt.petsc.ssn_rtol);
     PC pc;
     HC_PETSC(KSPGetPC(ksp.k, &pc));
-    HC_PETSC(KSPSetOperators(ksp.k, J.m, J.m));
+    HC_PETSC(KSPSetOperators(ksp.k, J, J));
     HC_PETSC(PCSetReusePreconditioner(pc, rebuild ? PETSC_FALSE : PETSC_TRUE));
     HC_PETSC(KSPSetTolerances(ksp.k, rtol, PETSC_DEFAULT, PETSC_DEFAULT, opt.petsc.ksp_max_it));
     const auto t_ksp = clk::now();
@@ -1236,6 +1299,7 @@ Solution Engine::run_ssn(clk::time_point t0) {
     }
     prev_step = unchanged >= 1 ? step : INF;
   }
+  restore_band(band);  // K as assembled, for the certificate (md.Kx_apply) and the energies
   timings["backend"] = since(t_loop);
   U_s = 1;
   sol.x_scale = 1;
@@ -1261,6 +1325,19 @@ Solution Engine::run_ssn(clk::time_point t0) {
 
 Solution Engine::run() {
   const auto t0 = clk::now();
+#if defined(PETSC_HAVE_HYPRE)
+  // GAMG's Galerkin products P^T A P on more than one rank: PETSc's own MPIAIJ algorithms keep
+  // A P's local rows (and P^T's) for reuse, 1.2-1.9 KB per unknown at the fine level; hypre's
+  // product keeps none (3D scene, 2 ranks, 48^3: 3.7 -> 2.3 KB per unknown with the rigid modes,
+  // 2.4 -> 1.8 with the translations, the same CG iterations). On one rank PETSc's sequential
+  // product is already lean (and hypre's made the hierarchy indefinite there). -matptap_via set
+  // by the user (solver.petsc.options, PETSC_OPTIONS) wins.
+  if (size > 1) {
+    PetscBool set = PETSC_FALSE;
+    HC_PETSC(PetscOptionsHasName(nullptr, nullptr, "-matptap_via", &set));
+    if (!set) HC_PETSC(PetscOptionsSetValue(nullptr, "-matptap_via", "hypre"));
+  }
+#endif
   distribute();
   assemble();
   near_null_space();

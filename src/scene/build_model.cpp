@@ -129,11 +129,12 @@ double estimate_solve_memory(double nodes, int dim) {
 
 double estimate_petsc_memory(double nodes, int dim) {
   const double n = std::max(1.0, dim * nodes);
-  // The petsc engine keeps no factorization: per unknown, its rows of K and of the Newton matrix,
-  // the GAMG hierarchy (with the six rigid-body modes, ~2.4 KB: the largest part) and the vectors,
-  // plus the mesh and a few gathered vectors on every rank: 4.2 KB per unknown measured on 2 ranks
-  // (bench/README.md, petsc_scaling.py: 70^3 box, 1.06M unknowns, 4.2 GB), plus ~0.1 GB per rank.
-  return 2e8 + 4200.0 * n;
+  // The petsc engine keeps no factorization: per unknown, its rows of K (changed in place for the
+  // Newton matrix), the GAMG hierarchy (translations as near-null space) and the vectors, plus the
+  // mesh and a few gathered vectors on every rank: 1.6 KB per unknown measured on 2 ranks and
+  // 1.5 KB on one (bench/README.md, petsc_scaling.py: 70^3 box, 1.06M unknowns), plus ~0.1 GB per
+  // rank. 2 KB: the rigid modes (solver.petsc.near_null_space) or a thinner body cost more.
+  return 2e8 + 2000.0 * n;
 }
 
 void check_memory(double nodes, int dim, const std::string& size_keys, bool petsc) {
@@ -282,10 +283,12 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.petsc.ksp_max_it = pe.at("ksp_max_it").get<int>();
   o.petsc.pc = pe.at("pc").get<std::string>();
   o.petsc.newton_pc = pe.at("newton_pc").get<std::string>();
+  o.petsc.near_null_space = pe.at("near_null_space").get<std::string>();
   o.petsc.acceptable_tol = pe.at("acceptable_tol").get<double>();
   o.petsc.polish_max_iters = pe.at("polish_max_iters").get<int>();
   o.petsc.ssn_max_iters = pe.at("ssn_max_iters").get<int>();
   o.petsc.ssn_rtol = pe.at("ssn_rtol").get<double>();
+  o.petsc.ssn_tol = pe.at("ssn_tol").get<double>();
   o.petsc.pc_rebuild = pe.at("pc_rebuild").get<double>();
   o.petsc.options = pe.at("options").get<std::string>();
   o.polish = s.at("polish").get<bool>();

@@ -284,6 +284,10 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "Preconditioner of the full-size solves (ssn's steps; tao:*: elastic solve, "
                   "polish): gamg (rigid-body modes as near-null space) or hypre (BoomerAMG).",
                   {"gamg", "hypre"}));
+  t.push_back(key("/solver/petsc/near_null_space", "string", D.petsc.near_null_space,
+                  "GAMG's near-null space: translations (d modes: half the AMG memory, about twice the "
+                  "CG iterations in 3D) or rigid (translations and rotations; for slender bodies).",
+                  {"translations", "rigid"}));
   t.push_back(key("/solver/petsc/newton_pc", "string", D.petsc.newton_pc,
                   "Preconditioner of TAO's Newton steps (the Hessian on the inactive set): hypre "
                   "(BoomerAMG) or gamg.",
@@ -304,6 +308,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                               "no change uses ksp_rtol)."),
                           0),
                     1));
+  t.push_back(below(above(key("/solver/petsc/ssn_tol", "number", D.petsc.ssn_tol,
+                              "Backend ssn: converged when the statuses held and the residual (max norm "
+                              "over max|f|) is at most this."),
+                          0),
+                    1e-6));
   t.push_back(at_least(key("/solver/petsc/pc_rebuild", "number", D.petsc.pc_rebuild,
                            "Backend ssn: reuse the AMG hierarchy until a step takes more than this times "
                            "the CG iterations of the step that built it."),

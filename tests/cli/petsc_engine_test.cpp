@@ -125,6 +125,9 @@ INSTANTIATE_TEST_SUITE_P(PaperScenes, PetscAgreement,
                                            // n = 16: slip reversals at the stick limit (the
                                            // projection and one-step stick hold of run_ssn)
                                            Case{"sofonea2017-3d", "--set mesh.n=16", 2},
+                                           // GAMG with all six rigid-body modes (the default
+                                           // near-null space is the translations)
+                                           Case{"sofonea2017-3d", "--set mesh.n=8 --set solver.petsc.near_null_space='\"rigid\"'", 2},
                                            Case{"sofonea2017-fig2", "--set mesh.n=16", 2, "tao:bnls"},
                                            Case{"sofonea2017-3d", "--set mesh.n=4", 2, "tao:bnls"}));
 
@@ -154,6 +157,29 @@ TEST(PetscEngine, SsnStepCapExits3NamingTheKey) {
                                    " --set mesh.n=16 --set solver.petsc.ssn_max_iters=2 --out " + (dir / "o").string());
   EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
   EXPECT_NE((r.err + r.out).find("solver.petsc.ssn_max_iters"), std::string::npos) << r.err << r.out;
+  fs::remove_all(dir);
+}
+
+// ssn's two stops: the residual test (ssn_tol) ends the default run as soon as an iterate keeps the
+// statuses with a residual at round-off; with ssn_tol below any reachable residual the step test
+// (the Newton step stops decreasing at round-off) must end it, later, at the same answer.
+TEST(PetscEngine, SsnStopsAtSsnTolOrWhereTheStepReachesRoundOff) {
+  const fs::path dir = scratch("ssn-tol");
+  const std::string common = "solve " + problem("sofonea2017-3d") + " --set mesh.n=8 --quiet --set output.vtu=false";
+  const CliOutcome a = run_mpi(dir, 1, common + " --out " + (dir / "tol").string());
+  const CliOutcome b = run_mpi(dir, 1, common + " --set solver.petsc.ssn_tol=1e-300 --out " + (dir / "step").string());
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(b.code, 0) << b.err;
+  const json ra = json::parse(slurp(dir / "tol" / "report.json"));
+  const json rb = json::parse(slurp(dir / "step" / "report.json"));
+  for (const json* r : {&ra, &rb}) {
+    EXPECT_TRUE(r->at("certificate").at("passed").get<bool>());
+    EXPECT_LE(r->at("certificate").at("max_residual").get<double>(), 1e-8);
+  }
+  EXPECT_LT(ra.at("petsc").at("newton_iterations").get<long>(), rb.at("petsc").at("newton_iterations").get<long>());
+  EXPECT_EQ(ra.at("status_counts"), rb.at("status_counts"));
+  const double ea = ra.at("energy").get<double>(), eb = rb.at("energy").get<double>();
+  EXPECT_LE(std::abs(ea - eb), 1e-10 * std::abs(ea));
   fs::remove_all(dir);
 }
 

@@ -25,6 +25,14 @@ struct PetscEngineOptions {
   /// polish): "gamg" (smoothed aggregation with the rigid-body modes as near-null space) or "hypre"
   /// (BoomerAMG).
   std::string pc = "gamg";
+  /// GAMG's near-null space: "translations" (d modes) or "rigid" (the translations and the
+  /// rotations: 3 modes in 2D, 6 in 3D). Smoothed aggregation needs the rigid-body modes for
+  /// optimal convergence, but each coarse unknown then carries 6 modes instead of 3, so the coarse
+  /// operators have 4x the entries and the prolongator twice the columns. Measured on the 3D scene
+  /// (ssn, 2 ranks): at 48^3 rigid takes 116 CG iterations and 3.7 KB per unknown, translations 208
+  /// and 1.8 KB in the same time; at 70^3 translations take 196 iterations, 50 s, 1.6 KB per
+  /// unknown. Rigid for slender bodies (plates, beams), whose low-energy modes are rotations.
+  std::string near_null_space = "translations";
   /// Preconditioner of TAO's Newton steps, whose matrix is the Hessian restricted to the inactive
   /// set (it changes size): "hypre" (BoomerAMG) or "gamg".
   std::string newton_pc = "hypre";
@@ -41,6 +49,12 @@ struct PetscEngineOptions {
   /// Backend "ssn": the Krylov rtol of a step while statuses still change (inexact Newton: such a
   /// step only has to find the next status set); a step with no status change uses ksp_rtol.
   double ssn_rtol = 1e-2;
+  /// Backend "ssn": converged when an iterate gives the same statuses as the last step and the
+  /// residual of the semismooth system (max norm, divided by max|f|) is at most this. Four orders
+  /// below check.certificate_tol, two above the round-off floor measured up to 10⁷ unknowns
+  /// (1.5e-13); where round-off stays above it, the iteration also ends once the Newton step stops
+  /// decreasing at 1e-10 relative.
+  double ssn_tol = 1e-12;
   /// Backend "ssn": the AMG hierarchy built on the first step's matrix is reused for later steps
   /// (only Γ3 rows change) until a step needs more than this times the Krylov iterations of the
   /// step that built it; then it is rebuilt on the current matrix.
