@@ -1059,7 +1059,7 @@ void Engine::restore_band(const BandRows& b) const {
 //   tangent: stick    iff  |y| ≤ w λ,  y = −R_τ + c_t x_τ,  λ = F_b(x_ν)     (eq. (6))
 //            then x_τ = 0; else R_τ + w λ t = 0 with t = y/|y|
 // Each step solves the linearization with the fixed unknowns eliminated (MatZeroRowsColumns, so
-// the matrix stays symmetric positive definite and CG + GAMG with the rigid-body modes apply):
+// the matrix stays symmetric positive definite and CG + GAMG (solver.petsc.near_null_space) apply):
 // J = K + w p′ (branch slope) + w λ (I − t tᵀ)/ρ on sliding nodes, ρ = max(|x_τ|, (|y| − wλ)/c_t)
 // (= |x_τ| at a solution; positive where x_τ is still 0). λ is held in J: the coupling through
 // F_b(u_ν) converges linearly, as the outer fixed point does, without an outer loop. No smoothing

@@ -282,7 +282,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                        1));
   t.push_back(key("/solver/petsc/pc", "string", D.petsc.pc,
                   "Preconditioner of the full-size solves (ssn's steps; tao:*: elastic solve, "
-                  "polish): gamg (rigid-body modes as near-null space) or hypre (BoomerAMG).",
+                  "polish): gamg (smoothed aggregation; near-null space: near_null_space) or hypre (BoomerAMG).",
                   {"gamg", "hypre"}));
   t.push_back(key("/solver/petsc/near_null_space", "string", D.petsc.near_null_space,
                   "GAMG's near-null space: translations (d modes: half the AMG memory, about twice the "

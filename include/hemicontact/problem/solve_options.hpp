@@ -22,7 +22,7 @@ struct PetscEngineOptions {
   /// names PETSc's reason (KSP_DIVERGED_ITS, ...), exit code 3.
   int ksp_max_it = 2000;
   /// Preconditioner of the full-size solves (ssn's steps; with tao:*, the elastic solve and the
-  /// polish): "gamg" (smoothed aggregation with the rigid-body modes as near-null space) or "hypre"
+  /// polish): "gamg" (smoothed aggregation, near-null space as near_null_space says) or "hypre"
   /// (BoomerAMG).
   std::string pc = "gamg";
   /// GAMG's near-null space: "translations" (d modes) or "rigid" (the translations and the
