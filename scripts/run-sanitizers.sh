@@ -17,10 +17,10 @@ mkdir -p "$build"
 # LeakSanitizer would report; the petsc engine's tests run in the regular build.
 # Line tables for readable reports (full -g costs 10% more compile time), assertions on (no
 # NDEBUG: Eigen's index checks too), -O1 to keep the instrumented suite fast; no benchmarks; the
-# test files in unity batches, as in scripts/build.sh.
+# test files in unity batches and precompiled headers, as in scripts/build.sh (8:10 -> 7:37 here).
 CC=clang-14 CXX=clang++-14 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" \
   -DHEMICONTACT_SANITIZE=ON -DHEMICONTACT_BUILD_FUZZ=ON -DHEMICONTACT_BUILD_BENCH=OFF -DHEMICONTACT_WITH_PETSC=OFF \
-  -DHEMICONTACT_UNITY_BUILD=ON >"$build/configure.log" 2>&1 || {
+  -DHEMICONTACT_UNITY_BUILD=ON -DHEMICONTACT_PCH=ON >"$build/configure.log" 2>&1 || {
   cat "$build/configure.log" >&2
   exit 1
 }
