@@ -132,8 +132,9 @@ double estimate_petsc_memory(double nodes, int dim) {
   // The petsc engine keeps no factorization: per unknown, its rows of K (changed in place for the
   // Newton matrix), the GAMG hierarchy (translations as near-null space) and the vectors, plus the
   // mesh and a few gathered vectors on every rank: 1.6 KB per unknown measured on 2 ranks and
-  // 1.5 KB on one (bench/README.md, petsc_scaling.py: 70^3 box, 1.06M unknowns), plus ~0.1 GB per
-  // rank. 2 KB: the rigid modes (solver.petsc.near_null_space) or a thinner body cost more.
+  // 1.3 KB on one (bench/README.md, petsc_scaling.py: 70^3 box, 1.06M unknowns; 1.5 KB at 10.26M
+  // on 2 ranks), plus ~0.1 GB per rank. 2 KB: the rigid modes (solver.petsc.near_null_space, 2.3 KB
+  // at 48^3) or a thinner body cost more.
   return 2e8 + 2000.0 * n;
 }
 
