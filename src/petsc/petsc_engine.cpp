@@ -107,6 +107,14 @@ bool roller_fixed(const Model& md, Index k, int c) {
   return !md.contact.fixed_local.empty() && (md.contact.fixed_local[static_cast<size_t>(k)] & (1u << c));
 }
 
+// A PETSc option's default: set only where the user set nothing (solver.petsc.options,
+// PETSC_OPTIONS), so that theirs still wins.
+void option_default(const std::string& name, const char* value) {
+  PetscBool set = PETSC_FALSE;
+  HC_PETSC(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set));
+  if (!set) HC_PETSC(PetscOptionsSetValue(nullptr, name.c_str(), value));
+}
+
 // Option defaults for a KSP's preconditioner of type @p type, set under the PC's final prefix
 // (after the KSP read its options) and read again, only where the user set nothing: the user's
 // own options (solver.petsc.options, PETSC_OPTIONS) still win.
@@ -120,11 +128,7 @@ void pc_defaults(KSP ksp, PCType type, const std::string& stem,
   const char* prefix = nullptr;
   HC_PETSC(PCGetOptionsPrefix(pc, &prefix));
   const std::string pre = std::string("-") + (prefix ? prefix : "") + stem;
-  for (const auto& [name, value] : values) {
-    PetscBool set = PETSC_FALSE;
-    HC_PETSC(PetscOptionsHasName(nullptr, nullptr, (pre + name).c_str(), &set));
-    if (!set) HC_PETSC(PetscOptionsSetValue(nullptr, (pre + name).c_str(), value));
-  }
+  for (const auto& [name, value] : values) option_default(pre + name, value);
   HC_PETSC(PCSetFromOptions(pc));
 }
 
@@ -1332,11 +1336,7 @@ Solution Engine::run() {
   // 2.4 -> 1.8 with the translations, the same CG iterations). On one rank PETSc's sequential
   // product is already lean (and hypre's made the hierarchy indefinite there). -matptap_via set
   // by the user (solver.petsc.options, PETSC_OPTIONS) wins.
-  if (size > 1) {
-    PetscBool set = PETSC_FALSE;
-    HC_PETSC(PetscOptionsHasName(nullptr, nullptr, "-matptap_via", &set));
-    if (!set) HC_PETSC(PetscOptionsSetValue(nullptr, "-matptap_via", "hypre"));
-  }
+  if (size > 1) option_default("-matptap_via", "hypre");
 #endif
   distribute();
   assemble();
