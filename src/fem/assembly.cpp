@@ -10,49 +10,8 @@
 namespace hemicontact {
 namespace {
 
-// Node adjacency (each node's sorted neighbours, itself included) from the cells: the sparsity of
-// K is this graph with every entry expanded to a d×d block. Compressed rows (ptr, nbr) filled in
-// two passes over the cells — one vector per node was a million small allocations at n = 1024.
-struct Adjacency {
-  std::vector<Index> ptr;  // neighbours of node a: nbr[ptr[a] .. ptr[a+1])
-  std::vector<int> nbr;
-  const int* begin(Index a) const { return nbr.data() + ptr[a]; }
-  const int* end(Index a) const { return nbr.data() + ptr[a + 1]; }
-  Index size(Index a) const { return ptr[a + 1] - ptr[a]; }
-};
-
-// @p keep (optional): only these nodes get their lists (the others are empty), so that a rank of
-// the petsc engine holds the graph of its own nodes only.
-Adjacency node_adjacency(const Mesh& m, const std::vector<char>* keep = nullptr) {
-  const int nv = m.dim + 1;
-  const Index N = m.num_nodes();
-  const auto kept = [keep](Index a) { return !keep || (*keep)[static_cast<size_t>(a)]; };
-  std::vector<Index> count(N + 1, 0);  // with repeats: nv per cell a node is in
-  for (Index c = 0; c < m.num_cells(); ++c)
-    for (int a = 0; a < nv; ++a)
-      if (kept(m.cells(c, a))) count[m.cells(c, a) + 1] += nv;
-  for (Index a = 0; a < N; ++a) count[a + 1] += count[a];
-  std::vector<int> raw(count[N]);
-  std::vector<Index> fill(count.begin(), count.end() - 1);
-  for (Index c = 0; c < m.num_cells(); ++c)
-    for (int a = 0; a < nv; ++a) {
-      const int na = m.cells(c, a);
-      if (kept(na))
-        for (int b = 0; b < nv; ++b) raw[fill[na]++] = m.cells(c, b);
-    }
-  Adjacency adj;
-  adj.ptr.assign(N + 1, 0);
-  adj.nbr.reserve(raw.size() / 2);
-  for (Index a = 0; a < N; ++a) {
-    int* first = raw.data() + count[a];
-    int* last = raw.data() + count[a + 1];
-    std::sort(first, last);
-    last = std::unique(first, last);
-    adj.nbr.insert(adj.nbr.end(), first, last);
-    adj.ptr[a + 1] = static_cast<Index>(adj.nbr.size());
-  }
-  return adj;
-}
+using Adjacency = NodeGraph;
+Adjacency node_adjacency(const Mesh& m, const std::vector<char>* keep = nullptr) { return node_graph(m, keep); }
 
 // The element stiffness |T| Bᵀ D B of cell c (Cartesian components, nodes in cell order).
 template <int D>
@@ -113,24 +72,20 @@ SpMat stiffness(const Mesh& m, const Mat& Ddyn) {
 // order keeps interior rows sorted in node order, the Γ3 ones (Cartesian components of a node in
 // its d consecutive local slots, last) are sorted apart. An element's block (a, b) is placed by
 // one binary search for b's first free row per column of a: b's free components are consecutive.
-// Only the columns [lo, hi) (whole nodes) are filled, the others left empty: a rank's rows.
+// Only the columns of the nodes in @p own_nodes (null: all) are filled, the others left empty: a
+// rank's rows.
 template <int D>
-MovableSpMat reduced_stiffness(const Mesh& m, const Mat& Ddyn, const DofMap& dofs, Index lo, Index hi) {
+MovableSpMat reduced_stiffness(const Mesh& m, const Mat& Ddyn, const DofMap& dofs, const std::vector<char>* own_nodes) {
   using E = P1<D>;
   const Eigen::Matrix<double, E::NVOIGT, E::NVOIGT> Dm = Ddyn;
   const std::vector<Index> sel = dofs.cartesian_selection();
   const Index N = m.num_nodes(), n = dofs.n_free(), n_int = dofs.n_interior();
-  const bool all = lo <= 0 && hi >= n;
+  const bool all = own_nodes == nullptr;
   std::vector<int> n_free_of(N, 0);  // free components per node
-  std::vector<char> own(all ? 0 : static_cast<size_t>(N), 0);  // a free column of the node in [lo, hi)
   for (Index a = 0; a < N; ++a)
-    for (int i = 0; i < D; ++i) {
-      const Index c = sel[D * a + i];
-      n_free_of[a] += c >= 0;
-      if (!all && c >= lo && c < hi) own[static_cast<size_t>(a)] = 1;
-    }
-  const auto adj = node_adjacency(m, all ? nullptr : &own);
-  const auto owned = [&](Index a) { return n_free_of[a] > 0 && (all || own[static_cast<size_t>(a)]); };
+    for (int i = 0; i < D; ++i) n_free_of[a] += sel[D * a + i] >= 0;
+  const auto adj = node_adjacency(m, own_nodes);
+  const auto owned = [&](Index a) { return n_free_of[a] > 0 && (all || (*own_nodes)[static_cast<size_t>(a)]); };
   MovableSpMat K(n, n);
   int* outer = K.outerIndexPtr();  // n + 1 entries, zeroed by the constructor
   for (Index a = 0; a < N; ++a) {
@@ -207,6 +162,39 @@ RowMat strains(const Mesh& m, const Vec& u) {
 
 }  // namespace
 
+// Two passes over the cells into compressed rows: one vector per node was a million small
+// allocations at n = 1024.
+NodeGraph node_graph(const Mesh& m, const std::vector<char>* keep) {
+  const int nv = m.dim + 1;
+  const Index N = m.num_nodes();
+  const auto kept = [keep](Index a) { return !keep || (*keep)[static_cast<size_t>(a)]; };
+  std::vector<Index> count(N + 1, 0);  // with repeats: nv per cell a node is in
+  for (Index c = 0; c < m.num_cells(); ++c)
+    for (int a = 0; a < nv; ++a)
+      if (kept(m.cells(c, a))) count[m.cells(c, a) + 1] += nv;
+  for (Index a = 0; a < N; ++a) count[a + 1] += count[a];
+  std::vector<int> raw(count[N]);
+  std::vector<Index> fill(count.begin(), count.end() - 1);
+  for (Index c = 0; c < m.num_cells(); ++c)
+    for (int a = 0; a < nv; ++a) {
+      const int na = m.cells(c, a);
+      if (kept(na))
+        for (int b = 0; b < nv; ++b) raw[fill[na]++] = m.cells(c, b);
+    }
+  NodeGraph adj;
+  adj.ptr.assign(N + 1, 0);
+  adj.nbr.reserve(raw.size() / 2);
+  for (Index a = 0; a < N; ++a) {
+    int* first = raw.data() + count[a];
+    int* last = raw.data() + count[a + 1];
+    std::sort(first, last);
+    last = std::unique(first, last);
+    adj.nbr.insert(adj.nbr.end(), first, last);
+    adj.ptr[a + 1] = static_cast<Index>(adj.nbr.size());
+  }
+  return adj;
+}
+
 SpMat assemble_stiffness(const Mesh& mesh, const Material& material) {
   if (!material.is_linear()) throw Error("assemble_stiffness: material is nonlinear", EXIT_INTERNAL);
   const Vec zero = Vec::Zero(voigt_size(mesh.dim));
@@ -226,8 +214,26 @@ MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const Do
   if (dofs.n_full() != mesh.num_nodes() * mesh.dim)
     throw Error("assemble_reduced_stiffness: the DofMap belongs to another mesh", EXIT_INTERNAL);
   if (col_hi < 0) col_hi = dofs.n_free();
-  return mesh.dim == 2 ? reduced_stiffness<2>(mesh, D, dofs, col_lo, col_hi)
-                       : reduced_stiffness<3>(mesh, D, dofs, col_lo, col_hi);
+  if (col_lo <= 0 && col_hi >= dofs.n_free())
+    return mesh.dim == 2 ? reduced_stiffness<2>(mesh, D, dofs, nullptr) : reduced_stiffness<3>(mesh, D, dofs, nullptr);
+  // The nodes with a free column in [col_lo, col_hi).
+  const std::vector<Index> sel = dofs.cartesian_selection();
+  std::vector<char> own(static_cast<size_t>(mesh.num_nodes()), 0);
+  for (size_t j = 0; j < sel.size(); ++j)
+    if (sel[j] >= col_lo && sel[j] < col_hi) own[j / static_cast<size_t>(mesh.dim)] = 1;
+  return assemble_reduced_stiffness(mesh, D, dofs, own);
+}
+
+MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const DofMap& dofs,
+                                        const std::vector<char>& own_nodes) {
+  if (D.rows() != voigt_size(mesh.dim) || D.cols() != D.rows())
+    throw Error("assemble_reduced_stiffness: Voigt matrix of the wrong size", EXIT_INTERNAL);
+  if (dofs.n_full() != mesh.num_nodes() * mesh.dim)
+    throw Error("assemble_reduced_stiffness: the DofMap belongs to another mesh", EXIT_INTERNAL);
+  if (own_nodes.size() != static_cast<size_t>(mesh.num_nodes()))
+    throw Error("assemble_reduced_stiffness: the node mask has the wrong size", EXIT_INTERNAL);
+  return mesh.dim == 2 ? reduced_stiffness<2>(mesh, D, dofs, &own_nodes)
+                       : reduced_stiffness<3>(mesh, D, dofs, &own_nodes);
 }
 
 Vec assemble_body_force(const Mesh& mesh, const Vec& f0) {

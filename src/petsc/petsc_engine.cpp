@@ -9,6 +9,7 @@
 #include <hemicontact/fem/assembly.hpp>
 
 #include <petscksp.h>
+#include <petscmat.h>
 #include <petsctao.h>
 #include <malloc.h>
 #include <sys/resource.h>
@@ -244,7 +245,18 @@ class Engine {
   MPI_Comm comm;
   EngineReport& rep;
   int rank = 0, size = 1, d = 2, bs = 1;
-  PetscInt n = 0, lo = 0, hi = 0;  // global size, owned rows [lo, hi)
+  PetscInt n = 0, lo = 0, hi = 0;  // global size, owned rows [lo, hi) (PETSc's numbering)
+  // PETSc's numbering of the unknowns is the model's x numbering (DofMap: interior node-major,
+  // then Γ3) with the nodes regrouped by the graph partitioner's parts (solver.petsc.partition),
+  // each node's d unknowns kept together. Both empty: the same numbering (one rank, "natural").
+  std::vector<PetscInt> perm;  // x index → PETSc index
+  std::vector<Index> mine;     // x index of owned row lo + l
+  PetscInt P(Index x) const { return perm.empty() ? static_cast<PetscInt>(x) : perm[static_cast<size_t>(x)]; }
+  Index X(PetscInt l) const { return mine.empty() ? lo + l : mine[static_cast<size_t>(l)]; }
+  // Γ3 node k's ν row in PETSc's numbering; its τ rows follow it.
+  PetscInt cdof(Index k) const { return P(md.dofs.contact_dof(k, 0)); }
+  void partition(const std::vector<Index>& block_node, const std::vector<PetscInt>& block_first,
+                 const std::vector<int>& block_size);
   std::vector<Index> my_nodes;     // Γ3 nodes whose rows this rank owns
   PMat K;
   PVec f, lower, upper, zs, zfree, work, grad;
@@ -281,37 +293,132 @@ Engine::Engine(Model& m, const SolveOptions& o, MPI_Comm c, EngineReport& r) : m
 
 // Row blocks: one node's d unknowns per block when every free node has all d components (no roller),
 // so that GAMG aggregates nodes and a Γ3 node's (ν, τ) rows never straddle two ranks; otherwise
-// blocks of 1 with the split moved to node boundaries all the same.
+// blocks of 1 with the split still at node boundaries. The nodes go to the ranks as the graph
+// partitioner says (solver.petsc.partition), or in contiguous runs of x ("natural").
 void Engine::distribute() {
+  const auto t0 = clk::now();
   n = static_cast<PetscInt>(md.dofs.n_free());
   bool rollers = false;
   for (Index v = 0; v < md.mesh.num_nodes(); ++v) rollers = rollers || md.mesh.held(v) != 0;
   bs = (!rollers && md.dofs.n_interior() % d == 0) ? d : 1;
-  // Node boundaries in x: the interior nodes' components come node-major, then d per Γ3 node.
-  std::vector<PetscInt> starts;  // first x index of each node's block, in x order
-  if (bs == d) {
-    for (PetscInt i = 0; i < n; i += d) starts.push_back(i);
-  } else {
-    const SpMat& T = md.dofs.T();  // n_full × n_free; column j's row gives its node
-    Index last_node = -1;
-    for (Index j = 0; j < md.dofs.n_interior(); ++j) {
-      const Index node = SpMat::InnerIterator(T, j).row() / d;
-      if (node != last_node) starts.push_back(static_cast<PetscInt>(j)), last_node = node;
+  // The free nodes in x order, each with its first x index and its count of free components
+  // (consecutive in x: interior nodes node-major, a Γ3 node's d local slots together).
+  std::vector<Index> block_node;
+  std::vector<PetscInt> block_first;
+  std::vector<int> block_size;
+  {
+    const std::vector<Index> sel = md.dofs.cartesian_selection();
+    std::vector<PetscInt> first_of(static_cast<size_t>(md.mesh.num_nodes()), -1);
+    std::vector<int> count_of(static_cast<size_t>(md.mesh.num_nodes()), 0);
+    for (size_t j = 0; j < sel.size(); ++j) {
+      if (sel[j] < 0) continue;
+      const size_t a = j / static_cast<size_t>(d);
+      const auto xj = static_cast<PetscInt>(sel[j]);
+      first_of[a] = first_of[a] < 0 ? xj : std::min(first_of[a], xj);
+      ++count_of[a];
     }
-    for (Index k = 0; k < md.contact.size(); ++k) starts.push_back(static_cast<PetscInt>(md.dofs.contact_dof(k, 0)));
+    std::vector<Index> node_at(static_cast<size_t>(n), -1);  // node of each block's first x index
+    for (size_t a = 0; a < first_of.size(); ++a)
+      if (first_of[a] >= 0) node_at[static_cast<size_t>(first_of[a])] = static_cast<Index>(a);
+    for (PetscInt i = 0; i < n; ++i)
+      if (node_at[static_cast<size_t>(i)] >= 0) {
+        const Index a = node_at[static_cast<size_t>(i)];
+        block_node.push_back(a);
+        block_first.push_back(i);
+        block_size.push_back(count_of[static_cast<size_t>(a)]);
+      }
   }
-  const auto blocks = static_cast<PetscInt>(starts.size());
+  const auto blocks = static_cast<PetscInt>(block_node.size());
   if (size > blocks)
     input_error("solver.engine = petsc: " + std::to_string(size) + " MPI ranks for " + std::to_string(blocks) +
                 " free nodes; use at most as many ranks as free nodes (mpirun -np)");
-  const auto at = [&](PetscInt b) { return b >= blocks ? n : starts[static_cast<size_t>(b)]; };
+  const auto at = [&](PetscInt b) { return b >= blocks ? n : block_first[static_cast<size_t>(b)]; };
   lo = at(blocks * rank / size);
   hi = at(blocks * (rank + 1) / size);
-  for (Index k = 0; k < md.contact.size(); ++k) {
-    const auto first = static_cast<PetscInt>(md.dofs.contact_dof(k, 0));
-    if (first >= lo && first < hi) my_nodes.push_back(k);
-  }
+  rep.json["partition"] = {{"type", size > 1 ? opt.petsc.partition : "natural"}};
+  if (size > 1 && opt.petsc.partition != "natural") partition(block_node, block_first, block_size);
+  for (Index k = 0; k < md.contact.size(); ++k)
+    if (cdof(k) >= lo && cdof(k) < hi) my_nodes.push_back(k);
   lambda.assign(my_nodes.size(), 0.0);
+  timings["petsc_partition"] = since(t0);
+}
+
+// The graph partitioner (PT-Scotch, through MatPartitioning; -mat_partitioning_type picks another
+// one PETSc has) on the free nodes' graph, each node weighted by its unknowns: the parts become
+// the ranks' rows, numbered part by part in x order within each. Each rank gives the graph of the
+// nodes of its natural run (lo, hi from distribute()); every rank then knows every node's part.
+void Engine::partition(const std::vector<Index>& block_node, const std::vector<PetscInt>& block_first,
+                       const std::vector<int>& block_size) {
+  const auto blocks = static_cast<PetscInt>(block_node.size());
+  const PetscInt b0 = blocks * rank / size, b1 = blocks * (rank + 1) / size, nb = b1 - b0;
+  std::vector<PetscInt> block_of(static_cast<size_t>(md.mesh.num_nodes()), -1);
+  for (PetscInt b = 0; b < blocks; ++b) block_of[static_cast<size_t>(block_node[static_cast<size_t>(b)])] = b;
+  std::vector<char> keep(static_cast<size_t>(md.mesh.num_nodes()), 0);
+  for (PetscInt b = b0; b < b1; ++b) keep[static_cast<size_t>(block_node[static_cast<size_t>(b)])] = 1;
+  const NodeGraph g = node_graph(md.mesh, &keep);
+  keep = std::vector<char>();
+  // MatMPIAdj takes ia, ja (and the weights) over: PetscMalloc'd, no diagonal, sorted rows.
+  PetscInt *ia = nullptr, *ja = nullptr, *wt = nullptr;
+  HC_PETSC(PetscMalloc1(nb + 1, &ia));
+  ia[0] = 0;
+  for (PetscInt b = b0; b < b1; ++b) {
+    const Index a = block_node[static_cast<size_t>(b)];
+    PetscInt c = 0;
+    for (const int* q = g.begin(a); q != g.end(a); ++q) c += block_of[static_cast<size_t>(*q)] >= 0 && *q != a;
+    ia[b - b0 + 1] = ia[b - b0] + c;
+  }
+  HC_PETSC(PetscMalloc1(ia[nb], &ja));
+  for (PetscInt b = b0; b < b1; ++b) {
+    const Index a = block_node[static_cast<size_t>(b)];
+    PetscInt* dst = ja + ia[b - b0];
+    for (const int* q = g.begin(a); q != g.end(a); ++q)
+      if (block_of[static_cast<size_t>(*q)] >= 0 && *q != a) *dst++ = block_of[static_cast<size_t>(*q)];
+    std::sort(ja + ia[b - b0], dst);
+  }
+  ::Mat adj;
+  HC_PETSC(MatCreateMPIAdj(comm, nb, blocks, ia, ja, nullptr, &adj));
+  MatPartitioning mp;
+  HC_PETSC(MatPartitioningCreate(comm, &mp));
+  HC_PETSC(MatPartitioningSetAdjacency(mp, adj));
+  HC_PETSC(MatPartitioningSetType(mp, MATPARTITIONINGPTSCOTCH));
+  HC_PETSC(MatPartitioningSetNParts(mp, size));
+  if (bs == 1) {  // rollers: nodes with fewer than d unknowns weigh less
+    HC_PETSC(PetscMalloc1(nb, &wt));
+    for (PetscInt b = b0; b < b1; ++b) wt[b - b0] = block_size[static_cast<size_t>(b)];
+    HC_PETSC(MatPartitioningSetVertexWeights(mp, wt));
+  }
+  HC_PETSC(MatPartitioningSetFromOptions(mp));
+  IS part, all;
+  HC_PETSC(MatPartitioningApply(mp, &part));
+  HC_PETSC(ISAllGather(part, &all));
+  const PetscInt* owner;
+  HC_PETSC(ISGetIndices(all, &owner));
+  // Part by part, x order within each: a counting sort of the blocks by owner.
+  std::vector<PetscInt> part_start(static_cast<size_t>(size) + 1, 0);
+  for (PetscInt b = 0; b < blocks; ++b) {
+    if (owner[b] < 0 || owner[b] >= size) throw Error("petsc: the partitioner returned a part out of range", EXIT_INTERNAL);
+    part_start[static_cast<size_t>(owner[b]) + 1] += block_size[static_cast<size_t>(b)];
+  }
+  for (int r = 0; r < size; ++r) part_start[static_cast<size_t>(r) + 1] += part_start[static_cast<size_t>(r)];
+  perm.assign(static_cast<size_t>(n), -1);
+  std::vector<PetscInt> next(part_start.begin(), part_start.end() - 1);
+  for (PetscInt b = 0; b < blocks; ++b) {
+    PetscInt& at = next[static_cast<size_t>(owner[b])];
+    for (int c = 0; c < block_size[static_cast<size_t>(b)]; ++c)
+      perm[static_cast<size_t>(block_first[static_cast<size_t>(b)] + c)] = at++;
+  }
+  HC_PETSC(ISRestoreIndices(all, &owner));
+  ISDestroy(&all);
+  ISDestroy(&part);
+  MatPartitioningDestroy(&mp);
+  MatDestroy(&adj);
+  lo = part_start[static_cast<size_t>(rank)];
+  hi = part_start[static_cast<size_t>(rank) + 1];
+  mine.assign(static_cast<size_t>(hi - lo), -1);
+  for (PetscInt x = 0; x < n; ++x) {
+    const PetscInt p = perm[static_cast<size_t>(x)];
+    if (p >= lo && p < hi) mine[static_cast<size_t>(p - lo)] = x;
+  }
 }
 
 // Each rank copies its rows of the reduced stiffness Kx (symmetric, so row i is column i of the
@@ -322,14 +429,37 @@ void Engine::assemble() {
   // rank assembles its own columns, i.e. rows, and frees them once PETSc holds them. A model that
   // does keep K_x (tests that build one) is read as it is.
   MovableSpMat own;
-  if (md.Kx.size() == 0)
-    own = assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs, lo, hi);
+  if (md.Kx.size() == 0) {
+    const Mat D0 = md.material->tangent(Vec::Zero(voigt_size(d)));
+    if (perm.empty()) {
+      own = assemble_reduced_stiffness(md.mesh, D0, md.dofs, lo, hi);
+    } else {
+      std::vector<char> own_nodes(static_cast<size_t>(md.mesh.num_nodes()), 0);
+      const std::vector<Index> sel = md.dofs.cartesian_selection();
+      for (size_t j = 0; j < sel.size(); ++j)
+        if (sel[j] >= 0 && P(sel[j]) >= lo && P(sel[j]) < hi) own_nodes[j / static_cast<size_t>(d)] = 1;
+      own = assemble_reduced_stiffness(md.mesh, D0, md.dofs, own_nodes);
+    }
+  }
   const SpMat& Kx = md.Kx.size() == 0 ? static_cast<const SpMat&>(own) : static_cast<const SpMat&>(md.Kx);
   const PetscInt nloc = hi - lo;
   std::vector<PetscInt> dnz(static_cast<size_t>(nloc), 0), onz(static_cast<size_t>(nloc), 0);
-  for (PetscInt i = lo; i < hi; ++i)
-    for (SpMat::InnerIterator it(Kx, i); it; ++it)
-      (it.row() >= lo && it.row() < hi ? dnz : onz)[static_cast<size_t>(i - lo)]++;
+  long off_rank = 0, entries = 0;
+  for (PetscInt l = 0; l < nloc; ++l)
+    for (SpMat::InnerIterator it(Kx, X(l)); it; ++it) {
+      const PetscInt r = P(it.row());
+      (r >= lo && r < hi ? dnz : onz)[static_cast<size_t>(l)]++;
+    }
+  for (PetscInt l = 0; l < nloc; ++l) off_rank += onz[static_cast<size_t>(l)], entries += dnz[static_cast<size_t>(l)] + onz[static_cast<size_t>(l)];
+  // The partition's quality: the share of K's entries that couple two ranks (each is a value sent
+  // in every product) and the most rows on one rank against the mean.
+  const double off_all = allreduce_sum(double(off_rank), comm), entries_all = allreduce_sum(double(entries), comm);
+  rep.json["partition"]["off_rank_entries"] = entries_all > 0 ? off_all / entries_all : 0.0;
+  std::vector<long> rows(static_cast<size_t>(size));
+  long my_rows = nloc;
+  MPI_Allgather(&my_rows, 1, MPI_LONG, rows.data(), 1, MPI_LONG, comm);
+  rep.json["partition"]["rows_per_rank"] = rows;
+  rep.json["partition"]["imbalance"] = n > 0 ? double(*std::max_element(rows.begin(), rows.end())) * size / double(n) : 1.0;
   HC_PETSC(MatCreate(comm, &K.m));
   HC_PETSC(MatSetSizes(K.m, nloc, nloc, n, n));
   HC_PETSC(MatSetType(K.m, MATAIJ));
@@ -338,13 +468,14 @@ void Engine::assemble() {
   HC_PETSC(MatMPIAIJSetPreallocation(K.m, 0, dnz.data(), 0, onz.data()));
   std::vector<PetscInt> cols;
   std::vector<PetscScalar> vals;
-  for (PetscInt i = lo; i < hi; ++i) {
+  for (PetscInt l = 0; l < nloc; ++l) {
     cols.clear();
     vals.clear();
-    for (SpMat::InnerIterator it(Kx, i); it; ++it) {
-      cols.push_back(static_cast<PetscInt>(it.row()));
+    for (SpMat::InnerIterator it(Kx, X(l)); it; ++it) {
+      cols.push_back(P(it.row()));
       vals.push_back(it.value());
     }
+    const PetscInt i = lo + l;
     HC_PETSC(MatSetValues(K.m, 1, &i, static_cast<PetscInt>(cols.size()), cols.data(), vals.data(), INSERT_VALUES));
   }
   HC_PETSC(MatAssemblyBegin(K.m, MAT_FINAL_ASSEMBLY));
@@ -359,7 +490,7 @@ void Engine::assemble() {
       HC_PETSC(MatCreateVecs(K.m, &xv.v, &y.v));
       PetscScalar* p;
       HC_PETSC(VecGetArray(xv.v, &p));
-      for (PetscInt i = lo; i < hi; ++i) p[i - lo] = x[i];
+      for (PetscInt l = 0; l < hi - lo; ++l) p[l] = x[X(l)];
       HC_PETSC(VecRestoreArray(xv.v, &p));
       HC_PETSC(MatMult(K.m, xv.v, y.v));
       return gather(y.v);
@@ -370,7 +501,7 @@ void Engine::assemble() {
   HC_PETSC(MatCreateVecs(K.m, &f.v, nullptr));
   PetscScalar* pf;
   HC_PETSC(VecGetArray(f.v, &pf));
-  for (PetscInt i = lo; i < hi; ++i) pf[i - lo] = md.fx[i];
+  for (PetscInt l = 0; l < hi - lo; ++l) pf[l] = md.fx[X(l)];
   HC_PETSC(VecRestoreArray(f.v, &pf));
   // The bounds and the TAO path's work vectors: ssn reads g and the rollers from the model.
   if (tao_type(opt.backend) != "ssn") tao_vectors();
@@ -391,7 +522,7 @@ void Engine::tao_vectors() {
     pu[i - lo] = PETSC_INFINITY;
   }
   for (Index k : my_nodes) {
-    const Index i = md.dofs.contact_dof(k, 0) - lo;
+    const Index i = cdof(k) - lo;
     if (std::isfinite(md.contact.g[k])) pu[i] = md.contact.g[k];
     // A roller on a Γ3 node: 0 ≤ x_τ ≤ 0 keeps d unknowns per node (driver/solve.cpp does the same).
     for (int c = 1; c < d; ++c)
@@ -425,7 +556,7 @@ void Engine::near_null_space() {
     HC_PETSC(MatCreateVecs(K.m, &modes[static_cast<size_t>(m)], nullptr));
     PetscScalar* p;
     HC_PETSC(VecGetArray(modes[static_cast<size_t>(m)], &p));
-    for (PetscInt i = lo; i < hi; ++i) p[i - lo] = rx[i];
+    for (PetscInt l = 0; l < hi - lo; ++l) p[l] = rx[X(l)];
     HC_PETSC(VecRestoreArray(modes[static_cast<size_t>(m)], &p));
   }
   // Modified Gram-Schmidt (MatNullSpaceCreate wants orthonormal vectors).
@@ -519,7 +650,7 @@ double Engine::energy(::Vec z, ::Vec g) {
   HC_PETSC(VecGetArray(g, &pg));
   for (size_t q = 0; q < my_nodes.size(); ++q) {
     const Index k = my_nodes[q];
-    const Index i = md.dofs.contact_dof(k, 0) - lo;
+    const Index i = cdof(k) - lo;
     const double w = md.contact.w[k];
     if (law) {
       local += w * law->j(px[i]);
@@ -550,7 +681,7 @@ void Engine::hessian(::Vec z, ::Mat H) {
   HC_PETSC(VecGetArrayRead(z, &pz));
   for (size_t q = 0; q < my_nodes.size(); ++q) {
     const Index k = my_nodes[q];
-    const auto i0 = static_cast<PetscInt>(md.dofs.contact_dof(k, 0));
+    const PetscInt i0 = cdof(k);
     const double w = md.contact.w[k];
     double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     if (law) B[0] = w * std::max(0.0, law->dp(U_s * pz[i0 - lo]));
@@ -634,7 +765,10 @@ Eigen::VectorXd Engine::gather(::Vec v) const {
   Eigen::VectorXd out(n);
   const PetscScalar* p;
   HC_PETSC(VecGetArrayRead(all, &p));
-  std::copy(p, p + n, out.data());
+  if (perm.empty())
+    std::copy(p, p + n, out.data());
+  else
+    for (PetscInt x = 0; x < n; ++x) out[x] = p[perm[static_cast<size_t>(x)]];
   HC_PETSC(VecRestoreArrayRead(all, &p));
   VecScatterDestroy(&sc);
   VecDestroy(&all);
@@ -646,7 +780,7 @@ Eigen::VectorXd Engine::local_gamma3(::Vec z) const {
   const PetscScalar* p;
   VecGetArrayRead(z, &p);
   for (size_t q = 0; q < my_nodes.size(); ++q)
-    for (int a = 0; a < d; ++a) c[static_cast<Index>(q) * d + a] = p[md.dofs.contact_dof(my_nodes[q], a) - lo];
+    for (int a = 0; a < d; ++a) c[static_cast<Index>(q) * d + a] = p[cdof(my_nodes[q]) + a - lo];
   VecRestoreArrayRead(z, &p);
   return c;
 }
@@ -736,7 +870,7 @@ void Engine::relax_lambda(OuterIteration& rec, bool measure_contraction, double&
   VecGetArrayRead(zs.v, &p);
   double dmax = 0, lmax = 0;
   for (size_t q = 0; q < my_nodes.size(); ++q) {
-    const double fb = md.friction->F(U_s * p[md.dofs.contact_dof(my_nodes[q], 0) - lo]);
+    const double fb = md.friction->F(U_s * p[cdof(my_nodes[q]) - lo]);
     const double l = (1 - opt.relaxation) * lambda[q] + opt.relaxation * fb;
     dmax = std::max(dmax, std::abs(l - lambda[q]));
     lmax = std::max({lmax, std::abs(l), std::abs(lambda[q])});
@@ -845,9 +979,9 @@ PolishResult Engine::polish(Eigen::VectorXd& x_io, const SolveOptions& read_opt,
   {
     PetscScalar* px;
     HC_PETSC(VecGetArray(x.v, &px));
-    for (PetscInt i = lo; i < hi; ++i) px[i - lo] = x_io[i];
+    for (PetscInt l = 0; l < hi - lo; ++l) px[l] = x_io[X(l)];
     for (Index k : my_nodes) {
-      const auto iv = static_cast<PetscInt>(md.dofs.contact_dof(k, 0));
+      const PetscInt iv = cdof(k);
       const NodeStatus st = s0.status[k];
       if (st.normal == NormalStatus::CONTACT) px[iv - lo] = md.contact.g[k], fixed.push_back(iv);
       const bool frictionless = frictionless_at(md, s0.state.u_nu[k], delta);
@@ -870,7 +1004,7 @@ PolishResult Engine::polish(Eigen::VectorXd& x_io, const SolveOptions& read_opt,
     HC_PETSC(VecGetArray(R.v, &pr));
     int local_bad = 0;
     for (Index k : my_nodes) {
-      const auto iv = static_cast<PetscInt>(md.dofs.contact_dof(k, 0));
+      const PetscInt iv = cdof(k);
       const double w = md.contact.w[k], xn = px[iv - lo];
       const NodeStatus st = s0.status[k];
       double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
@@ -1025,7 +1159,7 @@ void Engine::finish(Solution& s, Eigen::VectorXd x, clk::time_point t0) {
 Engine::BandRows Engine::save_band() const {
   std::vector<char> on_gamma3(static_cast<size_t>(n), 0);
   for (Index k = 0; k < md.contact.size(); ++k)
-    for (int c = 0; c < d; ++c) on_gamma3[static_cast<size_t>(md.dofs.contact_dof(k, c))] = 1;
+    for (int c = 0; c < d; ++c) on_gamma3[static_cast<size_t>(cdof(k) + c)] = 1;
   BandRows b;
   b.start.push_back(0);
   for (PetscInt i = lo; i < hi; ++i) {
@@ -1139,7 +1273,7 @@ Solution Engine::run_ssn(clk::time_point t0) {
     long changed = 0;
     for (size_t q = 0; q < my_nodes.size(); ++q) {
       const Index kk = my_nodes[q];
-      const auto iv = static_cast<PetscInt>(md.dofs.contact_dof(kk, 0));
+      const PetscInt iv = cdof(kk);
       const PetscInt l = iv - lo;
       const double w = md.contact.w[kk], xn = px[l], g = md.contact.g[kk];
       slip_dir[q].setZero();  // set below if the node slides this step
@@ -1270,7 +1404,7 @@ Solution Engine::run_ssn(clk::time_point t0) {
       for (size_t q = 0; q < my_nodes.size(); ++q) {
         hold_stick[q] = 0;  // one step only
         if (slip_dir[q].squaredNorm() == 0) continue;
-        const PetscInt l = static_cast<PetscInt>(md.dofs.contact_dof(my_nodes[q], 0)) - lo;
+        const PetscInt l = cdof(my_nodes[q]) - lo;
         double dot = 0;
         for (int c = 1; c < d; ++c) dot += pxx[l + c] * slip_dir[q][c - 1];
         hold_stick[q] = dot < 0;

@@ -288,6 +288,10 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "GAMG's near-null space: translations (d modes: half the AMG memory, about twice the "
                   "CG iterations in 3D) or rigid (translations and rotations; for slender bodies).",
                   {"translations", "rigid"}));
+  t.push_back(key("/solver/petsc/partition", "string", D.petsc.partition,
+                  "How the nodes go to the ranks: ptscotch (graph partitioner; few couplings across "
+                  "ranks for any mesh) or natural (contiguous runs of the node numbering).",
+                  {"ptscotch", "natural"}));
   t.push_back(key("/solver/petsc/newton_pc", "string", D.petsc.newton_pc,
                   "Preconditioner of TAO's Newton steps (the Hessian on the inactive set): hypre "
                   "(BoomerAMG) or gamg.",

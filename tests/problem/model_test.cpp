@@ -145,6 +145,68 @@ TEST(Model, ColumnRangeAssemblyIsThoseColumnsOfKx) {
   }
 }
 
+// The graph partitioner's parts are not runs of x: a rank assembles the columns of the nodes it
+// was given. Every third node (and all Γ3 nodes in one of the two sets) on the same two scenes:
+// exactly those nodes' columns of K_x, nothing else; and node_graph's lists, of the marked nodes
+// only, are K_x's pattern of those columns read per node (itself included, symmetric).
+TEST(Model, NodeMaskAssemblyIsThoseNodesColumnsOfKx) {
+  const Model md2 = half_scene(8);
+  const Model md3 = build_model(load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json",
+                                           {"mesh.n=4", "mesh.perturb=0.2"}),
+                                HEMICONTACT_SOURCE_DIR "/problems");
+  for (const Model* m : {&md2, &md3}) {
+    const SpMat& Kx = m->Kx;
+    const Index n = Kx.cols(), N = m->mesh.num_nodes();
+    const int d = m->dim();
+    const std::vector<Index> sel = m->dofs.cartesian_selection();
+    const Mat D = m->material->tangent(Vec::Zero(voigt_size(d)));
+    const double scale = Kx.coeffs().cwiseAbs().maxCoeff();
+    for (int variant = 0; variant < 2; ++variant) {
+      std::vector<char> own(static_cast<size_t>(N), 0);
+      for (Index v = 0; v < N; ++v) own[static_cast<size_t>(v)] = v % 3 == variant;
+      if (variant == 1)
+        for (Index k = 0; k < m->contact.size(); ++k) own[static_cast<size_t>(m->contact.node[static_cast<size_t>(k)])] = 1;
+      const SpMat slice = assemble_reduced_stiffness(m->mesh, D, m->dofs, own);
+      ASSERT_EQ(slice.cols(), n);
+      std::vector<char> col_owned(static_cast<size_t>(n), 0);
+      for (size_t j = 0; j < sel.size(); ++j)
+        if (sel[j] >= 0 && own[j / static_cast<size_t>(d)]) col_owned[static_cast<size_t>(sel[j])] = 1;
+      double diff = 0;
+      Index owned_cols = 0;
+      for (Index j = 0; j < n; ++j) {
+        if (!col_owned[static_cast<size_t>(j)]) {
+          EXPECT_EQ(slice.col(j).nonZeros(), 0) << "column " << j << " of a node not in the mask";
+          continue;
+        }
+        ++owned_cols;
+        diff = std::max(diff, (Vec(slice.col(j)) - Vec(Kx.col(j))).cwiseAbs().maxCoeff());
+      }
+      EXPECT_GT(owned_cols, 0);
+      EXPECT_LE(diff, 1e-14 * scale) << "variant " << variant;
+      const NodeGraph g = node_graph(m->mesh, &own);
+      for (Index v = 0; v < N; ++v) {
+        if (!own[static_cast<size_t>(v)]) {
+          EXPECT_EQ(g.size(v), 0) << "node " << v;
+          continue;
+        }
+        ASSERT_TRUE(std::is_sorted(g.begin(v), g.end(v)));
+        EXPECT_TRUE(std::binary_search(g.begin(v), g.end(v), static_cast<int>(v))) << "node " << v;
+        // Node b is a neighbour iff the full stiffness couples v and b (P1: through a shared cell).
+        std::vector<int> expect;
+        for (Index c = 0; c < m->mesh.num_cells(); ++c) {
+          bool has = false;
+          for (int a = 0; a <= d; ++a) has = has || m->mesh.cells(c, a) == v;
+          if (has)
+            for (int a = 0; a <= d; ++a) expect.push_back(m->mesh.cells(c, a));
+        }
+        std::sort(expect.begin(), expect.end());
+        expect.erase(std::unique(expect.begin(), expect.end()), expect.end());
+        EXPECT_EQ(std::vector<int>(g.begin(v), g.end(v)), expect) << "node " << v;
+      }
+    }
+  }
+}
+
 // The petsc engine's model keeps no K_x and applies it as an operator instead (Model::Kx_apply):
 // the internal force, a(u, v) and the elastic energy must then be those of K_x.
 TEST(Model, StiffnessOperatorInPlaceOfKxGivesTheSameForms) {

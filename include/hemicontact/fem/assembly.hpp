@@ -28,6 +28,24 @@ SpMat assemble_stiffness(const Mesh& mesh, const Mat& D);
 MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const DofMap& dofs, Index col_lo = 0,
                                         Index col_hi = -1);
 
+/// The same, with the columns of the nodes marked in @p own_nodes (one flag per mesh node):
+/// the rows a rank of the petsc engine owns after the graph partitioner moved them (issue 16).
+MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const DofMap& dofs,
+                                        const std::vector<char>& own_nodes);
+
+/// The node graph of a mesh: each node's neighbours through the cells, sorted, itself included
+/// (the sparsity of K with every entry a d×d block), compressed: node a's are nbr[ptr[a] ..
+/// ptr[a + 1]). Only the nodes marked in @p keep (optional) get their lists, the others are empty:
+/// a rank of the petsc engine holds its own nodes' graph (assembly, the partitioner's input).
+struct NodeGraph {
+  std::vector<Index> ptr;
+  std::vector<int> nbr;
+  const int* begin(Index a) const { return nbr.data() + ptr[a]; }
+  const int* end(Index a) const { return nbr.data() + ptr[a + 1]; }
+  Index size(Index a) const { return ptr[a + 1] - ptr[a]; }
+};
+NodeGraph node_graph(const Mesh& mesh, const std::vector<char>* keep = nullptr);
+
 /// Body force: ∫Ω f0·φ_a = |T|/(d+1) f0 per cell node, exact for constant f0 and P1.
 Vec assemble_body_force(const Mesh& mesh, const Vec& f0);
 

@@ -33,6 +33,11 @@ struct PetscEngineOptions {
   /// 1.8 KB, 17 s (each V-cycle and each set-up cheaper); CG per Newton step stays at 18-21 up to
   /// 10^7 unknowns. Rigid for slender bodies (plates, beams), whose low-energy modes are rotations.
   std::string near_null_space = "translations";
+  /// How the nodes go to the ranks (more than one): "ptscotch" (PT-Scotch graph partitioner on the
+  /// free nodes' graph, through PETSc's MatPartitioning: few rows coupled across ranks for any
+  /// mesh) or "natural" (contiguous runs of the model's numbering: slabs of a generated box, but
+  /// for an imported mesh whatever order its file has).
+  std::string partition = "ptscotch";
   /// Preconditioner of TAO's Newton steps, whose matrix is the Hessian restricted to the inactive
   /// set (it changes size): "hypre" (BoomerAMG) or "gamg".
   std::string newton_pc = "hypre";
