@@ -147,8 +147,71 @@ void hypre_defaults(KSP ksp) {
 // passes the estimate of the prolongator smoothing to them by default (pc_gamg_use_sa_esteig),
 // and on a hierarchy rebuilt for a matrix with Γ3 rows fixed (contact, stick) that made the
 // preconditioner indefinite (CG: DIVERGED_INDEFINITE_PC at the first rebuild; measured on the 3D
-// scene at n = 32, 48, 70).
+// scene at n = 32, 48, 70). Set on every KSP that may run GAMG: ssn's steps, the elastic solve and
+// the polish (create_cg), and TAO's Newton steps (newton_pc = gamg).
 void gamg_defaults(KSP ksp) { pc_defaults(ksp, PCGAMG, "pc_gamg_", {{"use_sa_esteig", "false"}}); }
+
+// GAMG for TAO's Newton steps (newton_pc = gamg), whose matrix is the Hessian on the inactive set:
+// its size changes from step to step, and PETSc 3.18's GAMG keeps its levels' operators through a
+// reset and then refuses the new size ("Cannot change local size of Amat after use", exit 3 of
+// every tao:* run with gamg before). A shell preconditioner therefore makes a fresh GAMG at every
+// set-up (TAO's matrix is new at every step, so BoomerAMG's hierarchy is rebuilt just as often).
+struct FreshGamg {
+  PC inner = nullptr;
+  std::string prefix;  // TAO's KSP's, so -tao_pc_gamg_... options reach the inner GAMG
+};
+
+PetscErrorCode fresh_gamg_setup(PC pc) {
+  FreshGamg* s = nullptr;
+  PetscCall(PCShellGetContext(pc, &s));
+  ::Mat A, P;
+  PetscCall(PCGetOperators(pc, &A, &P));
+  PetscCall(PCDestroy(&s->inner));
+  PetscCall(PCCreate(PetscObjectComm(reinterpret_cast<PetscObject>(pc)), &s->inner));
+  PetscCall(PCSetOptionsPrefix(s->inner, s->prefix.c_str()));
+  PetscCall(PCSetType(s->inner, PCGAMG));
+  PetscCall(PCSetOperators(s->inner, A, P));
+  PetscBool set = PETSC_FALSE;
+  const std::string esteig = "-" + s->prefix + "pc_gamg_use_sa_esteig";
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, esteig.c_str(), &set));
+  if (!set) PetscCall(PetscOptionsSetValue(nullptr, esteig.c_str(), "false"));
+  PetscCall(PCSetFromOptions(s->inner));
+  PetscCall(PCSetUp(s->inner));
+  return 0;
+}
+
+PetscErrorCode fresh_gamg_apply(PC pc, ::Vec x, ::Vec y) {
+  FreshGamg* s = nullptr;
+  PetscCall(PCShellGetContext(pc, &s));
+  PetscCall(PCApply(s->inner, x, y));
+  return 0;
+}
+
+PetscErrorCode fresh_gamg_destroy(PC pc) {
+  FreshGamg* s = nullptr;
+  PetscCall(PCShellGetContext(pc, &s));
+  PetscCall(PCDestroy(&s->inner));
+  delete s;
+  return 0;
+}
+
+void fresh_gamg(KSP ksp) {
+  PC pc;
+  HC_PETSC(KSPGetPC(ksp, &pc));
+  PetscBool gamg = PETSC_FALSE;
+  HC_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCGAMG, &gamg));
+  if (!gamg) return;  // the user's -tao_pc_type won
+  const char* prefix = nullptr;
+  HC_PETSC(KSPGetOptionsPrefix(ksp, &prefix));
+  HC_PETSC(PCSetType(pc, PCSHELL));
+  auto* s = new FreshGamg;
+  s->prefix = prefix ? prefix : "";
+  HC_PETSC(PCShellSetContext(pc, s));
+  HC_PETSC(PCShellSetSetUp(pc, fresh_gamg_setup));
+  HC_PETSC(PCShellSetApply(pc, fresh_gamg_apply));
+  HC_PETSC(PCShellSetDestroy(pc, fresh_gamg_destroy));
+  HC_PETSC(PCShellSetName(pc, "GAMG, made anew for each Newton step"));
+}
 
 }  // namespace
 
@@ -597,6 +660,7 @@ void Engine::create_cg(PKsp& ksp, const char* prefix, KSPNormType norm) const {
   HC_PETSC(KSPSetTolerances(ksp.k, opt.petsc.ksp_rtol, PETSC_DEFAULT, PETSC_DEFAULT, opt.petsc.ksp_max_it));
   HC_PETSC(KSPSetFromOptions(ksp.k));
   hypre_defaults(ksp.k);
+  gamg_defaults(ksp.k);
 }
 
 // A Krylov solve that did not converge stops the run with PETSc's reason (EXIT_NOT_CONVERGED):
@@ -819,7 +883,10 @@ OuterIteration Engine::minimize(size_t stage) {
   }
   HC_PETSC(TaoSetFromOptions(tao.t));
   HC_PETSC(TaoGetKSP(tao.t, &ksp));
-  if (ksp) hypre_defaults(ksp);
+  if (ksp) {
+    hypre_defaults(ksp);
+    if (opt.petsc.newton_pc == "gamg") fresh_gamg(ksp);
+  }
   HC_PETSC(TaoSolve(tao.t));
   TaoConvergedReason reason;
   PetscInt its, lits, nfev;
@@ -1232,7 +1299,6 @@ Solution Engine::run_ssn(clk::time_point t0) {
   // rtol on the true residual: the inexact-Newton forcing terms and the hierarchy's quality
   // (iterations per decade) then mean what they say.
   create_cg(ksp, "ssn_", KSP_NORM_UNPRECONDITIONED);
-  gamg_defaults(ksp.k);
   HC_PETSC(VecSet(x.v, 0.0));
   // A fixed unknown's row keeps a diagonal of K's own size (the mean K_ii), not 1 against
   // K_ii ~ E h: its eigenvalue then lies inside K's spectrum, where the Chebyshev smoothers' bounds
