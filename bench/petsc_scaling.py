@@ -5,7 +5,8 @@ one run at a time. Reads each run's report.json and prints one row per run: unkn
 time (the whole process, measured here), the solve's own time, peak memory summed over the ranks
 (getrusage, from report.json "petsc"), bytes per unknown, the method (ssn by default; --backend
 tao:bnls for TAO), Newton and Krylov counts, Krylov per Newton step (mean and largest), how many
-times the AMG hierarchy was built, the certificate, and the speedup against P = 1 of the same n.
+times the AMG hierarchy was built, the certificate, the share of K's entries that couple two ranks
+(report.json petsc.partition), and the speedup against P = 1 of the same n.
 The CSV goes to --out.
 
   python3 bench/petsc_scaling.py --build build --levels 8,16,24,32 --ranks 1,2 --out /tmp/petsc-scaling
@@ -72,6 +73,8 @@ def main() -> int:
                 "pc_builds": sum(1 for m in pe["minimizations"] if m.get("pc_built")),
                 "polish_newton": pe["polish_newton_iterations"],
                 "certificate": rep["certificate"]["max_residual"], "statuses": json.dumps(rep["status_counts"]),
+                # the partition's coupled share of K's entries (0 on one rank)
+                "off_rank": round(pe.get("partition", {}).get("off_rank_entries", 0.0), 5),
             }
             if p == 1:
                 base[n] = wall
