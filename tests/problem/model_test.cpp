@@ -23,6 +23,13 @@ Model half_scene(int n) {
   return build_model(scene, HEMICONTACT_SOURCE_DIR "/problems");
 }
 
+// The 3D paper scene on an n³ box with its nodes moved (Γ3 frames, 3 × 3 node blocks).
+Model perturbed_box(int n) {
+  const auto scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json",
+                                {"mesh.n=" + std::to_string(n), "mesh.perturb=0.2"});
+  return build_model(scene, HEMICONTACT_SOURCE_DIR "/problems");
+}
+
 Vec random_vector(Index n, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
@@ -103,9 +110,7 @@ TEST(Model, ReducedAssemblyEqualsTheReducedFullStiffness) {
 // on the 3D box (Γ3 frames, 3 × 3 blocks).
 TEST(Model, ColumnRangeAssemblyIsThoseColumnsOfKx) {
   const Model md2 = half_scene(8);
-  const Model md3 = build_model(load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json",
-                                           {"mesh.n=4", "mesh.perturb=0.2"}),
-                                HEMICONTACT_SOURCE_DIR "/problems");
+  const Model md3 = perturbed_box(4);
   for (const Model* m : {&md2, &md3}) {
     const SpMat& Kx = m->Kx;
     const Index n = Kx.cols();
@@ -151,9 +156,7 @@ TEST(Model, ColumnRangeAssemblyIsThoseColumnsOfKx) {
 // only, are K_x's pattern of those columns read per node (itself included, symmetric).
 TEST(Model, NodeMaskAssemblyIsThoseNodesColumnsOfKx) {
   const Model md2 = half_scene(8);
-  const Model md3 = build_model(load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json",
-                                           {"mesh.n=4", "mesh.perturb=0.2"}),
-                                HEMICONTACT_SOURCE_DIR "/problems");
+  const Model md3 = perturbed_box(4);
   for (const Model* m : {&md2, &md3}) {
     const SpMat& Kx = m->Kx;
     const Index n = Kx.cols(), N = m->mesh.num_nodes();
