@@ -319,7 +319,8 @@ std::vector<SchemaEntry> build_scene_schema() {
                     1e-6));
   t.push_back(at_least(key("/solver/petsc/pc_rebuild", "number", D.petsc.pc_rebuild,
                            "Backend ssn: reuse the AMG hierarchy until a step takes more than this times "
-                           "the CG iterations of the step that built it."),
+                           "the CG iterations per decade of its reference (the larger of the step that "
+                           "built it and the first step that reused it)."),
                        1));
   t.push_back(key("/solver/petsc/options", "string", D.petsc.options,
                   "Extra PETSc options, verbatim (e.g. \"-ksp_monitor\"); not checked here."));
