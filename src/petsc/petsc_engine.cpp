@@ -318,6 +318,7 @@ class Engine {
   // each node's d unknowns kept together. Both empty: the same numbering (one rank, "natural").
   std::vector<PetscInt> perm;  // x index → PETSc index
   std::vector<Index> mine;     // x index of owned row lo + l
+  std::vector<char> own_nodes;  // per mesh node: its rows are this rank's (kept until assembled)
   PetscInt P(Index x) const { return perm.empty() ? static_cast<PetscInt>(x) : perm[static_cast<size_t>(x)]; }
   Index X(PetscInt l) const { return mine.empty() ? lo + l : mine[static_cast<size_t>(l)]; }
   // Γ3 node k's ν row in PETSc's numbering; its τ rows follow it.
@@ -407,6 +408,9 @@ void Engine::distribute() {
   for (Index k = 0; k < md.contact.size(); ++k)
     if (cdof(k) >= lo && cdof(k) < hi) my_nodes.push_back(k);
   lambda.assign(my_nodes.size(), 0.0);
+  own_nodes.assign(static_cast<size_t>(md.mesh.num_nodes()), 0);
+  for (size_t b = 0; b < block_node.size(); ++b)
+    if (P(block_first[b]) >= lo && P(block_first[b]) < hi) own_nodes[static_cast<size_t>(block_node[b])] = 1;
   timings["petsc_partition"] = since(t0);
 }
 
@@ -506,18 +510,9 @@ void Engine::assemble() {
   // rank assembles its own columns, i.e. rows, and frees them once PETSc holds them. A model that
   // does keep K_x (tests that build one) is read as it is.
   MovableSpMat own;
-  if (md.Kx.size() == 0) {
-    const Mat D0 = md.material->tangent(Vec::Zero(voigt_size(d)));
-    if (perm.empty()) {
-      own = assemble_reduced_stiffness(md.mesh, D0, md.dofs, lo, hi);
-    } else {
-      std::vector<char> own_nodes(static_cast<size_t>(md.mesh.num_nodes()), 0);
-      const std::vector<Index> sel = md.dofs.cartesian_selection();
-      for (size_t j = 0; j < sel.size(); ++j)
-        if (sel[j] >= 0 && P(sel[j]) >= lo && P(sel[j]) < hi) own_nodes[j / static_cast<size_t>(d)] = 1;
-      own = assemble_reduced_stiffness(md.mesh, D0, md.dofs, own_nodes);
-    }
-  }
+  if (md.Kx.size() == 0)
+    own = assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs, own_nodes);
+  own_nodes = std::vector<char>();
   const SpMat& Kx = md.Kx.size() == 0 ? static_cast<const SpMat&>(own) : static_cast<const SpMat&>(md.Kx);
   const PetscInt nloc = hi - lo;
   std::vector<PetscInt> dnz(static_cast<size_t>(nloc), 0), onz(static_cast<size_t>(nloc), 0);
