@@ -128,10 +128,11 @@ json run_phase(const Args& a, const std::string& phase) {
   const Solution sol = solve(md, opt);
   st["solve_s"] = since(t0);
   for (const auto& [k, v] : sol.timings) st["solve_timings"][k] = v;
-  long long iters = 0;
-  for (const auto& h : sol.history) iters += h.backend.iterations;
-  st["backend_iterations"] = iters;
-  st["minimizations"] = sol.history.size();
+  // The backend's own work, and what produced the answer (the exact solver's inner solves are not it).
+  const SolverWork w = sol.work_of(sol.backend);
+  st["backend_iterations"] = w.iterations;
+  st["minimizations"] = w.minimizations;
+  st["solved_by"] = sol.solved_by();
   st["certificate"] = sol.certificate.max_residual;
   st["ok"] = sol.ok();
   st["polish"] = {{"accepted", sol.polish.accepted}, {"before", sol.polish.before}, {"after", sol.polish.after}};
@@ -150,6 +151,7 @@ int main(int argc, char** argv) {
   all["cells"] = {a.nx, a.ny, a.nz};
   all["backend"] = a.backend;
   all["overrides"] = a.overrides;
+  bool failed = false;
   for (const auto& phase : a.phases) {
     const std::string file = (fs::path(a.out) / (phase + ".json")).string();
     std::fflush(nullptr);
@@ -173,8 +175,13 @@ int main(int argc, char** argv) {
     int status = 0;
     rusage ru{};
     ::wait4(pid, &status, 0, &ru);
-    json st;
-    if (std::ifstream f(file); f) f >> st;
+    // A failed phase wrote nothing (or a stale file from an earlier run): only a child that exited 0
+    // has results; the run then fails loudly below instead of reporting another run's numbers.
+    json st = json::object();
+    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    if (std::ifstream f(file); f && ok) st = json::parse(f, nullptr, false);
+    if (st.is_discarded()) st = json::object();
+    failed = failed || !ok;
     st["wall_s"] = since(t0);
     st["peak_rss_mb"] = static_cast<double>(ru.ru_maxrss) / 1024.0;  // Linux: kilobytes
     st["user_s"] = ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec;
@@ -184,9 +191,12 @@ int main(int argc, char** argv) {
                 st.value("dofs", json()).dump().c_str(), st.value("gamma3_nodes", json()).dump().c_str(),
                 st["wall_s"].get<double>(), st.value("build_s", 0.0), st.value("solve_s", 0.0),
                 st["peak_rss_mb"].get<double>(),
-                st.contains("certificate") ? (", certificate " + st["certificate"].dump()).c_str() : "");
+                st.contains("certificate")
+                    ? (", certificate " + st["certificate"].dump() + ", solved by " + st.value("solved_by", "?")).c_str()
+                    : "");
   }
   std::ofstream(fs::path(a.out) / "bench3d.json") << all.dump(2) << "\n";
   std::printf("results in %s/bench3d.json\n", a.out.c_str());
-  return 0;
+  if (failed) std::fprintf(stderr, "hemicontact_bench3d: a phase failed (its message above)\n");
+  return failed ? EXIT_NOT_CONVERGED : 0;
 }

@@ -62,6 +62,9 @@ struct Row {
   double certificate = NAN, min_eig = NAN, seconds = 0, linear = NAN, ratio = NAN, energy = NAN;
   std::string reason, message;
   std::string path;  // which of the solve's routes gave the answer (path_of)
+  std::string solved_by;  // Solution::solved_by
+  bool backend_ran = false;
+  long long backend_iterations = 0, backend_evaluations = 0;
   std::map<std::string, double> timings;  // the solve's own split (Solution::timings)
 };
 
@@ -78,13 +81,12 @@ double percentile(std::vector<double> v, double q) {
 // not strongly convex the routes may end in different stationary points; with `energy` this column
 // lets two runs of the study be compared.
 std::string path_of(const Solution& s) {
-  for (const auto& k : s.skipped) {
-    if (k.rfind("continuation: not run", 0) == 0) return "exact from start";
-    if (k.rfind("continuation: its answer was not certified", 0) == 0) return "last resort";
-  }
+  for (const auto& k : s.skipped)
+    if (k.rfind("continuation: its answer was not certified", 0) == 0) return "last resort (exact from start)";
   if (s.handover.note.rfind("the exact solver from the start was not certified", 0) == 0)
-    return "continuation after exact start";
-  return "continuation";
+    return "backend stages after exact start";
+  if (!s.backend_use.ran) return "exact from start (backend not run)";
+  return s.handover.used ? "backend stages, exact hand-over" : "backend stages";
 }
 
 }  // namespace
@@ -156,6 +158,11 @@ int main(int argc, char** argv) {
       r.timings = s.timings;
       r.energy = s.energy;
       r.path = path_of(s);
+      r.solved_by = s.solved_by();
+      r.backend_ran = s.backend_use.ran;
+      const SolverWork w = s.work_of(s.backend);
+      r.backend_iterations = w.iterations;
+      r.backend_evaluations = w.evaluations;
       if (r.ok) {
         r.outcome = "certified";
       } else {
@@ -178,16 +185,18 @@ int main(int argc, char** argv) {
   // CSV
   std::ofstream csv(fs::path(out) / "random-default.csv");
   csv << "seed,n,E,load_scale,mu,g,aspect,outcome,certificate,strongly_convex_checked,strongly_convex,min_eigenvalue,"
-         "handover,path,energy,seconds,linear_seconds,ratio,message,command\n";
+         "handover,path,solved_by,backend_ran,backend_iterations,backend_evaluations,energy,seconds,linear_seconds,"
+         "ratio,message,command\n";
   for (const auto& r : rows)
     csv << r.rs.seed << ',' << r.rs.n << ',' << r.rs.E << ',' << r.rs.load_scale << ',' << r.rs.mu << ','
         << (r.rs.gap_none ? std::string("none") : stress::num(r.rs.g)) << ',' << r.rs.aspect << ',' << r.outcome << ','
         << r.certificate << ',' << r.convex_checked << ',' << r.convex << ',' << r.min_eig << ',' << r.handover << ','
-        << r.path << ',' << stress::num(r.energy) << ',' << r.seconds << ',' << r.linear << ',' << r.ratio << ',' << csv_quote(r.message) << ','
+        << r.path << ',' << r.solved_by << ',' << r.backend_ran << ',' << r.backend_iterations << ','
+        << r.backend_evaluations << ',' << stress::num(r.energy) << ',' << r.seconds << ',' << r.linear << ',' << r.ratio << ',' << csv_quote(r.message) << ','
         << csv_quote(r.rs.command()) << '\n';
 
   // Summary
-  int valid = 0, ok = 0, convex = 0, convex_ok = 0, handover = 0, input = 0, above10 = 0;
+  int valid = 0, ok = 0, convex = 0, convex_ok = 0, handover = 0, input = 0, above10 = 0, ran = 0, worked = 0;
   std::vector<double> ratios, ratios_ok;
   double slowest = 0;
   std::map<std::string, int> certified_by_path;
@@ -202,6 +211,8 @@ int main(int argc, char** argv) {
     convex += r.convex;
     convex_ok += r.convex && r.ok;
     handover += r.handover;
+    ran += r.backend_ran;
+    worked += r.backend_ran && (r.backend_iterations > 0 || r.backend_evaluations > 0);
     if (std::isfinite(r.ratio)) {
       ratios.push_back(r.ratio);
       above10 += r.ratio > 10;
@@ -209,15 +220,17 @@ int main(int argc, char** argv) {
     slowest = std::max(slowest, r.seconds);
   }
   std::ostringstream md;
-  md << "### Random scenes with default settings (issue 15)\n\n"
+  md << "### Random scenes" << (backend.empty() && sets.empty() ? " with default settings" : "") << "\n\n"
      << "Seeds " << first << ".." << first + seeds - 1 << " of `draw_default_scene` (tests/stress/random_scenes.hpp), n = "
-     << n_min << ".." << n_max << ", backend " << (backend.empty() ? "default (ipopt)" : backend)
+     << n_min << ".." << n_max << ", backend "
+     << (backend.empty() ? "auto (ipopt; its stage skipped where the inner problem is strongly convex)" : backend)
      << (sets.empty() ? std::string(", no solver override") : ", overrides: " + [&] {
           std::string j;
           for (const auto& x : sets) j += (j.empty() ? "" : ", ") + x;
           return j;
         }())
-     << ". Regenerate: `hemicontact_random_study --seeds " << seeds << " --out DIR`.\n\n"
+     << ". Regenerate: `hemicontact_random_study --seeds " << seeds
+     << (backend.empty() ? std::string() : " --backend " + backend) << " --out DIR`.\n\n"
      << "| | scenes |\n|---|---|\n"
      << "| drawn | " << rows.size() << " |\n"
      << "| input errors (an inverted perturbed cell) | " << input << " |\n"
@@ -225,7 +238,9 @@ int main(int argc, char** argv) {
      << "| certified | " << ok << " (" << g3(100.0 * ok / std::max(valid, 1)) << " %) |\n"
      << "| inner problem strongly convex | " << convex << " |\n"
      << "| strongly convex and certified | " << convex_ok << " |\n"
-     << "| exact solver took over | " << handover << " |\n";
+     << "| exact solver took over | " << handover << " |\n"
+     << "| backend ran (at least one smoothed minimization) | " << ran << " |\n"
+     << "| backend ran with iterations or evaluations > 0 | " << worked << " |\n";
   for (const auto& [path, count] : certified_by_path) md << "| certified by: " << path << " | " << count << " |\n";
   md << "\n"
      << "Time / linear factor+solve of the same mesh: median " << g3(percentile(ratios, 0.5)) << "x, 90th percentile "
@@ -256,7 +271,7 @@ int main(int argc, char** argv) {
       return it == r.timings.end() ? std::string("-") : g3(1e3 * it->second);
     };
     md << "\nSlowest against the linear solve (times in ms; `smallness` and `convexity` are the set-up "
-          "diagnostics, `backend` the continuation's minimizations):\n\n"
+          "diagnostics, `backend` the backend's smoothed minimizations, `exact` the exact solver):\n\n"
           "| seed | n | ratio | total | linear | smallness | convexity | condensation | backend | exact | polish | "
           "certificate | outcome |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (size_t i = 0; i < std::min<size_t>(10, by_ratio.size()); ++i) {
@@ -269,5 +284,10 @@ int main(int argc, char** argv) {
   }
   std::ofstream(fs::path(out) / "random-default.md") << md.str();
   std::cout << md.str();
+  // A study in which nothing was certified says nothing: it fails loudly.
+  if (valid > 0 && ok == 0) {
+    std::cerr << "hemicontact_random_study: none of the " << valid << " solved scenes was certified\n";
+    return 3;
+  }
   return 0;
 }

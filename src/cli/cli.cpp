@@ -44,9 +44,14 @@ std::string command_help(const std::string& command) {
     return std::string(
                "usage: hemicontact solve SCENE.json [--out DIR] [--set path=value]... [--backend NAME] [--force]\n"
                "                         [--quiet] [--plot [--magnification M]]\n"
-               "Solve a scene: min Pi_lambda subject to u_nu <= g, smoothed, continuation in eps, the outer fixed\n"
-               "point lambda = F_b(u_nu), the exact polish and the certificate (MODEL.md section 4). Writes\n"
-               "DIR/report.json, DIR/solution.vtu (ParaView), DIR/gamma3.csv; DIR defaults to out/<scene name>.\n"
+               "Solve a scene: min Pi_lambda subject to u_nu <= g with the nonsmooth terms smoothed, handed to\n"
+               "the NLP backend (ipopt by default) inside the outer fixed point lambda = F_b(u_nu); the exact\n"
+               "solver (no smoothing) takes over from the backend's first eps-stage, and the certificate judges\n"
+               "the unsmoothed answer. Under solver.backend = auto (the default) the backend's\n"
+               "stage is skipped where the inner problem is strongly convex (its minimizer is unique), and the\n"
+               "summary says so with the eigenvalue; --backend NAME always runs NAME's first stage. stdout and\n"
+               "report.json (backend, phases, solved_by) say what ran. Writes DIR/report.json, DIR/solution.vtu\n"
+               "(ParaView), DIR/gamma3.csv; DIR defaults to out/<scene name>.\n"
                "options:\n") +
            SCENE_OPTIONS +
            "  --plot             also draw DIR/fig2.png (3D: DIR/status3d.png) with /usr/bin/python3 +\n"

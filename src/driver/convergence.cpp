@@ -90,6 +90,7 @@ ConvergenceLevel solve_level(const Model& md, const SolveOptions& opt, const nlo
   r.certified = sol.certificate.passed;
   r.ok = sol.ok();  // the certificate decides, as in `solve` (a backend's own failure does not)
   r.message = sol.message;
+  r.solved_by = sol.solved_by();
   if (!r.ok)
     log_warn() << "convergence: n = " << n << ": "
                << (r.converged ? "certificate failed (max residual " + csv_number(r.certificate_residual) + ")"
@@ -165,7 +166,6 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
   st.reference = solve_level(ref, ref_opt, st.scene, reference, ref_sol);
   st.reference.error = 0;
   if (on_level) on_level(st, reference, ref, ref_sol);
-  st.backend = ref_sol.backend;
   const double ref_norm = ref_sol.energy_norm;
   if (!(ref_norm > 0)) input_error("convergence: the reference solution is zero (no load?): no relative error");
 
@@ -201,6 +201,13 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
     // The level with its error: the caller can keep it before the next (longer) solve starts.
     if (on_level && level_model) on_level(st, L, *level_model, level_sol);
   }
+  // What did the work, as it ran (not the backend's name where its stage was skipped).
+  st.backend.clear();
+  std::vector<const ConvergenceLevel*> all{&st.reference};
+  for (const auto& l : st.levels) all.push_back(&l);
+  for (const ConvergenceLevel* l : all)
+    if (st.backend.find(l->solved_by) == std::string::npos || st.backend.empty())
+      st.backend += (st.backend.empty() ? "" : ", ") + l->solved_by;
   return st;
 }
 

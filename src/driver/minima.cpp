@@ -156,6 +156,57 @@ SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, cons
   return c;
 }
 
+namespace {
+// 2D: Γ3 node k's mirror partner about the midpoint of Γ3's x-range (−1 where none lies within a
+// relative 1e-9 of the range), or an empty map when Γ3 is not mirror-symmetric.
+std::vector<Index> gamma3_mirror(const Model& md) {
+  const Index nc = md.contact.size();
+  if (md.dim() != 2 || nc == 0) return {};
+  double lo = INF, hi = -INF;
+  for (Index k = 0; k < nc; ++k) {
+    const double x = md.mesh.points(md.contact.node[static_cast<size_t>(k)], 0);
+    lo = std::min(lo, x), hi = std::max(hi, x);
+  }
+  const double tol = 1e-9 * std::max(hi - lo, 1e-300);
+  std::vector<Index> m(static_cast<size_t>(nc), -1);
+  for (Index k = 0; k < nc; ++k) {
+    const double xm = lo + hi - md.mesh.points(md.contact.node[static_cast<size_t>(k)], 0);
+    for (Index q = 0; q < nc && m[static_cast<size_t>(k)] < 0; ++q)
+      if (std::abs(md.mesh.points(md.contact.node[static_cast<size_t>(q)], 0) - xm) <= tol) m[static_cast<size_t>(k)] = q;
+    if (m[static_cast<size_t>(k)] < 0) return {};
+  }
+  return m;
+}
+}  // namespace
+
+void pair_mirror_images(const Model& md, MinimaReport& R, double group_tol) {
+  const std::vector<Index> m = gamma3_mirror(md);
+  if (m.empty()) return;
+  for (size_t a = 0; a < R.solutions.size(); ++a)
+    for (size_t b = a + 1; b < R.solutions.size(); ++b) {
+      DistinctSolution &A = R.solutions[a], &B = R.solutions[b];
+      if (A.mirror_of >= 0 || B.mirror_of >= 0) continue;
+      const ContactState &sa = A.solution.state, &sb = B.solution.state;
+      const double Es = std::max({std::abs(A.solution.energy), std::abs(B.solution.energy), 1e-300});
+      if (std::abs(A.solution.energy - B.solution.energy) > group_tol * Es) continue;
+      // Γ3 values of B reflected: u_ν at the partner node, u_τ reversed (the tangent flips).
+      double diff = 0, scale = 0;
+      for (size_t k = 0; k < m.size(); ++k) {
+        const Index q = m[k];
+        diff = std::max({diff, std::abs(sa.u_nu[Index(k)] - sb.u_nu[q]), std::abs(sa.u_tau[Index(k)] + sb.u_tau[q])});
+        scale = std::max({scale, std::abs(sa.u_nu[Index(k)]), std::abs(sa.u_tau[Index(k)])});
+      }
+      // A symmetric solution is its own mirror image: it pairs with none.
+      double self = 0;
+      for (size_t k = 0; k < m.size(); ++k)
+        self = std::max({self, std::abs(sa.u_nu[Index(k)] - sa.u_nu[m[k]]), std::abs(sa.u_tau[Index(k)] + sa.u_tau[m[k]])});
+      if (diff <= group_tol * scale && self > group_tol * scale) {
+        A.mirror_of = static_cast<int>(b);
+        B.mirror_of = static_cast<int>(a);
+      }
+    }
+}
+
 MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaOptions& mopt_in) {
   const auto t0 = clk::now();
   MinimaReport R;
@@ -177,6 +228,7 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
     MinimaRun r;
     r.start = start;
     r.backend = backend;
+    r.solved_by = sol.solved_by();
     r.converged = sol.backend_ok && sol.fixed_point_converged;
     // The certificate is the judge (MODEL.md §4): a backend that stopped short of its own
     // tolerance may still have delivered a solution of (22), and a converged one may not.
@@ -214,6 +266,15 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
     if (S.formulation().empty()) {  // linear: the solution is unique, one solve says it all
       log_info() << "minima: linear problem, one solution; no further starts";
       continue;
+    }
+    // The exact solver's own path from zero (solver.exact.start = always), once: a solve that
+    // chooses it must find its answer among these (it can be another stationary point than the
+    // backend's neighbourhood leads to when Φ_λ is not strongly convex).
+    if (first && opt.exact) {
+      S.set_exact_start("always");
+      const auto t1 = clk::now();
+      record("exact-from-zero", name, S.solve(nullptr), since(t1));
+      S.set_exact_start(o.exact_start);
     }
     const auto run_from = [&](const std::string& label, const Vec& z0) {
       const auto t1 = clk::now();
@@ -306,7 +367,7 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
       const int run = cands[static_cast<size_t>(i)].run;
       ds.runs.push_back(run);
       ds.starts.push_back(R.runs[static_cast<size_t>(run)].start);
-      ++ds.backends[R.runs[static_cast<size_t>(run)].backend];
+      ++ds.backends[R.runs[static_cast<size_t>(run)].solved_by];
       if (R.norm_scale > 0)
         ds.spread =
             std::max(ds.spread, energy_distance(md, cands[static_cast<size_t>(i)].sol.u, ds.solution.u) / R.norm_scale);
@@ -316,6 +377,7 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   std::stable_sort(R.solutions.begin(), R.solutions.end(), [](const DistinctSolution& a, const DistinctSolution& b) {
     return a.solution.energy < b.solution.energy;
   });
+  pair_mirror_images(md, R, mopt.group_tol);
   for (size_t k = 0; k < R.solutions.size(); ++k) {
     DistinctSolution& ds = R.solutions[k];
     for (int run : ds.runs) R.runs[static_cast<size_t>(run)].group = static_cast<int>(k);

@@ -233,6 +233,7 @@ struct ContactSolver::Impl {
   void relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta);
   /// The polish (when @p attempt and solver.polish), then x and u from the iterate.
   void polish(Run& run, bool attempt = true);
+  bool all_separated(const Vec& z) const;
   bool exact_available() const { return opt.exact && F.cond != nullptr; }
   std::vector<int> status_signature(const Run& run, size_t stage) const;
   std::string exact_due(Run& run, size_t stage, bool backend_failed);
@@ -366,6 +367,12 @@ void ContactSolver::set_backend(const std::string& name) {
   m->opt.backend = name;
 }
 
+void ContactSolver::set_exact_start(const std::string& when) {
+  if (when != "auto" && when != "convex" && when != "always" && when != "never")
+    throw Error("ContactSolver::set_exact_start: unknown value '" + when + "'", EXIT_INTERNAL);
+  m->opt.exact_start = when;
+}
+
 void ContactSolver::set_loads(const Model& scaled, double s) {
   Impl& I = *m;
   if (scaled.dofs.n_free() != I.model->dofs.n_free() || scaled.contact.size() != I.model->contact.size())
@@ -413,9 +420,15 @@ Solution ContactSolver::solve(const Vec* z0) {
   const auto t_start = clk::now();
   Impl& I = *m;
   if (I.linear) return I.linear_answer(t_start);
-  // Issue 15: where no neighbourhood is needed (solver.exact.start), the exact solver starts at
-  // once; a certified answer ends the solve before any ε-stage, anything else is forgotten and the
-  // continuation runs from the same start (its hand-over rules still apply).
+  // What the report says of the backend: whether it ran, and why not when it did not.
+  const auto done = [&](Solution&& s, const std::string& not_run = "") -> Solution {
+    s.backend_use.ran = s.work_of(s.backend).minimizations > 0;
+    if (!s.backend_use.ran) s.backend_use.not_run = not_run.empty() ? "not needed" : not_run;
+    return std::move(s);
+  };
+  // Where the backend's stage cannot change the answer (solver.exact.start), the exact solver starts
+  // at once; a certified answer ends the solve before any ε-stage, anything else is forgotten and
+  // the design's path runs from the same start (its hand-over rules still apply).
   std::string first_note;
   if (const std::string why = I.exact_first(); !why.empty()) {
     Impl::Run first = I.start(z0);
@@ -424,9 +437,10 @@ Solution ContactSolver::solve(const Vec* z0) {
     I.exact_solve(first, -1, why);
     I.certify(first, t_start);
     if (first.sol.ok()) {
-      first.sol.skipped.push_back("continuation: not run, the exact solver's answer from the start was certified (" +
-                                  why + "; solver.exact.start)");
-      return std::move(first.sol);
+      first.sol.skipped.push_back("backend: " + I.backend->name() + " not run: " + why + " (solver.exact.start = " +
+                                  I.opt.exact_start + ")");
+      log_info() << "backend " << I.backend->name() << ": not run: " << why;
+      return done(std::move(first.sol), why);
     }
     if (!I.opt.exact_start_fallback) {
       // No continuation after a failed start (solve_options.hpp: it certified none of the 1000
@@ -436,7 +450,8 @@ Solution ContactSolver::solve(const Vec* z0) {
                                   "(solver.exact.fallback = false; true tries it, as does solver.exact.start = never)");
       log_info() << "exact solver from the start: not certified (" << first.sol.message
                  << "); the continuation is not tried (solver.exact.fallback = false)";
-      return std::move(first.sol);
+      return done(std::move(first.sol), why + "; the exact solver's answer was not certified and "
+                                              "solver.exact.fallback = false");
     }
     first_note = "the exact solver from the start was not certified (" + first.sol.message +
                  "), so the continuation ran; ";
@@ -456,12 +471,16 @@ Solution ContactSolver::solve(const Vec* z0) {
     I.certify(last, t_start);
     if (last.sol.ok()) {
       last.sol.skipped.push_back("continuation: its answer was not certified; the exact solver's from the start was");
-      return std::move(last.sol);
+      // The backend did run, in the discarded attempt: its minimizations stay in the record, first.
+      const int shift = static_cast<int>(sol.history.size());
+      for (auto& h : last.sol.history) h.k += shift;
+      last.sol.history.insert(last.sol.history.begin(), sol.history.begin(), sol.history.end());
+      return done(std::move(last.sol));
     }
     log_info() << "exact solver from the start: not certified either (" << last.sol.message << ")";
     sol.timings["solve_total"] = last.sol.timings["solve_total"];  // the time both took
   }
-  return sol;
+  return done(std::move(sol));
 }
 
 // The continuation (solve.hpp's pseudo-code) from @p z0, with the hand-over to the exact solver.
@@ -517,6 +536,7 @@ Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_star
 Solution ContactSolver::Impl::header() const {
   Solution sol;
   sol.backend = backend->name();
+  sol.backend_use.requested = opt.backend;
   sol.skipped = skipped;
   sol.smallness = smallness;
   sol.inner_convexity = convexity;
@@ -527,6 +547,7 @@ Solution ContactSolver::Impl::header() const {
 Solution ContactSolver::Impl::linear_answer(clk::time_point t_start) const {
   Solution sol = header();
   sol.backend = "none (CHOLMOD linear solve)";
+  sol.backend_use.not_run = "linear elasticity without contact: one sparse Cholesky solve is the answer";
   sol.x = x_linear;
   sol.u = model->dofs.to_full(sol.x);
   evaluate_solution(*model, opt, sol);
@@ -620,6 +641,7 @@ OuterIteration ContactSolver::Impl::minimize(Run& run, size_t stage) {
   // has stalled: it hands over instead of grinding (issue 15).
   if (exact_available() && opt.exact_stage_max_iter > 0) bo.max_iter = std::min(bo.max_iter, opt.exact_stage_max_iter);
   rec.backend = backend->minimize(prob, run.zs, bo);
+  rec.solver = backend->name();
   const Vec c = gamma3(run.zs);
   rec.change_u = rel_change(c, run.prev_c);
   run.prev_c = c;
@@ -650,6 +672,13 @@ void ContactSolver::Impl::polish(Run& run, bool attempt) {
   Solution& sol = run.sol;
   sol.contraction_estimate = contraction_estimate(sol.history);
   Vec z = U_s * run.zs;
+  if (F.cond && opt.polish && attempt && sol.fixed_point_converged && all_separated(z)) {
+    // Every Γ3 node off the layer with no friction bound: Γ3 carries no traction, so the answer is
+    // the linear elastic solution, which the smoothed energy's minimizer already is to round-off
+    // (p_ν = 0 and λ = 0 there: nothing was smoothed). A polish could only be rejected.
+    sol.skipped.push_back("polish: every gamma3 node is separated with F_b = 0 (no contact traction to polish)");
+    attempt = false;
+  }
   if (F.cond && opt.polish && attempt && sol.fixed_point_converged) {
     const auto t1 = clk::now();
     sol.polish = polish_condensed(*model, *F.cond, opt, z, F.load_scale);
@@ -665,23 +694,34 @@ void ContactSolver::Impl::polish(Run& run, bool attempt) {
   sol.u = model->dofs.to_full(sol.x);
 }
 
+// Every Γ3 node strictly below the layer (u_ν < −status_tol·U_s, where p_ν = 0) with F_b(u_ν) = 0.
+bool ContactSolver::Impl::all_separated(const Vec& z) const {
+  const Model& md = *model;
+  if (md.contact.size() == 0) return false;
+  for (Index k = 0; k < md.contact.size(); ++k) {
+    const double un = z[F.nd.first[k]];
+    if (!(un < -opt.status_tol * U_s)) return false;
+    if (md.friction && md.friction->F(un) != 0) return false;
+  }
+  return true;
+}
+
 // The certificate of the answer (MODEL.md §4), the timings and the verdict.
 void ContactSolver::Impl::certify(Run& run, clk::time_point t_start) const {
   Solution& sol = run.sol;
   auto t1 = clk::now();
   evaluate_solution(*model, opt, sol);
   sol.timings["certificate"] = since(t1);
-  double nlp = 0;
-  for (const auto& h : sol.history) nlp += h.backend.seconds;
-  sol.timings["backend"] = nlp;
+  // The backend's own minimizations (the exact solver's inner solves are under "exact").
+  sol.timings["backend"] = sol.work_of(backend->name()).seconds;
   sol.timings["solve_total"] = since(t_start) + setup_timings.at("setup_total");
   if (!sol.backend_ok && sol.certificate.passed)
     sol.message += "; the certificate passed all the same (max residual " +
-                   std::to_string(sol.certificate.max_residual) + "), so the answer is accepted";
+                   short_number(sol.certificate.max_residual) + "), so the answer is accepted";
   if (sol.message.empty())
     sol.message = sol.certificate.passed ? "converged; certificate passed"
                                          : "converged, but the certificate failed (max residual " +
-                                               std::to_string(sol.certificate.max_residual) + ")";
+                                               short_number(sol.certificate.max_residual) + ")";
   if (!sol.fixed_point_converged) log_warn() << sol.message;
 }
 
@@ -711,11 +751,15 @@ std::vector<int> ContactSolver::Impl::status_signature(const Run& run, size_t st
 std::string ContactSolver::Impl::exact_first() const {
   if (!exact_available() || opt.exact_start == "never") return "";
   if (opt.exact_start == "always") return "solver.exact.start = always";
-  // The convex reason first under auto too: it tells the user the minimizer is unique.
+  // A backend the user named runs at least its first stage (solver.exact.start = auto): the user
+  // asked for that solver's answer, on a strongly convex scene too.
+  if (opt.exact_start == "auto" && backend_named(opt)) return "";
+  // The backend's stage is skipped only where it cannot change the answer: Φ_λ strongly convex has
+  // one minimizer, which the exact solver's monotone sweeps reach from any start.
   if (convexity.checked && convexity.strongly_convex)
     return "the inner problem is strongly convex (smallest eigenvalue of S - alpha W_nu " +
-           short_number(convexity.min_eigenvalue) + " > 0): its minimizer is reached from any start";
-  if (opt.exact_start == "auto") return "solver.exact.start = auto (always, for a solve)";
+           short_number(convexity.min_eigenvalue) + " > 0): its minimizer is unique and the exact solver "
+           "reaches it from any start";
   return "";
 }
 
@@ -800,6 +844,7 @@ void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& re
     rec.backend.kkt_norm = R.residual;
     rec.backend.seconds = since(ti);
     rec.backend.message = "exact inner solver" + (R.note.empty() ? std::string() : ": " + R.note);
+    rec.solver = EXACT_SOLVER;
     rec.change_u = rel_change(x, x_prev);
     x_prev = x;
     const Vec lam = P.lambda, G = bounds(x);

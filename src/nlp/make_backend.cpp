@@ -10,6 +10,7 @@
 #include "nlp/backend_factories.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -25,7 +26,7 @@ using Factory = std::unique_ptr<NlpBackend> (*)(const std::string& name);
 
 struct Entry {
   const char* name;         // exact name, or a family prefix ending in ':' (e.g. "nlopt:")
-  const char* shown_name;   // how available_backends() and error messages print it
+  const char* shown_name;   // how available_backends() prints it (nullptr: not listed)
   const char* description;  // one line
   const char* missing;      // how to get it when it was not compiled in
   Factory create;           // nullptr: not compiled in
@@ -58,7 +59,9 @@ std::vector<Entry> registry() {
 #else
   const Factory nlopt = nullptr;
 #endif
-  r.push_back({"nlopt:", "nlopt:G_MLSL_LDS+LOCAL",
+  // The family is not listed by name (a template is no backend name): the G_MLSL entries above say
+  // how to name their local algorithm.
+  r.push_back({"nlopt:", nullptr,
                "NLopt MLSL global search with the local algorithm LOCAL named, e.g. "
                "nlopt:G_MLSL_LDS+LD_MMA (also G_MLSL+LOCAL)",
                "install libnlopt-cxx-dev and rebuild", nlopt});
@@ -88,11 +91,31 @@ std::vector<Entry> registry() {
                "petsc engine (MPI): TAO bounded Newton trust region with line search, CG + BoomerAMG", tao_missing,
                tao});
 
+  // "auto" (solver.backend's default): Ipopt, the design's backend, where it was compiled in, else
+  // our own Newton; listed first in `hemicontact backends`.
+#if HEMICONTACT_HAS_IPOPT
+  const char* const auto_doc =
+      "the default: ipopt; under auto the backend's stage is skipped where the inner problem is strongly "
+      "convex (unique minimizer), and the report says so; name a backend to run it always";
+#else
+  const char* const auto_doc =
+      "the default: newton (Ipopt not compiled in); under auto the backend's stage is skipped where the inner "
+      "problem is strongly convex (unique minimizer), and the report says so";
+#endif
+  r.insert(r.begin(), Entry{AUTO_BACKEND, AUTO_BACKEND, auto_doc, "", [](const std::string&) {
+                              return make_backend(HEMICONTACT_HAS_IPOPT ? "ipopt" : "newton");
+                            }});
   return r;
 }
 
-bool matches(const Entry& e, const std::string& name) {
-  const std::string key = e.name;
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Names match case-insensitively ("IPOPT", "nlopt:ld_mma"): the factory reads the suffix as given.
+bool matches(const Entry& e, const std::string& requested) {
+  const std::string key = lower(e.name), name = lower(requested);
   if (!key.empty() && key.back() == ':')  // a family: the prefix plus a non-empty suffix
     return name.size() > key.size() && name.compare(0, key.size(), key) == 0;
   return name == key;
@@ -121,7 +144,7 @@ std::unique_ptr<NlpBackend> make_backend(const std::string& name) {
 std::vector<std::pair<std::string, std::string>> available_backends() {
   std::vector<std::pair<std::string, std::string>> out;
   for (const Entry& e : registry())
-    if (e.create != nullptr) out.emplace_back(e.shown_name, e.description);
+    if (e.create != nullptr && e.shown_name != nullptr) out.emplace_back(e.shown_name, e.description);
   return out;
 }
 

@@ -90,6 +90,7 @@
 #include <nlopt.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -206,15 +207,45 @@ std::string supported_list() {
   return s;
 }
 
+/// NLopt's name of @p name as users write it: case-insensitive, and the family prefix optional
+/// ("mma", "ld_mma" and "LD_MMA" are LD_MMA; "mlsl_lds" is G_MLSL_LDS), as NLopt's own bindings
+/// and other codes' configuration files spell them. Unknown names come back upper-cased.
+std::string canonical(const std::string& name) {
+  std::string up = name;
+  for (char& c : up) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  const auto known = [](const std::string& n) {
+    for (const auto& a : LOCAL_ALGORITHMS)
+      if (n == a.name) return true;
+    for (const auto& a : GLOBAL_ALGORITHMS)
+      if (n == a.name) return true;
+    return false;
+  };
+  if (known(up)) return up;
+  for (const char* prefix : {"LD_", "G_"})
+    if (known(prefix + up)) return prefix + up;
+  return up;
+}
+
+/// The short alias of a supported algorithm ("LD_MMA" → "mma"), as `hemicontact backends` shows it.
+std::string alias(const char* name) {
+  std::string a = name;
+  for (const char* prefix : {"LD_", "G_"})
+    if (a.rfind(prefix, 0) == 0) a = a.substr(std::string(prefix).size());
+  for (char& c : a) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return a;
+}
+
 const LocalAlgorithm* find_local(const std::string& name) {
+  const std::string n = canonical(name);
   for (const auto& a : LOCAL_ALGORITHMS)
-    if (name == a.name) return &a;
+    if (n == a.name) return &a;
   return nullptr;
 }
 
 const GlobalAlgorithm* find_global(const std::string& name) {
+  const std::string n = canonical(name);
   for (const auto& a : GLOBAL_ALGORITHMS)
-    if (name == a.name) return &a;
+    if (n == a.name) return &a;
   return nullptr;
 }
 
@@ -602,32 +633,40 @@ const std::vector<NloptAlgorithmInfo>& nlopt_backend_catalog() {
     for (const auto& a : GLOBAL_ALGORITHMS) v.push_back("nlopt:" + std::string(a.name));
     return v;
   }();
+  static const std::vector<std::string> docs = [] {  // the description with the short alias
+    std::vector<std::string> v;
+    for (const auto& a : LOCAL_ALGORITHMS) v.push_back(std::string(a.description) + " [alias nlopt:" + alias(a.name) + "]");
+    for (const auto& a : GLOBAL_ALGORITHMS)
+      v.push_back(std::string(a.description) + " [alias nlopt:" + alias(a.name) + "]");
+    return v;
+  }();
   static const std::vector<NloptAlgorithmInfo> catalog = [] {
     std::vector<NloptAlgorithmInfo> c;
-    size_t k = 0;
-    for (const auto& a : LOCAL_ALGORITHMS) c.push_back({names[k++].c_str(), a.description});
-    for (const auto& a : GLOBAL_ALGORITHMS) c.push_back({names[k++].c_str(), a.description});
+    for (size_t k = 0; k < names.size(); ++k) c.push_back({names[k].c_str(), docs[k].c_str()});
     return c;
   }();
   return catalog;
 }
 
 std::unique_ptr<NlpBackend> make_nlopt_backend(const std::string& algorithm) {
+  // The backend's name is NLopt's canonical spelling, whatever alias or case was asked for: reports
+  // and tables then name the same solver the same way.
   const size_t plus = algorithm.find('+');
-  const std::string head = algorithm.substr(0, plus);
+  const std::string head = canonical(algorithm.substr(0, plus));
   if (const LocalAlgorithm* a = find_local(head)) {
     if (plus != std::string::npos)
       throw Error("nlopt: '" + algorithm + "': only G_MLSL_LDS / G_MLSL take a '+LOCAL' algorithm", EXIT_INPUT);
-    return std::make_unique<NloptBackend>(algorithm, a, nullptr);
+    return std::make_unique<NloptBackend>(a->name, a, nullptr);
   }
   if (const GlobalAlgorithm* g = find_global(head)) {
     const LocalAlgorithm* local = nullptr;
     if (plus != std::string::npos) {
       const std::string tail = algorithm.substr(plus + 1);
       local = find_local(tail);
-      if (local == nullptr) refuse(tail, "local ");
+      if (local == nullptr) refuse(canonical(tail), "local ");
     }
-    return std::make_unique<NloptBackend>(algorithm, local, g);
+    return std::make_unique<NloptBackend>(std::string(g->name) + (local ? std::string("+") + local->name : ""), local,
+                                          g);
   }
   refuse(head, "");
 }

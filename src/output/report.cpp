@@ -17,20 +17,94 @@ namespace {
 
 using json = nlohmann::json;
 
+// The backend's smoothed ε-stages that ran, e.g. "0" or "0..2" (empty when none).
+std::string stages_run(const Solution& sol) {
+  int lo = -1, hi = -1;
+  for (const auto& h : sol.history)
+    if (h.solver == sol.backend) {
+      if (lo < 0) lo = h.stage;
+      hi = std::max(hi, h.stage);
+    }
+  if (lo < 0) return "";
+  return lo == hi ? std::to_string(lo) : std::to_string(lo) + ".." + std::to_string(hi);
+}
 
-struct BackendTotals {
-  long long iterations = 0, evaluations = 0;
-  double seconds = 0;
-};
+// What each phase of the solve did, and which solver did it: the backend's ε-stages (smoothed
+// problem, λ lagged), the exact solver (unsmoothed, Anderson on λ = F_b(u_ν)), the polish, and the
+// outer fixed point that wraps the stages.
+json phases(const Solution& sol, bool lagged) {
+  const SolverWork b = sol.work_of(sol.backend), e = sol.work_of(EXACT_SOLVER);
+  json p = json::array();
+  json backend = {{"phase", "backend"},
+                  {"solver", sol.backend},
+                  {"ran", sol.backend_use.ran},
+                  {"minimizations", b.minimizations},
+                  {"stages", stages_run(sol)},
+                  {"iterations", b.iterations},
+                  {"evaluations", b.evaluations},
+                  {"seconds", b.seconds}};
+  if (!sol.backend_use.ran) backend["not_run"] = sol.backend_use.not_run;
+  p.push_back(std::move(backend));
+  const HandoverReport& h = sol.handover;
+  p.push_back({{"phase", "exact"},
+               {"solver", EXACT_SOLVER},
+               {"ran", h.used},
+               {"after_stage", h.after_stage},
+               {"reason", h.reason},
+               {"lambda_updates", h.outer_iterations},
+               {"inner_solves", e.minimizations},
+               {"inner_rounds", h.inner_rounds},
+               {"newton_steps", h.newton_steps},
+               {"seconds", h.seconds}});
+  const auto polish_time = sol.timings.find("polish");
+  p.push_back({{"phase", "polish"},
+               {"solver", "polish"},
+               {"ran", sol.polish.attempted},
+               {"accepted", sol.polish.accepted},
+               {"iterations", sol.polish.iterations},
+               {"seconds", polish_time == sol.timings.end() ? 0.0 : polish_time->second}});
+  int updates = 0;
+  for (const auto& o : sol.history) updates += o.solver == sol.backend;
+  p.push_back({{"phase", "fixed_point"},
+               {"solver", b.minimizations && h.used ? sol.backend + " stages, then exact (Anderson)"
+                          : h.used                  ? std::string("exact (Anderson)")
+                                                    : sol.backend + " stages"},
+               {"ran", lagged},
+               {"converged", sol.fixed_point_converged},
+               {"iterations", (b.minimizations > 0 ? updates : 0) + h.outer_iterations}});
+  return p;
+}
 
-BackendTotals backend_totals(const Solution& sol) {
-  BackendTotals t;
-  for (const auto& h : sol.history) {
-    t.iterations += h.backend.iterations;
-    t.evaluations += h.backend.evaluations;
-    t.seconds += h.backend.seconds;
-  }
-  return t;
+// One line: what the backend did, or why it did not run.
+std::string backend_line(const Solution& sol) {
+  const std::string name = sol.backend.empty() ? std::string("(none)") : sol.backend;
+  const bool auto_pick = sol.backend_use.requested == AUTO_BACKEND;
+  const std::string who = name + (auto_pick ? " (solver.backend = auto)" : "");
+  if (!sol.backend_use.ran) return who + ": not run: " + sol.backend_use.not_run;
+  const SolverWork b = sol.work_of(sol.backend);
+  return who + ": " + std::to_string(b.minimizations) + (b.minimizations == 1 ? " minimization" : " minimizations") +
+         " (eps-stage " + stages_run(sol) + "), " + std::to_string(b.iterations) + " iterations, " +
+         std::to_string(b.evaluations) + " evaluations, " + fmt(b.seconds, 3) + " s";
+}
+
+// One line: what the exact solver did (empty when it did not run).
+std::string exact_line(const Solution& sol) {
+  const HandoverReport& h = sol.handover;
+  if (!h.used) return "";
+  return std::string(h.after_stage < 0 ? "from the start" : "took over after stage " + std::to_string(h.after_stage)) +
+         " (" + h.reason + "): " + std::to_string(h.outer_iterations) + " lambda updates, " +
+         std::to_string(h.inner_rounds) + " rounds, " + std::to_string(h.newton_steps) + " Newton steps, " +
+         fmt(h.seconds, 3) + " s";
+}
+
+// One line: the polish's verdict (empty when it was neither run nor skipped with a reason).
+std::string polish_line(const Solution& sol) {
+  if (sol.polish.attempted)
+    return std::string(sol.polish.accepted ? "accepted" : "rejected") + ", certificate " + fmt(sol.polish.before, 3) +
+           " -> " + fmt(sol.polish.after, 3) + " in " + std::to_string(sol.polish.iterations) + " iterations";
+  for (const auto& s : sol.skipped)
+    if (s.rfind("polish:", 0) == 0) return "skipped:" + s.substr(7);
+  return "";
 }
 
 std::map<std::string, double> merged_timings(const Model& md, const Solution& sol) {
@@ -81,9 +155,18 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
   r["laws"] = {{"normal_law", md.normal_law ? json(md.normal_law->describe()) : json(nullptr)},
                {"friction", md.friction ? json(md.friction->describe()) : json(nullptr)},
                {"gap", md.gap.describe()}};
-  const BackendTotals bt = backend_totals(sol);
-  r["backend"] = {
-      {"name", sol.backend}, {"iterations", bt.iterations}, {"evaluations", bt.evaluations}, {"seconds", bt.seconds}};
+  // The backend's own work only (the exact solver's inner solves are under phases and inner).
+  const SolverWork bt = sol.work_of(sol.backend);
+  r["backend"] = {{"name", sol.backend},
+                  {"requested", sol.backend_use.requested},
+                  {"ran", sol.backend_use.ran},
+                  {"not_run", sol.backend_use.ran ? json(nullptr) : json(sol.backend_use.not_run)},
+                  {"minimizations", bt.minimizations},
+                  {"iterations", bt.iterations},
+                  {"evaluations", bt.evaluations},
+                  {"seconds", bt.seconds}};
+  r["solved_by"] = sol.solved_by();
+  r["phases"] = phases(sol, md.friction && md.friction->depends_on_u_nu());
   r["energy"] = sol.energy;
   r["energy_norm"] = sol.energy_norm;
   r["a_uu"] = sol.a_uu;
@@ -149,7 +232,8 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
                        {"backend_iterations", h.backend.iterations},
                        {"backend_evaluations", h.backend.evaluations},
                        {"backend_seconds", h.backend.seconds},
-                       {"backend_message", h.backend.message}});
+                       {"backend_message", h.backend.message},
+                       {"solver", h.solver}});
   // contraction: ρ_k per outer iteration (null where undefined, see OuterIteration::contraction);
   // contraction_estimate: their geometric mean, the observed factor of the relaxed map.
   json contraction = json::array();
@@ -248,11 +332,10 @@ std::string summary_table(const Model& md, const Solution& sol) {
                          std::to_string(md.mesh.num_nodes()) + " nodes, " + std::to_string(md.mesh.num_cells()) +
                          " cells, " + std::to_string(nc) + " gamma3 nodes, h = " + fmt(md.mesh.max_edge_length()));
   out += row("dofs", std::to_string(md.dofs.n_free()));
-  const BackendTotals bt = backend_totals(sol);
-  out += row("backend", (sol.backend.empty() ? std::string("(none)") : sol.backend) + ": " +
-                            std::to_string(sol.history.size()) + " minimizations, " + std::to_string(bt.iterations) +
-                            " iterations, " + std::to_string(bt.evaluations) + " evaluations, " + fmt(bt.seconds, 3) +
-                            " s");
+  out += row("backend", backend_line(sol));
+  if (const std::string e = exact_line(sol); !e.empty()) out += row("exact solver", e);
+  if (const std::string p = polish_line(sol); !p.empty()) out += row("polish", p);
+  out += row("solved by", sol.solved_by());
   out +=
       row("energy", fmt(sol.energy, 10) + "  (" + std::string(md.material->is_linear() ? "a(u,u)/2" : "int W(eps(u))") +
                         " = " + fmt(sol.elastic_energy) + ", f(u) = " + fmt(sol.f_u) + ", j = " + fmt(sol.j_term) +

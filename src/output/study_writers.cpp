@@ -49,7 +49,8 @@ nlohmann::json level_json(const ConvergenceLevel& l) {
           {"certified", l.certified},
           {"ok", l.ok},
           {"nested", l.nested},
-          {"message", l.message}};
+          {"message", l.message},
+          {"solved_by", l.solved_by}};
 }
 
 }  // namespace
@@ -67,7 +68,7 @@ nlohmann::json convergence_json(const ConvergenceStudy& study) {
             {"model", "error = C * sqrt(h^(2 alpha) - h_ref^(2 alpha))"}};
   return {{"reference", level_json(study.reference)},
           {"levels", levels},
-          {"backend", study.backend},
+          {"solved_by", study.backend},
           {"ok", study.ok()},
           {"failed", study.failed()},
           {"scene", study.scene},
@@ -123,7 +124,7 @@ std::string convergence_table(const ConvergenceStudy& study) {
   }
   const auto failed = study.failed();
   if (failed.empty()) {
-    out += "all " + std::to_string(study.levels.size() + 1) + " solves converged and certified (backend " +
+    out += "all " + std::to_string(study.levels.size() + 1) + " solves converged and certified (solved by " +
            study.backend + ")\n";
   } else {
     out += "FAILED at n =";
@@ -158,6 +159,7 @@ json minima_json(const Model& md, const MinimaReport& r) {
   for (const auto& run : r.runs)
     j["runs"].push_back({{"start", run.start},
                          {"backend", run.backend},
+                         {"solved_by", run.solved_by},
                          {"converged", run.converged},
                          {"certified", run.certified},
                          {"energy", run.energy},
@@ -190,6 +192,7 @@ json minima_json(const Model& md, const MinimaReport& r) {
         {"n_starts", ds.runs.size()},
         {"starts", ds.starts},
         {"backends", ds.backends},
+        {"mirror_of", ds.mirror_of >= 0 ? json(ds.mirror_of) : json(nullptr)},
         {"spread", ds.spread},
         {"max_u_nu", s.max_u_nu}};
     json nodes = json::array();
@@ -243,12 +246,12 @@ void write_minima_csv(const std::string& path, const MinimaReport& r) {
 
 void write_minima_runs_csv(const std::string& path, const std::vector<MinimaRun>& runs) {
   std::ostringstream out;
-  out << "run,start,backend,converged,certified,energy,certificate,seconds,message\n";
+  out << "run,start,backend,solved_by,converged,certified,energy,certificate,seconds,message\n";
   for (size_t i = 0; i < runs.size(); ++i) {
     const MinimaRun& m = runs[i];
     std::string message = m.message;  // CSV: a quoted field with its quotes doubled
     for (size_t q = message.find('"'); q != std::string::npos; q = message.find('"', q + 2)) message.insert(q, 1, '"');
-    out << i << ',' << m.start << ',' << m.backend << ',' << (m.converged ? 1 : 0) << ',' << (m.certified ? 1 : 0)
+    out << i << ',' << m.start << ',' << m.backend << ',' << m.solved_by << ',' << (m.converged ? 1 : 0) << ',' << (m.certified ? 1 : 0)
         << ',' << exact(m.energy) << ',' << exact(m.certificate) << ',' << exact(m.seconds) << ",\"" << message
         << "\"\n";
   }
@@ -286,13 +289,19 @@ std::string minima_table(const MinimaReport& r) {
     }
     for (const auto& [b, n] : ds.backends) backends += (backends.empty() ? "" : ", ") + b + " " + std::to_string(n);
     os << "       reached by [" << backends << "] from: " << starts << '\n';
+    if (ds.mirror_of >= 0)
+      os << "       mirror image of solution " << ds.mirror_of << " (same energy, Gamma3 reflected): one pair\n";
     if (!ds.second_order.note.empty()) os << "       note: " << ds.second_order.note << '\n';
   }
   int failed = 0;
   for (const auto& run : r.runs)
     if (!run.certified) ++failed;
+  int pairs = 0;
+  for (const auto& ds : r.solutions) pairs += ds.mirror_of >= 0;
   os << r.solutions.size() << " distinct solution(s), " << r.local_minima() << " local minim"
-     << (r.local_minima() == 1 ? "um" : "a") << "; " << r.certified_runs() << " of " << r.runs.size()
+     << (r.local_minima() == 1 ? "um" : "a");
+  if (pairs > 0) os << " (" << pairs / 2 << " mirror pair" << (pairs > 2 ? "s" : "") << " among them)";
+  os << "; " << r.certified_runs() << " of " << r.runs.size()
      << " runs certified";
   if (r.smallness.computed)
     os << "; (21): " << fmt(r.smallness.lhs, 4) << (r.smallness.holds ? " < " : " >= ")

@@ -239,9 +239,10 @@ long peak_rss_kb() {
 }  // namespace
 
 std::string tao_type(const std::string& backend) {
-  // The scene default names the cholmod engine's backend: here it means ssn, which reaches the
-  // cholmod engine's answers ~10x faster than tao:bnls (README "The petsc engine").
-  if (backend == "ipopt") return "ssn";
+  // solver.backend = auto: this engine's own, ssn, which reaches the cholmod engine's answers ~10x
+  // faster than tao:bnls (README "The petsc engine"). A backend of the cholmod engine that is named
+  // is refused below: a named backend runs, or the run stops saying why.
+  if (backend == AUTO_BACKEND) return "ssn";
   for (const char* t : {"bnls", "bntr", "bntl"})
     if (backend == std::string("tao:") + t) return t;
   if (backend == "ssn") return "ssn";  // not TAO: the engine's own semismooth Newton (run_ssn)
@@ -1193,6 +1194,11 @@ void Engine::finish(Solution& s, Eigen::VectorXd x, clk::time_point t0) {
   const auto t1 = clk::now();
   s.x = std::move(x);
   s.u = md.dofs.to_full(s.x);
+  // Every minimization here is the named (or auto-chosen) backend's own: it ran when one is recorded.
+  for (auto& h : s.history) h.solver = s.backend;
+  s.backend_use.requested = opt.backend;
+  s.backend_use.ran = !s.history.empty();
+  if (!s.backend_use.ran) s.backend_use.not_run = "linear elasticity without contact: one CG solve is the answer";
   evaluate_solution(md, opt, s);
   timings["certificate"] = since(t1);
   double nlp = 0;

@@ -259,13 +259,16 @@ std::vector<SchemaEntry> build_scene_schema() {
   // load level (STYLE.md §4).
   t.push_back(section("/solver", "NLP backend, smoothing and the outer loops (MODEL.md §2)."));
   t.push_back(key("/solver/backend", "string", D.backend,
-                  "NLP backend by name: \"ipopt\", \"newton\", \"nlopt:LD_LBFGS\", ... (only those "
-                  "compiled in)."));
+                  "NLP backend by name (hemicontact backends lists them): \"ipopt\", \"newton\", "
+                  "\"nlopt:mma\", ... A named backend runs at least the first ε-stage, then the exact "
+                  "solver takes over. auto = the engine's own (ipopt here; ssn in the petsc engine), "
+                  "whose stage is skipped where the inner problem is strongly convex (unique "
+                  "minimizer); the report says which ran."));
   t.push_back(key("/solver/engine", "string", D.engine,
                   "cholmod: one process, sparse Cholesky (CHOLMOD) and static condensation. petsc: the "
                   "distributed engine (hemicontact-mpi, run as mpirun -np P hemicontact solve ...): "
                   "unknowns and the assembly of K spread over the MPI ranks, semismooth Newton on the "
-                  "unsmoothed statuses (backend ssn; the default ipopt means ssn there) or TAO bounded "
+                  "unsmoothed statuses (backend ssn, what auto means there) or TAO bounded "
                   "Newton with the continuation, fixed point and exact polish (tao:bnls, tao:bntr, "
                   "tao:bntl), CG with algebraic multigrid, the same certificate. Only `solve`; "
                   "needs a build with PETSc (libpetsc-real-dev).",
@@ -419,10 +422,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "statuses stop changing or the backend stalls)."),
                        0));
   t.push_back(key("/solver/exact/start", "string", D.exact_start,
-                  "Start the exact solver before any continuation stage: convex = when the inner "
-                  "problem is strongly convex (unique minimizer, reached from any start); always; "
-                  "never = after stage 0 at the earliest; auto = always for a solve, convex for the "
-                  "starts of minima. Not certified from there: see fallback.",
+                  "Start the exact solver before any continuation stage: auto = when the inner "
+                  "problem is strongly convex (unique minimizer, reached from any start) and "
+                  "solver.backend is auto (a named backend runs its first stage); convex = when "
+                  "strongly convex, whatever the backend; always; never = after the backend's stage 0 "
+                  "at the earliest. Not certified from there: see fallback.",
                   {"auto", "convex", "always", "never"}));
   t.push_back(key("/solver/exact/fallback", "boolean", D.exact_start_fallback,
                   "When the exact solver's answer from the start is not certified, run the continuation "

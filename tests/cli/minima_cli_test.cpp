@@ -64,7 +64,7 @@ TEST_F(MinimaCli, WritesTableCsvJsonVtuAndPicture) {
   const json js = json::parse(slurp(out / "minima.json"));
   ASSERT_EQ(js["solutions"].size(), 4u);
   EXPECT_FALSE(js["smallness"]["uniqueness_guaranteed"].get<bool>());
-  EXPECT_EQ(js["runs"].size(), 13u);  // zero, at-gap, separated, 8 random, load up, load down
+  EXPECT_EQ(js["runs"].size(), 14u);  // zero, exact-from-zero, at-gap, separated, 8 random, load up, load down
   double prev = -1e300;
   for (const auto& s : js["solutions"]) {
     EXPECT_GE(s["energy"].get<double>(), prev);

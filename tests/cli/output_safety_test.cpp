@@ -203,7 +203,7 @@ TEST_F(OutputSafety, AnInterruptedMinimaSearchKeepsItsFinishedRuns) {
   EXPECT_TRUE(partials(out).empty());
   const std::vector<std::string> rows = lines_of(slurp(out / "minima-runs.csv"));
   ASSERT_GE(rows.size(), 2u);
-  EXPECT_EQ(rows[0], "run,start,backend,converged,certified,energy,certificate,seconds,message");
+  EXPECT_EQ(rows[0], "run,start,backend,solved_by,converged,certified,energy,certificate,seconds,message");
   EXPECT_EQ(rows[1].rfind("0,zero,", 0), 0u) << rows[1];
   for (size_t i = 1; i < rows.size(); ++i) {
     EXPECT_EQ(rows[i].rfind(std::to_string(i - 1) + ",", 0), 0u) << rows[i];

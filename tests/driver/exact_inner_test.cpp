@@ -266,8 +266,9 @@ TEST(ExactStart, StronglyConvexScenesNeedNoContinuation) {
     for (const auto& h : ex.history) EXPECT_EQ(h.stage, -1);  // no ε-stage ran
     EXPECT_EQ(static_cast<int>(ex.history.size()), ex.handover.outer_iterations);
     bool said = false;
-    for (const auto& s : ex.skipped) said = said || s.rfind("continuation: not run", 0) == 0;
+    for (const auto& s : ex.skipped) said = said || s.rfind("backend: ipopt not run: the inner problem is strongly convex", 0) == 0;
     EXPECT_TRUE(said);
+    EXPECT_FALSE(ex.backend_use.ran);
     expect_same_u(ref, ex, 1e-8);
     for (size_t k = 0; k < ref.status.size(); ++k) EXPECT_EQ(ref.status[k].str(), ex.status[k].str()) << k;
   }
@@ -308,23 +309,28 @@ TEST(ExactStart, DefaultStopsAfterAStartThatIsNotCertified) {
   EXPECT_TRUE(said);
 }
 
-// start = auto is "always" for a solve: on a scene whose inner problem is not strongly convex
-// (minima-softening: a layer that breaks through, α_jν = 1e5) no ε-stage runs, the reason names auto,
-// and the answer is certified.
-TEST(ExactStart, AutoStartsTheExactSolverOnANotStronglyConvexScene) {
+// start = auto: on a scene whose inner problem is not strongly convex (minima-softening: a layer
+// that breaks through, α_jν = 1e5) the design's path runs — the backend's ε-stage 0, then the exact
+// solver takes over — and the answer is certified; where the inner problem is strongly convex the
+// backend's stage is skipped and the reason says so (the minimizer is unique).
+TEST(ExactStart, AutoRunsTheBackendStageOnANotStronglyConvexScene) {
   const std::vector<std::string> o{"check.smallness=false"};
   Model md;
   const Solution a = solve_scene("minima-softening.json", o, md);
   ASSERT_TRUE(a.inner_convexity.checked);
   ASSERT_FALSE(a.inner_convexity.strongly_convex);
   ASSERT_TRUE(a.ok()) << a.message;
-  EXPECT_EQ(a.handover.after_stage, -1);
-  EXPECT_NE(a.handover.reason.find("auto"), std::string::npos) << a.handover.reason;
-  for (const auto& h : a.history) EXPECT_EQ(h.stage, -1);
-  // Where the inner problem is strongly convex the reason says so (the minimizer is unique).
+  EXPECT_TRUE(a.backend_use.ran);
+  // Handed over after stage 0: to the polish on Ipopt's statuses here (certified at once), else the
+  // exact solver.
+  EXPECT_TRUE(a.polish.accepted || a.handover.after_stage == 0);
+  ASSERT_FALSE(a.history.empty());
+  EXPECT_EQ(a.history.front().stage, 0);
+  EXPECT_EQ(a.history.front().solver, a.backend);
   const Solution c = solve_scene("sofonea2017-fig2.json", {"mesh.n=8"}, md);
   ASSERT_TRUE(c.ok()) << c.message;
   EXPECT_NE(c.handover.reason.find("strongly convex"), std::string::npos) << c.handover.reason;
+  EXPECT_FALSE(c.backend_use.ran);
 }
 
 // solver.exact.polish_above: the polish runs after the exact solver only when the coupled residual

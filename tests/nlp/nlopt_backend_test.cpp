@@ -121,7 +121,7 @@ TEST(NloptBackend, UnknownOrRefusedAlgorithmsSayWhy) {
   HEMICONTACT_REQUIRE_NLOPT();
   // Unknown: the message lists the supported names.
   expect_error("nlopt:LD_BOGUS", {"LD_BOGUS", "unknown", "LD_MMA", "LD_CCSAQ", "LD_SLSQP", "LD_LBFGS", "G_MLSL_LDS"});
-  expect_error("nlopt:ld_mma", {"ld_mma", "unknown", "LD_MMA"});  // names are case-sensitive
+  expect_error("nlopt:mmaa", {"MMAA", "unknown", "LD_MMA"});  // names are case-insensitive (BackendNames.*)
   // Known to NLopt, refused with the reason.
   expect_error("nlopt:LN_COBYLA", {"LN_COBYLA", "derivative-free"});
   expect_error("nlopt:LN_NEWUOA", {"LN_NEWUOA", "ignores bound"});

@@ -161,10 +161,9 @@ TEST(RandomScenesDefault, CertifiedWithDefaultSettingsWithAFloor) {
 TEST(RandomScenesDefault, LastResortFromTheStartCertifiesSeed947) {
   const stress::RandomScene rs = stress::draw_default_scene(947, 8, 16);
   SCOPED_TRACE("rerun: " + rs.command());
-  // start = convex (minima's choice): the continuation runs first on this not strongly convex scene,
-  // its answer is not certified, and the last resort from the start is.
+  // The default (start = auto): the backend's stage 0 runs first on this not strongly convex scene,
+  // the answer after the hand-over is not certified, and the last resort from the start is.
   std::vector<std::string> o = rs.overrides;
-  o.push_back("solver.exact.start=\"convex\"");
   const nlohmann::json scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o);
   const Model md = build_model(scene, ".");
   const Solution s = solve(md, solve_options_from_scene(scene));
@@ -174,10 +173,14 @@ TEST(RandomScenesDefault, LastResortFromTheStartCertifiesSeed947) {
   bool said = false;
   for (const auto& k : s.skipped) said = said || k.rfind("continuation: its answer was not certified", 0) == 0;
   EXPECT_TRUE(said) << "expected the last resort (the continuation's answer was not certified)";
-  // The default (start = auto: always, for a solve) certifies it from the start, no stage run, with
-  // the same answer: u to the certificate's scale.
-  const nlohmann::json scene_default =
-      load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", rs.overrides);
+  // The backend's work in the discarded attempt stays in the record: it ran.
+  EXPECT_TRUE(s.backend_use.ran);
+  EXPECT_GT(s.work_of(s.backend).iterations, 0);
+  // solver.exact.start = always certifies it from the start, no stage run, with the same answer: u to
+  // the certificate's scale.
+  std::vector<std::string> o_always = rs.overrides;
+  o_always.push_back("solver.exact.start=\"always\"");
+  const nlohmann::json scene_default = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o_always);
   const Solution a = solve(md, solve_options_from_scene(scene_default));
   ASSERT_TRUE(a.ok()) << a.message;
   for (const auto& h : a.history) EXPECT_EQ(h.stage, -1);

@@ -52,13 +52,16 @@ struct ConvergenceLevel {
   bool ok = false;                           ///< converged && certified
   bool nested = true;                        ///< P is the exact embedding of V_L into V_ref (checked numerically)
   std::string message;                       ///< the solve's verdict
+  std::string solved_by;                     ///< what produced the answer (Solution::solved_by)
 };
 
 /// The result of run_convergence().
 struct ConvergenceStudy {
   ConvergenceLevel reference;            ///< the reference mesh (error 0, order NaN)
   std::vector<ConvergenceLevel> levels;  ///< the levels, coarse to fine
-  std::string backend;                   ///< NLP backend used
+  /// What solved the levels and the reference: the distinct Solution::solved_by labels, joined by
+  /// ", " (e.g. "exact" when the backend's stage was skipped on every level: strongly convex).
+  std::string backend;
   nlohmann::json scene;                  ///< the effective scene of the reference solve
 
   /// @return true when the reference and every level converged and were certified.

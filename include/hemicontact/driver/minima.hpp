@@ -102,7 +102,8 @@ struct SecondOrderCheck {
 /// One run: a start, a backend, and what it gave.
 struct MinimaRun {
   std::string start;       ///< "zero", "at-gap", "separated", "random-3", "load-up", "load-down", "user-1"
-  std::string backend;     ///< backend name
+  std::string backend;     ///< the backend requested for this run
+  std::string solved_by;   ///< what produced the answer (Solution::solved_by: "ipopt+exact", "exact", ...)
   bool converged = false;  ///< backend_ok && fixed_point_converged
   bool certified = false;  ///< certificate passed (whatever the backend said: the certificate is the judge)
   double energy = 0;       ///< Π (unsmoothed) of the result
@@ -118,8 +119,12 @@ struct DistinctSolution {
   SecondOrderCheck second_order;        ///< local minimum or saddle
   std::vector<int> runs;                ///< indices into MinimaReport::runs that reached it
   std::vector<std::string> starts;      ///< their start labels (in run order)
-  std::map<std::string, int> backends;  ///< backend → how many of its starts reached it
+  std::map<std::string, int> backends;  ///< what solved them (MinimaRun::solved_by) → how many runs reached it
   double spread = 0;                    ///< max relative energy-norm distance of a member to the representative
+  /// The index of this solution's mirror image (2D: Γ3 reflected about the midpoint of its x-range,
+  /// u_ν kept and u_τ reversed, the same energy), −1 if none: the two are one solution of a
+  /// mirror-symmetric scene, found once per side.
+  int mirror_of = -1;
 };
 
 /// Everything find_minima() found.
@@ -136,6 +141,11 @@ struct MinimaReport {
   /// @return the number of runs whose result was certified.
   int certified_runs() const;
 };
+
+/// Pair the solutions of @p R that are mirror images of each other (DistinctSolution::mirror_of):
+/// 2D, Γ3 symmetric about the midpoint of its x-range, equal energies and reflected Γ3 values within
+/// @p group_tol (relative). Called by find_minima after sorting.
+void pair_mirror_images(const Model& md, MinimaReport& R, double group_tol);
 
 /// Solve from many starts, group, classify (see the file comment).
 /// @param md      the model; its loads are the ones at load factor 1

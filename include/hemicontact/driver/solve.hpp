@@ -65,6 +65,9 @@ class ContactSolver {
   LaggedEnergy lagged_energy(const Solution& sol);
   /// Switch the NLP backend, keeping the factorization and everything else (minima over backends).
   void set_backend(const std::string& name);
+  /// Switch solver.exact.start ("auto", "convex", "always", "never"), keeping the factorization: minima
+  /// runs the exact solver's own path from zero beside the design's (a default solve's answers).
+  void set_exact_start(const std::string& when);
   /// Evaluate the smallness condition (21) for the model as the constructor does when
   /// check.smallness is on: from this solver's condensation (the bracket, no factorization) when
   /// there is one and check.smallness_method = auto in 2D, exactly otherwise. For callers that

@@ -21,6 +21,11 @@ enum class SolveStatus {
 /// @return "converged", "acceptable", "max_iterations" or "failed".
 const char* to_string(SolveStatus s);
 
+/// solver.backend = "auto": the engine's own backend (make_backend: ipopt, or newton where Ipopt
+/// was not compiled in; the petsc engine: ssn), whose stage the solve may skip where it cannot
+/// change the answer (SolveOptions::exact_start).
+inline constexpr const char* AUTO_BACKEND = "auto";
+
 /// Statistics and verdict of one backend run.
 struct SolveResult {
   SolveStatus status = SolveStatus::FAILED;  ///< verdict

@@ -28,7 +28,27 @@ struct OuterIteration {
   /// λ ↦ (1−θ)λ + θ F_b(u_ν(λ)) at the final ε; NaN where undefined (first iteration of the final
   /// stage, coarse stages, no lagged friction, or the previous update below contraction_floor).
   double contraction = std::numeric_limits<double>::quiet_NaN();
-  SolveResult backend;  ///< what the backend said
+  SolveResult backend;  ///< what the solver of this minimization said
+  /// Who did this minimization: the NLP backend's name (a smoothed ε-stage), or EXACT_SOLVER (an
+  /// inner solve of the exact solver, no smoothing). Reports count a backend's work from these.
+  std::string solver;
+};
+
+/// OuterIteration::solver of the exact solver's inner solves (driver/exact_inner.hpp).
+inline constexpr const char* EXACT_SOLVER = "exact";
+
+/// Whether the NLP backend ran, and why not when it did not: what a report says of it.
+struct BackendUse {
+  std::string requested;  ///< solver.backend as given ("auto" or a name)
+  bool ran = false;       ///< at least one smoothed minimization by the backend
+  std::string not_run;    ///< why it did not run (empty when it ran)
+};
+
+/// The work of one solver over a solve: the backend's ε-stages, or the exact solver's inner solves.
+struct SolverWork {
+  int minimizations = 0;
+  long long iterations = 0, evaluations = 0;
+  double seconds = 0;
 };
 
 /// Everything a solve produces; writers take it read-only.
@@ -52,7 +72,8 @@ struct Solution {
   double contraction_estimate = std::numeric_limits<double>::quiet_NaN();
   bool backend_ok = true;                 ///< false if the last minimization failed
   std::string message;                    ///< human-readable verdict
-  std::string backend;                    ///< backend name
+  std::string backend;                    ///< the NLP backend's name (what "auto" resolved to)
+  BackendUse backend_use;                 ///< requested, ran, why not
   std::vector<std::string> skipped;       ///< what was not needed and not done
   std::string formulation;                ///< "full" or "condensed" (empty for a linear solve)
   PolishResult polish;                    ///< what the exact polish did
@@ -65,6 +86,13 @@ struct Solution {
   /// @return true when the answer is accepted: the outer fixed point converged and the certificate
   /// passed. A backend's own failure status does not decide (issue: "the certificate decides").
   bool ok() const { return fixed_point_converged && certificate.passed; }
+  /// @return the work of the minimizations in history whose solver is @p solver.
+  SolverWork work_of(const std::string& solver) const;
+  /// @return a short label of what produced the answer, for tables and progress lines: e.g.
+  /// "ipopt+exact" (the backend's ε-stages, then the exact solver), "exact" (the backend not run),
+  /// "ipopt+polish" (the backend, then the polish on its statuses), "ipopt" (the backend alone),
+  /// "linear".
+  std::string solved_by() const;
   /// @return status counts keyed separated, compliance, contact, stick, slip+, slip- (and slip in 3D).
   std::map<std::string, int> status_counts() const;
 };

@@ -97,7 +97,11 @@ struct ExactInnerOptions {
 
 /// Solver settings, read from the scene's "solver", "check" blocks (defaults: this struct).
 struct SolveOptions {
-  std::string backend = "ipopt";     ///< NLP backend name
+  /// NLP backend name (nlp/backend.hpp: make_backend). "auto", the default, is the engine's own:
+  /// ipopt in this engine (newton where Ipopt was not compiled in), ssn in the petsc engine; under
+  /// "auto" the backend's ε-stage is skipped where the inner problem is strongly convex (its
+  /// minimizer is unique: see exact_start), and the report says so. A name runs that backend.
+  std::string backend = AUTO_BACKEND;
   /// "cholmod" (this process: CHOLMOD factorization, condensation) or "petsc" (hemicontact-mpi:
   /// distributed unknowns and assembly, semismooth Newton (ssn) or TAO, CG + GAMG; run under mpirun).
   std::string engine = "cholmod";
@@ -146,19 +150,18 @@ struct SolveOptions {
   /// less smooth problem, which the exact solver does not need (issue 15: ipopt 5–25 s where the
   /// exact solver takes 0.02 s on the same scene).
   int exact_after_stage = 0;
-  /// When the exact solver starts, before any ε-stage: "convex" — when the inner problem Φ_λ is
-  /// strongly convex (inner_convexity, decided at set-up), its minimizer is unique and the exact
-  /// solver's monotone sweeps reach it from any start (driver/exact_inner.hpp), so the smoothed
-  /// neighbourhood is not needed and its cost (a backend minimization, on small meshes most of the
-  /// solve) is saved; "always" — on every condensed problem (a not strongly convex Φ_λ may then end
-  /// in another of its stationary points than the continuation's); "never" — the continuation's
-  /// stage 0 first; "auto" (the default) — "always" for a solve (`solve`, `converge`, adaptive
-  /// levels) and "convex" for the starts of `minima`, whose purpose is the variety of stationary
-  /// points the continuation's neighbourhoods reach. Why "always" for a solve (issue 15, 1000 random
-  /// scenes, docs/stress/random-default.md): it certified the same 999, reached the same energy on 484
-  /// of the 488 certified scenes that are not strongly convex (2 lower, 2 higher, by ≤ 2e-3), and
-  /// takes no backend minimization (max 21.7x the linear solve against 52x with "convex", the cost
-  /// being Ipopt's stage 0, and it needs no convexity check, which is skipped on large meshes).
+  /// When the exact solver starts, before any ε-stage (the design's path otherwise: the backend's
+  /// smoothed ε-stages inside the fixed point, then the hand-over to the exact solver):
+  /// "auto" (the default) — when solver.backend = auto and the inner problem Φ_λ is strongly convex
+  /// (inner_convexity, decided at set-up): its minimizer is unique and the exact solver's monotone
+  /// sweeps reach it from any start (driver/exact_inner.hpp), so the backend's stage could not
+  /// change the answer and is skipped; a backend the user named always runs its first stage;
+  /// "convex" — as auto, also for a named backend; "always" — on every condensed problem (a not
+  /// strongly convex Φ_λ may then end in another of its stationary points than the design's
+  /// path); "never" — the backend's stage 0 first, always. Measured on 1000 random scenes
+  /// (bench/README.md, hemicontact_random_study): auto certifies as many as "always", and on the
+  /// scenes that are not strongly convex it returns the design path's minimum, which "always" may
+  /// not (issue measurements: minima-one-node −34.11 against −10.11).
   std::string exact_start = "auto";
   /// When the exact solver's answer from the start is not certified: run the continuation from the
   /// same start (true), or stop there with that answer and its reason (false, the default: in the
@@ -169,11 +172,18 @@ struct SolveOptions {
   /// more is a stalled one (the smoothed problem grows nearly nonsmooth as ε → 0) and hands over.
   /// The paper's scenes need about 20 (README); 0: solver.max_iter alone.
   int exact_stage_max_iter = 200;
-  /// The strong-convexity check of the inner problem (a dense Cholesky, m³/3) is skipped above
-  /// this many condensed unknowns (h = 1/1024 has 2050: ~1 s there, 2% of that solve).
-  Index convexity_max_unknowns = 1200;
+  /// The strong-convexity check of the inner problem (one dense Cholesky of S − αW_ν, m³/3 flops)
+  /// is skipped above this many condensed unknowns, and the backend's stage then runs. The check
+  /// costs what one backend iteration on the condensed problem costs (Ipopt and newton factor a
+  /// matrix of the same size and pattern at every iteration), so wherever it can skip a backend
+  /// stage it pays: fig2 at h = 1/1024 (2050 unknowns) ~1 s against 5.2 s for Ipopt's stage 0. The
+  /// cap is S's own memory: 16384 unknowns is a 2 GB dense S.
+  Index convexity_max_unknowns = 16384;
   /// Anderson memory of the fixed point λ = F_b(u_ν) in the exact solver (0: plain iteration).
   int anderson_memory = 5;
 };
+
+/// Does the user name the backend (anything but solver.backend = auto)?
+inline bool backend_named(const SolveOptions& o) { return o.backend != AUTO_BACKEND; }
 
 }  // namespace hemicontact
