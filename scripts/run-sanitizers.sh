@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The safety net of issue 12, run by .ci/run after the test suite: a second build folder with
 # AddressSanitizer + UndefinedBehaviorSanitizer (Debian's clang 14, -O1), the whole test suite under
-# it (so the next out-of-bounds read or undefined behaviour fails CI), then the libFuzzer target
-# fuzz/scene_fuzz.cpp over scene parsing, validation and model building for a bounded time.
+# it (so the next out-of-bounds read or undefined behaviour fails CI), then the libFuzzer targets
+# fuzz/scene_fuzz.cpp (scene parsing, validation and model building) and fuzz/output_fuzz.cpp (the
+# output folder's manifest parser and the UTF-8 checks) for a bounded time shared between them.
 # Usage: scripts/run-sanitizers.sh   (env: SAN_BUILD_DIR, default build-san; FUZZ_SECONDS, default 45;
 #                                     JOBS, default nproc)
 set -euo pipefail
@@ -34,17 +35,28 @@ export LSAN_OPTIONS="suppressions=$here/tests/sanitizers/lsan.supp:print_suppres
 export ASAN_SYMBOLIZER_PATH="${ASAN_SYMBOLIZER_PATH:-/usr/bin/llvm-symbolizer-14}"
 ctest --test-dir "$build" --output-on-failure -j "$jobs"
 
-# The fuzzer works on a copy of the seed corpus (it adds the inputs it finds interesting there),
+# Each fuzzer works on a copy of its seed corpus (it adds the inputs it finds interesting there),
 # so the source tree is never written. A crash leaves its input in $build/fuzz-crashes and fails.
-work="$build/fuzz-work"
-rm -rf "$work" && mkdir -p "$work/corpus" "$build/fuzz-crashes"
-cp fuzz/corpus/*.json "$work/corpus/"
-"$build/fuzz/hemicontact_scene_fuzz" -dict=fuzz/scene.dict -max_total_time="$fuzz_seconds" -timeout=10 \
-  -rss_limit_mb=2048 -max_len=8192 -print_final_stats=1 -artifact_prefix="$build/fuzz-crashes/" \
-  "$work/corpus" 2>"$build/fuzz.log" || {
-  tail -60 "$build/fuzz.log" >&2
-  echo "run-sanitizers: the fuzzer found a crash; its input is in $build/fuzz-crashes/" >&2
-  exit 1
+# The time is shared, not added: the scene target (the larger input space) gets 7/9 of it, the
+# output target (manifest parser, UTF-8 checks; issue 28) the rest, 35 s + 10 s by default.
+output_seconds=$((fuzz_seconds * 2 / 9))
+scene_seconds=$((fuzz_seconds - output_seconds))
+rm -rf "$build/fuzz-work" && mkdir -p "$build/fuzz-crashes"
+# fuzz TARGET SECONDS CORPUS_GLOB [libFuzzer options...]
+fuzz() {
+  local target="$1" seconds="$2" seeds="$3"
+  shift 3
+  local work="$build/fuzz-work/$target"
+  mkdir -p "$work"
+  cp $seeds "$work/"
+  "$build/fuzz/hemicontact_${target}_fuzz" "$@" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+    -print_final_stats=1 -artifact_prefix="$build/fuzz-crashes/" "$work" 2>"$build/fuzz-$target.log" || {
+    tail -60 "$build/fuzz-$target.log" >&2
+    echo "run-sanitizers: the $target fuzzer found a crash; its input is in $build/fuzz-crashes/" >&2
+    exit 1
+  }
+  grep -E "stat::number_of_executed_units|stat::new_units_added|stat::peak_rss_mb" "$build/fuzz-$target.log" >&2 || true
 }
-grep -E "stat::number_of_executed_units|stat::new_units_added|stat::peak_rss_mb" "$build/fuzz.log" >&2 || true
+fuzz scene "$scene_seconds" "fuzz/corpus/*.json" -dict=fuzz/scene.dict -max_len=8192
+fuzz output "$output_seconds" "fuzz/corpus-output/*" -max_len=4096
 echo "run-sanitizers: the tests passed under ASan+UBSan and ${fuzz_seconds} s of fuzzing found nothing" >&2

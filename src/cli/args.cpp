@@ -2,6 +2,9 @@
 // PETSc engine's executable (hemicontact-mpi, src/petsc/) parses them with the same code.
 #include "cli.hpp"
 
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/text.hpp>
+
 #include <algorithm>
 #include <filesystem>
 
@@ -29,6 +32,12 @@ bool wants_help(const std::vector<std::string>& args) {
     if (std::find(with_value.begin(), with_value.end(), args[i]) != with_value.end()) ++i;
   }
   return false;
+}
+
+void require_utf8_scene_name(const std::string& scene, const std::string& result) {
+  if (invalid_utf8_at(scene) == std::string::npos) return;
+  input_error("scene file name '" + printable(scene) + "' is not valid UTF-8 (" + describe_invalid_utf8(scene) +
+              "): " + result + " records it, and JSON text is UTF-8; rename the file (or link it under a UTF-8 name)");
 }
 
 SceneArgs parse_scene_args(const std::vector<std::string>& args, const std::vector<std::string>& extra_keys) {

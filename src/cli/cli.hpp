@@ -71,6 +71,12 @@ int cmd_minima(const std::vector<std::string>& args);
 /// executable.
 /// @return the script's exit code (0: picture written); non-zero after a message on stderr when
 ///         python3, the script or matplotlib is missing
-int run_plot_script(const std::string& script, const std::vector<std::string>& args);
+/// @param picture the file the script writes: when it is a link, FIFO or other non-regular file
+///        (planted during the run) the script is not run, so that it cannot write through it
+int run_plot_script(const std::string& script, const std::vector<std::string>& args, const std::string& picture);
+
+/// @brief Refuse (EXIT_INPUT) a scene file name that is not UTF-8 where @p result (a JSON file)
+/// records it: JSON text is UTF-8, and the result could not be written at the end.
+void require_utf8_scene_name(const std::string& scene, const std::string& result);
 
 }  // namespace hemicontact::cli

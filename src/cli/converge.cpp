@@ -57,6 +57,7 @@ int converge_adaptive(const std::vector<std::string>& args) {
   req.uniform_levels = uniform_text == "none" ? std::vector<int>{} : parse_levels(uniform_text);
   req.graded_levels = graded_text == "none" ? std::vector<int>{} : parse_levels(graded_text);
   if (a.quiet) set_log_level(LogLevel::WARN);
+  require_utf8_scene_name(a.scene, "work_precision.json");
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
   req.adapt = adapt_options_from_scene(scene);  // target_error null: the default 0.01
   const OutputLock lock = prepare_output_dir(a.out, a.force, {"work_precision.csv", "work_precision.json", "work_precision.png"});
@@ -81,8 +82,10 @@ int converge_adaptive(const std::vector<std::string>& args) {
     if (std::isfinite(st.slope(f))) std::printf("%s: error ~ N^%.3f (last 4 meshes)\n", f, st.slope(f));
   std::printf("results in %s\n", a.out.c_str());
   if ((a.plot || scene.at("output").at("plot").get<bool>()) &&
-      run_plot_script("plot_work_precision.py", {(out / "work_precision.csv").string(), "--out",
-                                                 (out / "work_precision.png").string(), "--title", name}) != 0) {
+      run_plot_script("plot_work_precision.py",
+                      {(out / "work_precision.csv").string(), "--out", (out / "work_precision.png").string(), "--title",
+                       name},
+                      (out / "work_precision.png").string()) != 0) {
     std::fprintf(stderr, "hemicontact: converge: --plot: %s was not drawn (the CSV and JSON are written)\n",
                  (out / "work_precision.png").c_str());
     return EXIT_INPUT;
@@ -117,8 +120,11 @@ int cmd_converge(const std::vector<std::string>& all_args) {
     throw UsageError("--reference: expected one positive integer, got '" + reference_text + "'");
   if (a.quiet) set_log_level(LogLevel::WARN);
 
+  require_utf8_scene_name(a.scene, "convergence.json");
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
-  const OutputLock lock = prepare_output_dir(a.out, a.force, {"convergence.csv", "convergence.json", "convergence.png", "convergence.pvd"});
+  // level_<n>.vtu: one per solved level (the reference's too), checked with the fixed names.
+  const OutputLock lock = prepare_output_dir(
+      a.out, a.force, {"convergence.csv", "convergence.json", "convergence.png", "convergence.pvd"}, {{"level_", ".vtu"}});
   const std::filesystem::path out(a.out);
 
   // One VTU per solved level as it completes, and a .pvd that steps through them in ParaView.
@@ -154,8 +160,9 @@ int cmd_converge(const std::vector<std::string>& all_args) {
 
   const bool plot_failed =
       (a.plot || scene.at("output").at("plot").get<bool>()) &&
-      run_plot_script("plot_convergence.py", {(out / "convergence.csv").string(), "--out",
-                                              (out / "convergence.png").string(), "--title", name}) != 0;
+      run_plot_script("plot_convergence.py",
+                      {(out / "convergence.csv").string(), "--out", (out / "convergence.png").string(), "--title", name},
+                      (out / "convergence.png").string()) != 0;
   if (std::filesystem::exists(out / "convergence.png")) record_output_file((out / "convergence.png").string());
   if (!st.ok()) {
     std::string not_converged, not_certified;

@@ -20,6 +20,7 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/core/text.hpp>
 #include <hemicontact/driver/minima.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/output/study_writers.hpp>
@@ -95,6 +96,7 @@ int cmd_minima(const std::vector<std::string>& args) {
     }
   }
 
+  require_utf8_scene_name(a.scene, "minima.json");
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
   const Model md = build_model(scene, scene_directory(a.scene));
   for (const auto& f : start_files) {
@@ -105,11 +107,17 @@ int cmd_minima(const std::vector<std::string>& args) {
     try {
       js = nlohmann::json::parse(in);
     } catch (const nlohmann::json::parse_error& e) {
-      input_error("--start '" + f + "': " + e.what());
+      input_error("--start '" + f + "': " + printable(e.what()));
+    } catch (const nlohmann::json::exception& e) {
+      // out_of_range.406: a number beyond the double range (1e400); JSON has no inf
+      input_error("--start '" + f + "': " + e.what() + " (start values must be finite numbers)");
     }
     for (Vec& v : read_gamma3_starts(js, md, "--start '" + f + "'")) mo.user_starts.push_back(std::move(v));
   }
-  const OutputLock lock = prepare_output_dir(a.out, a.force, {"minima.csv", "minima.json", "minima.png", "minima.pvd", "minima-runs.csv", "solution_0.vtu"});
+  // solution_<k>.vtu: one per distinct solution, how many is known at the end.
+  const OutputLock lock = prepare_output_dir(a.out, a.force,
+                                             {"minima.csv", "minima.json", "minima.png", "minima.pvd", "minima-runs.csv"},
+                                             {{"solution_", ".vtu"}});
   const std::filesystem::path out(a.out);
 
   const SolveOptions opt = solve_options_from_scene(scene);
@@ -145,7 +153,8 @@ int cmd_minima(const std::vector<std::string>& args) {
     log_info() << "minima: no Gamma3 nodes, so no minima.png (the problem is linear elasticity: one solution)";
   else if (!r.solutions.empty()) {
     const int code = run_plot_script(
-        "plot_minima.py", {(out / "minima.json").string(), "--out", (out / "minima.png").string(), "--title", name});
+        "plot_minima.py", {(out / "minima.json").string(), "--out", (out / "minima.png").string(), "--title", name},
+        (out / "minima.png").string());
     // The scripts exit with 2 exactly when matplotlib is missing (after saying so themselves).
     if (code != 0)
       log_warn() << "minima: " << (out / "minima.png").string() << " was not drawn"

@@ -10,6 +10,8 @@
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/text.hpp>
+#include <hemicontact/output/output_dir.hpp>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -59,7 +61,16 @@ std::string find_script(const std::string& script) {
 
 }  // namespace
 
-int run_plot_script(const std::string& script, const std::vector<std::string>& args) {
+int run_plot_script(const std::string& script, const std::vector<std::string>& args, const std::string& picture) {
+  // The script renames its temporary over the picture (scripts/plotutil.py): a link, FIFO or
+  // folder planted under either name since the folder was checked is refused here.
+  const fs::path pic(picture);
+  for (const fs::path& p : {pic, pic.parent_path() / partial_name(pic.filename().string())})
+    if (const std::string kind = non_regular_kind(p.string()); !kind.empty()) {
+      std::fprintf(stderr, "hemicontact: --plot: '%s' is %s, not a regular file; the picture is not drawn (remove it)\n",
+                   printable(p.string()).c_str(), kind.c_str());
+      return EXIT_INPUT;
+    }
   const char* env_python = std::getenv("HEMICONTACT_PYTHON");
   const std::string python = env_python && *env_python ? env_python : "/usr/bin/python3";
   if (::access(python.c_str(), X_OK) != 0) {
@@ -87,9 +98,16 @@ int run_plot_script(const std::string& script, const std::vector<std::string>& a
     std::fprintf(stderr, "hemicontact: --plot: cannot run %s: %s\n", python.c_str(), std::strerror(errno));
     ::_exit(127);
   }
+  // SIGINT/SIGTERM while it draws end it too (output_dir.cpp's handler): no plotting process
+  // left running after this one is gone.
+  set_interrupt_child(static_cast<int>(pid));
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return EXIT_INTERNAL;
+    if (errno != EINTR) {
+      set_interrupt_child(0);
+      return EXIT_INTERNAL;
+    }
+  set_interrupt_child(0);
   const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   // The scripts exit with 2 when matplotlib is missing, after saying so themselves.
   if (code != 0)

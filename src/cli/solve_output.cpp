@@ -49,7 +49,7 @@ void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plo
   // 3D: the Γ3 status map with slip directions (scripts/plot_status3d.py, same arguments).
   const bool d3 = md.dim() == 3;
   const char* picture = d3 ? "status3d.png" : "fig2.png";
-  if (plot && run_plot_script(d3 ? "plot_status3d.py" : "plot_fig2.py", plot_args) != 0)
+  if (plot && run_plot_script(d3 ? "plot_status3d.py" : "plot_fig2.py", plot_args, (out / picture).string()) != 0)
     log_warn() << "--plot: " << (out / picture).string() << " was not written (the solve's results are)";
   if (plot && std::filesystem::exists(out / picture)) record_output_file((out / picture).string());
   nlohmann::json report = make_report(md, sol, opt);

@@ -1,6 +1,7 @@
 #include <hemicontact/material/hencky.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -11,9 +12,7 @@ namespace {
 
 void require_positive(double v, const std::string& key, const std::string& what) {
   if (!(v > 0) || !std::isfinite(v)) {
-    std::ostringstream os;
-    os << key << " = " << v << ": " << what << " must be a positive number";
-    input_error(os.str());
+    input_error(key + " = " + round_trip(v) + ": " + what + " must be a positive number");
   }
 }
 
@@ -32,9 +31,7 @@ Hencky Hencky::from_young(double E, double nu, double shear_ratio, double eps_re
   require_positive(E, "material.E", "Young's modulus");
   // κ = E/(3(1−2ν)) > 0 and μ_0 = E/(2(1+ν)) > 0 need −1 < ν < 1/2 (plane strain and 3D alike).
   if (!(nu > -1 && nu < 0.5)) {
-    std::ostringstream os;
-    os << "material.nu = " << nu << ": Poisson's ratio must lie in (-1, 0.5) for the hencky law";
-    input_error(os.str());
+    input_error("material.nu = " + round_trip(nu) + ": Poisson's ratio must lie in (-1, 0.5) for the hencky law");
   }
   require_positive(shear_ratio, "material.shear_ratio", "mu_inf/mu_0");
   const double mu0 = E / (2 * (1 + nu));

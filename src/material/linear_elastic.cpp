@@ -1,6 +1,7 @@
 #include <hemicontact/material/linear_elastic.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -9,14 +10,12 @@
 namespace hemicontact {
 
 LinearElastic::LinearElastic(double E, double nu, PlaneMode mode) : m_E(E), m_nu(nu), m_mode(mode) {
-  if (!(E > 0) || !std::isfinite(E)) input_error("material.E must be a positive number, got " + std::to_string(E));
+  if (!(E > 0) || !std::isfinite(E)) input_error("material.E must be a positive number, got " + round_trip(E));
   // ν ≥ 0.5 makes the plane-strain/3D law singular (incompressible) and is unphysical in plane
   // stress too (no isotropic 3D material has it); ν ≤ −1 loses positivity.
   if (!(nu > -1 && nu < 0.5)) {
-    std::ostringstream os;
-    os << "material.nu = " << nu << ": Poisson's ratio must lie in (-1, 0.5)"
-       << (mode == PlaneMode::STRESS ? "" : " (plane strain/3D: the law is singular at 0.5)");
-    input_error(os.str());
+    input_error("material.nu = " + round_trip(nu) + ": Poisson's ratio must lie in (-1, 0.5)" +
+                (mode == PlaneMode::STRESS ? "" : " (plane strain/3D: the law is singular at 0.5)"));
   }
   if (mode == PlaneMode::STRESS) {
     m_a = E * nu / (1 - nu * nu);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/text.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <set>
 #include <sstream>
@@ -146,7 +147,7 @@ std::string format_number(double x) {
 }
 
 [[noreturn]] void key_error(const std::string& path, const std::string& message) {
-  input_error(path.empty() ? "scene: " + message : "scene key '" + path + "': " + message);
+  input_error(path.empty() ? "scene: " + message : "scene key '" + printable(path) + "': " + message);
 }
 
 /// "> 0", ">= 1", "> 0 and <= 1"; empty without bounds. Shared by messages and the docs.
@@ -269,7 +270,8 @@ void validate_object(json& obj, const std::string& pointer, const std::string& p
     const std::string& k = item.key();
     const auto row = k == "*" ? idx.by_pointer.end() : idx.by_pointer.find(pointer + "/" + escape_segment(k));
     if (row == idx.by_pointer.end())
-      input_error("scene: unknown key '" + child_path(path, k) + "'" + unknown_key_hint(k, pointer, path, idx));
+      input_error("scene: unknown key '" + printable(child_path(path, k)) + "'" +
+                  printable(unknown_key_hint(k, pointer, path, idx)));
     check_value(item.value(), *row->second, child_path(path, k), idx, true);
   }
   const auto it = idx.children.find(pointer);
@@ -334,6 +336,31 @@ void check_finite(const json& v, const std::string& path) {
     for (const auto& item : v.items()) check_finite(item.value(), child_path(path, item.key()));
   if (v.is_array())
     for (std::size_t i = 0; i < v.size(); ++i) check_finite(v[i], element_path(path, i));
+}
+
+// Every result file is JSON, which is UTF-8: a key or string that is not would make the report
+// unwritable after the whole computation (issue 28), so it is refused here, naming it. Iterative,
+// as depth_of: no recursion over a structure that came from outside.
+void check_text(const json& scene) {
+  const std::string advice =
+      "; scene text must be UTF-8, as the JSON results are (re-encode it, e.g. iconv -f latin1 -t utf-8)";
+  std::vector<std::pair<const json*, std::string>> todo{{&scene, ""}};
+  while (!todo.empty()) {
+    const auto [v, path] = todo.back();
+    todo.pop_back();
+    if (v->is_string() && invalid_utf8_at(v->get_ref<const std::string&>()) != std::string::npos)
+      key_error(path, "the text is not valid UTF-8 (" + describe_invalid_utf8(v->get_ref<const std::string&>()) + ")" +
+                          advice);
+    if (v->is_object())
+      for (const auto& item : v->items()) {
+        if (invalid_utf8_at(item.key()) != std::string::npos)
+          key_error(child_path(path, item.key()), "the key is not valid UTF-8 (" + describe_invalid_utf8(item.key()) +
+                                                      ")" + advice);
+        todo.emplace_back(&item.value(), child_path(path, item.key()));
+      }
+    if (v->is_array())
+      for (std::size_t i = 0; i < v->size(); ++i) todo.emplace_back(&(*v)[i], element_path(path, i));
+  }
 }
 
 void check_selectors(const json& boundary) {
@@ -490,7 +517,7 @@ json parse_rejecting_duplicates(const std::string& text, const std::string& file
         std::string path;
         for (std::size_t i = 0; i + 1 < stack.size(); ++i)
           path = stack[i].is_array ? element_path(path, stack[i].index - 1) : child_path(path, stack[i].key);
-        input_error("scene file '" + file + "': duplicate key '" + child_path(path, k) + "'");
+        input_error("scene file '" + file + "': duplicate key '" + printable(child_path(path, k)) + "'");
       }
       stack.back().key = k;
     }
@@ -554,6 +581,7 @@ json validate_scene(json scene) {
   const SchemaIndex& idx = schema_index();
   if (!scene.is_object()) key_error("", "the top level must be a JSON object, got " + show(scene));
   if (depth_of(scene) > MAX_SCENE_DEPTH) input_error("scene: " + too_deep());
+  check_text(scene);
   check_finite(scene, "");
   validate_object(scene, "", "", idx);
   check_selectors(scene["boundary"]);
@@ -621,7 +649,7 @@ json load_scene_text(const std::string& text, const std::string& path, const std
   try {
     scene = parse_rejecting_duplicates(text, path);
   } catch (const json::parse_error& e) {
-    input_error("scene file '" + path + "': " + describe_parse_error(text, e));
+    input_error("scene file '" + path + "': " + printable(describe_parse_error(text, e)));
   } catch (const json::exception& e) {
     input_error("scene file '" + path + "': " + describe_overflow(text, e));  // number overflow (1e999)
   }
@@ -736,6 +764,8 @@ overrides, checks it against the tables below and fills in every default. The re
   non-decreasing first entries: a repeated r is a jump of p_ν (or F_b) at r.
 - **`mesh.n`**, if set, overrides `mesh.nx`, `mesh.ny` and `mesh.nz`: the effective scene has nx = ny = nz = n.
 - **Paths** such as `mesh.file` are relative to the directory of the scene file.
+- **Text.** Keys and strings (`--set` values too) must be UTF-8, as the JSON results are: other
+  bytes are refused at the start, naming the key.
 - **Overrides.** `--set path=value` is applied before validation, so a misspelt key is reported
   as unknown. The path is dotted (`mesh.n=64`, `solver.options.mu_strategy=monotone`); an array
   element is a number segment or brackets (`boundary.gamma2.0.traction=[1,0]` or

@@ -246,7 +246,22 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"LoadScaleUnderflows", none, {"loads (loads.scale", "the load scale (largest nodal force) is"},
                  "--set loads.scale=1e-300"},
         BadInput{"MeshIntervalOverflows", none, {"'mesh.x': the interval [-1e+308,1e+308] is out of range"},
-                 "--set 'mesh.x=[-1e308,1e308]'"}),
+                 "--set 'mesh.x=[-1e308,1e308]'"},
+        // ---- issue 28: text that is not UTF-8 could not be written into report.json at the end
+        // (exit 5 after the whole solve); refused at input, naming the key.
+        BadInput{"SetValueNotUtf8", none,
+                 {"scene key 'description': the text is not valid UTF-8 (byte 0xE9 at position 3)", "re-encode"},
+                 "--set 'description=caf\xe9" "'"},
+        BadInput{"SetKeyNotUtf8", none,
+                 {"scene key 'solver.options.caf\\xE9': the key is not valid UTF-8 (byte 0xE9 at position 3)"},
+                 "--set 'solver.options.caf\xe9" "=1'"},
+        BadInput{"SceneStringNotUtf8", none, {"scene file", "scene.json'", "UTF-8"}, "",
+                 [](std::string t) { return t.replace(t.find("\"description\": \""), 16, "\"description\": \"\xe9"); }},
+        // ---- issue 28, messages: a NUL in a key cut the message; nu was rounded to "1"
+        BadInput{"NulInAKey", none, {"scene: unknown key 'contcat\\x00tail' (allowed here: "}, "",
+                 [](std::string t) { return t.replace(t.find('{'), 1, "{\"contcat\\u0000tail\": 1, "); }},
+        BadInput{"PoissonJustBelowOne", [](json& s) { s["material"]["nu"] = 0.9999999999; },
+                 {"material.nu = 0.9999999999: Poisson's ratio must lie in (-1, 0.5)"}}),
     [](const ::testing::TestParamInfo<BadInput>& i) { return i.param.name; });
 // clang-format on
 
@@ -352,5 +367,49 @@ TEST(FixedPointCli, AllowNotConvergedDoesNotAcceptAFailedCertificate) {
   ASSERT_FALSE(rep["certificate"]["passed"].get<bool>());
   EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
   EXPECT_FALSE(rep["ok"].get<bool>());
+  fs::remove_all(dir);
+}
+
+// Issue 28: what converge and minima record that is not UTF-8 (a --set value, the scene file's
+// name) is refused before the study, naming it; before, the study ran to the end and then lost
+// convergence.json / minima.json with exit 5. A --start number beyond the double range was an
+// "internal error"; it is bad input naming the file.
+TEST(BadInputCli, StudiesRefuseTextThatIsNotUtf8AndStartsThatOverflow) {
+  const fs::path dir = fs::temp_directory_path() / ("hemicontact_utf8_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string fig2 = HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json";
+  const std::string softening = HEMICONTACT_SOURCE_DIR "/problems/minima-softening.json";
+  const fs::path latin1 = dir / "caf\xe9.json";
+  fs::copy_file(softening, latin1);
+  std::ofstream(dir / "start.json") << "[[1e400, 0]]";
+  const std::string out = " --out " + (dir / "out").string();
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases{
+      {"converge " + fig2 + " --quiet --levels 4 --reference 8 --set 'description=caf\xe9" "'" + out,
+       "scene key 'description': the text is not valid UTF-8"},
+      {"converge " + fig2 + " --adaptive --quiet --set 'description=caf\xe9" "'" + out,
+       "scene key 'description': the text is not valid UTF-8"},
+      {"minima '" + latin1.string() + "' --quiet --starts 1" + out,
+       "scene file name '" + (dir / "caf\\xE9.json").string() + "' is not valid UTF-8 (byte 0xE9 at position"},
+      {"converge '" + latin1.string() + "' --quiet --levels 4 --reference 8" + out, "convergence.json records it"},
+      {"minima " + softening + " --quiet --starts 1 --start " + (dir / "start.json").string() + out,
+       "--start '" + (dir / "start.json").string() + "': "},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto r = hemicontact::test::run_cli(dir, c.args);
+    EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_EQ(hemicontact::test::lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out" / "convergence.json"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "minima.json"));
+  }
+  // Valid UTF-8 goes through to the report.
+  const auto ok = hemicontact::test::run_cli(dir, "solve " + fig2 + " --quiet --set mesh.n=4 --set 'description=caf\xc3\xa9'" + out);
+  EXPECT_EQ(ok.code, hemicontact::EXIT_OK) << ok.err;
+  EXPECT_EQ(json::parse(hemicontact::test::slurp(dir / "out" / "report.json"))["scene"]["description"], "caf\xc3\xa9");
   fs::remove_all(dir);
 }

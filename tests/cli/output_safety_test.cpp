@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -48,8 +49,9 @@ class OutputSafety : public ::testing::Test {
 
   /// Start `hemicontact ARGS` without waiting (stdout/stderr to files @p tag.out/.err in dir);
   /// @return its process id (the program itself: the shell execs it).
-  pid_t start(const std::string& args, const std::string& tag) const {
-    const std::string cmd = std::string("exec ") + HEMICONTACT_CLI_PATH + " " + args + " >" +
+  pid_t start(const std::string& args, const std::string& tag, const std::string& env = "") const {
+    const std::string cmd = std::string("exec ") + (env.empty() ? "" : "env " + env + " ") + HEMICONTACT_CLI_PATH +
+                            " " + args + " >" +
                             (dir / (tag + ".out")).string() + " 2>" + (dir / (tag + ".err")).string();
     const pid_t pid = ::fork();
     if (pid == 0) {
@@ -94,6 +96,13 @@ TEST_F(OutputSafety, ASecondRunIntoTheSameFolderIsRefused) {
               std::string::npos)
         << r.err;
     EXPECT_FALSE(fs::exists(out / "report.json"));
+    // Under mpirun (its environment) the refusal says what was meant: the petsc engine (issue 28).
+    const auto mpi = hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=4 --out " + out.string(),
+                                                "OMPI_COMM_WORLD_SIZE=2");
+    EXPECT_EQ(mpi.code, hemicontact::EXIT_INPUT) << mpi.err;
+    EXPECT_NE(mpi.err.find("under mpirun, each rank of solver.engine = cholmod is a run of its own"), std::string::npos)
+        << mpi.err;
+    EXPECT_EQ(r.err.find("mpirun"), std::string::npos) << r.err;
   }
   const auto r = hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=4 --out " + out.string());
   EXPECT_EQ(r.code, hemicontact::EXIT_OK) << r.err;
@@ -213,6 +222,154 @@ TEST_F(OutputSafety, AnInterruptedMinimaSearchKeepsItsFinishedRuns) {
   const auto again = hemicontact::test::run_cli(dir, "minima " + scene("minima-softening.json") + " --out " + out.string());
   EXPECT_EQ(again.code, hemicontact::EXIT_INPUT);
   EXPECT_NE(again.err.find("an incomplete set"), std::string::npos) << again.err;
+}
+
+// ---- issue 28: a planted file in the output folder cannot redirect, hang or lose a run
+
+/// The names of the entries of @p out that do not start with a dot.
+std::vector<std::string> visible_files(const fs::path& out) {
+  std::vector<std::string> r;
+  for (const auto& e : fs::directory_iterator(out))
+    if (e.path().filename().string()[0] != '.') r.push_back(e.path().filename());
+  std::sort(r.begin(), r.end());
+  return r;
+}
+
+// BAD 1: a link planted under the report's temporary name made the report land in its target
+// (exit 0). Now the run is refused before it starts, naming the link; the target is untouched.
+// A FIFO under the manifest's name hung the run; now it is refused at once.
+TEST_F(OutputSafety, ALinkOrFifoPlantedInTheFolderIsRefusedNamingIt) {
+  const fs::path out = dir / "res";
+  fs::create_directories(out);
+  std::ofstream(dir / "victim") << "the user's\n";
+  fs::create_symlink("../victim", out / ".report.json.partial");
+  const auto r = hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=8 --out " + out.string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_NE(r.err.find("'.report.json.partial' is a symbolic link, not a file hemicontact wrote"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(slurp(dir / "victim"), "the user's\n");
+  EXPECT_FALSE(fs::exists(out / "report.json"));
+  const auto forced = hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=8 --force --out " + out.string());
+  EXPECT_EQ(forced.code, hemicontact::EXIT_INPUT) << forced.err;
+  EXPECT_EQ(slurp(dir / "victim"), "the user's\n");
+  fs::remove(out / ".report.json.partial");
+
+  ASSERT_EQ(::mkfifo((out / hemicontact::OUTPUT_MANIFEST).c_str(), 0600), 0);
+  // `timeout`: a hang fails the test instead of blocking the suite.
+  const auto fifo =
+      hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=8 --out " + out.string(), "timeout 60");
+  EXPECT_EQ(fifo.code, hemicontact::EXIT_INPUT) << fifo.err;
+  EXPECT_NE(fifo.err.find(std::string(hemicontact::OUTPUT_MANIFEST) + " is not a file list written by hemicontact (it is a FIFO)"),
+            std::string::npos)
+      << fifo.err;
+  fs::remove(out / hemicontact::OUTPUT_MANIFEST);
+  const auto ok = hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=8 --out " + out.string());
+  EXPECT_EQ(ok.code, hemicontact::EXIT_OK) << ok.err;
+  EXPECT_EQ(slurp(dir / "victim"), "the user's\n");
+}
+
+// BAD 2: a report.json of the user's made --force delete every file the run would write and the
+// tool's picture names (fig2.png). A report.json proves nothing now: the run is refused naming it,
+// --force or not, and every file stays.
+TEST_F(OutputSafety, AForeignReportJsonDoesNotLetForceDeleteFiles) {
+  const fs::path out = dir / "res";
+  fs::create_directories(out);
+  std::ofstream(out / "report.json") << "{\"mine\":1}\n";
+  std::ofstream(out / "fig2.png") << "mine\n";
+  std::ofstream(out / "notes.txt") << "mine\n";
+  const auto r = hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=8 --out " + out.string() + " --force");
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_NE(r.err.find("'report.json' exists and was not written by hemicontact"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(out / "report.json"), "{\"mine\":1}\n");
+  EXPECT_EQ(slurp(out / "fig2.png"), "mine\n");
+  EXPECT_EQ(slurp(out / "notes.txt"), "mine\n");
+  // Without the report, fig2.png (a name solve may write) is refused the same way.
+  fs::rename(out / "report.json", dir / "report.json");
+  const auto again = hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=8 --out " + out.string() + " --force");
+  EXPECT_EQ(again.code, hemicontact::EXIT_INPUT) << again.err;
+  EXPECT_NE(again.err.find("'fig2.png' exists and was not written by hemicontact"), std::string::npos) << again.err;
+  EXPECT_EQ(slurp(out / "fig2.png"), "mine\n");
+}
+
+// BAD 3: converge overwrote a user's level_4.vtu and minima a user's solution_1.vtu, without
+// --force. Both are refused before any solve, naming the file, which stays.
+TEST_F(OutputSafety, ConvergeAndMinimaRefuseAUsersNumberedFileBeforeSolving) {
+  const fs::path x = dir / "conv", y = dir / "min";
+  fs::create_directories(x);
+  fs::create_directories(y);
+  std::ofstream(x / "level_4.vtu") << "mine\n";
+  std::ofstream(y / "solution_1.vtu") << "mine\n";
+  const auto c = hemicontact::test::run_cli(
+      dir, "converge " + scene() + " --quiet --levels 4,8 --reference 16 --out " + x.string());
+  EXPECT_EQ(c.code, hemicontact::EXIT_INPUT) << c.err;
+  EXPECT_NE(c.err.find("'level_4.vtu' exists and was not written by hemicontact"), std::string::npos) << c.err;
+  EXPECT_EQ(slurp(x / "level_4.vtu"), "mine\n");
+  EXPECT_EQ(visible_files(x), std::vector<std::string>{"level_4.vtu"});
+  const auto m = hemicontact::test::run_cli(
+      dir, "minima " + scene("minima-softening.json") + " --quiet --starts 8 --out " + y.string() + " --force");
+  EXPECT_EQ(m.code, hemicontact::EXIT_INPUT) << m.err;
+  EXPECT_NE(m.err.find("'solution_1.vtu' exists and was not written by hemicontact"), std::string::npos) << m.err;
+  EXPECT_EQ(slurp(y / "solution_1.vtu"), "mine\n");
+  EXPECT_EQ(visible_files(y), std::vector<std::string>{"solution_1.vtu"});
+}
+
+// WEAK "Messages": a dangling --out link said "File exists"; a lock file that cannot be used was
+// "directory is not writable" without its name. Both now name the file and the remedy.
+TEST_F(OutputSafety, ADanglingOutLinkAndABadLockFileAreNamed) {
+  fs::create_symlink(dir / "missing", dir / "res");
+  const auto r = hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=4 --out " + (dir / "res").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_NE(r.err.find("--out '" + (dir / "res").string() + "' is a symbolic link to '" + (dir / "missing").string() +
+                       "', which does not exist"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "missing"));
+
+  const fs::path out = dir / "locked";
+  fs::create_directories(out / hemicontact::OUTPUT_LOCK);  // what no run can open for its lock
+  const auto l = hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=4 --out " + out.string());
+  EXPECT_EQ(l.code, hemicontact::EXIT_INPUT) << l.err;
+  EXPECT_NE(l.err.find("the lock file '" + (out / hemicontact::OUTPUT_LOCK).string() +
+                       "' is a directory, not a regular file"),
+            std::string::npos)
+      << l.err;
+  if (::geteuid() != 0) {  // root opens any file: a stale lock of another user needs a user
+    fs::remove(out / hemicontact::OUTPUT_LOCK);
+    std::ofstream(out / hemicontact::OUTPUT_LOCK) << "12345\n";
+    fs::permissions(out / hemicontact::OUTPUT_LOCK, fs::perms::owner_read);
+    const auto s = hemicontact::test::run_cli(dir, "solve " + scene() + " --set mesh.n=4 --out " + out.string());
+    EXPECT_EQ(s.code, hemicontact::EXIT_OUTPUT) << s.err;
+    EXPECT_NE(s.err.find("the lock file '" + (out / hemicontact::OUTPUT_LOCK).string() + "' cannot be opened"),
+              std::string::npos)
+        << s.err;
+  }
+}
+
+// WEAK "Messages": SIGTERM while the picture is drawn left the plotting process running. The
+// "python" here is a stand-in that records its process id and sleeps; it must end with the run.
+TEST_F(OutputSafety, AnInterruptDuringThePlotEndsThePlottingProcess) {
+  const fs::path python = dir / "slow-python", pidfile = dir / "plot.pid";
+  std::ofstream(python) << "#!/bin/sh\necho $$ > " << pidfile.string() << ".tmp\nmv " << pidfile.string()
+                        << ".tmp " << pidfile.string() << "\nexec sleep 120\n";
+  fs::permissions(python, fs::perms::owner_all);
+  const pid_t pid = start("solve " + scene() + " --quiet --set mesh.n=4 --plot --out " + (dir / "res").string(), "run",
+                          "HEMICONTACT_PYTHON=" + python.string());
+  ASSERT_TRUE(wait_for(pidfile));
+  const pid_t child = static_cast<pid_t>(std::stol(slurp(pidfile)));
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
+  // Gone, or a zombie waiting for whoever adopted it: not running either way.
+  const auto running = [&] {
+    const std::string stat = slurp("/proc/" + std::to_string(child) + "/stat");
+    const size_t paren = stat.rfind(')');
+    return !stat.empty() && paren != std::string::npos && stat.size() > paren + 2 && stat[paren + 2] != 'Z';
+  };
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (running() && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_FALSE(running()) << "the plotting process " << child << " outlived the run";
+  if (running()) ::kill(child, SIGKILL);
 }
 
 }  // namespace

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #if HEMICONTACT_HAS_ZLIB
@@ -702,7 +703,17 @@ TEST(OutputDir, CreatesRefusesFilesAndKeepsResults) {
   EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(file + "/sub", false); }), "--out '" + file + "/sub'");
   EXPECT_EQ(read_text(file), "user data\n");
 
+  // A report.json the manifest does not list is not ours: refused as a name the run would write,
+  // kept with --force (issue 28: it proved that the tool wrote the folder, and --force then
+  // removed the user's files).
   std::ofstream(nested + "/report.json") << "{}\n";
+  EXPECT_EQ(input_error_of([&] { prepare_output_dir(nested, true, {"report.json"}); }),
+            "--out '" + nested + "': 'report.json' exists and was not written by hemicontact (it is not listed in " +
+                OUTPUT_MANIFEST + "); move it away or choose another --out");
+  prepare_output_dir(nested, true);
+  EXPECT_EQ(read_text(nested + "/report.json"), "{}\n");
+  fs::remove(nested + "/report.json");
+  write_text_file(nested + "/report.json", "{}\n");  // now one of ours
   EXPECT_EQ(input_error_of([&] { prepare_output_dir(nested, false); }),
             "--out '" + nested + "' already holds results (report.json); pass --force to replace them");
   EXPECT_EQ(read_text(nested + "/report.json"), "{}\n");
@@ -740,18 +751,116 @@ TEST(OutputDir, ForceReplacesExactlyTheFilesOfTheEarlierRun) {
                   "'gamma3.csv' exists and was not written by hemicontact");
   EXPECT_EQ(read_text(out + "/gamma3.csv"), "the user's own\n");
 
-  // A result set from a version before the manifest (report.json, no manifest): the files this run
-  // writes are the ones that run wrote, so --force replaces them; other files stay.
+  // Issue 28: a report.json without a manifest of ours proves nothing (a user's, or anyone's):
+  // the names the run would write are refused, with --force too, and nothing is removed.
   const std::string old = dir / "old";
   fs::create_directories(old);
   for (const char* f : {"report.json", "solution.vtu", "gamma3.csv", "notes.txt"}) std::ofstream(old + "/" + f) << f;
-  EXPECT_CONTAINS(input_error_of([&] {
-                    prepare_output_dir(old, false, {"report.json", "solution.vtu"});
-                  }),
-                  "already holds results (report.json)");
-  prepare_output_dir(old, true, {"report.json", "solution.vtu", "gamma3.csv"});
-  for (const char* f : {"report.json", "solution.vtu", "gamma3.csv"}) EXPECT_FALSE(fs::exists(old + "/" + f)) << f;
-  EXPECT_EQ(read_text(old + "/notes.txt"), "notes.txt");
+  for (bool force : {false, true})
+    EXPECT_CONTAINS(input_error_of([&] {
+                      prepare_output_dir(old, force, {"report.json", "solution.vtu", "gamma3.csv"});
+                    }),
+                    "'report.json' exists and was not written by hemicontact");
+  for (const char* f : {"report.json", "solution.vtu", "gamma3.csv", "notes.txt"}) EXPECT_EQ(read_text(old + "/" + f), f);
+  // Nor does a manifest without the signature line (an older version's, or written by hand):
+  // refused naming it, its files kept.
+  std::ofstream(old + "/" + OUTPUT_MANIFEST) << "notes.txt\nsolution.vtu\n";
+  EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(old, true); }),
+                  std::string(OUTPUT_MANIFEST) + " is not a file list written by hemicontact (its first line is not '" +
+                      OUTPUT_MANIFEST_SIGNATURE + "')");
+  for (const char* f : {"report.json", "solution.vtu", "gamma3.csv", "notes.txt"}) EXPECT_EQ(read_text(old + "/" + f), f);
+}
+
+// The manifest parser: the signature first, then plain names only, each once; what it returns
+// is what a manifest with those names reads back as.
+TEST(OutputDir, ManifestParserKeepsPlainNamesAfterTheSignature) {
+  const std::string sig = std::string(OUTPUT_MANIFEST_SIGNATURE) + "\n";
+  EXPECT_FALSE(parse_manifest(""));
+  EXPECT_FALSE(parse_manifest("report.json\n"));
+  EXPECT_FALSE(parse_manifest(" " + sig));
+  EXPECT_FALSE(parse_manifest(sig + std::string(MAX_MANIFEST_BYTES, 'a')));
+  EXPECT_EQ(parse_manifest(sig), std::vector<std::string>{});
+  EXPECT_EQ(parse_manifest(sig + "a.vtu\n../x\n/etc/passwd\n.\n..\n\nb\x01\nc\xe9\n" + OUTPUT_MANIFEST + "\n" +
+                           OUTPUT_LOCK + "\nsub/x\na.vtu\n.a.vtu.partial\nlast"),
+            (std::vector<std::string>{"a.vtu", ".a.vtu.partial", "last"}));
+  EXPECT_TRUE(plain_output_name("level_16.vtu"));
+  EXPECT_FALSE(plain_output_name(std::string("a\0b", 3)));
+}
+
+// Issue 28, BAD 1: nothing in the folder is written, read or removed through a symbolic link, and
+// a FIFO is refused rather than opened (it hung the run). Each name the run uses is named.
+TEST(OutputDir, LinksAndFifosInTheFolderAreRefusedNotFollowed) {
+  TempDir dir("links");
+  const std::string out = dir / "res";
+  const std::string victim = dir / "victim";
+  std::ofstream(victim) << "the user's\n";
+  fs::create_directories(out);
+  struct Case {
+    std::string planted, expect;
+  };
+  const std::vector<Case> cases{
+      {".report.json.partial", "'.report.json.partial' is a symbolic link, not a file hemicontact wrote"},
+      {"report.json", "'report.json' is a symbolic link, not a file hemicontact wrote"},
+      {OUTPUT_LOCK, "the lock file '" + out + "/" + OUTPUT_LOCK + "' is a symbolic link, not a regular file"},
+      {OUTPUT_MANIFEST, std::string(OUTPUT_MANIFEST) + " is not a file list written by hemicontact (it is a symbolic link)"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.planted);
+    fs::remove(out + "/" + OUTPUT_MANIFEST);
+    fs::remove(out + "/" + c.planted);  // the lock file, left by the case before
+    fs::create_symlink("../victim", out + "/" + c.planted);
+    EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(out, true, {"report.json"}); }), c.expect);
+    EXPECT_EQ(read_text(victim), "the user's\n");
+    fs::remove(out + "/" + c.planted);
+  }
+  for (const std::string& planted : {std::string("report.json"), std::string(OUTPUT_MANIFEST), std::string(OUTPUT_LOCK)}) {
+    SCOPED_TRACE(planted);
+    fs::remove(out + "/" + OUTPUT_MANIFEST);
+    fs::remove(out + "/" + planted);
+    ASSERT_EQ(::mkfifo((out + "/" + planted).c_str(), 0600), 0);
+    EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(out, false, {"report.json"}); }), "is a FIFO");
+    fs::remove(out + "/" + planted);
+  }
+  // A link planted where a temporary goes after the check: created exclusively, never followed.
+  prepare_output_dir(out, false, {"report.json"});
+  fs::create_symlink("../victim", out + "/.gamma3.csv.partial");
+  try {
+    write_text_file(out + "/gamma3.csv", "x\n");
+    ADD_FAILURE() << "wrote through a link";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), EXIT_OUTPUT);
+    EXPECT_CONTAINS(std::string(e.what()), "its temporary '.gamma3.csv.partial' exists already");
+  }
+  EXPECT_EQ(read_text(victim), "the user's\n");
+  EXPECT_TRUE(fs::is_symlink(out + "/.gamma3.csv.partial"));  // not ours to remove
+  // A link planted under the final name is replaced by the rename, its target untouched.
+  fs::remove(out + "/.gamma3.csv.partial");
+  fs::create_symlink("../victim", out + "/gamma3.csv");
+  write_text_file(out + "/gamma3.csv", "x\n");
+  EXPECT_FALSE(fs::is_symlink(out + "/gamma3.csv"));
+  EXPECT_EQ(read_text(victim), "the user's\n");
+  EXPECT_EQ(non_regular_kind(out + "/gamma3.csv"), "");
+  fs::create_symlink("../victim", out + "/fig2.png");
+  EXPECT_EQ(non_regular_kind(out + "/fig2.png"), "a symbolic link");
+}
+
+// Numbered names (level_<n>.vtu, solution_<k>.vtu) are checked before the run like fixed ones,
+// their temporaries too.
+TEST(OutputDir, NumberedNamesOfTheUserAreRefused) {
+  TempDir dir("numbered");
+  const std::string out = dir / "res";
+  fs::create_directories(out);
+  std::ofstream(out + "/solution_12.vtu") << "mine\n";
+  std::ofstream(out + "/solution_x.vtu") << "not a number: not a name the run writes\n";
+  EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(out, true, {}, {{"solution_", ".vtu"}}); }),
+                  "'solution_12.vtu' exists and was not written by hemicontact");
+  fs::remove(out + "/solution_12.vtu");
+  std::ofstream(out + "/.solution_3.vtu.partial") << "mine\n";
+  EXPECT_CONTAINS(input_error_of([&] { prepare_output_dir(out, true, {}, {{"solution_", ".vtu"}}); }),
+                  "'.solution_3.vtu.partial' exists and was not written by hemicontact");
+  fs::remove(out + "/.solution_3.vtu.partial");
+  prepare_output_dir(out, false, {}, {{"solution_", ".vtu"}});
+  EXPECT_EQ(read_text(out + "/solution_x.vtu"), "not a number: not a name the run writes\n");
 }
 
 }  // namespace

@@ -23,6 +23,14 @@ inline void append_round_trip(std::string& out, double v) {
   out.append(buf, r.ptr);
 }
 
+/// The shortest text that reads back to the same double ("inf", "nan" too): messages that quote a
+/// value the user gave, which %g would round (nu = 0.9999999999 shown as "1").
+inline std::string round_trip(double v) {
+  std::string s;
+  append_round_trip(s, v);
+  return s;
+}
+
 /// The shortest round-trip text of @p v, or "" when it is not finite (a CSV cell with no value).
 inline std::string csv_number(double v) {
   if (!std::isfinite(v)) return "";
