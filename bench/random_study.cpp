@@ -92,7 +92,7 @@ std::string path_of(const Solution& s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int seeds = 1000, n_min = 8, n_max = 16, first = 1;
+  int seeds = 1000, n_min = 8, n_max = 16, first = 1, repeats = 3;
   std::string out = "random-study", backend;
   std::vector<std::string> sets;  // --set KEY=VALUE: a solver override on every scene (not the default study)
   for (int i = 1; i < argc; ++i) {
@@ -108,8 +108,9 @@ int main(int argc, char** argv) {
     else if (a == "--out") out = next();
     else if (a == "--backend") backend = next();
     else if (a == "--set") sets.push_back(next());
+    else if (a == "--repeats") repeats = std::max(1, std::stoi(next()));
     else {
-      std::cerr << "usage: hemicontact_random_study [--seeds N] [--first S] [--n-min A] [--n-max B] [--backend NAME] [--set KEY=VALUE]... [--out DIR]\n";
+      std::cerr << "usage: hemicontact_random_study [--seeds N] [--first S] [--n-min A] [--n-max B] [--backend NAME] [--set KEY=VALUE]... [--repeats R] [--out DIR]\n";
       return 1;
     }
   }
@@ -136,10 +137,11 @@ int main(int argc, char** argv) {
         if (!x.allFinite()) throw Error("linear solve not finite", EXIT_INTERNAL);
         r.linear = std::isnan(r.linear) ? t : std::min(r.linear, t);
       }
-      // Best of 3 like the linear solve above, so that a preemption on a shared machine does not
-      // decide a ratio (the solve is deterministic: the three answers are the same).
+      // Best of --repeats (3) like the linear solve above, so that a preemption on a shared machine
+      // does not decide a ratio (the solve is deterministic: the answers are the same). A study of
+      // certified counts alone can take --repeats 1.
       Solution s;
-      for (int rep = 0; rep < 3; ++rep) {
+      for (int rep = 0; rep < repeats; ++rep) {
         const auto t0 = clk::now();
         Solution sr = solve(md, opt);
         const double t = since(t0);
@@ -191,7 +193,7 @@ int main(int argc, char** argv) {
     csv << r.rs.seed << ',' << r.rs.n << ',' << r.rs.E << ',' << r.rs.load_scale << ',' << r.rs.mu << ','
         << (r.rs.gap_none ? std::string("none") : stress::num(r.rs.g)) << ',' << r.rs.aspect << ',' << r.outcome << ','
         << r.certificate << ',' << r.convex_checked << ',' << r.convex << ',' << r.min_eig << ',' << r.handover << ','
-        << r.path << ',' << r.solved_by << ',' << r.backend_ran << ',' << r.backend_iterations << ','
+        << csv_quote(r.path) << ',' << r.solved_by << ',' << r.backend_ran << ',' << r.backend_iterations << ','
         << r.backend_evaluations << ',' << stress::num(r.energy) << ',' << r.seconds << ',' << r.linear << ',' << r.ratio << ',' << csv_quote(r.message) << ','
         << csv_quote(r.rs.command()) << '\n';
 
@@ -230,7 +232,9 @@ int main(int argc, char** argv) {
           return j;
         }())
      << ". Regenerate: `hemicontact_random_study --seeds " << seeds
-     << (backend.empty() ? std::string() : " --backend " + backend) << " --out DIR`.\n\n"
+     << (backend.empty() ? std::string() : " --backend " + backend)
+     << (repeats == 3 ? std::string() : " --repeats " + std::to_string(repeats)) << " --out DIR`"
+     << (repeats == 1 ? " (single timings: the ratios are noisier than best-of-3)" : "") << ".\n\n"
      << "| | scenes |\n|---|---|\n"
      << "| drawn | " << rows.size() << " |\n"
      << "| input errors (an inverted perturbed cell) | " << input << " |\n"

@@ -91,8 +91,10 @@ std::string backend_line(const Solution& sol) {
 std::string exact_line(const Solution& sol) {
   const HandoverReport& h = sol.handover;
   if (!h.used) return "";
+  // From the start for the reason the backend did not run: said once, on the backend's line.
+  const bool same = !sol.backend_use.ran && h.reason == sol.backend_use.not_run;
   return std::string(h.after_stage < 0 ? "from the start" : "took over after stage " + std::to_string(h.after_stage)) +
-         " (" + h.reason + "): " + std::to_string(h.outer_iterations) + " lambda updates, " +
+         (same ? std::string() : " (" + h.reason + ")") + ": " + std::to_string(h.outer_iterations) + " lambda updates, " +
          std::to_string(h.inner_rounds) + " rounds, " + std::to_string(h.newton_steps) + " Newton steps, " +
          fmt(h.seconds, 3) + " s";
 }
