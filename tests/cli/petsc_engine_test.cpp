@@ -115,6 +115,10 @@ TEST_P(PetscAgreement, SameAnswerAsCholmod) {
   EXPECT_EQ(b.at("petsc").at("method"), c.backend.empty() ? "ssn" : c.backend);
   EXPECT_GT(b.at("petsc").at("newton_iterations").get<long>(), 0);
   EXPECT_GT(b.at("petsc").at("krylov_iterations").get<long>(), 0);
+  // What ran, as the report says it: the requested backend (auto = ssn) ran, and did the work.
+  EXPECT_EQ(b.at("backend").at("requested"), c.backend.empty() ? "auto" : c.backend);
+  EXPECT_EQ(b.at("backend").at("ran"), true);
+  EXPECT_GT(b.at("backend").at("iterations").get<long>(), 0);
 
   // Both certified on the unsmoothed problem, same statuses, same u on Γ3 and the same energies.
   EXPECT_TRUE(b.at("certificate").at("passed").get<bool>());
@@ -282,15 +286,20 @@ TEST(PetscEngine, TaoBackendInTheCholmodEngineNamesTheEngine) {
   fs::remove_all(dir);
 }
 
+// A backend of the cholmod engine that is named is refused, not silently replaced by ssn: ipopt
+// (which the petsc engine once ran as ssn) as well as newton; solver.backend = auto means ssn.
 TEST(PetscEngine, NonTaoBackendIsRefused) {
-  const fs::path dir = scratch("newton");
-  const CliOutcome r =
-      run_mpi(dir, 2, "solve " + problem("sofonea2017-fig2") + " --set mesh.n=4 --backend newton --out " +
-                          (dir / "o").string());
-  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
-  EXPECT_NE(r.err.find("solver.backend = 'newton'"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
-  fs::remove_all(dir);
+  for (const std::string b : {"newton", "ipopt"}) {
+    SCOPED_TRACE(b);
+    const fs::path dir = scratch(b);
+    const CliOutcome r =
+        run_mpi(dir, 2, "solve " + problem("sofonea2017-fig2") + " --set mesh.n=4 --backend " + b + " --out " +
+                            (dir / "o").string());
+    EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+    EXPECT_NE(r.err.find("solver.backend = '" + b + "'"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
+    fs::remove_all(dir);
+  }
 }
 
 TEST(PetscEngine, MoreRanksThanCellsIsRefused) {
