@@ -640,6 +640,8 @@ OuterIteration ContactSolver::Impl::minimize(Run& run, size_t stage) {
   // With the exact solver behind it, a stage that needs more than exact_stage_max_iter iterations
   // has stalled: it hands over instead of grinding (issue 15).
   if (exact_available() && opt.exact_stage_max_iter > 0) bo.max_iter = std::min(bo.max_iter, opt.exact_stage_max_iter);
+  // ... and stops at the statuses' neighbourhood (solver.exact.stage_tol), not at round-off.
+  if (exact_available() && opt.exact_stage_tol > 0) bo.tol = std::max(bo.tol, opt.exact_stage_tol);
   rec.backend = backend->minimize(prob, run.zs, bo);
   rec.solver = backend->name();
   const Vec c = gamma3(run.zs);

@@ -323,6 +323,7 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.exact_inner.max_halvings = ex.at("max_halvings").get<int>();
   o.exact_inner.polish_above = ex.at("polish_above").get<double>();
   o.exact_stage_max_iter = ex.at("stage_max_iter").get<int>();
+  o.exact_stage_tol = ex.at("stage_tol").get<double>();
   o.exact_after_stage = ex.at("after_stage").get<int>();
   o.exact_start = ex.at("start").get<std::string>();
   o.exact_start_fallback = ex.at("fallback").get<bool>();

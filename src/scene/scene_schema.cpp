@@ -435,6 +435,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "Backend iterations per minimization while the exact solver can take over; "
                            "more is a stall and hands over (0: solver.max_iter alone)."),
                        0));
+  t.push_back(at_most(at_least(key("/solver/exact/stage_tol", "number", D.exact_stage_tol,
+                                   "First-order tolerance of the backend's stage while the exact solver can "
+                                   "take over (the larger of this and solver.tol): the stage only finds the "
+                                   "statuses' neighbourhood. 0: solver.tol alone."),
+                               0.0),
+                      1e-2));
   t.push_back(at_least(key("/solver/exact/convexity_max_unknowns", "integer",
                            D.convexity_max_unknowns,
                            "Check the strong convexity of the inner problem (a dense Cholesky) up to this "
