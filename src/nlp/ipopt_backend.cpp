@@ -257,6 +257,10 @@ SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
   log_debug() << "ipopt: n = " << n << ", " << (warm ? "warm" : "cold") << " start, tol " << options.tol
               << " relative to G = " << scale << ", max_iter " << options.max_iter;
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
+  // Ipopt catches std::bad_alloc (its own and MUMPS's allocations) and returns this status: the
+  // memory message and code of every other allocation failure, not "not converged" (issue 28).
+  if (status == Ipopt::Insufficient_Memory)
+    memory_error("Ipopt (n = " + std::to_string(n) + " unknowns; its sparse factorization, MUMPS, could not allocate)");
 
   const IpoptTnlp::Result& r = tnlp->result();
   if (r.finalized) x = r.x;  // Ipopt's last iterate: strictly inside the bounds (no relaxation)

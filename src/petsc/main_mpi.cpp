@@ -27,6 +27,7 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <optional>
 #include <string>
 #include <vector>
@@ -150,6 +151,11 @@ int main(int argc, char** argv) {
   } catch (const Error& e) {
     if (rank == 0) std::fprintf(stderr, "hemicontact: error: %s\n", e.what());
     code = e.code();
+  } catch (const std::bad_alloc&) {
+    // Not known to be collective either; the memory message and code 2 as in `hemicontact`.
+    std::fprintf(stderr, "hemicontact: error (rank %d): %s\n", rank,
+                 out_of_memory_message("an allocation of the petsc engine (std::bad_alloc)").c_str());
+    MPI_Abort(PETSC_COMM_WORLD, EXIT_INPUT);
   } catch (const std::exception& e) {
     // Not known to be collective: a rank alone in trouble must not leave the others waiting.
     std::fprintf(stderr, "hemicontact: internal error (rank %d): %s\n", rank, e.what());
