@@ -275,7 +275,7 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
     if (m.at("file").is_null()) input_error("mesh.file: required when mesh.type is 'gmsh'");
     std::filesystem::path p = m.at("file").get<std::string>();
     if (p.is_relative()) p = std::filesystem::path(scene_dir) / p;
-    mesh = read_gmsh(p.string());
+    mesh = read_gmsh(p.string(), m.at("allow_scripts").get<bool>());
     check_memory(static_cast<double>(mesh.num_nodes()), mesh.dim, "mesh.file '" + p.string() + "'", petsc);
   } else if (m.at("type") == "box") {
     // Before the mesh is generated: 1e6 cells a side must be refused, not allocated.

@@ -126,7 +126,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "even nx, ny).",
                   {"kuhn", "symmetric"}));
   t.push_back(key("/mesh/file", "string|null", nullptr,
-                  "Gmsh .msh 4.1 file (mesh.type = gmsh), relative to the scene file's directory."));
+                  "Gmsh mesh file (mesh.type = gmsh; MSH version 2.x or 4.x, ASCII or binary), relative to "
+                  "the scene file's directory. It must start with `$MeshFormat`: Gmsh reads anything else as "
+                  "a script (see allow_scripts)."));
+  t.push_back(key("/mesh/allow_scripts", "boolean", false,
+                  "true: mesh.file may be any file Gmsh reads, .geo scripts included. A Gmsh script RUNS CODE "
+                  "with your rights (SystemCall runs shell commands, Printf writes files): set it only for "
+                  "scripts you trust. false: only MSH files."));
   // Below 0.5 h two neighbouring nodes cannot meet or swap places. The right triangles of the
   // right/left/symmetric meshes keep a positive area for perturb ≤ 0.35 (worst case over all moves
   // of the three vertices within their discs, by numerical minimization: 15 % of the area is left
