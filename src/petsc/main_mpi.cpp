@@ -78,6 +78,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
     scene["solver"]["engine"] = "petsc";
   }
   const SolveOptions opt = solve_options_from_scene(scene);
+  petsc_engine::install_error_handler(opt.petsc.options);
   if (!opt.petsc.options.empty()) {
     if (PetscOptionsInsertString(nullptr, opt.petsc.options.c_str()))
       input_error("solver.petsc.options: PETSc could not read '" + opt.petsc.options + "'");

@@ -562,12 +562,27 @@ json validate_scene(json scene) {
   check_interval(scene["mesh"]["y"], "mesh.y");
   check_interval(scene["mesh"]["z"], "mesh.z");
   check_solver_options(scene["solver"]);
+  check_petsc_options(scene["solver"]["petsc"]["options"].get<std::string>(), "solver.petsc.options");
   check_continuation(scene["solver"]);
   check_points(scene["contact"]["normal_law"]["points"], "contact.normal_law.points", false, "p", true);
   check_points(scene["contact"]["friction"]["points"], "contact.friction.points", false, "F_b", true);
   json& mesh = scene["mesh"];
   if (!mesh["n"].is_null()) mesh["nx"] = mesh["ny"] = mesh["nz"] = mesh["n"];
   return scene;
+}
+
+void check_key_range(const std::string& dotted, double value, const std::string& what, ExitCode code) {
+  std::string pointer = "/" + dotted;
+  std::replace(pointer.begin(), pointer.end(), '.', '/');
+  const auto row = schema_index().by_pointer.find(pointer);
+  if (row == schema_index().by_pointer.end()) throw Error("check_key_range: no scene key '" + dotted + "'", EXIT_INTERNAL);
+  const SchemaEntry& e = *row->second;
+  const bool low = e.min && (e.min_exclusive ? !(value > *e.min) : !(value >= *e.min));
+  const bool high = e.max && (e.max_exclusive ? !(value < *e.max) : !(value <= *e.max));
+  if (low || high || !std::isfinite(value))
+    throw Error(what + ": must be " + (e.min || e.max ? range_text(e) : std::string("finite")) +
+                    " (the range of scene key '" + dotted + "'), got " + format_number(value),
+                code);
 }
 
 void apply_override(json& scene, const std::string& assignment) {

@@ -480,10 +480,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "before it."),
                        1));
   t.push_back(at_least(key("/adapt/max_levels", "integer", 30, "At most this many meshes, the first included."), 1));
-  t.push_back(at_most(above(key("/adapt/theta", "number", 0.5,
-                                "Dörfler bulk parameter θ: the fewest cells whose η_T² sum to θ·η² are "
-                                "refined (θ = 1: all)."),
-                            0),
+  // Below 0.1 a level refines a handful of cells: θ = 1e-9 took thousands of levels to a target.
+  t.push_back(at_most(at_least(key("/adapt/theta", "number", 0.5,
+                                   "Dörfler bulk parameter θ: the fewest cells whose η_T² sum to θ·η² are "
+                                   "refined (θ = 1: all; at least 0.1, or the loop needs hundreds of levels)."),
+                               0.1),
                       1));
   t.push_back(at_least(key("/adapt/landing", "number", 1.1,
                            "The last step: when the Dörfler step would overshoot landing × N* nodes, "

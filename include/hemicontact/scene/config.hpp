@@ -14,6 +14,8 @@
 ///   const int nx = get_int(scene, "mesh.nx");                  // always present after loading
 /// @endcode
 
+#include <hemicontact/core/error.hpp>
+
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -86,6 +88,21 @@ inline constexpr int MAX_CONTINUATION_STAGES = 200;
 /// @throws Error (EXIT_INPUT) naming the dotted key, e.g. "scene key 'mesh.n': expected
 ///         integer, got string \"abc\""
 nlohmann::json validate_scene(nlohmann::json scene);
+
+/// @brief Check solver.petsc.options (the PETSc options passed to the petsc engine) against a
+/// whitelist (src/scene/petsc_options.cpp): each option a known solver setting under one of the
+/// engine's prefixes (elastic_, polish_, ssn_, tao_, tao_bnk_), its value of the right kind and in
+/// range; monitors and views only without a value (stdout), so that no option names a file.
+/// @param key the scene key named in messages
+/// @throws Error (EXIT_INPUT) naming the key and the option
+void check_petsc_options(const std::string& options, const std::string& key);
+
+/// @brief Check a number given for scene key @p dotted some other way (a command-line option such as
+/// converge's --graded-power, which sets mesh.grading.power) against that key's row: finite and in
+/// its range, so that both ways share one bound.
+/// @param what the option as the user wrote it, named in the message
+/// @throws Error (@p code) "WHAT: must be >= 1 and <= 10 (the range of scene key 'mesh.grading.power'), got inf"
+void check_key_range(const std::string& dotted, double value, const std::string& what, ExitCode code);
 
 /// @brief Apply one `--set path=value` assignment to a (not yet validated) scene.
 ///
