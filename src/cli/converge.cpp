@@ -50,8 +50,9 @@ int converge_adaptive(const std::vector<std::string>& args) {
     if (key == "--graded-power") {
       char* end = nullptr;
       req.graded_power = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || !(req.graded_power >= 1))
-        throw UsageError("--graded-power: expected a number >= 1, got '" + value + "'");
+      if (value.empty() || *end != '\0') throw UsageError("--graded-power: expected a number, got '" + value + "'");
+      // The bound of the key it sets (inf, or 50, failed later naming a degenerate cell).
+      check_key_range("mesh.grading.power", req.graded_power, "--graded-power", EXIT_USAGE);
     }
   }
   req.uniform_levels = uniform_text == "none" ? std::vector<int>{} : parse_levels(uniform_text);

@@ -61,6 +61,10 @@ SchemaEntry at_most(SchemaEntry e, double hi) {
   e.max_exclusive = false;
   return e;
 }
+SchemaEntry at_most_items(SchemaEntry e, std::size_t n) {
+  e.max_items = n;
+  return e;
+}
 
 // The three boundary parts share one selector shape; generating their rows keeps the three
 // copies identical instead of writing (and later editing) them three times.
@@ -156,10 +160,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                   {"none", "low", "high", "both"}));
   t.push_back(key("/mesh/grading/y", "string", "none", "Which end(s) of y get the small cells.",
                   {"none", "low", "high", "both"}));
-  t.push_back(at_least(key("/mesh/grading/power", "number", 1,
-                           "Grading exponent β ≥ 1 (1: uniform). A corner singularity r^α needs β ≥ 1/α "
-                           "for the optimal rate (α = 0.72 at the paper's clamped corners: β ≈ 1.4)."),
-                       1));
+  // β ≤ 10 covers corner exponents α ≥ 0.1; beyond, the smallest cell (1/n)^β is below round-off
+  // at any useful n (the generator also refuses a degenerate smallest cell, naming this key).
+  t.push_back(at_most(at_least(key("/mesh/grading/power", "number", 1,
+                                   "Grading exponent β ≥ 1 (1: uniform). A corner singularity r^α needs β ≥ 1/α "
+                                   "for the optimal rate (α = 0.72 at the paper's clamped corners: β ≈ 1.4)."),
+                               1),
+                      10));
 
   // ------------------------------------------------------------------ material
   t.push_back(section("/material", "Constitutive law F (paper eq. (12); MODEL.md §1)."));
@@ -222,9 +229,10 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "piecewise linear in one coordinate."));
   t.push_back(required("/contact/gap/along", "string", "Object form of gap: the coordinate g is a function of.",
                        {"x", "y", "z"}));
-  t.push_back(required("/contact/gap/points", "number[][]",
-                       "Object form of gap: [[coordinate, g], ...], coordinates strictly "
-                       "increasing, g ≥ 0."));
+  t.push_back(at_most_items(required("/contact/gap/points", "number[][]",
+                                     "Object form of gap: [[coordinate, g], ...], coordinates strictly "
+                                     "increasing, g ≥ 0."),
+                            MAX_TABLE_POINTS));
 
   t.push_back(section("/contact/normal_law", "Normal compliance of the soft layer, p_ν = j_ν′."));
   t.push_back(key("/contact/normal_law/type", "string", "none",
@@ -236,9 +244,11 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(key("/contact/normal_law/c3", "number|null", nullptr, "Slope for r ≥ r2 (32)."));
   t.push_back(key("/contact/normal_law/r1", "number|null", nullptr, "First kink of p_ν (32)."));
   t.push_back(key("/contact/normal_law/r2", "number|null", nullptr, "Second kink of p_ν (32)."));
-  t.push_back(key("/contact/normal_law/points", "number[][]|null", nullptr,
-                  "type table: [[r, p_ν(r)], ...], r non-decreasing; a repeated r is a jump of p_ν at r (∂j_ν is then "
-                  "the interval between the one-sided limits). Null slopes continue the first/last segment."));
+  t.push_back(at_most_items(key("/contact/normal_law/points", "number[][]|null", nullptr,
+                                "type table: [[r, p_ν(r)], ...], r non-decreasing; a repeated r is a jump of p_ν at r "
+                                "(∂j_ν is then the interval between the one-sided limits). Null slopes continue the "
+                                "first/last segment."),
+                            MAX_TABLE_POINTS));
   t.push_back(key("/contact/normal_law/slope_left", "number|null", nullptr,
                   "type table: slope of p_ν before the first point."));
   t.push_back(
@@ -252,9 +262,10 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(
       at_least(key("/contact/friction/mu", "number|null", nullptr, "Friction coefficient μ in F_b = μ p_ν (34)."), 0));
   t.push_back(at_least(key("/contact/friction/bound", "number|null", nullptr, "type tresca: the constant F_b."), 0));
-  t.push_back(key("/contact/friction/points", "number[][]|null", nullptr,
-                  "type table: [[u_ν, F_b(u_ν)], ...], u_ν non-decreasing (a repeated u_ν is a jump). Null slope_left "
-                  "means 0, as (15c) requires."));
+  t.push_back(at_most_items(key("/contact/friction/points", "number[][]|null", nullptr,
+                                "type table: [[u_ν, F_b(u_ν)], ...], u_ν non-decreasing (a repeated u_ν is a jump). "
+                                "Null slope_left means 0, as (15c) requires."),
+                            MAX_TABLE_POINTS));
   t.push_back(
       key("/contact/friction/slope_left", "number|null", nullptr, "type table: slope of F_b before the first point."));
   t.push_back(
@@ -329,7 +340,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "built it and the first step that reused it)."),
                        1));
   t.push_back(key("/solver/petsc/options", "string", D.petsc.options,
-                  "Extra PETSc options, verbatim (e.g. \"-ksp_monitor\"); not checked here."));
+                  "Extra PETSc options (e.g. \"-ssn_ksp_monitor -pc_gamg_threshold 0.02\"), checked against a "
+                  "whitelist: solver settings (ksp_type, ksp_rtol, ksp_max_it, pc_type, pc_gamg_*, "
+                  "pc_hypre_boomeramg_*, mg_levels_*, tao_max_it, tao_gatol, ...) without or with the "
+                  "engine's prefixes elastic_, polish_, ssn_, tao_; values of the right kind and in range; "
+                  "monitors and views (ksp_monitor, ksp_view, log_view, ...) without a value, printing to "
+                  "stdout. No option that names a file or a viewer (src/scene/petsc_options.cpp)."));
   t.push_back(key("/solver/formulation", "string", D.formulation,
                   "Unknowns the NLP sees: full = all free dofs; condensed = interior dofs "
                   "eliminated onto Γ3 by static condensation (one sparse factorization, a dense "
@@ -492,11 +508,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "only the largest indicators are marked, about as many as reach it; 0: off, "
                            "else >= 1 (the margin, against a step that falls short of the target)."),
                        0));
-  t.push_back(at_least(key("/adapt/blas_threads", "integer", 1,
-                           "OpenBLAS threads during the adaptive loop, restored after it (0: leave the "
-                           "BLAS as configured; OPENBLAS_NUM_THREADS in the environment wins). The 2D "
-                           "levels' small supernodes gain nothing from BLAS threads (docs/adaptivity.md)."),
-                       0));
+  // OpenBLAS's thread table is fixed when it is built (Debian: 64): 64 and more hung the loop.
+  t.push_back(at_most(at_least(key("/adapt/blas_threads", "integer", 1,
+                                   "OpenBLAS threads during the adaptive loop, restored after it (0: leave the "
+                                   "BLAS as configured; OPENBLAS_NUM_THREADS in the environment wins). The 2D "
+                                   "levels' small supernodes gain nothing from BLAS threads (docs/adaptivity.md)."),
+                               0),
+                      32));
   t.push_back(key("/adapt/estimator", "string", "zz",
                   "zz: Zienkiewicz–Zhu recovery of the strain; residual: element residuals, traction "
                   "jumps, Γ2 traction and Γ3 contact-traction mismatch.",

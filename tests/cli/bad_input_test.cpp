@@ -246,7 +246,48 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"LoadScaleUnderflows", none, {"loads (loads.scale", "the load scale (largest nodal force) is"},
                  "--set loads.scale=1e-300"},
         BadInput{"MeshIntervalOverflows", none, {"'mesh.x': the interval [-1e+308,1e+308] is out of range"},
-                 "--set 'mesh.x=[-1e308,1e308]'"}),
+                 "--set 'mesh.x=[-1e308,1e308]'"},
+        // ---- issue 28: PETSc options that reach the file system or crash PETSc (checked when the
+        // scene is read, so also in a build without the petsc engine)
+        BadInput{"PetscViewerToAFile", none, {"'solver.petsc.options'", "'-ssn_ksp_view' takes no value", "never name a file"},
+                 "--set 'solver.petsc.options=\"-ssn_ksp_view ascii:/tmp/hemicontact-victim\"'"},
+        BadInput{"PetscMatrixViewer", none, {"'solver.petsc.options'", "'-ssn_ksp_view_mat' is not accepted"},
+                 "--set 'solver.petsc.options=\"-ssn_ksp_view_mat binary:/tmp/hemicontact-victim\"'"},
+        BadInput{"PetscLogViewToAFile", none, {"'-log_view' takes no value", "':/tmp/hemicontact-victim'"},
+                 "--set 'solver.petsc.options=\"-ksp_monitor -log_view :/tmp/hemicontact-victim\"'"},
+        BadInput{"PetscUpperCaseViewer", none, {"'-SSN_KSP_VIEW' takes no value"},
+                 "--set 'solver.petsc.options=\"-SSN_KSP_VIEW ascii:/tmp/hemicontact-victim\"'"},
+        BadInput{"PetscMultigridWithoutLevels", none, {"'-ssn_pc_type' expects one of gamg, hypre", "got 'mg'"},
+                 "--set 'solver.petsc.options=\"-ssn_pc_type mg -ssn_pc_mg_levels 5\"'"},
+        BadInput{"PetscOptionsFile", none, {"'-options_file' is not accepted"},
+                 "--set 'solver.petsc.options=\"-options_file /etc/passwd\"'"},
+        BadInput{"PetscDebugger", none, {"'-start_in_debugger' is not accepted"},
+                 "--set 'solver.petsc.options=\"-start_in_debugger\"'"},
+        BadInput{"PetscNumberOutOfRange", none, {"'-ksp_max_it' expects an integer in 1..1e+06, got '2147483647'"},
+                 "--set 'solver.petsc.options=\"-ksp_max_it 2147483647\"'"},
+        BadInput{"PetscQuotes", none, {"quotes are not accepted"},
+                 "--set 'solver.petsc.options=\"-ksp_type \\\"cg\\\"\"'"},
+        // Ipopt's integer options have no upper bound of their own.
+        BadInput{"IpoptIntegerUnbounded", none, {"'limited_memory_max_history'", "above 1000000"},
+                 "--set solver.options.limited_memory_max_history=2147483647"},
+        // ---- issue 28: unbounded knobs, named by their key and range
+        BadInput{"BlasThreadsUnbounded", none, {"'adapt.blas_threads' must be >= 0 and <= 32, got 64"},
+                 "--set adapt.target_error=0.1 --set adapt.blas_threads=64"},
+        BadInput{"DorflerThetaTiny", none, {"'adapt.theta' must be >= 0.1 and <= 1, got 1e-09"},
+                 "--set adapt.target_error=0.1 --set adapt.theta=1e-9"},
+        BadInput{"GradingPowerUnbounded", none, {"'mesh.grading.power' must be >= 1 and <= 10, got 50"},
+                 "--set mesh.grading.power=50 --set mesh.grading.x=low"},
+        // Within the key's range, but the smallest cell of this n is below round-off: named by the key.
+        BadInput{"GradingPowerDegenerateForN", none, {"mesh.grading.power = 10 with 64 x 64 cells", "lower mesh.grading.power"},
+                 "--set mesh.grading.power=10 --set mesh.grading.x=low --set mesh.grading.y=low --set mesh.n=64"},
+        // A 10^5-point table took 9 minutes in the exact solver.
+        BadInput{"NormalLawTableTooLong",
+                 [](json& s) {
+                   json pts = json::array();
+                   for (int i = 0; i <= 10000; ++i) pts.push_back({1e-6 * i, 1e3 * i});
+                   s["contact"]["normal_law"] = {{"type", "table"}, {"points", pts}};
+                 },
+                 {"'contact.normal_law.points' has 10001 elements; at most 10000 are allowed"}}),
     [](const ::testing::TestParamInfo<BadInput>& i) { return i.param.name; });
 // clang-format on
 

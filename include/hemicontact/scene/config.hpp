@@ -55,6 +55,8 @@ struct SchemaEntry {
   std::optional<double> max;
   /// true: value < @ref max; false: value ≤ @ref max.
   bool max_exclusive = false;
+  /// Most elements an array value may have (tables: their length is the work of every evaluation).
+  std::optional<std::size_t> max_items;
 };
 
 /// @brief The scene schema: every key a scene may contain, in documentation order.
@@ -66,6 +68,16 @@ const std::vector<SchemaEntry>& scene_schema();
 /// paths and on a scene built in code, so that no walk of the scene recurses deeper: a text
 /// nested 40 000 levels deep would otherwise overflow the stack.
 inline constexpr std::size_t MAX_SCENE_DEPTH = 32;
+
+/// Longest scene file read (bytes): a scene is a few KB and its longest tables (MAX_TABLE_POINTS
+/// points each) take well under 1 MB; a path such as /dev/zero or a huge file must not be read
+/// for minutes (issue 28). Non-regular files (devices, FIFOs) are refused before they are opened.
+inline constexpr std::size_t MAX_SCENE_BYTES = 16u << 20;
+
+/// Most points of a piecewise-linear table (contact.gap.points, contact.normal_law.points,
+/// contact.friction.points): measured laws have tens to hundreds; each evaluation searches the
+/// table, and the exact solver evaluates it many times per node (10⁵ points took 9 minutes).
+inline constexpr std::size_t MAX_TABLE_POINTS = 10000;
 
 /// Most continuation stages a scene may ask for (solver.continuation: eps_start → eps_tau, eps_nu
 /// by factor per stage): the default takes 5; a factor of 0.9999999 would take 2·10⁸.
