@@ -95,6 +95,7 @@ int converge_adaptive(const std::vector<std::string>& args) {
 }  // namespace
 
 int cmd_converge(const std::vector<std::string>& all_args) {
+  refuse_mpi_ranks("converge");
   std::vector<std::string> args;
   bool adaptive = false;
   for (size_t i = 0; i < all_args.size(); ++i) {
