@@ -75,9 +75,10 @@ inline constexpr std::size_t MAX_SCENE_DEPTH = 32;
 inline constexpr std::size_t MAX_SCENE_BYTES = 16u << 20;
 
 /// Most points of a piecewise-linear table (contact.gap.points, contact.normal_law.points,
-/// contact.friction.points): measured laws have tens to hundreds; each evaluation searches the
-/// table, and the exact solver evaluates it many times per node (10⁵ points took 9 minutes).
-inline constexpr std::size_t MAX_TABLE_POINTS = 10000;
+/// contact.friction.points): measured laws have tens to hundreds. The solve's cost grows faster
+/// than the table (fig2 at n = 16 with a p_ν table: 0.14 s at 10³ points, 13 s at 10⁴, 9 minutes
+/// at 10⁵, without a progress line), so 10³ keeps any scene's table cheap.
+inline constexpr std::size_t MAX_TABLE_POINTS = 1000;
 
 /// Most continuation stages a scene may ask for (solver.continuation: eps_start → eps_tau, eps_nu
 /// by factor per stage): the default takes 5; a factor of 0.9999999 would take 2·10⁸.
