@@ -162,6 +162,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hemicontact: internal error (rank %d): %s\n", rank, e.what());
     MPI_Abort(PETSC_COMM_WORLD, EXIT_INTERNAL);
   }
-  PetscFinalize();
+  // PetscFinalize stops at its first error (with the engine's error handler it returns it) before
+  // MPI_Finalize, and mpirun then reports the rank as "exiting improperly" with exit code 1 after
+  // a complete report (issue 28: -log_view given after PetscInitialize did so).
+  if (PetscFinalize() != 0) {
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (!finalized) MPI_Finalize();
+  }
   return code;
 }

@@ -344,8 +344,9 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "whitelist: solver settings (ksp_type, ksp_rtol, ksp_max_it, pc_type, pc_gamg_*, "
                   "pc_hypre_boomeramg_*, mg_levels_*, tao_max_it, tao_gatol, ...) without or with the "
                   "engine's prefixes elastic_, polish_, ssn_, tao_; values of the right kind and in range; "
-                  "monitors and views (ksp_monitor, ksp_view, log_view, ...) without a value, printing to "
-                  "stdout. No option that names a file or a viewer (src/scene/petsc_options.cpp)."));
+                  "monitors and views (ksp_monitor, ksp_view, tao_monitor, ...) without a value, printing to "
+                  "stdout. No option that names a file or a viewer (src/scene/petsc_options.cpp); "
+                  "-log_view only through PETSC_OPTIONS (PETSc starts its log before the scene is read)."));
   t.push_back(key("/solver/formulation", "string", D.formulation,
                   "Unknowns the NLP sees: full = all free dofs; condensed = interior dofs "
                   "eliminated onto Γ3 by static condensation (one sparse factorization, a dense "
