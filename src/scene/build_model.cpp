@@ -139,7 +139,16 @@ MemoryBudget cgroup_memory_budget(const std::string& root) {
       const double limit = read_number((dir / limit_file).string());
       // v1 writes "no limit" as a huge number (PAGE_COUNTER_MAX · page size, ~9.2e18).
       if (limit > 0 && limit < 1e18) {
-        const double used = std::max(0.0, read_number((dir / usage_file).string()));
+        // The usage counts the page cache, which the kernel reclaims before it refuses memory:
+        // the inactive file pages are taken off it, as Docker and the kubelet do.
+        double inactive = 0;
+        std::ifstream stat((dir / "memory.stat").string());
+        for (std::string k; stat >> k;) {
+          double v = 0;
+          stat >> v;
+          if (k == (v2 ? "inactive_file" : "total_inactive_file")) inactive = v;
+        }
+        const double used = std::max(0.0, read_number((dir / usage_file).string()) - inactive);
         tighten(b, limit - used,
                 "the cgroup memory limit (" + (dir / limit_file).string() + " = " + gigabytes(limit) + ", " +
                     gigabytes(used) + " in use)");

@@ -1,6 +1,6 @@
 // Issue 28: the memory estimate's budget is the process's, not the machine's: the cgroup limit
 // (v2 memory.max, v1 memory.limit_in_bytes, of the process's group and the groups above it) less
-// its usage, read here from a folder laid out like / (cgroup_memory_budget's root).
+// its usage without the inactive page cache, read here from a folder laid out like / (cgroup_memory_budget's root).
 #include <hemicontact/scene/build_model.hpp>
 
 #include <gtest/gtest.h>
@@ -41,6 +41,8 @@ TEST_F(CgroupBudget, V2LimitOfTheGroupOrAGroupAboveIt) {
   write("sys/fs/cgroup/user.slice/memory.current", "300000000\n");
   const auto b = cgroup_memory_budget(root.string());
   EXPECT_DOUBLE_EQ(b.bytes, 7e8);
+  write("sys/fs/cgroup/user.slice/memory.stat", "anon 1\ninactive_file 100000000\n");
+  EXPECT_DOUBLE_EQ(cgroup_memory_budget(root.string()).bytes, 8e8);
   EXPECT_NE(b.limit.find("user.slice/memory.max"), std::string::npos) << b.limit;
   // The tighter of two limits wins.
   write("sys/fs/cgroup/user.slice/job/memory.max", "500000000\n");
@@ -52,6 +54,9 @@ TEST_F(CgroupBudget, V1MemoryControllerAndNoLimit) {
   write("sys/fs/cgroup/memory/docker/abc/memory.limit_in_bytes", "2147483648\n");
   write("sys/fs/cgroup/memory/docker/abc/memory.usage_in_bytes", "147483648\n");
   EXPECT_DOUBLE_EQ(cgroup_memory_budget(root.string()).bytes, 2e9);
+  // Reclaimable page cache is not usage.
+  write("sys/fs/cgroup/memory/docker/abc/memory.stat", "cache 100\ntotal_inactive_file 47483648\nrss 5\n");
+  EXPECT_DOUBLE_EQ(cgroup_memory_budget(root.string()).bytes, 2e9 + 47483648);
   // v1 writes "no limit" as a huge number: no budget at all (-1), not a huge one.
   write("sys/fs/cgroup/memory/docker/abc/memory.limit_in_bytes", "9223372036854771712\n");
   EXPECT_LT(cgroup_memory_budget(root.string()).bytes, 0);

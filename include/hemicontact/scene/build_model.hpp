@@ -45,7 +45,7 @@ struct MemoryBudget {
 /// @brief The smallest of: the machine's MemAvailable; RLIMIT_AS (ulimit -v) less the address
 /// space already mapped; RLIMIT_DATA (ulimit -d) less the data in use; the cgroup's limit
 /// (v2 memory.max, v1 memory.limit_in_bytes, of the process's group and the groups above it) less
-/// its usage.
+/// its usage (without the inactive page cache, which the kernel reclaims first).
 MemoryBudget memory_budget();
 
 /// @brief The cgroup part of memory_budget(), read below @p root ("" = the real /proc and /sys;
