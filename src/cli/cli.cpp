@@ -175,20 +175,24 @@ int cmd_solve(const std::vector<std::string>& args) {
     // labelled partial until report.json marks the run complete): an interrupted or failed run
     // keeps its certified levels (issue 28).
     std::vector<AdaptLevel> levels_so_far;
-    const auto keep_level = [&](const AdaptLevel& L, const Model&, const Solution&, const ErrorEstimate&) {
-      levels_so_far.push_back(L);
+    const auto write_levels = [&](bool partial) {
       AdaptResult so_far;
       for (const AdaptLevel& k : levels_so_far)
         if (k.ok) so_far.history.push_back(k);
       nlohmann::json j = adapt_report(so_far, aopt);
-      j["partial"] = true;
-      j["note"] = "the certified levels of an adaptive solve, written after each level; report.json (written "
-                  "last) marks a finished run";
+      j["partial"] = partial;
+      j["note"] = "the certified levels of an adaptive solve, written after each level (partial: the run had "
+                  "not finished); report.json, written last, marks a finished run";
       j.erase("reached");
       j.erase("stop_reason");
       write_text_file((std::filesystem::path(a.out) / ADAPT_LEVELS_FILE).string(), j.dump(2) + "\n");
     };
+    const auto keep_level = [&](const AdaptLevel& L, const Model&, const Solution&, const ErrorEstimate&) {
+      levels_so_far.push_back(L);
+      write_levels(true);
+    };
     adapted = run_adaptive(scene, build_mesh(scene, scene_directory(a.scene)), aopt, opt, keep_level);
+    write_levels(false);  // the loop has ended: the same levels, no longer partial
   } else {
     adapted.model = build_model(scene, scene_directory(a.scene));
     adapted.solution = solve(adapted.model, opt);
