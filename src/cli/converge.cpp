@@ -116,7 +116,8 @@ int cmd_converge(const std::vector<std::string>& all_args) {
   } catch (const Error&) {
   }
   if (reference.size() != 1 || reference_text.find(',') != std::string::npos)
-    throw UsageError("--reference: expected one positive integer, got '" + reference_text + "'");
+    throw UsageError("--reference: expected one positive integer up to " + std::to_string(MAX_LEVEL) +
+                     " (2^20 cells per side, the level cap), got '" + reference_text + "'");
   if (a.quiet) set_log_level(LogLevel::WARN);
 
   const nlohmann::json scene = load_scene(a.scene, a.overrides);

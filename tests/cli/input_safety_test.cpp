@@ -214,4 +214,7 @@ TEST_F(InputSafety, ConvergeOptionsHaveTheirKeysBounds) {
   r = cli("converge " + FIG2 + " --levels 4,2000000 --out " + (dir / "c").string());
   EXPECT_EQ(r.code, hemicontact::EXIT_USAGE) << r.err;
   EXPECT_TRUE(has(r.err, "up to 1048576 (2^20 cells per side")) << r.err;
+  r = cli("converge " + FIG2 + " --levels 4 --reference 4194304 --out " + (dir / "c").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_USAGE) << r.err;
+  EXPECT_TRUE(has(r.err, "--reference: expected one positive integer up to 1048576")) << r.err;
 }
