@@ -172,8 +172,8 @@ int cmd_solve(const std::vector<std::string>& args) {
   if (adaptive) {
     aopt = adapt_options_from_scene(scene);
     // Each certified level is kept as it ends (adapt_levels.json, rewritten whole and atomically,
-    // labelled partial until report.json marks the run complete): an interrupted or failed run
-    // keeps its certified levels (issue 28).
+    // labelled partial until the loop ends): an interrupted or failed run keeps its certified
+    // levels (issue 28).
     std::vector<AdaptLevel> levels_so_far;
     const auto write_levels = [&](bool partial) {
       AdaptResult so_far;
