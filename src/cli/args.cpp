@@ -6,6 +6,7 @@
 #include <hemicontact/core/text.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 
 namespace hemicontact::cli {
@@ -20,6 +21,23 @@ const char* const SCENE_OPTIONS =
     "  --force            replace the results of an earlier run in DIR (only the files it wrote)\n"
     "  --quiet            warnings only on stderr (progress is on stderr by default)\n"
     "  -h, --help         this help\n";
+
+void refuse_mpi_ranks(const std::string& command) {
+  // Open MPI's mpirun sets OMPI_COMM_WORLD_SIZE; MPICH, Intel MPI and Slurm's srun set PMI_SIZE.
+  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    const char* v = std::getenv(var);
+    if (v == nullptr) continue;
+    char* end = nullptr;
+    const long ranks = std::strtol(v, &end, 10);
+    if (end == v || ranks <= 1) continue;
+    // Every rank would run the whole command on its own and race the others for --out (issue 28).
+    throw Error(command + ": this process is one of " + std::to_string(ranks) + " MPI ranks (" + var + " = " + v +
+                    "), but the default engine (solver.engine = cholmod) runs in one process: every rank would "
+                    "solve the same scene and write the same --out. Run it without mpirun, or, for `solve`, use the "
+                    "distributed engine: mpirun -np N hemicontact solve SCENE --set solver.engine='\"petsc\"'",
+                EXIT_USAGE);
+  }
+}
 
 bool wants_help(const std::vector<std::string>& args) {
   // Options that take a value: their value is never a request for help (--set description=-h).

@@ -35,8 +35,9 @@ std::string usage() {
          "  hemicontact backends                        list the NLP backends compiled in\n"
          "  hemicontact --help | --version\n"
          "  hemicontact COMMAND --help                  the command's options, defaults and an example\n"
-         "exit codes: 0 solved and certified, 1 usage, 2 bad input, 3 not converged, 4 certificate failed,\n"
-         "            5 internal error, 6 the results could not be written (disk full, permissions)\n";
+         "exit codes: 0 solved and certified, 1 usage, 2 bad input (or too big for the memory), 3 not converged\n"
+         "            (or adapt.target_error not met), 4 certificate failed, 5 internal error, 6 the results could\n"
+         "            not be written (disk full, permissions)\n";
 }
 
 std::string command_help(const std::string& command) {
@@ -164,6 +165,7 @@ int cmd_solve(const std::vector<std::string>& args) {
       input_error("adapt.target_error: adaptive refinement runs on the cholmod engine only (solver.engine = petsc)");
     return exec_petsc_engine(args);
   }
+  refuse_mpi_ranks("solve");  // before the folder: ranks racing for it is what this prevents
   // Held until the program ends: no other run writes into this folder meanwhile.
   const OutputLock lock = prepare_output_dir(a.out, a.force, solve_output_names());
   const SolveOptions opt = solve_options_from_scene(scene);
@@ -174,7 +176,28 @@ int cmd_solve(const std::vector<std::string>& args) {
   AdaptOptions aopt;
   if (adaptive) {
     aopt = adapt_options_from_scene(scene);
-    adapted = run_adaptive(scene, build_mesh(scene, scene_directory(a.scene)), aopt, opt);
+    // Each certified level is kept as it ends (adapt_levels.json, rewritten whole and atomically,
+    // labelled partial until the loop ends): an interrupted or failed run keeps its certified
+    // levels (issue 28).
+    std::vector<AdaptLevel> levels_so_far;
+    const auto write_levels = [&](bool partial) {
+      AdaptResult so_far;
+      for (const AdaptLevel& k : levels_so_far)
+        if (k.ok) so_far.history.push_back(k);
+      nlohmann::json j = adapt_report(so_far, aopt);
+      j["partial"] = partial;
+      j["note"] = "the certified levels of an adaptive solve, written after each level (partial: the run had "
+                  "not finished); report.json, written last, marks a finished run";
+      j.erase("reached");
+      j.erase("stop_reason");
+      write_text_file((std::filesystem::path(a.out) / ADAPT_LEVELS_FILE).string(), j.dump(2) + "\n");
+    };
+    const auto keep_level = [&](const AdaptLevel& L, const Model&, const Solution&, const ErrorEstimate&) {
+      levels_so_far.push_back(L);
+      write_levels(true);
+    };
+    adapted = run_adaptive(scene, build_mesh(scene, scene_directory(a.scene)), aopt, opt, keep_level);
+    write_levels(false);  // the loop has ended: the same levels, no longer partial
   } else {
     adapted.model = build_model(scene, scene_directory(a.scene));
     adapted.solution = solve(adapted.model, opt);
@@ -183,15 +206,35 @@ int cmd_solve(const std::vector<std::string>& args) {
   Solution& sol = adapted.solution;
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   nlohmann::json extra = nlohmann::json::object();
+  std::string missed;  // why a requested target was not met (empty: met, or nothing requested)
   if (adaptive) {
     extra["adapt"] = adapt_report(adapted, aopt);
     const AdaptLevel& last = adapted.history.back();
     std::printf("adapt: %zu levels, %lld dofs, estimate %.3g (target %.3g, %s), %.3g s\n", adapted.history.size(),
                 static_cast<long long>(last.dofs), last.estimate, aopt.target_error, adapted.stop_reason.c_str(),
                 last.cumulative_seconds);
+    // A cap that stops the loop above the target is not success (issue 28: it exited 0, "ok": true).
+    // An uncertified level is the verdict's own business (exit 3 or 4).
+    if (!adapted.reached && sol.ok()) {
+      char buf[320];
+      std::snprintf(buf, sizeof buf,
+                    "adapt.target_error = %.3g not met: stopped by adapt.%s at estimate %.3g (%zu levels, %lld dofs); "
+                    "raise adapt.%s, or a larger adapt.target_error",
+                    aopt.target_error, adapted.stop_reason.c_str(), last.estimate, adapted.history.size(),
+                    static_cast<long long>(last.dofs), adapted.stop_reason.c_str());
+      missed = buf;
+      extra["ok"] = false;
+      extra["adapt"]["reason"] = missed;
+      extra["message"] = missed + " (the final mesh's answer is certified: " + sol.message + ")";
+    }
   }
   write_solve_results(a, plot_args, scene, md, sol, opt, extra, adaptive ? &adapted.estimate.eta : nullptr);
-  return solve_verdict(sol, opt);
+  const int verdict = solve_verdict(sol, opt);
+  if (verdict == EXIT_OK && !missed.empty()) {
+    log_warn() << missed;
+    return EXIT_NOT_CONVERGED;
+  }
+  return verdict;
 }
 
 int cmd_backends(const std::vector<std::string>& args) {

@@ -38,6 +38,10 @@ std::string usage();
 /// @return the help of one command (`hemicontact COMMAND --help`): usage, options with defaults,
 /// an example; the overview for an unknown command.
 std::string command_help(const std::string& command);
+/// Refuse (Error, EXIT_USAGE) to run @p command ("solve", "converge", "minima") on the cholmod
+/// engine as one of several MPI ranks (mpirun -np N: OMPI_COMM_WORLD_SIZE or PMI_SIZE > 1), with
+/// the hint to use solver.engine = petsc.
+void refuse_mpi_ranks(const std::string& command);
 /// @return true when @p args (a command's arguments) ask for its help (-h or --help anywhere).
 bool wants_help(const std::vector<std::string>& args);
 std::string version();
@@ -47,6 +51,9 @@ int cmd_solve(const std::vector<std::string>& args);
 int exec_petsc_engine(const std::vector<std::string>& args);
 /// The files `solve` may write into its folder (solve_output.cpp).
 std::vector<std::string> solve_output_names();
+/// An adaptive solve's certified levels so far, rewritten after each level (kept when the run is
+/// interrupted or fails; report.json, written last, marks a finished run).
+inline constexpr const char* ADAPT_LEVELS_FILE = "adapt_levels.json";
 /// The plotting script's arguments of `solve` (its --magnification checked). @throws UsageError
 std::vector<std::string> solve_plot_args(const SceneArgs& a);
 /// Write solution.vtu, gamma3.csv, the summary on stdout, the picture (--plot) and report.json

@@ -50,8 +50,9 @@ int converge_adaptive(const std::vector<std::string>& args) {
     if (key == "--graded-power") {
       char* end = nullptr;
       req.graded_power = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || !(req.graded_power >= 1))
-        throw UsageError("--graded-power: expected a number >= 1, got '" + value + "'");
+      if (value.empty() || *end != '\0') throw UsageError("--graded-power: expected a number, got '" + value + "'");
+      // The bound of the key it sets (inf, or 50, failed later naming a degenerate cell).
+      check_key_range("mesh.grading.power", req.graded_power, "--graded-power", EXIT_USAGE);
     }
   }
   req.uniform_levels = uniform_text == "none" ? std::vector<int>{} : parse_levels(uniform_text);
@@ -97,6 +98,7 @@ int converge_adaptive(const std::vector<std::string>& args) {
 }  // namespace
 
 int cmd_converge(const std::vector<std::string>& all_args) {
+  refuse_mpi_ranks("converge");
   std::vector<std::string> args;
   bool adaptive = false;
   for (size_t i = 0; i < all_args.size(); ++i) {
@@ -117,7 +119,8 @@ int cmd_converge(const std::vector<std::string>& all_args) {
   } catch (const Error&) {
   }
   if (reference.size() != 1 || reference_text.find(',') != std::string::npos)
-    throw UsageError("--reference: expected one positive integer, got '" + reference_text + "'");
+    throw UsageError("--reference: expected one positive integer up to " + std::to_string(MAX_LEVEL) +
+                     " (2^20 cells per side, the level cap), got '" + reference_text + "'");
   if (a.quiet) set_log_level(LogLevel::WARN);
 
   require_utf8_scene_name(a.scene, "convergence.json");

@@ -25,7 +25,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <new>
 #include <string>
+#include <system_error>
 #include <vector>
 
 int main(int argc, char** argv) {
@@ -83,6 +85,23 @@ int main(int argc, char** argv) {
   } catch (const Error& e) {
     std::fprintf(stderr, "hemicontact: error: %s\n", e.what());
     return e.code();
+  } catch (const std::bad_alloc&) {
+    // Anywhere in a command (Eigen, std containers, Ipopt): a memory message and exit code 2, like
+    // the memory estimate's refusal, never "internal error" (issue 28).
+    const std::string what = "'hemicontact " + (args.empty() ? std::string() : args[0]) +
+                             "' (an allocation failed: std::bad_alloc)";
+    std::fprintf(stderr, "hemicontact: error: %s\n", out_of_memory_message(what).c_str());
+    return EXIT_INPUT;
+  } catch (const std::system_error& e) {
+    // EAGAIN from creating a thread: under an address-space limit its stack did not fit.
+    if (e.code() != std::errc::resource_unavailable_try_again) {
+      std::fprintf(stderr, "hemicontact: internal error: %s\n", e.what());
+      return EXIT_INTERNAL;
+    }
+    const std::string what = "'hemicontact " + (args.empty() ? std::string() : args[0]) +
+                             "' (a thread could not be created: " + e.what() + ")";
+    std::fprintf(stderr, "hemicontact: error: %s\n", out_of_memory_message(what).c_str());
+    return EXIT_INPUT;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hemicontact: internal error: %s\n", e.what());
     return EXIT_INTERNAL;

@@ -67,6 +67,7 @@ double parse_positive(const std::string& key, const std::string& v) {
 }  // namespace
 
 int cmd_minima(const std::vector<std::string>& args) {
+  refuse_mpi_ranks("minima");
   SceneArgs a = parse_scene_args(
       args, {"--starts", "--seed", "--backends", "--start", "--group-tol", "--load-path-steps", "--box"});
   const std::string name = std::filesystem::path(a.scene).stem().string();

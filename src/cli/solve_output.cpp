@@ -18,7 +18,7 @@
 namespace hemicontact::cli {
 
 std::vector<std::string> solve_output_names() {
-  return {"report.json", "solution.vtu", "gamma3.csv", "fig2.png", "status3d.png"};
+  return {"report.json", "solution.vtu", "gamma3.csv", "fig2.png", "status3d.png", ADAPT_LEVELS_FILE};
 }
 
 std::vector<std::string> solve_plot_args(const SceneArgs& a) {

@@ -3,9 +3,11 @@
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/convergence.hpp>
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
 #include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -74,6 +76,11 @@ WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scen
       (kind == "uniform" && value != std::floor(value)) || (kind == "adaptive" && value >= 1))
     input_error("--reference: expected uniform:R (R cells per side) or adaptive:T (0 < T < 1), got '" +
                 req.reference + "'");
+  // T is a target_error of the same adaptive sequence: the key's floor holds (1e-9 was accepted).
+  if (kind == "adaptive") check_key_range("adapt.target_error", value, "--reference adaptive:T", EXIT_INPUT);
+  if (kind == "uniform" && value > MAX_LEVEL)
+    input_error("--reference uniform:R: R = " + req.reference.substr(colon + 1) + " is above the level cap " +
+                std::to_string(MAX_LEVEL) + " (2^20 cells per side)");
 
   // The adaptive sequence, kept level by level (its meshes and solutions).
   std::vector<Kept> adaptive;

@@ -25,10 +25,12 @@ int parse_level(const std::string& s) {
   try {
     size_t pos = 0;
     const long v = std::stol(s, &pos);
-    if (pos == s.size() && v > 0 && v <= 1 << 20) return static_cast<int>(v);
+    if (pos == s.size() && v > 0 && v <= MAX_LEVEL) return static_cast<int>(v);
   } catch (const std::exception&) {
   }
-  throw Error("--levels: expected a positive integer, got '" + s + "'", EXIT_USAGE);
+  throw Error("--levels: expected a positive integer up to " + std::to_string(MAX_LEVEL) +
+                  " (2^20 cells per side, the level cap), got '" + s + "'",
+              EXIT_USAGE);
 }
 
 // A level's effective scene: validate_scene() copies mesh.n into nx and ny.

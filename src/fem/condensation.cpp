@@ -7,10 +7,22 @@
 
 #include <algorithm>
 #include <chrono>
+#include <new>
 #include <numeric>
+#include <string>
 
 namespace hemicontact {
 namespace {
+
+// Every CHOLMOD call's status, checked (issue 28: an out-of-memory factorization left L->x null
+// and the Schur complement's copy below crashed on it). Out of memory (and "too large", an
+// integer overflow of the sizes) is the memory message; anything else an internal error.
+void check_condensation_status(const cholmod_common& c, const std::string& phase, Index n) {
+  if (c.status == CHOLMOD_OUT_OF_MEMORY || c.status == CHOLMOD_TOO_LARGE)
+    memory_error("the condensation's " + phase + " (" + std::to_string(n) + " unknowns)");
+  if (c.status < CHOLMOD_OK)
+    throw Error("condensation: CHOLMOD " + phase + " failed with status " + std::to_string(c.status), EXIT_INTERNAL);
+}
 
 // A cholmod_sparse view (no copy) of the lower triangle of a compressed Eigen matrix.
 cholmod_sparse view_lower(const SpMat& A) {
@@ -101,7 +113,8 @@ std::vector<int> node_graph_ordering(const SpMat& A, Index n, std::string& metho
   } else {
     throw Error("condensation: unknown ordering '" + method + "' (expected auto, amd, metis or nesdis)", EXIT_INPUT);
   }
-  if (!ok || c.status < CHOLMOD_OK) throw Error("condensation: CHOLMOD ordering failed", EXIT_INTERNAL);
+  check_condensation_status(c, "ordering", n);
+  if (!ok) throw Error("condensation: CHOLMOD ordering failed", EXIT_INTERNAL);
   std::vector<int> perm;
   perm.reserve(n);
   for (Index k = 0; k < ng; ++k) {
@@ -133,6 +146,7 @@ struct Condensation::Impl {
     B.xtype = CHOLMOD_REAL;
     B.dtype = CHOLMOD_DOUBLE;
     cholmod_dense* X = cholmod_solve(system, L, &B, &c);
+    check_condensation_status(c, "solve", b.size());
     if (!X) throw Error("condensation: CHOLMOD solve failed", EXIT_INTERNAL);
     Vec x = Eigen::Map<Vec>(static_cast<double*>(X->x), b.size());
     cholmod_free_dense(&X, &c);
@@ -186,12 +200,14 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m, const std::str
   c.nmethods = nmethods;
   c.postorder = postorder;
   c.method[0].ordering = saved_ordering;
+  check_condensation_status(c, "analysis", n);
   if (!m_impl->L) throw Error("condensation: CHOLMOD analysis failed", EXIT_INTERNAL);
   m_t_analyze = since(t0);
 
   t0 = clk::now();
   cholmod_factorize(&A, m_impl->L, &c);
   cholmod_factor* L = m_impl->L;
+  check_condensation_status(c, "factorization", n);
   if (c.status == CHOLMOD_NOT_POSDEF || L->minor < static_cast<size_t>(n))
     throw Error("condensation: the stiffness is not positive definite (is the body clamped on Γ1?)",
                 EXIT_NOT_CONVERGED);
@@ -202,7 +218,14 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m, const std::str
   t0 = clk::now();
   if (!L->is_super) throw Error("condensation: expected a supernodal factor", EXIT_INTERNAL);
   Mat& LCC = m_impl->LCC;
-  LCC = Mat::Zero(m, m);
+  // The two dense m × m blocks (L_CC and S) are what a long Γ3 costs: named when they do not fit.
+  try {
+    LCC = Mat::Zero(m, m);
+    m_S.resize(m, m);
+  } catch (const std::bad_alloc&) {
+    memory_error("the condensed Γ3 stiffness (two dense " + std::to_string(m) + " x " + std::to_string(m) +
+                 " matrices, " + std::to_string(m) + " Γ3 unknowns)");
+  }
   const auto* super = static_cast<const int*>(L->super);
   const auto* pi = static_cast<const int*>(L->pi);
   const auto* px = static_cast<const int*>(L->px);
@@ -218,7 +241,7 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m, const std::str
         if (row >= nI) LCC(row - nI, j - nI) = x[px[s] + static_cast<size_t>(j - k1) * nsrow + r];
       }
   }
-  m_S = LCC.triangularView<Eigen::Lower>() * LCC.transpose();
+  m_S.noalias() = LCC.triangularView<Eigen::Lower>() * LCC.transpose();  // no third m × m temporary
   m_t_schur = since(t0);
   m_nnz = static_cast<double>(c.lnz);
 

@@ -6,8 +6,23 @@
 #include <Eigen/CholmodSupport>
 
 #include <chrono>
+#include <string>
 
 namespace hemicontact {
+namespace {
+
+// Eigen's wrapper reports every CHOLMOD failure as NumericalIssue (and analyzePattern none at
+// all: a null factor then crashed factorize). CHOLMOD's own status tells "out of memory" (and
+// "problem too large": an integer overflow of the sizes) from "not positive definite".
+void check_cholesky_status(const cholmod_common& c, const char* phase, Index n) {
+  if (c.status == CHOLMOD_OUT_OF_MEMORY || c.status == CHOLMOD_TOO_LARGE)
+    memory_error(std::string("the sparse Cholesky ") + phase + " (" + std::to_string(n) + " unknowns)");
+  if (c.status < CHOLMOD_OK)
+    throw Error(std::string("sparse Cholesky ") + phase + ": CHOLMOD failed with status " + std::to_string(c.status),
+                EXIT_INTERNAL);
+}
+
+}  // namespace
 
 struct SparseCholesky::Impl {
   // Supernodal LLᵀ: the BLAS-3 supernodes are what makes CHOLMOD fast with OpenBLAS.
@@ -28,6 +43,7 @@ SparseCholesky::~SparseCholesky() = default;
 void SparseCholesky::analyze(const SpMat& A) {
   const auto t0 = std::chrono::steady_clock::now();
   m->llt.analyzePattern(A);
+  check_cholesky_status(m->llt.cholmod(), "analysis", A.rows());
   m->t_analyze = since(t0);
 }
 
@@ -35,6 +51,7 @@ void SparseCholesky::factorize(const SpMat& A) {
   const auto t0 = std::chrono::steady_clock::now();
   m->llt.factorize(A);
   m->t_factor = since(t0);
+  check_cholesky_status(m->llt.cholmod(), "factorization", A.rows());
   if (m->llt.info() != Eigen::Success)
     throw Error("sparse Cholesky: the matrix is not positive definite (is the body clamped on Γ1?)",
                 EXIT_NOT_CONVERGED);
@@ -45,7 +62,13 @@ void SparseCholesky::compute(const SpMat& A) {
   factorize(A);
 }
 
-Vec SparseCholesky::solve(const Vec& b) const { return m->llt.solve(b); }
+Vec SparseCholesky::solve(const Vec& b) const {
+  Vec x = m->llt.solve(b);
+  // A failed cholmod_solve leaves x unset and says so only through info() and the status.
+  check_cholesky_status(m->llt.cholmod(), "solve", b.size());
+  if (m->llt.info() != Eigen::Success) throw Error("sparse Cholesky solve: CHOLMOD failed", EXIT_INTERNAL);
+  return x;
+}
 double SparseCholesky::analyze_seconds() const { return m->t_analyze; }
 double SparseCholesky::factorize_seconds() const { return m->t_factor; }
 

@@ -2,10 +2,12 @@
 
 #include <hemicontact/core/error.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <utility>
 
 namespace hemicontact {
 
@@ -56,6 +58,27 @@ Mesh make_rectangle(const RectangleSpec& s) {
   const auto gx = [&](int i) { return grade_map(static_cast<double>(i) / nx, s.grade_x, s.grading_power); };
   const auto gy = [&](int j) { return grade_map(static_cast<double>(j) / ny, s.grade_y, s.grading_power); };
   const auto grid = [nx](int i, int j) { return j * (nx + 1) + i; };
+  if (graded) {
+    // The smallest cell (the two smallest spacings) against the largest spacing: below check_cells'
+    // round-off floor (1e-12 h²; 1e-10 here, a margin) the power made it degenerate, and the message
+    // should name the power, not a cell (issue 28: power 50, or inf, did).
+    const auto spacings = [](int n, const auto& g, double len) {
+      double lo = INF, hi = 0;
+      for (int i = 0; i < n; ++i) lo = std::min(lo, len * (g(i + 1) - g(i))), hi = std::max(hi, len * (g(i + 1) - g(i)));
+      return std::pair<double, double>(lo, hi);
+    };
+    const auto [dx_min, dx_max] = spacings(nx, gx, s.x1 - s.x0);
+    const auto [dy_min, dy_max] = spacings(ny, gy, s.y1 - s.y0);
+    const double h = std::max(dx_max, dy_max);
+    if (!(0.5 * dx_min * dy_min >= 1e-10 * h * h)) {
+      std::ostringstream os;
+      os << "mesh.grading.power = " << s.grading_power << " with " << nx << " x " << ny
+         << " cells: the smallest graded cell's area is " << 0.5 * dx_min * dy_min / (h * h)
+         << " of the largest spacing squared, below round-off (a degenerate cell); lower mesh.grading.power "
+            "(or mesh.n)";
+      input_error(os.str());
+    }
+  }
 
   // Which split each column uses; SYMMETRIC mirrors RIGHT into LEFT about the centre line, and an
   // odd middle column (which no two-triangle split keeps symmetric) is crossed.

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -306,14 +307,72 @@ Mesh read_model(const std::string& path) {
   return m;
 }
 
+// The header of an MSH file, version 2.x or 4.x, ASCII or binary: the first non-blank line is
+// "$MeshFormat", the next "VERSION FILE-TYPE DATA-SIZE" with FILE-TYPE 0 (ASCII) or 1 (binary).
+// Gmsh reads such a file as a mesh (its unknown sections are skipped, never run). Only a bounded
+// prefix is read, and only from a regular file (a FIFO or /dev/zero must not block or stream).
+void check_msh_header(const std::string& path) {
+  const std::string where = "gmsh file '" + path + "' (mesh.file): ";
+  std::ifstream in(path, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  std::istringstream lines(head);
+  std::string first, format;
+  while (std::getline(lines, first) && first.find_first_not_of(" \t\r") == std::string::npos) {
+  }
+  const auto trim = [](std::string t) {
+    const size_t a = t.find_first_not_of(" \t\r"), b = t.find_last_not_of(" \t\r");
+    return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
+  };
+  first = trim(first);
+  // Gmsh chooses by the extension before the content: a .geo file is parsed as a script whatever
+  // its first line says.
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string script_note =
+      "; a Gmsh script (.geo, or anything Gmsh does not read as a mesh) runs code (SystemCall, "
+      "Printf to files) and is read only with mesh.allow_scripts = true";
+  if (ext == ".geo" || ext == ".geo_unrolled")
+    input_error(where + "a Gmsh script by its extension (" + ext + ")" + script_note);
+  if (first != "$MeshFormat") {
+    std::string shown = first.substr(0, 40);
+    for (char& c : shown)
+      if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) >= 127) c = '?';
+    input_error(where + "not a Gmsh mesh: its first line is '" + shown +
+                "', where an MSH file (version 2 or 4) starts with '$MeshFormat'" + script_note);
+  }
+  std::getline(lines, format);
+  std::istringstream f(format);
+  std::string version;
+  int file_type = -1, data_size = 0;
+  f >> version >> file_type >> data_size;
+  // Gmsh prints the version with %g: 4.1, 2.2, and 4.0 as "4".
+  const bool known_version = (version == "2" || version == "4" ||
+                              ((version.rfind("2.", 0) == 0 || version.rfind("4.", 0) == 0) && version.size() > 2 &&
+                               version.find_first_not_of("0123456789", 2) == std::string::npos));
+  if (!f || !known_version || (file_type != 0 && file_type != 1))
+    input_error(where + "unsupported MSH header '" + trim(format).substr(0, 40) +
+                "': expected 'VERSION FILE-TYPE DATA-SIZE' with version 2.x or 4.x and file type 0 (ASCII) or "
+                "1 (binary)" + script_note);
+}
+
 }  // namespace
 
-Mesh read_gmsh(const std::string& path) {
+Mesh read_gmsh(const std::string& path, bool allow_scripts) {
   const std::string where = "gmsh file '" + path + "': ";
-  // Gmsh 4.8 does not fail on a missing file (it logs and leaves an empty model), so check first.
-  if (!std::ifstream(path).good()) input_error(where + "cannot open it (missing or unreadable)");
+  // Gmsh 4.8 does not fail on a missing file (it logs and leaves an empty model), so check first;
+  // by stat, before opening: a FIFO would block in open(), and a device (/dev/zero) would stream.
   std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) input_error(where + "cannot open it (missing or unreadable)");
   if (std::filesystem::is_directory(path, ec)) input_error(where + "is a directory");
+  if (!std::filesystem::is_regular_file(path, ec))
+    input_error(where + "is not a regular file (a device, FIFO or socket)");
+  if (!std::ifstream(path).good()) input_error(where + "cannot open it (missing or unreadable)");
+  // Gmsh picks the format from the content, and anything that is not a mesh it runs as a script:
+  // SystemCall runs commands, Printf > "file" writes files (issue 28). So mesh.file must show the
+  // header of a mesh (Gmsh's "MSH file format") before Gmsh sees it; scripts only on request.
+  if (!allow_scripts) check_msh_header(path);
   const GmshApi& api = gmsh();  // a library that cannot be loaded is an Error of its own, not the file's
   GmshSession session;
   try {

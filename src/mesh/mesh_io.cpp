@@ -9,7 +9,7 @@
 namespace hemicontact {
 
 #if !HEMICONTACT_HAS_GMSH
-Mesh read_gmsh(const std::string& path) {
+Mesh read_gmsh(const std::string& path, bool) {
   throw Error("gmsh file '" + path + "': Gmsh .msh import was not compiled in (install libgmsh-dev and rebuild)");
 }
 #endif

@@ -90,6 +90,11 @@ SolveStatus map_status(Ipopt::ApplicationReturnStatus s) {
   }
 }
 
+// Ipopt registers most integer options without an upper bound; sizes and counts such as
+// limited_memory_max_history or mumps_mem_percent at 2^31 − 1 are sized into allocations or loops
+// (issue 28: the NLopt analogue corrupted the heap). No option needs more than a million.
+constexpr int MAX_PASSTHROUGH_INT = 1000000;
+
 // One Set*Value, checked (OptionsList returns false for an unknown name, a wrong type or a value
 // outside the registered range or list).
 void set_checked(bool ok, const std::string& name, const std::string& value, ExitCode code) {
@@ -151,6 +156,10 @@ void set_passthrough(Ipopt::IpoptApplication& app, const std::string& name, cons
     case Ipopt::OT_Integer:
       if (!parse_int(value, i))
         throw Error("ipopt: option '" + name + "' expects an integer, got '" + value + "'", EXIT_INPUT);
+      if (i > MAX_PASSTHROUGH_INT)
+        throw Error("ipopt: option '" + name + "' (solver.options." + name + ") = " + value + " is above " +
+                        std::to_string(MAX_PASSTHROUGH_INT) + ", the bound of every integer pass-through option",
+                    EXIT_INPUT);
       set_checked(o.SetIntegerValue(name, i), name, value, EXIT_INPUT);
       return;
     case Ipopt::OT_Number:
@@ -257,6 +266,10 @@ SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
   log_debug() << "ipopt: n = " << n << ", " << (warm ? "warm" : "cold") << " start, tol " << options.tol
               << " relative to G = " << scale << ", max_iter " << options.max_iter;
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
+  // Ipopt catches std::bad_alloc (its own and MUMPS's allocations) and returns this status: the
+  // memory message and code of every other allocation failure, not "not converged" (issue 28).
+  if (status == Ipopt::Insufficient_Memory)
+    memory_error("Ipopt (n = " + std::to_string(n) + " unknowns; its sparse factorization, MUMPS, could not allocate)");
 
   const IpoptTnlp::Result& r = tnlp->result();
   if (r.finalized) x = r.x;  // Ipopt's last iterate: strictly inside the bounds (no relaxation)

@@ -106,6 +106,16 @@ namespace {
 
 constexpr Index DENSE_MAX_N = 3000;        // SLSQP and MLSL: largest n accepted
 constexpr int VECTOR_STORAGE = 20;         // Luksan codes: stored correction pairs
+// Bounds of the numeric pass-through options (issue 28). NLopt sizes its work arrays in int
+// arithmetic (luksan_plis: n·m·2 + ...): vector_storage = 2^31−1 overflowed that product and
+// corrupted the heap (LD_VAR1 crashed, LD_LBFGS aborted), so both m and the stored numbers n·m are
+// bounded. Limited-memory quasi-Newton gains nothing beyond a few dozen pairs. MLSL samples
+// `population` points per round before it looks at maxeval again: 2^31−1 was an effective hang.
+constexpr int MAX_VECTOR_STORAGE = 1000;
+constexpr double MAX_STORED_PAIRS = 1e8;  // n·vector_storage: 1.6 GB of pairs, far below int overflow
+constexpr int MAX_POPULATION = 100000;
+constexpr int MAX_MAXEVAL = 100000000;     // 10^8 evaluations: days of work on any scene
+constexpr double MAX_BOX_RADIUS = 1e6;     // scaled unknowns are O(1): a larger box samples nothing useful
 constexpr int EVALS_PER_ITERATION = 10;    // maxeval = EVALS_PER_ITERATION · max_iter
 constexpr double XTOL_REL = 1e-15;         // round-off stall only (see top of file)
 constexpr double ACCEPTABLE_FACTOR = 1e3;  // r <= 1e3·tol: ACCEPTABLE
@@ -268,21 +278,27 @@ const GlobalAlgorithm* find_global(const std::string& name) {
 }
 
 /// Whole-string parses (strtol/strtod accept a valid prefix; "1x" must not pass as 1).
-long parse_count(const std::string& key, const std::string& s, long min) {
+long parse_count(const std::string& key, const std::string& s, long min, long max) {
   errno = 0;
   char* end = nullptr;
   const long v = s.empty() ? 0 : std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || errno != 0 || *end != '\0' || v < min || v > std::numeric_limits<int>::max())
-    throw Error("nlopt: option '" + key + "' expects an integer >= " + std::to_string(min) + ", got '" + s + "'",
+  if (s.empty() || errno != 0 || *end != '\0' || v < min || v > max)
+    throw Error("nlopt: option '" + key + "' (solver.options." + key + ") expects an integer in " +
+                    std::to_string(min) + ".." + std::to_string(max) + ", got '" + s + "'",
                 EXIT_INPUT);
   return v;
 }
-double parse_positive(const std::string& key, const std::string& s) {
+double parse_positive(const std::string& key, const std::string& s, double max) {
   errno = 0;
   char* end = nullptr;
   const double v = s.empty() ? 0 : std::strtod(s.c_str(), &end);
-  if (s.empty() || errno != 0 || *end != '\0' || !(v > 0) || !std::isfinite(v))
-    throw Error("nlopt: option '" + key + "' expects a finite number > 0, got '" + s + "'", EXIT_INPUT);
+  if (s.empty() || errno != 0 || *end != '\0' || !(v > 0) || !(v <= max)) {
+    std::ostringstream range;
+    range << "(0, " << max << "]";
+    throw Error("nlopt: option '" + key + "' (solver.options." + key + ") expects a number in " + range.str() +
+                    ", got '" + s + "'",
+                EXIT_INPUT);
+  }
   return v;
 }
 
@@ -425,18 +441,18 @@ Extra NloptBackend::parse_extra(const BackendOptions& options, const LocalAlgori
   };
   for (const auto& [key, value] : options.extra) {
     if (key == "maxeval") {
-      e.maxeval = int(parse_count(key, value, 1));
+      e.maxeval = int(parse_count(key, value, 1, MAX_MAXEVAL));
     } else if (key == "box_radius") {
       only(key, m_global != nullptr, "G_MLSL_LDS / G_MLSL");
-      e.box_radius = parse_positive(key, value);
+      e.box_radius = parse_positive(key, value, MAX_BOX_RADIUS);
     } else if (key == "population") {
       only(key, m_global != nullptr, "G_MLSL_LDS / G_MLSL");
-      e.population = int(parse_count(key, value, 0));
+      e.population = int(parse_count(key, value, 0, MAX_POPULATION));
     } else if (key == "local_algorithm") {
       only(key, m_global != nullptr, "G_MLSL_LDS / G_MLSL");
       e.local_algorithm = value;
     } else if (key == "vector_storage") {
-      e.vector_storage = int(parse_count(key, value, 1));
+      e.vector_storage = int(parse_count(key, value, 1, MAX_VECTOR_STORAGE));
     } else {
       throw Error("nlopt: unknown option '" + key + "' (value '" + value +
                       "'); NLopt backends take: vector_storage, local_algorithm, box_radius, "
@@ -481,6 +497,14 @@ SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
                     ": " + (m_global ? "a global search" : "SLSQP's dense O(n^2) memory, O(n^3) time") +
                     "); use solver.formulation = condensed, or another backend",
                 EXIT_INPUT);
+  if (local->luksan && double(n) * extra.vector_storage > MAX_STORED_PAIRS) {
+    std::ostringstream m;
+    m << who << ": vector_storage = " << extra.vector_storage << " with n = " << n
+      << " unknowns stores n*vector_storage = " << double(n) * extra.vector_storage << " numbers twice (limit "
+      << MAX_STORED_PAIRS << "); lower solver.options.vector_storage to at most "
+      << std::max<long>(1, long(MAX_STORED_PAIRS / double(n)));
+    throw Error(m.str(), EXIT_INPUT);
+  }
 
   SolveResult result;
   const int maxeval = extra.maxeval > 0 ? extra.maxeval

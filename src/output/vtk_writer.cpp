@@ -13,6 +13,7 @@
 #include <functional>
 #include <string>
 #include <cstring>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -113,9 +114,18 @@ std::string appended_block(const std::string& raw, bool compress, int level) {
     // run, not 15%); the file is the same whatever the number of threads.
     const std::uint64_t threads =
         std::min<std::uint64_t>({std::max(1u, std::thread::hardware_concurrency()), 8, (nblocks + 7) / 8});
+    const std::uint64_t stride = std::max<std::uint64_t>(threads, 1);
     std::vector<std::thread> pool;
-    for (std::uint64_t t = 1; t < threads; ++t) pool.emplace_back(compress_blocks, t, threads);
-    compress_blocks(0, std::max<std::uint64_t>(threads, 1));
+    std::uint64_t started = 1;
+    // A thread that cannot be created (EAGAIN: under ulimit -v its stack may not fit) leaves its
+    // share of the blocks to this one; the vector must not be destroyed with joinable threads
+    // (std::terminate) — issue 28.
+    try {
+      for (; started < threads; ++started) pool.emplace_back(compress_blocks, started, stride);
+    } catch (const std::system_error&) {
+    }
+    for (std::uint64_t t = started; t < threads; ++t) compress_blocks(t, stride);
+    compress_blocks(0, stride);
     for (auto& th : pool) th.join();
     if (std::find(failed.begin(), failed.end(), 1) != failed.end())
       throw Error("write_vtu: zlib compression failed", EXIT_INTERNAL);

@@ -27,6 +27,7 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <optional>
 #include <string>
 #include <vector>
@@ -77,6 +78,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
     scene["solver"]["engine"] = "petsc";
   }
   const SolveOptions opt = solve_options_from_scene(scene);
+  petsc_engine::install_error_handler(opt.petsc.options);
   if (!opt.petsc.options.empty()) {
     if (PetscOptionsInsertString(nullptr, opt.petsc.options.c_str()))
       input_error("solver.petsc.options: PETSc could not read '" + opt.petsc.options + "'");
@@ -150,11 +152,23 @@ int main(int argc, char** argv) {
   } catch (const Error& e) {
     if (rank == 0) std::fprintf(stderr, "hemicontact: error: %s\n", e.what());
     code = e.code();
+  } catch (const std::bad_alloc&) {
+    // Not known to be collective either; the memory message and code 2 as in `hemicontact`.
+    std::fprintf(stderr, "hemicontact: error (rank %d): %s\n", rank,
+                 out_of_memory_message("an allocation of the petsc engine (std::bad_alloc)").c_str());
+    MPI_Abort(PETSC_COMM_WORLD, EXIT_INPUT);
   } catch (const std::exception& e) {
     // Not known to be collective: a rank alone in trouble must not leave the others waiting.
     std::fprintf(stderr, "hemicontact: internal error (rank %d): %s\n", rank, e.what());
     MPI_Abort(PETSC_COMM_WORLD, EXIT_INTERNAL);
   }
-  PetscFinalize();
+  // PetscFinalize stops at its first error (with the engine's error handler it returns it) before
+  // MPI_Finalize, and mpirun then reports the rank as "exiting improperly" with exit code 1 after
+  // a complete report (issue 28: -log_view given after PetscInitialize did so).
+  if (PetscFinalize() != 0) {
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (!finalized) MPI_Finalize();
+  }
   return code;
 }

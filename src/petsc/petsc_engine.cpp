@@ -39,11 +39,24 @@
 namespace hemicontact::petsc_engine {
 namespace {
 
-// A PETSc call that fails is a bug or a resource problem, not bad input: EXIT_INTERNAL, naming it.
-#define HC_PETSC(call)                                                                                    \
-  do {                                                                                                    \
-    const PetscErrorCode hc_ierr_ = (call);                                                               \
-    if (hc_ierr_) throw Error("PETSc error " + std::to_string(hc_ierr_) + " in " #call, EXIT_INTERNAL); \
+// PETSc's first error message of the current failure (error_handler), and the user's options.
+std::string g_petsc_message;
+std::string g_user_options;
+
+// A PETSc call that fails is a bug or a resource problem (EXIT_INTERNAL), or, with options of the
+// user's set (solver.petsc.options), most likely one of them: EXIT_INPUT naming them (issue 28).
+[[noreturn]] void petsc_failure(PetscErrorCode ierr, const char* call) {
+  std::string m = "PETSc error " + std::to_string(ierr) + " in " + call;
+  if (!g_petsc_message.empty()) m += ": " + g_petsc_message;
+  g_petsc_message.clear();
+  if (ierr == PETSC_ERR_MEM) memory_error(m);
+  if (g_user_options.empty()) throw Error(m, EXIT_INTERNAL);
+  throw Error(m + " (solver.petsc.options = '" + g_user_options + "' is set: check its options)", EXIT_INPUT);
+}
+#define HC_PETSC(call)                                         \
+  do {                                                         \
+    const PetscErrorCode hc_ierr_ = (call);                    \
+    if (hc_ierr_) petsc_failure(hc_ierr_, #call);              \
   } while (0)
 
 // Owners of PETSc objects: destroyed on every rank in the same order (collective).
@@ -218,6 +231,23 @@ void fresh_gamg(KSP ksp) {
 }
 
 }  // namespace
+
+namespace {
+// PETSc's default handler prints a traceback on every rank and, with some options, aborts the
+// job; this one keeps the first message of a failure for petsc_failure's Error and returns the
+// code, so the error ends as every other: one message, one exit code.
+PetscErrorCode error_handler(MPI_Comm, int, const char* fun, const char*, PetscErrorCode n, PetscErrorType p,
+                             const char* mess, void*) {
+  if (p == PETSC_ERROR_INITIAL || g_petsc_message.empty())
+    g_petsc_message = std::string(mess ? mess : "") + (fun ? std::string(" (in ") + fun + ")" : std::string());
+  return n;
+}
+}  // namespace
+
+void install_error_handler(const std::string& user_options) {
+  g_user_options = user_options;
+  PetscPushErrorHandler(error_handler, nullptr);
+}
 
 long current_rss_kb() {
   long pages = 0, resident = 0;

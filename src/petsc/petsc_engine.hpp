@@ -28,6 +28,8 @@
 #include <mpi.h>
 #include <nlohmann/json.hpp>
 
+#include <string>
+
 namespace hemicontact::petsc_engine {
 
 /// The engine's own record for report.json ("petsc"): ranks, the distribution, the Newton and
@@ -45,6 +47,11 @@ struct EngineReport {
 ///         outside TAO fails (the message names PETSc's reason, e.g. KSP_DIVERGED_ITS). Collective:
 ///         every rank throws the same error.
 Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report);
+
+/// Replace PETSc's error handler (traceback on every rank) by one that keeps the failure's first
+/// message for the engine's Error, which then names @p user_options (solver.petsc.options) when
+/// set, with exit code 2 (issue 28). Call once after PetscInitialize.
+void install_error_handler(const std::string& user_options);
 
 /// @return this process's resident memory now (kB), from /proc/self/statm (0 if unreadable).
 long current_rss_kb();

@@ -18,6 +18,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <sys/resource.h>
+
 namespace hemicontact {
 namespace {
 using json = nlohmann::json;
@@ -71,17 +73,118 @@ Gap make_gap(const json& g) {
   return gap;
 }
 
-// Bytes available to this process: MemAvailable of /proc/meminfo (0 if it cannot be read).
-double available_memory() {
-  std::ifstream in("/proc/meminfo");
-  for (std::string key; in >> key;) {
-    double kb = 0;
-    in >> kb;
-    if (key == "MemAvailable:") return kb * 1024.0;
+// First number in a file (a cgroup's memory.max holds "max" when unlimited): -1 if none.
+double read_number(const std::string& path) {
+  std::ifstream in(path);
+  double v = -1;
+  if (!(in >> v)) return -1;
+  return v;
+}
+
+// A "Key:   N kB" line of /proc/meminfo or /proc/self/status, in bytes (-1 if absent).
+double proc_kb(const char* file, const std::string& key) {
+  std::ifstream in(file);
+  for (std::string k; in >> k;) {
+    if (k == key) {
+      double kb = -1;
+      in >> kb;
+      return kb * 1024.0;
+    }
     in.ignore(1 << 10, '\n');
   }
-  return 0;
+  return -1;
 }
+
+// OpenBLAS maps a work buffer of 128 MB (Debian's build) per thread: its worker threads' when the
+// library is loaded (they are in VmSize already), the calling thread's at its first BLAS call. Under
+// ulimit -v a buffer that does not fit makes OpenBLAS retry for ever (a hang, observed at 336 MB
+// with 210 MB mapped), so an address-space budget keeps room for that one buffer.
+constexpr double OPENBLAS_BUFFER_BYTES = 128.0 * (1 << 20);
+
+// Keeps the smallest budget (a limit already exceeded counts as 0) and says where it comes from;
+// @p known false: nothing could be read (a missing /proc file, no cgroup limit).
+void tighten(MemoryBudget& b, double bytes, const std::string& limit, bool known = true) {
+  if (!known) return;
+  bytes = std::max(0.0, bytes);
+  if (b.bytes < 0 || bytes < b.bytes) b = {bytes, limit};
+}
+
+std::string gigabytes(double bytes);
+
+}  // namespace
+
+MemoryBudget cgroup_memory_budget(const std::string& root) {
+  MemoryBudget b;
+  std::ifstream in(root + "/proc/self/cgroup");
+  // Lines "ID:CONTROLLERS:PATH": cgroup v2 is "0::PATH"; v1 lists "memory" among the controllers.
+  for (std::string line; std::getline(in, line);) {
+    const size_t c1 = line.find(':'), c2 = c1 == std::string::npos ? c1 : line.find(':', c1 + 1);
+    if (c2 == std::string::npos) continue;
+    const std::string controllers = line.substr(c1 + 1, c2 - c1 - 1), path = line.substr(c2 + 1);
+    const bool v2 = controllers.empty();
+    bool memory = v2;
+    for (size_t a = 0; !memory && a <= controllers.size();) {
+      const size_t e = std::min(controllers.find(',', a), controllers.size());
+      memory = controllers.substr(a, e - a) == "memory";
+      a = e + 1;
+    }
+    if (!memory) continue;
+    const std::string base = root + (v2 ? "/sys/fs/cgroup" : "/sys/fs/cgroup/memory");
+    const char* limit_file = v2 ? "memory.max" : "memory.limit_in_bytes";
+    const char* usage_file = v2 ? "memory.current" : "memory.usage_in_bytes";
+    // The process's own group and every group above it may set a limit; inside a container the
+    // group's path is often not visible, and the mount's root holds the container's limit.
+    std::filesystem::path dir = std::filesystem::path(base) / std::filesystem::path(path).relative_path();
+    for (int depth = 0; depth < 64; ++depth) {
+      const double limit = read_number((dir / limit_file).string());
+      // v1 writes "no limit" as a huge number (PAGE_COUNTER_MAX · page size, ~9.2e18).
+      if (limit > 0 && limit < 1e18) {
+        // The usage counts the page cache, which the kernel reclaims before it refuses memory:
+        // the inactive file pages are taken off it, as Docker and the kubelet do.
+        double inactive = 0;
+        std::ifstream stat((dir / "memory.stat").string());
+        for (std::string k; stat >> k;) {
+          double v = 0;
+          stat >> v;
+          if (k == (v2 ? "inactive_file" : "total_inactive_file")) inactive = v;
+        }
+        const double used = std::max(0.0, read_number((dir / usage_file).string()) - inactive);
+        tighten(b, limit - used,
+                "the cgroup memory limit (" + (dir / limit_file).string() + " = " + gigabytes(limit) + ", " +
+                    gigabytes(used) + " in use)");
+      }
+      if (dir.string().size() <= base.size() || !dir.has_parent_path() || dir == dir.parent_path()) break;
+      dir = dir.parent_path();
+    }
+  }
+  return b;
+}
+
+MemoryBudget memory_budget() {
+  MemoryBudget b;
+  const double available = proc_kb("/proc/meminfo", "MemAvailable:");
+  tighten(b, available, "available on the machine (MemAvailable)", available >= 0);
+  // ulimit -v and ulimit -d count address space, not resident memory: what is mapped already
+  // (the libraries, thread stacks, the heap so far) is taken off the limit.
+  struct rlimit rl {};
+  if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) {
+    const double mapped = std::max(0.0, proc_kb("/proc/self/status", "VmSize:"));
+    tighten(b, static_cast<double>(rl.rlim_cur) - mapped - OPENBLAS_BUFFER_BYTES,
+            "the address-space limit (ulimit -v, RLIMIT_AS = " + gigabytes(static_cast<double>(rl.rlim_cur)) + ", " +
+                gigabytes(mapped) + " mapped, " + gigabytes(OPENBLAS_BUFFER_BYTES) + " kept for OpenBLAS)");
+  }
+  if (getrlimit(RLIMIT_DATA, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) {
+    const double data = std::max(0.0, proc_kb("/proc/self/status", "VmData:"));
+    tighten(b, static_cast<double>(rl.rlim_cur) - data - OPENBLAS_BUFFER_BYTES,
+            "the data-segment limit (ulimit -d, RLIMIT_DATA = " + gigabytes(static_cast<double>(rl.rlim_cur)) + ", " +
+                gigabytes(data) + " in use)");
+  }
+  const MemoryBudget cg = cgroup_memory_budget("");
+  tighten(b, cg.bytes, cg.limit, cg.bytes >= 0);
+  return b;
+}
+
+namespace {
 
 std::string gigabytes(double bytes) {
   char buf[32];
@@ -115,7 +218,20 @@ void check_scales(const Model& md) {
 
 }  // namespace
 
-double estimate_solve_memory(double nodes, int dim) {
+double dense_gamma3_memory(double gamma3_nodes, int dim) {
+  // The condensation's two dense m × m blocks (L_CC and S, m = d·Γ3 nodes; fem/condensation.cpp)
+  // and one more of the same size held meanwhile (the smallness check's condensation, the exact
+  // solver's and the backends' dense copies). A long thin strip is all Γ3: 20000 × 1 cells have
+  // 40 002 Γ3 unknowns, 12.8 GB per matrix; it died with bad_alloc before this term (issue 28).
+  const double m = dim * std::max(0.0, gamma3_nodes);
+  return 3.0 * 8.0 * m * m;
+}
+
+double estimate_solve_memory(double nodes, int dim, double gamma3_nodes) {
+  return estimate_sparse_memory(nodes, dim) + dense_gamma3_memory(gamma3_nodes, dim);
+}
+
+double estimate_sparse_memory(double nodes, int dim) {
   const double n = std::max(1.0, dim * nodes);  // unknowns
   // Peak resident memory of a default `solve` (sparse Cholesky fill dominates), fitted to runs
   // of the fig2 scene ('right' mesh) and the 3D box scene on this kind of machine:
@@ -138,15 +254,25 @@ double estimate_petsc_memory(double nodes, int dim) {
   return 2e8 + 2000.0 * n;
 }
 
-void check_memory(double nodes, int dim, const std::string& size_keys, bool petsc) {
-  const double need = petsc ? estimate_petsc_memory(nodes, dim) : estimate_solve_memory(nodes, dim);
-  const double have = available_memory();
-  if (have > 0 && need > have) {
-    char count[32];
-    std::snprintf(count, sizeof count, "%.3g", nodes);
-    input_error(size_keys + ": a mesh of " + count + " nodes needs about " + gigabytes(need) + " to solve, and " +
-                gigabytes(have) + " are available; lower " + size_keys.substr(0, size_keys.find(" =")));
+void check_memory(double nodes, int dim, const std::string& size_keys, bool petsc, double gamma3_nodes) {
+  const double dense = petsc ? 0.0 : dense_gamma3_memory(gamma3_nodes, dim);
+  const double need = petsc ? estimate_petsc_memory(nodes, dim) : estimate_sparse_memory(nodes, dim) + dense;
+  const MemoryBudget have = memory_budget();
+  if (have.bytes < 0 || need <= have.bytes) return;
+  char count[32];
+  std::snprintf(count, sizeof count, "%.3g", nodes);
+  std::string what = "a mesh of " + std::string(count) + " nodes";
+  // The dense Γ3 part dominates: the remedy is a shorter (coarser) Γ3, not only a smaller mesh.
+  const bool gamma3 = dense > 0.5 * need;
+  if (gamma3) {
+    std::snprintf(count, sizeof count, "%.0f", gamma3_nodes);
+    what += " with " + std::string(count) + " Γ3 nodes (dense condensed Γ3 matrices: " + gigabytes(dense) + ")";
   }
+  input_error(size_keys + ": " + what + " needs about " + gigabytes(need) + " to solve, and " +
+              gigabytes(have.bytes) + " are available: " + have.limit + "; " +
+              (gamma3 ? "use fewer Γ3 nodes (a shorter boundary.gamma3 or a coarser mesh along it), or "
+                        "solver.formulation = full with check.smallness = false (no dense Γ3 matrices)"
+                      : "lower " + size_keys.substr(0, size_keys.find(" ="))));
 }
 
 Mesh build_mesh(const json& scene, const std::string& scene_dir) {
@@ -158,7 +284,7 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
     if (m.at("file").is_null()) input_error("mesh.file: required when mesh.type is 'gmsh'");
     std::filesystem::path p = m.at("file").get<std::string>();
     if (p.is_relative()) p = std::filesystem::path(scene_dir) / p;
-    mesh = read_gmsh(p.string());
+    mesh = read_gmsh(p.string(), m.at("allow_scripts").get<bool>());
     check_memory(static_cast<double>(mesh.num_nodes()), mesh.dim, "mesh.file '" + p.string() + "'", petsc);
   } else if (m.at("type") == "box") {
     // Before the mesh is generated: 1e6 cells a side must be refused, not allocated.
@@ -250,6 +376,16 @@ Model build_model(const json& scene, Mesh mesh, bool stiffness) {
   const bool has_contact_law = md.normal_law || md.friction || !md.gap.is_infinite();
   if (md.contact.size() == 0 && has_contact_law)
     input_error("boundary.gamma3: the scene defines a contact law but Γ3 has no free node");
+  // Γ3 is known now: the cholmod engine's dense condensed matrices join the estimate (the mesh
+  // alone passed before it was generated).
+  // The dense matrices exist when the problem is condensed onto Γ3 (also the polish's and the exact
+  // solver's) or the smallness check condenses the Gram matrix.
+  const std::string formulation = scene.at("solver").at("formulation").get<std::string>();
+  const bool dense = formulation == "condensed" || (formulation == "auto" && md.material->is_linear()) ||
+                     scene.at("check").at("smallness").get<bool>();
+  if (scene.at("solver").at("engine") != "petsc")
+    check_memory(static_cast<double>(md.mesh.num_nodes()), d, "mesh (" + md.mesh.origin + ")", false,
+                 dense ? static_cast<double>(md.contact.size()) : 0.0);
   md.dofs = DofMap(md.mesh, md.clamped, md.contact);
 
   const auto t0 = clk::now();

@@ -227,6 +227,9 @@ void check_value(json& v, const SchemaEntry& e, const std::string& path, const S
     const bool high = e.max && (e.max_exclusive ? !(x < *e.max) : !(x <= *e.max));
     if (low || high) input_error("scene key '" + path + "' must be " + range_text(e) + ", got " + v.dump());
   }
+  if (v.is_array() && e.max_items && v.size() > *e.max_items)
+    input_error("scene key '" + path + "' has " + std::to_string(v.size()) + " elements; at most " +
+                std::to_string(*e.max_items) + " are allowed");
   if (v.is_string() && !e.options.empty() &&
       std::find(e.options.begin(), e.options.end(), v.get<std::string>()) == e.options.end())
     key_error(path, v.dump() + " is not one of: " + join(e.options, ", "));
@@ -590,12 +593,27 @@ json validate_scene(json scene) {
   check_interval(scene["mesh"]["y"], "mesh.y");
   check_interval(scene["mesh"]["z"], "mesh.z");
   check_solver_options(scene["solver"]);
+  check_petsc_options(scene["solver"]["petsc"]["options"].get<std::string>(), "solver.petsc.options");
   check_continuation(scene["solver"]);
   check_points(scene["contact"]["normal_law"]["points"], "contact.normal_law.points", false, "p", true);
   check_points(scene["contact"]["friction"]["points"], "contact.friction.points", false, "F_b", true);
   json& mesh = scene["mesh"];
   if (!mesh["n"].is_null()) mesh["nx"] = mesh["ny"] = mesh["nz"] = mesh["n"];
   return scene;
+}
+
+void check_key_range(const std::string& dotted, double value, const std::string& what, ExitCode code) {
+  std::string pointer = "/" + dotted;
+  std::replace(pointer.begin(), pointer.end(), '.', '/');
+  const auto row = schema_index().by_pointer.find(pointer);
+  if (row == schema_index().by_pointer.end()) throw Error("check_key_range: no scene key '" + dotted + "'", EXIT_INTERNAL);
+  const SchemaEntry& e = *row->second;
+  const bool low = e.min && (e.min_exclusive ? !(value > *e.min) : !(value >= *e.min));
+  const bool high = e.max && (e.max_exclusive ? !(value < *e.max) : !(value <= *e.max));
+  if (low || high || !std::isfinite(value))
+    throw Error(what + ": must be " + (e.min || e.max ? range_text(e) : std::string("finite")) +
+                    " (the range of scene key '" + dotted + "'), got " + format_number(value),
+                code);
 }
 
 void apply_override(json& scene, const std::string& assignment) {
@@ -637,11 +655,23 @@ json load_scene(const std::string& path, const std::vector<std::string>& overrid
   std::error_code ec;
   if (!fs::exists(path, ec)) input_error("scene file '" + path + "' not found");
   if (fs::is_directory(path, ec)) input_error("scene file '" + path + "' is a directory");
+  // Checked before opening: a FIFO would block in open(), /dev/zero and /dev/urandom never end.
+  if (!fs::is_regular_file(path, ec))
+    input_error("scene file '" + path + "' is not a regular file (a device, FIFO or socket); give a .json file");
   std::ifstream in(path, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
   if (!in) input_error("scene file '" + path + "' cannot be read");
-  return load_scene_text(buffer.str(), path, overrides);
+  // Bounded read (the file may grow, or be swapped, after the check): one byte more than allowed
+  // tells "too long".
+  std::string text;
+  char chunk[1 << 16];
+  while (text.size() <= MAX_SCENE_BYTES && in.read(chunk, sizeof chunk).gcount() > 0)
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) input_error("scene file '" + path + "' cannot be read");
+  if (text.size() > MAX_SCENE_BYTES)
+    input_error("scene file '" + path + "' is longer than " + std::to_string(MAX_SCENE_BYTES >> 20) +
+                " MB (MAX_SCENE_BYTES); a scene is a few KB, its tables at most " + std::to_string(MAX_TABLE_POINTS) +
+                " points each");
+  return load_scene_text(text, path, overrides);
 }
 
 json load_scene_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides) {
@@ -726,6 +756,7 @@ std::string table(const std::vector<const SchemaEntry*>& rows) {
     std::vector<std::string> allowed;
     for (const std::string& o : e->options) allowed.push_back(code(o));
     if (e->min || e->max) allowed.push_back(code(range_text(*e)));
+    if (e->max_items) allowed.push_back("at most " + std::to_string(*e->max_items) + " elements");
     t += "| " + cell(code(dotted_from_pointer(e->pointer))) + " | " + cell(code(e->type)) + " | " + cell(def) + " | " +
          cell(join(allowed, ", ")) + " | " + cell(e->doc) + " |\n";
   }
@@ -749,8 +780,9 @@ overrides, checks it against the tables below and fills in every default. The re
   passed through unchecked.
 - **Types.** `number` accepts integers; `integer` must be integral and fit in 32 bits (`8.0` is
   read as `8`); `a|b` allows either; `number[]` is an array of numbers and `number[][]` an array
-  of such arrays. Numbers must be finite. Strings with listed values must be one of them, and
-  numbers must lie in the listed range.
+  of such arrays. Numbers must be finite. Strings with listed values must be one of them,
+  numbers must lie in the listed range, and arrays have at most the listed number of elements.
+- **The file** is a regular file (not a device or a pipe) of at most 16 MB (`MAX_SCENE_BYTES`).
 - **Defaults.** An absent key gets its default, inside every element of an array of objects too.
   Keys marked **required** have none. Checks that involve several keys (κ < 0.5 in plane strain,
   the parameters a `normal_law.type` needs, ...) are made by the component that uses them.

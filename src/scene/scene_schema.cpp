@@ -61,6 +61,10 @@ SchemaEntry at_most(SchemaEntry e, double hi) {
   e.max_exclusive = false;
   return e;
 }
+SchemaEntry at_most_items(SchemaEntry e, std::size_t n) {
+  e.max_items = n;
+  return e;
+}
 
 // The three boundary parts share one selector shape; generating their rows keeps the three
 // copies identical instead of writing (and later editing) them three times.
@@ -126,7 +130,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "even nx, ny).",
                   {"kuhn", "symmetric"}));
   t.push_back(key("/mesh/file", "string|null", nullptr,
-                  "Gmsh .msh 4.1 file (mesh.type = gmsh), relative to the scene file's directory."));
+                  "Gmsh mesh file (mesh.type = gmsh; MSH version 2.x or 4.x, ASCII or binary), relative to "
+                  "the scene file's directory. It must start with `$MeshFormat`: Gmsh reads anything else as "
+                  "a script (see allow_scripts)."));
+  t.push_back(key("/mesh/allow_scripts", "boolean", false,
+                  "true: mesh.file may be any file Gmsh reads, .geo scripts included. A Gmsh script RUNS CODE "
+                  "with your rights (SystemCall runs shell commands, Printf writes files): set it only for "
+                  "scripts you trust. false: only MSH files."));
   // Below 0.5 h two neighbouring nodes cannot meet or swap places. The right triangles of the
   // right/left/symmetric meshes keep a positive area for perturb ≤ 0.35 (worst case over all moves
   // of the three vertices within their discs, by numerical minimization: 15 % of the area is left
@@ -150,10 +160,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                   {"none", "low", "high", "both"}));
   t.push_back(key("/mesh/grading/y", "string", "none", "Which end(s) of y get the small cells.",
                   {"none", "low", "high", "both"}));
-  t.push_back(at_least(key("/mesh/grading/power", "number", 1,
-                           "Grading exponent β ≥ 1 (1: uniform). A corner singularity r^α needs β ≥ 1/α "
-                           "for the optimal rate (α = 0.72 at the paper's clamped corners: β ≈ 1.4)."),
-                       1));
+  // β ≤ 10 covers corner exponents α ≥ 0.1; beyond, the smallest cell (1/n)^β is below round-off
+  // at any useful n (the generator also refuses a degenerate smallest cell, naming this key).
+  t.push_back(at_most(at_least(key("/mesh/grading/power", "number", 1,
+                                   "Grading exponent β ≥ 1 (1: uniform). A corner singularity r^α needs β ≥ 1/α "
+                                   "for the optimal rate (α = 0.72 at the paper's clamped corners: β ≈ 1.4)."),
+                               1),
+                      10));
 
   // ------------------------------------------------------------------ material
   t.push_back(section("/material", "Constitutive law F (paper eq. (12); MODEL.md §1)."));
@@ -216,9 +229,10 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "piecewise linear in one coordinate."));
   t.push_back(required("/contact/gap/along", "string", "Object form of gap: the coordinate g is a function of.",
                        {"x", "y", "z"}));
-  t.push_back(required("/contact/gap/points", "number[][]",
-                       "Object form of gap: [[coordinate, g], ...], coordinates strictly "
-                       "increasing, g ≥ 0."));
+  t.push_back(at_most_items(required("/contact/gap/points", "number[][]",
+                                     "Object form of gap: [[coordinate, g], ...], coordinates strictly "
+                                     "increasing, g ≥ 0."),
+                            MAX_TABLE_POINTS));
 
   t.push_back(section("/contact/normal_law", "Normal compliance of the soft layer, p_ν = j_ν′."));
   t.push_back(key("/contact/normal_law/type", "string", "none",
@@ -230,9 +244,11 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(key("/contact/normal_law/c3", "number|null", nullptr, "Slope for r ≥ r2 (32)."));
   t.push_back(key("/contact/normal_law/r1", "number|null", nullptr, "First kink of p_ν (32)."));
   t.push_back(key("/contact/normal_law/r2", "number|null", nullptr, "Second kink of p_ν (32)."));
-  t.push_back(key("/contact/normal_law/points", "number[][]|null", nullptr,
-                  "type table: [[r, p_ν(r)], ...], r non-decreasing; a repeated r is a jump of p_ν at r (∂j_ν is then "
-                  "the interval between the one-sided limits). Null slopes continue the first/last segment."));
+  t.push_back(at_most_items(key("/contact/normal_law/points", "number[][]|null", nullptr,
+                                "type table: [[r, p_ν(r)], ...], r non-decreasing; a repeated r is a jump of p_ν at r "
+                                "(∂j_ν is then the interval between the one-sided limits). Null slopes continue the "
+                                "first/last segment."),
+                            MAX_TABLE_POINTS));
   t.push_back(key("/contact/normal_law/slope_left", "number|null", nullptr,
                   "type table: slope of p_ν before the first point."));
   t.push_back(
@@ -246,9 +262,10 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(
       at_least(key("/contact/friction/mu", "number|null", nullptr, "Friction coefficient μ in F_b = μ p_ν (34)."), 0));
   t.push_back(at_least(key("/contact/friction/bound", "number|null", nullptr, "type tresca: the constant F_b."), 0));
-  t.push_back(key("/contact/friction/points", "number[][]|null", nullptr,
-                  "type table: [[u_ν, F_b(u_ν)], ...], u_ν non-decreasing (a repeated u_ν is a jump). Null slope_left "
-                  "means 0, as (15c) requires."));
+  t.push_back(at_most_items(key("/contact/friction/points", "number[][]|null", nullptr,
+                                "type table: [[u_ν, F_b(u_ν)], ...], u_ν non-decreasing (a repeated u_ν is a jump). "
+                                "Null slope_left means 0, as (15c) requires."),
+                            MAX_TABLE_POINTS));
   t.push_back(
       key("/contact/friction/slope_left", "number|null", nullptr, "type table: slope of F_b before the first point."));
   t.push_back(
@@ -326,7 +343,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "built it and the first step that reused it)."),
                        1));
   t.push_back(key("/solver/petsc/options", "string", D.petsc.options,
-                  "Extra PETSc options, verbatim (e.g. \"-ksp_monitor\"); not checked here."));
+                  "Extra PETSc options (e.g. \"-ssn_ksp_monitor -pc_gamg_threshold 0.02\"), checked against a "
+                  "whitelist: solver settings (ksp_type, ksp_rtol, ksp_max_it, pc_type, pc_gamg_*, "
+                  "pc_hypre_boomeramg_*, mg_levels_*, tao_max_it, tao_gatol, ...) without or with the "
+                  "engine's prefixes elastic_, polish_, ssn_, tao_; values of the right kind and in range; "
+                  "monitors and views (ksp_monitor, ksp_view, tao_monitor, ...) without a value, printing to "
+                  "stdout. No option that names a file or a viewer (src/scene/petsc_options.cpp); "
+                  "-log_view only through PETSC_OPTIONS (PETSc starts its log before the scene is read)."));
   t.push_back(key("/solver/formulation", "string", D.formulation,
                   "Unknowns the NLP sees: full = all free dofs; condensed = interior dofs "
                   "eliminated onto Γ3 by static condensation (one sparse factorization, a dense "
@@ -484,10 +507,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "before it."),
                        1));
   t.push_back(at_least(key("/adapt/max_levels", "integer", 30, "At most this many meshes, the first included."), 1));
-  t.push_back(at_most(above(key("/adapt/theta", "number", 0.5,
-                                "Dörfler bulk parameter θ: the fewest cells whose η_T² sum to θ·η² are "
-                                "refined (θ = 1: all)."),
-                            0),
+  // Below 0.1 a level refines a handful of cells: θ = 1e-9 took thousands of levels to a target.
+  t.push_back(at_most(at_least(key("/adapt/theta", "number", 0.5,
+                                   "Dörfler bulk parameter θ: the fewest cells whose η_T² sum to θ·η² are "
+                                   "refined (θ = 1: all; at least 0.1, or the loop needs hundreds of levels)."),
+                               0.1),
                       1));
   t.push_back(at_least(key("/adapt/landing", "number", 1.1,
                            "The last step: when the Dörfler step would overshoot landing × N* nodes, "
@@ -495,11 +519,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "only the largest indicators are marked, about as many as reach it; 0: off, "
                            "else >= 1 (the margin, against a step that falls short of the target)."),
                        0));
-  t.push_back(at_least(key("/adapt/blas_threads", "integer", 1,
-                           "OpenBLAS threads during the adaptive loop, restored after it (0: leave the "
-                           "BLAS as configured; OPENBLAS_NUM_THREADS in the environment wins). The 2D "
-                           "levels' small supernodes gain nothing from BLAS threads (docs/adaptivity.md)."),
-                       0));
+  // OpenBLAS's thread table is fixed when it is built (Debian: 64): 64 and more hung the loop.
+  t.push_back(at_most(at_least(key("/adapt/blas_threads", "integer", 1,
+                                   "OpenBLAS threads during the adaptive loop, restored after it (0: leave the "
+                                   "BLAS as configured; OPENBLAS_NUM_THREADS in the environment wins). The 2D "
+                                   "levels' small supernodes gain nothing from BLAS threads (docs/adaptivity.md)."),
+                               0),
+                      32));
   t.push_back(key("/adapt/estimator", "string", "zz",
                   "zz: Zienkiewicz–Zhu recovery of the strain; residual: element residuals, traction "
                   "jumps, Γ2 traction and Γ3 contact-traction mismatch.",

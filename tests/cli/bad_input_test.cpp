@@ -261,7 +261,48 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"NulInAKey", none, {"scene: unknown key 'contcat\\x00tail' (allowed here: "}, "",
                  [](std::string t) { return t.replace(t.find('{'), 1, "{\"contcat\\u0000tail\": 1, "); }},
         BadInput{"PoissonJustBelowOne", [](json& s) { s["material"]["nu"] = 0.9999999999; },
-                 {"material.nu = 0.9999999999: Poisson's ratio must lie in (-1, 0.5)"}}),
+                 {"material.nu = 0.9999999999: Poisson's ratio must lie in (-1, 0.5)"}},
+        // ---- issue 28: PETSc options that reach the file system or crash PETSc (checked when the
+        // scene is read, so also in a build without the petsc engine)
+        BadInput{"PetscViewerToAFile", none, {"'solver.petsc.options'", "'-ssn_ksp_view' takes no value", "never name a file"},
+                 "--set 'solver.petsc.options=\"-ssn_ksp_view ascii:/tmp/hemicontact-victim\"'"},
+        BadInput{"PetscMatrixViewer", none, {"'solver.petsc.options'", "'-ssn_ksp_view_mat' is not accepted"},
+                 "--set 'solver.petsc.options=\"-ssn_ksp_view_mat binary:/tmp/hemicontact-victim\"'"},
+        BadInput{"PetscLogViewToAFile", none, {"'-log_view' is not accepted"},
+                 "--set 'solver.petsc.options=\"-ksp_monitor -log_view :/tmp/hemicontact-victim\"'"},
+        BadInput{"PetscUpperCaseViewer", none, {"'-SSN_KSP_VIEW' takes no value"},
+                 "--set 'solver.petsc.options=\"-SSN_KSP_VIEW ascii:/tmp/hemicontact-victim\"'"},
+        BadInput{"PetscMultigridWithoutLevels", none, {"'-ssn_pc_type' expects one of gamg, hypre", "got 'mg'"},
+                 "--set 'solver.petsc.options=\"-ssn_pc_type mg -ssn_pc_mg_levels 5\"'"},
+        BadInput{"PetscOptionsFile", none, {"'-options_file' is not accepted"},
+                 "--set 'solver.petsc.options=\"-options_file /etc/passwd\"'"},
+        BadInput{"PetscDebugger", none, {"'-start_in_debugger' is not accepted"},
+                 "--set 'solver.petsc.options=\"-start_in_debugger\"'"},
+        BadInput{"PetscNumberOutOfRange", none, {"'-ksp_max_it' expects an integer in 1..1e+06, got '2147483647'"},
+                 "--set 'solver.petsc.options=\"-ksp_max_it 2147483647\"'"},
+        BadInput{"PetscQuotes", none, {"quotes are not accepted"},
+                 "--set 'solver.petsc.options=\"-ksp_type \\\"cg\\\"\"'"},
+        // Ipopt's integer options have no upper bound of their own.
+        BadInput{"IpoptIntegerUnbounded", none, {"'limited_memory_max_history'", "above 1000000"},
+                 "--set solver.options.limited_memory_max_history=2147483647"},
+        // ---- issue 28: unbounded knobs, named by their key and range
+        BadInput{"BlasThreadsUnbounded", none, {"'adapt.blas_threads' must be >= 0 and <= 32, got 64"},
+                 "--set adapt.target_error=0.1 --set adapt.blas_threads=64"},
+        BadInput{"DorflerThetaTiny", none, {"'adapt.theta' must be >= 0.1 and <= 1, got 1e-09"},
+                 "--set adapt.target_error=0.1 --set adapt.theta=1e-9"},
+        BadInput{"GradingPowerUnbounded", none, {"'mesh.grading.power' must be >= 1 and <= 10, got 50"},
+                 "--set mesh.grading.power=50 --set mesh.grading.x=low"},
+        // Within the key's range, but the smallest cell of this n is below round-off: named by the key.
+        BadInput{"GradingPowerDegenerateForN", none, {"mesh.grading.power = 10 with 64 x 64 cells", "lower mesh.grading.power"},
+                 "--set mesh.grading.power=10 --set mesh.grading.x=low --set mesh.grading.y=low --set mesh.n=64"},
+        // A 10^5-point table took 9 minutes in the exact solver (MAX_TABLE_POINTS = 1000).
+        BadInput{"NormalLawTableTooLong",
+                 [](json& s) {
+                   json pts = json::array();
+                   for (int i = 0; i <= 1000; ++i) pts.push_back({1e-5 * i, 1e2 * i});
+                   s["contact"]["normal_law"] = {{"type", "table"}, {"points", pts}};
+                 },
+                 {"'contact.normal_law.points' has 1001 elements; at most 1000 are allowed"}}),
     [](const ::testing::TestParamInfo<BadInput>& i) { return i.param.name; });
 // clang-format on
 

@@ -328,6 +328,22 @@ TEST(PetscEngine, DivergedKrylovSolveExits3NamingTheReason) {
   fs::remove_all(dir);
 }
 
+// Issue 28: a PETSc error from an option of the user's printed PETSc's traceback on every rank (or
+// crashed); now it is one message naming PETSc's reason and solver.petsc.options, exit code 2. ILU
+// is allowed (it works on one rank) but has no parallel implementation for MPIAIJ.
+TEST(PetscEngine, PetscErrorFromAnOptionNamesTheOptions) {
+  const fs::path dir = scratch("pcilu");
+  const CliOutcome r =
+      run_mpi(dir, 2, "solve " + problem("sofonea2017-fig2") + " --quiet --set mesh.n=8 "
+                      "--set solver.petsc.options='\"-ssn_pc_type ilu\"' --out " + (dir / "o").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+  EXPECT_NE(r.err.find("Could not locate a solver type for factorization type ILU"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("solver.petsc.options = '-ssn_pc_type ilu' is set"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("[0]PETSC ERROR"), std::string::npos) << r.err;  // no traceback
+  EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
+  fs::remove_all(dir);
+}
+
 #else
 
 TEST(PetscEngine, EngineNotBuiltNamesThePackage) {

@@ -1,9 +1,20 @@
 #include <hemicontact/fem/condensation.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
 
+#include <hemicontact/core/error.hpp>
+
 #include <gtest/gtest.h>
 
+// The test target does not see CHOLMOD's include folder (a private dependency of the library).
+#if __has_include(<SuiteSparse_config.h>)
+#include <SuiteSparse_config.h>
+#else
+#include <suitesparse/SuiteSparse_config.h>
+#endif
+
+#include <cstdlib>
 #include <random>
+#include <string>
 
 using namespace hemicontact;
 
@@ -72,4 +83,73 @@ TEST(Condensation, AllCondensedAndNotPositiveDefinite) {
   SpMat bad = K;
   bad.coeffRef(0, 0) = -1.0;
   EXPECT_THROW(Condensation(bad, Vec::Ones(K.rows()), 3), std::exception);
+}
+
+// Issue 28: an out-of-memory status of CHOLMOD was not checked (the Schur complement's copy then
+// read a null factor: SIGSEGV). Every allocation CHOLMOD makes goes through SuiteSparse_config's
+// functions; here the k-th one fails, for every k until a run needs no failure: each run either
+// succeeds or throws the memory Error (exit code 2), and never crashes.
+namespace {
+long g_allocations_left = -1;  // < 0: never fail
+bool allow_one() { return g_allocations_left < 0 || g_allocations_left-- > 0; }
+void* failing_malloc(size_t n) { return allow_one() ? std::malloc(n) : nullptr; }
+void* failing_calloc(size_t n, size_t m) { return allow_one() ? std::calloc(n, m) : nullptr; }
+void* failing_realloc(void* p, size_t n) { return allow_one() ? std::realloc(p, n) : nullptr; }
+
+// Runs @p work with the k-th CHOLMOD allocation failing, k = 0, 1, ...; @return how many runs failed.
+template <class Work>
+int fail_each_allocation(Work work) {
+  auto& cfg = SuiteSparse_config;
+  const auto saved_malloc = cfg.malloc_func;
+  const auto saved_calloc = cfg.calloc_func;
+  const auto saved_realloc = cfg.realloc_func;
+  const auto saved_printf = cfg.printf_func;
+  cfg.printf_func = nullptr;  // CHOLMOD's own "out of memory" lines: hundreds of them
+  cfg.malloc_func = failing_malloc;
+  cfg.calloc_func = failing_calloc;
+  cfg.realloc_func = failing_realloc;
+  int failed = 0;
+  for (long k = 0; k < 1000; ++k) {
+    g_allocations_left = k;
+    bool ok = true;
+    try {
+      work();
+    } catch (const Error& e) {
+      ok = false;
+      EXPECT_EQ(e.code(), EXIT_INPUT) << "allocation " << k << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find("out of memory in"), std::string::npos) << e.what();
+    }
+    if (ok) break;  // this run needed fewer than k + 1 allocations: all were tried
+    ++failed;
+  }
+  g_allocations_left = -1;
+  cfg.malloc_func = saved_malloc;
+  cfg.calloc_func = saved_calloc;
+  cfg.realloc_func = saved_realloc;
+  cfg.printf_func = saved_printf;
+  return failed;
+}
+}  // namespace
+
+TEST(Condensation, OutOfMemoryIsAnErrorNeverACrash) {
+  const SpMat K = test_matrix(10, 5);
+  const Vec f = Vec::Ones(K.rows());
+  for (const char* ordering : {"amd", "auto"}) {
+    SCOPED_TRACE(ordering);
+    const int failed = fail_each_allocation([&] {
+      Condensation cond(K, f, 12, ordering);
+      EXPECT_EQ(cond.recover(cond.y_C()).size(), K.rows());
+    });
+    EXPECT_GE(failed, 3);  // the ordering, the analysis and the factorization each allocate
+  }
+}
+
+TEST(SparseCholesky, OutOfMemoryIsAnErrorNeverACrash) {
+  const SpMat K = test_matrix(10, 6);
+  const int failed = fail_each_allocation([&] {
+    SparseCholesky llt;
+    llt.compute(K);
+    EXPECT_EQ(llt.solve(Vec::Ones(K.rows())).size(), K.rows());
+  });
+  EXPECT_GE(failed, 3);
 }

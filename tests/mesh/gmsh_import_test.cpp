@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -33,6 +34,16 @@ std::string error_of(const std::string& path) {
     read_gmsh(path);
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), EXIT_INPUT);
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// read_gmsh with @p allow_scripts: the Error's message, or "(no error)".
+std::string read_gmsh_or_error(const std::string& path, bool allow_scripts) {
+  try {
+    read_gmsh(path, allow_scripts);
+  } catch (const Error& e) {
     return e.what();
   }
   return "(no error)";
@@ -228,4 +239,53 @@ TEST(GmshImport, FallbackWithoutGmsh) {
   if (HEMICONTACT_HAS_GMSH) GTEST_SKIP() << "built with the Gmsh API; the fallback is not compiled";
   const std::string e = error_of(data("unit_square_3x3.msh"));
   EXPECT_TRUE(has_text(e, "not compiled in") && has_text(e, "libgmsh-dev")) << e;
+}
+
+// Issue 28: Gmsh picks a file's format from its content and runs anything that is not a mesh as
+// a script: a file named evil.msh holding `SystemCall "touch PATH";` ran the command, and
+// `Printf(...) > "PATH";` wrote files. Without allow_scripts the MSH header is checked before Gmsh
+// sees the file; the script does nothing and the message names mesh.allow_scripts.
+TEST(GmshImport, ScriptsAreNotRunWithoutOptIn) {
+  SKIP_WITHOUT_GMSH();
+  const std::string touched = ::testing::TempDir() + "hemicontact_gmsh_touched";
+  const std::string printed = ::testing::TempDir() + "hemicontact_gmsh_printed";
+  std::remove(touched.c_str());
+  std::remove(printed.c_str());
+  const std::string script = "SystemCall \"touch " + touched + "\";\nPrintf(\"x\") > \"" + printed + "\";\n";
+  for (const char* name : {"evil.msh", "evil.txt"}) {
+    SCOPED_TRACE(name);
+    const std::string e = error_of(write_temp(name, script));
+    EXPECT_TRUE(has_text(e, "not a Gmsh mesh") && has_text(e, "mesh.allow_scripts")) << e;
+    EXPECT_TRUE(has_text(e, "first line is 'SystemCall \"touch")) << e;
+  }
+  // A valid header followed by script commands: read as MSH (an unknown section or a parse
+  // failure), never run.
+  error_of(write_temp("evil2.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n" + script));
+  // Gmsh parses a .geo file as a script whatever its first line: refused by the extension.
+  EXPECT_TRUE(has_text(error_of(write_temp("evil2.geo", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n" + script)),
+                       "a Gmsh script by its extension (.geo)"));
+  EXPECT_FALSE(std::ifstream(touched).good()) << "a SystemCall ran";
+  EXPECT_FALSE(std::ifstream(printed).good()) << "a Printf wrote a file";
+  // With the opt-in, Gmsh gets the script (and runs it: that is what allow_scripts says it does).
+  (void)read_gmsh_or_error(write_temp("trusted.geo", "Printf(\"x\") > \"" + printed + "\";\n"), true);
+  EXPECT_TRUE(std::ifstream(printed).good()) << "allow_scripts did not pass the script to Gmsh";
+  std::remove(printed.c_str());
+}
+
+// The header check accepts what Gmsh writes (MSH 2.x and 4.x, ASCII and binary; leading blank
+// lines) and refuses other versions and file types, naming them.
+TEST(GmshImport, MshHeaderCheck) {
+  SKIP_WITHOUT_GMSH();
+  const std::string body = "$EndMeshFormat\n";
+  for (const char* header : {"$MeshFormat\n2.2 0 8\n", "\n  \n$MeshFormat\r\n4.1 1 8\r\n", "$MeshFormat\n4 0 8\n"}) {
+    const std::string e = error_of(write_temp("header.msh", header + body));
+    EXPECT_FALSE(has_text(e, "not a Gmsh mesh") || has_text(e, "unsupported MSH header")) << header << ": " << e;
+  }
+  EXPECT_TRUE(has_text(error_of(write_temp("v3.msh", "$MeshFormat\n3.0 0 8\n" + body)), "unsupported MSH header '3.0 0 8'"));
+  EXPECT_TRUE(has_text(error_of(write_temp("t2.msh", "$MeshFormat\n4.1 2 8\n" + body)), "file type 0 (ASCII) or"));
+  EXPECT_TRUE(has_text(error_of(write_temp("empty.msh", "")), "first line is ''"));
+  // The real files of tests/data pass (UnitSquare and UnitCube read them in full).
+  EXPECT_EQ(error_of(data("unit_square_3x3.msh")), "(no error)");
+  // Not a regular file: refused by its kind before it is opened (a FIFO would block).
+  EXPECT_TRUE(has_text(error_of("/dev/zero"), "not a regular file"));
 }

@@ -171,6 +171,22 @@ TEST(NloptBackend, OptionsAreCheckedNotIgnored) {
                         {"LN_BOBYQA", "derivative-free"});
   expect_minimize_error("nlopt:G_MLSL_LDS+LD_MMA", p, x0, with("local_algorithm", "LD_LBFGS"),
                         {"local_algorithm", "contradicts"});
+  // Issue 28: numbers beyond what NLopt can size (vector_storage = 2^31 - 1 overflowed its int
+  // work-array size and corrupted the heap; population = 2^31 - 1 hung MLSL) are refused with the
+  // key and the range, before NLopt runs.
+  for (const char* algo : {"nlopt:LD_LBFGS", "nlopt:LD_VAR1"})
+    expect_minimize_error(algo, p, x0, with("vector_storage", "2147483647"),
+                          {"solver.options.vector_storage", "1..1000", "2147483647"});
+  expect_minimize_error("nlopt:G_MLSL_LDS", p, x0, with("population", "2147483647"),
+                        {"solver.options.population", "0..100000"});
+  expect_minimize_error("nlopt:LD_LBFGS", p, x0, with("maxeval", "2147483647"), {"solver.options.maxeval", "1..100000000"});
+  expect_minimize_error("nlopt:G_MLSL_LDS", p, x0, with("box_radius", "1e300"), {"solver.options.box_radius"});
+  {  // n·vector_storage is bounded too (the int product NLopt forms): 200 001 unknowns · 1000 pairs.
+    const SeparableQuadratic big(200001);
+    const NlpProblem pb = make_problem(big, Vec::Constant(200001, -INF), Vec::Constant(200001, INF));
+    expect_minimize_error("nlopt:LD_LBFGS", pb, Vec::Zero(200001), with("vector_storage", "1000"),
+                          {"vector_storage = 1000", "200001", "at most 499"});
+  }
   // Accepted values do what they say.
   Vec x = x0;
   const SolveResult r = make_backend("nlopt:LD_LBFGS")->minimize(p, x, with("vector_storage", "3"));

@@ -93,6 +93,10 @@ struct RateFit {
 /// @return the fit; valid = false if fewer than 2 levels qualify
 RateFit fit_rate(const ConvergenceStudy& study, int max_levels = 4);
 
+/// Largest mesh level n (cells per side) a study accepts: 2^20, far beyond any memory (the memory
+/// estimate refuses a solve long before), and small enough that n·n cannot overflow the counts.
+inline constexpr int MAX_LEVEL = 1 << 20;
+
 /// @brief Parse a list of levels: "4,8,16" or "4,8,...,128" ("..." continues the integer ratio of
 /// the two preceding levels up to the level after it). The result is sorted and without repeats.
 /// @param text the list @return the levels

@@ -36,13 +36,18 @@ namespace hemicontact {
 /// holds a Gmsh session of its own, nor from two threads at once.
 ///
 /// @param path the .msh file.
+/// @param allow_scripts false (the default): the file must start as an MSH file does
+///   ("$MeshFormat", version 2.x or 4.x, ASCII or binary) before Gmsh sees it, since Gmsh runs
+///   anything else as a script (SystemCall, Printf > "file"); true (scene key mesh.allow_scripts):
+///   any file Gmsh reads, .geo scripts included, which run code.
 /// @return the mesh, Mesh::origin = "gmsh <path>".
-/// @throws Error (EXIT_INPUT) naming the file when it is missing or unreadable, when Gmsh cannot
+/// @throws Error (EXIT_INPUT) naming the file when it is missing or unreadable, not an MSH file
+///   (without @p allow_scripts), when Gmsh cannot
 ///   parse it, when it has no triangles (2D) / tetrahedra (3D), contains other cell types
 ///   (quadrangles, second-order elements...), has a degenerate cell, a 2D mesh off the plane
 ///   z = 0, two facet groups with the same name, or a physical group holding a facet that is not
 ///   on the boundary ("physical group 'contact' contains facet (a, b) which is not on the
 ///   boundary", a and b being Gmsh node tags); and when Gmsh import was not compiled in.
-Mesh read_gmsh(const std::string& path);
+Mesh read_gmsh(const std::string& path, bool allow_scripts = false);
 
 }  // namespace hemicontact

@@ -27,14 +27,38 @@ void assign_scene_boundary(Mesh& mesh, const nlohmann::json& scene);
 Model build_model(const nlohmann::json& scene, Mesh mesh, bool stiffness = true);
 
 /// @brief Estimated peak memory (bytes) of a default solve on a mesh of @p nodes nodes in
-/// dimension @p dim (fitted to measured runs: see build_model.cpp).
-double estimate_solve_memory(double nodes, int dim);
+/// dimension @p dim with @p gamma3_nodes Γ3 nodes: estimate_sparse_memory + dense_gamma3_memory.
+double estimate_solve_memory(double nodes, int dim, double gamma3_nodes = 0);
 
-/// @brief Refuse (Error, EXIT_INPUT) a mesh whose solve would need more memory than the machine
-/// has available (MemAvailable), naming the estimate, what is available and @p size_keys, the
-/// keys that set the size ("mesh.n = 1000000"). Called before a generated mesh is allocated.
+/// @brief The sparse part of estimate_solve_memory (fitted to measured runs: see build_model.cpp).
+double estimate_sparse_memory(double nodes, int dim);
+
+/// @brief The dense part of estimate_solve_memory: the condensed Γ3 matrices, O((d·Γ3 nodes)²).
+double dense_gamma3_memory(double gamma3_nodes, int dim);
+
+/// Bytes this process may still allocate (-1: nothing known) and the limit that sets it, in words.
+struct MemoryBudget {
+  double bytes = -1;
+  std::string limit;
+};
+
+/// @brief The smallest of: the machine's MemAvailable; RLIMIT_AS (ulimit -v) less the address
+/// space already mapped; RLIMIT_DATA (ulimit -d) less the data in use; the cgroup's limit
+/// (v2 memory.max, v1 memory.limit_in_bytes, of the process's group and the groups above it) less
+/// its usage (without the inactive page cache, which the kernel reclaims first).
+MemoryBudget memory_budget();
+
+/// @brief The cgroup part of memory_budget(), read below @p root ("" = the real /proc and /sys;
+/// tests pass a folder laid out like them).
+MemoryBudget cgroup_memory_budget(const std::string& root);
+
+/// @brief Refuse (Error, EXIT_INPUT) a solve that would need more memory than this process may
+/// use (memory_budget(): MemAvailable, ulimit -v, the cgroup limit), naming the estimate, what is
+/// available and what limits it, and @p size_keys, the keys that set the size ("mesh.n = 1000000").
+/// Called before a generated mesh is allocated, and again once Γ3 is known.
 /// @param petsc the estimate of the petsc engine (no factorization) instead of the cholmod engine's.
-void check_memory(double nodes, int dim, const std::string& size_keys, bool petsc = false);
+/// @param gamma3_nodes Γ3 nodes (the cholmod engine's dense condensed matrices); 0 before the mesh exists.
+void check_memory(double nodes, int dim, const std::string& size_keys, bool petsc = false, double gamma3_nodes = 0);
 
 /// @brief Estimated peak memory (bytes, all ranks) of the petsc engine on @p nodes nodes.
 double estimate_petsc_memory(double nodes, int dim);

@@ -14,6 +14,8 @@
 ///   const int nx = get_int(scene, "mesh.nx");                  // always present after loading
 /// @endcode
 
+#include <hemicontact/core/error.hpp>
+
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -53,6 +55,8 @@ struct SchemaEntry {
   std::optional<double> max;
   /// true: value < @ref max; false: value ≤ @ref max.
   bool max_exclusive = false;
+  /// Most elements an array value may have (tables: their length is the work of every evaluation).
+  std::optional<std::size_t> max_items;
 };
 
 /// @brief The scene schema: every key a scene may contain, in documentation order.
@@ -64,6 +68,17 @@ const std::vector<SchemaEntry>& scene_schema();
 /// paths and on a scene built in code, so that no walk of the scene recurses deeper: a text
 /// nested 40 000 levels deep would otherwise overflow the stack.
 inline constexpr std::size_t MAX_SCENE_DEPTH = 32;
+
+/// Longest scene file read (bytes): a scene is a few KB and its longest tables (MAX_TABLE_POINTS
+/// points each) take well under 1 MB; a path such as /dev/zero or a huge file must not be read
+/// for minutes (issue 28). Non-regular files (devices, FIFOs) are refused before they are opened.
+inline constexpr std::size_t MAX_SCENE_BYTES = 16u << 20;
+
+/// Most points of a piecewise-linear table (contact.gap.points, contact.normal_law.points,
+/// contact.friction.points): measured laws have tens to hundreds. The solve's cost grows faster
+/// than the table (fig2 at n = 16 with a p_ν table: 0.14 s at 10³ points, 13 s at 10⁴, 9 minutes
+/// at 10⁵, without a progress line), so 10³ keeps any scene's table cheap.
+inline constexpr std::size_t MAX_TABLE_POINTS = 1000;
 
 /// Most continuation stages a scene may ask for (solver.continuation: eps_start → eps_tau, eps_nu
 /// by factor per stage): the default takes 5; a factor of 0.9999999 would take 2·10⁸.
@@ -86,6 +101,21 @@ inline constexpr int MAX_CONTINUATION_STAGES = 200;
 /// @throws Error (EXIT_INPUT) naming the dotted key, e.g. "scene key 'mesh.n': expected
 ///         integer, got string \"abc\""
 nlohmann::json validate_scene(nlohmann::json scene);
+
+/// @brief Check solver.petsc.options (the PETSc options passed to the petsc engine) against a
+/// whitelist (src/scene/petsc_options.cpp): each option a known solver setting under one of the
+/// engine's prefixes (elastic_, polish_, ssn_, tao_, tao_bnk_), its value of the right kind and in
+/// range; monitors and views only without a value (stdout), so that no option names a file.
+/// @param key the scene key named in messages
+/// @throws Error (EXIT_INPUT) naming the key and the option
+void check_petsc_options(const std::string& options, const std::string& key);
+
+/// @brief Check a number given for scene key @p dotted some other way (a command-line option such as
+/// converge's --graded-power, which sets mesh.grading.power) against that key's row: finite and in
+/// its range, so that both ways share one bound.
+/// @param what the option as the user wrote it, named in the message
+/// @throws Error (@p code) "WHAT: must be >= 1 and <= 10 (the range of scene key 'mesh.grading.power'), got inf"
+void check_key_range(const std::string& dotted, double value, const std::string& what, ExitCode code);
 
 /// @brief Apply one `--set path=value` assignment to a (not yet validated) scene.
 ///
