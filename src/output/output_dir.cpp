@@ -275,14 +275,9 @@ OutputLock lock_output_dir(int dir_fd, const std::string& dir, const std::string
     const ssize_t n = ::pread(fd, pid, sizeof pid - 1, 0);
     std::string holder = n > 0 ? std::string(pid, static_cast<size_t>(n)) : std::string();
     holder.erase(std::remove(holder.begin(), holder.end(), '\n'), holder.end());
-    // Under mpirun every rank of the default (cholmod) engine is a whole run of its own, and all
-    // but one meet the lock: say what was meant (issue 28).
-    const bool under_mpi = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE");
+    // (Under mpirun the default engine is refused before any folder is touched: cli.cpp.)
     input_error(name + ": another hemicontact run" + (holder.empty() ? std::string() : " (pid " + printable(holder) + ")") +
-                " is writing there; wait for it to finish or choose another --out" +
-                (under_mpi ? "; under mpirun, each rank of solver.engine = cholmod is a run of its own: "
-                             "pass --set solver.engine=petsc for one run over all ranks"
-                           : ""));
+                " is writing there; wait for it to finish or choose another --out");
   }
   const std::string pid = std::to_string(::getpid()) + "\n";
   if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {

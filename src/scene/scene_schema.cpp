@@ -425,9 +425,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                       "backend stalls or fails."));
   t.push_back(key("/solver/exact/enabled", "boolean", D.exact,
                   "Default true (issue 15). false: the ε-continuation and the polish alone (the design's path)."));
-  t.push_back(at_most(above(key("/solver/exact/tol", "number", D.exact_inner.tol,
-                                "Stationarity residual (certificate units) at which the exact solver stops."),
-                            0),
+  // The floor: the coupled residual's round-off (a relative residual of a double at unit scale, times
+  // the conditioning of the condensed problem) — fig2 reaches 1e-14 up to n = 512 but not 1e-15 at
+  // n = 128, where a smaller tolerance could only end in exit 3 on a certified answer.
+  t.push_back(at_most(at_least(key("/solver/exact/tol", "number", D.exact_inner.tol,
+                                   "Stationarity residual (certificate units) at which the exact solver stops; "
+                                   "at least 1e-14, the round-off of the residual itself."),
+                               1e-14),
                       1e-3));
   t.push_back(at_least(key("/solver/exact/polish_above", "number", D.exact_inner.polish_above,
                            "The polish after the exact solver runs only when the exact solver's coupled "

@@ -101,7 +101,7 @@ Mesh one_triangle() {
   return m;
 }
 
-struct Case {
+struct NodeCase {
   double F_nu = 0, F_tau = 0;  ///< nodal load in the local frame
   json gap = "inf";
   json friction = {{"type", "coulomb_layer"}, {"mu", MU}};
@@ -118,7 +118,7 @@ json solver_block(const std::string& pipeline) {
   return json::object();  // defaults
 }
 
-json make_scene(const Case& c, const std::string& pipeline = "default") {
+json make_scene(const NodeCase& c, const std::string& pipeline = "default") {
   // F = f0/6 with F_ν = −F_y, F_τ = F_x  ⇒  f0 = 6 (F_τ, −F_ν).
   const json scene = {
       {"description", "one free node (tests/driver/single_node_test.cpp)"},
@@ -150,7 +150,7 @@ struct NodeSolved {
   Solution sol;
 };
 
-NodeSolved run(const Case& c, const std::string& pipeline) {
+NodeSolved run(const NodeCase& c, const std::string& pipeline) {
   const json scene = make_scene(c, pipeline);
   Mesh mesh = one_triangle();
   assign_scene_boundary(mesh, scene);
@@ -167,7 +167,7 @@ struct Expected {
   std::optional<double> rigid_reaction;  ///< R/w = −(σ_ν + ξ) at the obstacle
 };
 
-double hand_energy(const Case& c, const Expected& e) {
+double hand_energy(const NodeCase& c, const Expected& e) {
   return 0.5 * K_NU * e.u_nu * e.u_nu + 0.5 * K_TAU * e.u_tau * e.u_tau - c.F_nu * e.u_nu - c.F_tau * e.u_tau +
          W * j_hand(e.u_nu) + W * e.lambda * std::abs(e.u_tau);
 }
@@ -179,7 +179,7 @@ double u_tau_hand(double F_tau, double lambda) {
 }
 
 /// Everything every case asserts.
-void check_case(const Case& c, const Expected& e, const NodeSolved& r) {
+void check_case(const NodeCase& c, const Expected& e, const NodeSolved& r) {
   const Solution& sol = r.sol;
   ASSERT_TRUE(sol.backend_ok) << sol.message;
   ASSERT_TRUE(sol.fixed_point_converged) << sol.message;
@@ -244,7 +244,7 @@ TEST(SingleNodeModel, MatchesHandDerivation) {
   const Eigen::Vector3d coef = V.fullPivLu().solve(Eigen::Vector3d(0, 0, 1));
   EXPECT_NEAR(coef[1], 0.0, 1e-15);
   EXPECT_NEAR(coef[2], -1.0, 1e-15);
-  const Case c{32.0, -3.0};
+  const NodeCase c{32.0, -3.0};
   const json scene = make_scene(c);
   assign_scene_boundary(m, scene);
   const Model md = build_model(scene, m);
@@ -286,7 +286,7 @@ TEST(SingleNodeModel, MatchesHandDerivation) {
 // (a) + (d): compliance branch, k_ν u + w c1 u = F_ν with 0 < u < r1, and stick |F_τ| ≤ w μ p(u).
 TEST_P(SingleNode, ComplianceStick) {
   const double target = 0.5 * R1;
-  Case c;
+  NodeCase c;
   c.F_nu = (K_NU + W * C1) * target;
   c.F_tau = -0.5 * W * MU * p_hand(target);  // half the bound
   c.gap = 0.15;                              // the paper's g, not reached
@@ -311,7 +311,7 @@ TEST_P(SingleNode, ComplianceStick) {
 TEST_P(SingleNode, SofteningSlipPlus) {
   ASSERT_GT(K_NU + W * C2, 0.0) << "the softening branch would be unstable (file comment)";
   const double target = 0.5 * (R1 + R2);
-  Case c;
+  NodeCase c;
   c.F_nu = K_NU * target + W * (C1 * R1 + C2 * (target - R1));
   c.F_tau = 2.0 * W * MU * p_hand(target);  // twice the bound
   c.gap = 0.2;                              // > r2: the obstacle is not reached
@@ -335,7 +335,7 @@ TEST_P(SingleNode, SofteningSlipPlus) {
 // rigid reaction R, R/w = −(σ_ν + ξ). Slip− (friction bound μ p(g): the layer's reaction only, (34)).
 TEST_P(SingleNode, ObstacleSlipMinus) {
   const double g = 0.8 * R1;  // on the compliance branch, 20% below r1
-  Case c;
+  NodeCase c;
   c.gap = g;
   c.F_nu = 1.5 * (K_NU * g + W * p_hand(g));
   c.F_tau = -2.0 * W * MU * p_hand(g);
@@ -358,7 +358,7 @@ TEST_P(SingleNode, ObstacleSlipMinus) {
 // p_ν is continuous (p(r2) = c1 r1 + c2 (r2 − r1)); sticking since |F_τ| ≤ w μ p(g).
 TEST_P(SingleNode, ObstacleAtPaperGapStick) {
   const double g = R2;
-  Case c;
+  NodeCase c;
   c.gap = g;
   c.F_nu = 1.5 * (K_NU * g + W * p_hand(g));
   c.F_tau = 0.5 * W * MU * p_hand(g);
@@ -375,7 +375,7 @@ TEST_P(SingleNode, ObstacleAtPaperGapStick) {
 // (f): F_ν < 0 lifts the node off the layer: u_ν = F_ν/k_ν < 0, p = 0, and F_b(r ≤ 0) = 0, so
 // there is no friction at all: u_τ = F_τ/k_τ (free), σ_τ = 0.
 TEST_P(SingleNode, SeparatedNoFriction) {
-  Case c;
+  NodeCase c;
   c.F_nu = -0.05 * K_NU;
   c.F_tau = 0.02 * K_TAU;
   c.gap = 0.15;
@@ -399,7 +399,7 @@ TEST_P(SingleNode, SeparatedNoFriction) {
 // per continuation stage); slip+ at u_τ = (F_τ − w b)/k_τ on the compliance branch.
 TEST_P(SingleNode, TrescaSkipsFixedPoint) {
   const double b = 2.0;
-  Case c;
+  NodeCase c;
   c.friction = {{"type", "tresca"}, {"bound", b}};
   c.F_nu = (K_NU + W * C1) * 0.5 * R1;
   c.F_tau = 1.5 * W * b;
@@ -431,7 +431,7 @@ TEST_P(SingleNode, TrescaSkipsFixedPoint) {
 // Tresca resists slip even on a separated node (outside (15c), see TrescaBound): stick.
 TEST_P(SingleNode, TrescaSeparatedStick) {
   const double b = 2.0;
-  Case c;
+  NodeCase c;
   c.friction = {{"type", "tresca"}, {"bound", b}};
   c.F_nu = -0.05 * K_NU;
   c.F_tau = 0.5 * W * b;
@@ -449,7 +449,7 @@ TEST_P(SingleNode, TrescaSeparatedStick) {
 // after one update; the final stage confirms it in a few iterations and ends at the hand value.
 TEST_P(SingleNode, CoulombFixedPointConverges) {
   const double target = 0.5 * R1;
-  Case c;
+  NodeCase c;
   c.F_nu = (K_NU + W * C1) * target;
   c.F_tau = 3.0 * W * MU * p_hand(target);
   Expected e;
@@ -480,7 +480,7 @@ TEST_P(SingleNode, CoulombFixedPointConverges) {
 // answer to round-off (both are the exact polish on the same statuses).
 TEST(SingleNodeEarlyStop, CertifiedBeforeTheLastStageGivesTheSameAnswer) {
   const double target = 0.5 * R1;
-  Case c;
+  NodeCase c;
   c.F_nu = (K_NU + W * C1) * target;
   c.F_tau = 3.0 * W * MU * p_hand(target);
   c.continuation_only = true;  // the continuation's own early stop, against its own all stages
