@@ -82,6 +82,10 @@ TEST_F(InputSafety, SceneFileMustBeARegularFileOfBoundedSize) {
 // the machine's free memory only, let it through. Now the address-space limit is the budget: the
 // run is refused at once, naming the limit and the size key.
 TEST_F(InputSafety, MemoryEstimateHonoursTheAddressSpaceLimit) {
+#if defined(HEMICONTACT_SANITIZED)
+  GTEST_SKIP() << "address-space limits (ulimit -v) cannot apply under AddressSanitizer: its shadow memory is reserved "
+                  "address space";
+#endif
   const auto t0 = std::chrono::steady_clock::now();
   const auto r = cli("solve " + FIG2 + " --quiet --set mesh.n=512 --set output.vtu=false --out " + (dir / "out").string(),
                      "ulimit -v 800000;");
@@ -95,6 +99,10 @@ TEST_F(InputSafety, MemoryEstimateHonoursTheAddressSpaceLimit) {
 // ended in bad_alloc (exit 5, "internal error"). Γ3 is in the estimate now; the limit makes the
 // refusal independent of the machine's memory.
 TEST_F(InputSafety, Gamma3IsInTheMemoryEstimate) {
+#if defined(HEMICONTACT_SANITIZED)
+  GTEST_SKIP() << "address-space limits (ulimit -v) cannot apply under AddressSanitizer: its shadow memory is reserved "
+                  "address space";
+#endif
   const auto r = cli("solve " + FIG2 + " --quiet --set mesh.n=null --set mesh.nx=20000 --set mesh.ny=1 --set boundary.gamma2=[] --out " +
                          (dir / "out").string(),
                      "ulimit -v 4000000;");
@@ -109,6 +117,10 @@ TEST_F(InputSafety, Gamma3IsInTheMemoryEstimate) {
 // created ended as "internal error"). OPENBLAS_NUM_THREADS=1: OpenBLAS's worker threads map their
 // buffers when the library loads, before main, and retry for ever when that fails (README).
 TEST_F(InputSafety, AllocationFailuresUnderALimitEndWithAMemoryMessage) {
+#if defined(HEMICONTACT_SANITIZED)
+  GTEST_SKIP() << "address-space limits (ulimit -v) cannot apply under AddressSanitizer: its shadow memory is reserved "
+                  "address space";
+#endif
   const std::string blas = "OPENBLAS_NUM_THREADS=1";
   // The smallest limit (MB) under which the program runs at all (loading its libraries).
   int base = 0;
