@@ -71,6 +71,82 @@ struct Row {
   std::string message;
 };
 
+// One run: the best of @p repeats solves, compared with @p reference (the default's answer; the
+// first run, r == 0, is the reference itself).
+Row run_one(const Model& model, const std::string& label, const SolveOptions& o, int repeats, Solution& reference,
+            bool is_reference) {
+  Row row;
+  row.label = label;
+  try {
+    Solution best;
+    for (int k = 0; k < repeats; ++k) {
+      const auto t0 = clk::now();
+      Solution s = solve(model, o);
+      const double t = since(t0);
+      if (k == 0 || t < row.seconds) row.seconds = t, best = std::move(s);
+    }
+    if (is_reference) reference = best;
+    row.ok = best.ok();
+    row.ran = best.backend_use.ran;
+    row.solved_by = best.solved_by();
+    row.backend = best.work_of(best.backend);
+    row.exact = best.work_of(EXACT_SOLVER);
+    row.exact.seconds = best.handover.seconds;
+    row.energy = best.energy;
+    row.certificate = best.certificate.max_residual;
+    row.du = (best.u - reference.u).cwiseAbs().maxCoeff() / std::max(reference.u.cwiseAbs().maxCoeff(), 1e-300);
+    row.de = std::abs(best.energy - reference.energy) / std::max(std::abs(reference.energy), 1e-300);
+    row.status_diff = 0;
+    for (size_t k = 0; k < best.status.size(); ++k) row.status_diff += best.status[k].str() != reference.status[k].str();
+    row.message = best.message;
+  } catch (const Error& e) {
+    row.message = e.what();
+  }
+  return row;
+}
+
+json row_json(const std::string& spec, const Row& row) {
+  return {{"scene", spec},
+          {"run", row.label},
+          {"solved_by", row.solved_by},
+          {"certified", row.ok},
+          {"backend_ran", row.ran},
+          {"backend_minimizations", row.backend.minimizations},
+          {"backend_iterations", row.backend.iterations},
+          {"backend_evaluations", row.backend.evaluations},
+          {"backend_seconds", row.backend.seconds},
+          {"exact_seconds", row.exact.seconds},
+          {"seconds", row.seconds},
+          {"energy", row.energy},
+          {"certificate", row.certificate},
+          {"du", row.du},
+          {"dE", row.de},
+          {"status_diff", row.status_diff},
+          {"message", row.message}};
+}
+
+// The scene's table (markdown).
+std::string scene_table(const std::string& spec, const Model& model, const Solution& reference,
+                        const std::vector<Row>& rows) {
+  std::ostringstream md;
+  const InnerConvexity& c = reference.inner_convexity;
+  md << "**" << spec << "** (" << model.dofs.n_free() << " dofs, " << model.contact.size() << " Γ3 nodes; inner "
+     << "problem " << (c.checked ? (c.strongly_convex ? "strongly convex" : "not strongly convex") : "not checked")
+     << ")\n\n| run | solved by | certified | backend it / ev / s | exact s | total s | energy | Δu | ΔE | statuses |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const Row& r : rows) {
+    md << "| " << r.label << " | " << (r.solved_by.empty() ? "-" : r.solved_by) << " | "
+       << (r.ok ? "yes (" + g3(r.certificate) + ")" : "NO") << " | "
+       << (r.ran ? std::to_string(r.backend.iterations) + " / " + std::to_string(r.backend.evaluations) + " / " +
+                       g3(r.backend.seconds)
+                 : std::string("not run"))
+       << " | " << g3(r.exact.seconds) << " | " << g3(r.seconds) << " | " << g3(r.energy) << " | " << g3(r.du)
+       << " | " << g3(r.de) << " | " << r.status_diff << " |\n";
+    if (!r.ok) md << "| | " << r.message.substr(0, 200) << " | | | | | | | | |\n";
+  }
+  return md.str() + "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -99,10 +175,8 @@ int main(int argc, char** argv) {
     }
   }
   if (backends.empty())
-    for (const auto& [name, doc] : available_backends()) {
-      if (name == AUTO_BACKEND || name == "ssn" || name.rfind("tao:", 0) == 0) continue;
-      backends.push_back(name);
-    }
+    for (const auto& [name, doc] : available_backends())
+      if (name != AUTO_BACKEND && name != "ssn" && name.rfind("tao:", 0) != 0) backends.push_back(name);
   set_log_level(LogLevel::QUIET);
   fs::create_directories(out);
   std::ostringstream md;
@@ -115,89 +189,27 @@ int main(int argc, char** argv) {
      << repeats << "); `Δu`, `ΔE`: relative distance to the default's displacement and energy; `statuses`: nodes "
         "whose status differs from the default's.\n\n";
   for (const std::string& spec : scenes) {
-    std::vector<std::string> parts = split(spec, ':');
-    const std::string file = parts.front();
-    const std::vector<std::string> overrides(parts.begin() + 1, parts.end());
-    const std::string path = fs::exists(file) ? file : std::string(HEMICONTACT_SOURCE_DIR "/problems/") + file;
-    const json scene = load_scene(path, overrides);
+    const std::vector<std::string> parts = split(spec, ':');
+    const std::string path = fs::exists(parts.front()) ? parts.front()
+                                                       : std::string(HEMICONTACT_SOURCE_DIR "/problems/") + parts.front();
+    const json scene = load_scene(path, std::vector<std::string>(parts.begin() + 1, parts.end()));
     const Model model = build_model(scene, fs::path(path).parent_path().string());
     const SolveOptions base = solve_options_from_scene(scene);
-    std::vector<Row> rows;
-    Solution reference;
-    std::vector<std::pair<std::string, SolveOptions>> runs;
-    runs.emplace_back("auto (default)", base);
-    SolveOptions ex = base;
-    ex.exact_start = "always";
-    runs.emplace_back("exact", ex);
+    std::vector<std::pair<std::string, SolveOptions>> runs{{"auto (default)", base}, {"exact", base}};
+    runs[1].second.exact_start = "always";
     for (const std::string& b : backends) {
-      SolveOptions o = base;
-      o.backend = b;
-      runs.emplace_back(b, o);
+      runs.emplace_back(b, base);
+      runs.back().second.backend = b;
     }
+    Solution reference;
+    std::vector<Row> rows;
     for (size_t r = 0; r < runs.size(); ++r) {
-      Row row;
-      row.label = runs[r].first;
-      std::cerr << spec << ": " << row.label << "\n";
-      try {
-        Solution best;
-        for (int k = 0; k < repeats; ++k) {
-          const auto t0 = clk::now();
-          Solution s = solve(model, runs[r].second);
-          const double t = since(t0);
-          if (k == 0 || t < row.seconds) row.seconds = t, best = std::move(s);
-        }
-        if (r == 0) reference = best;
-        row.ok = best.ok();
-        row.ran = best.backend_use.ran;
-        row.solved_by = best.solved_by();
-        row.backend = best.work_of(best.backend);
-        row.exact = best.work_of(EXACT_SOLVER);
-        row.exact.seconds = best.handover.seconds;
-        row.energy = best.energy;
-        row.certificate = best.certificate.max_residual;
-        row.du = (best.u - reference.u).cwiseAbs().maxCoeff() / std::max(reference.u.cwiseAbs().maxCoeff(), 1e-300);
-        row.de = std::abs(best.energy - reference.energy) / std::max(std::abs(reference.energy), 1e-300);
-        row.status_diff = 0;
-        for (size_t k = 0; k < best.status.size(); ++k) row.status_diff += best.status[k].str() != reference.status[k].str();
-        row.message = best.message;
-      } catch (const Error& e) {
-        row.message = e.what();
-      }
-      failures += !row.ok;
-      rows.push_back(row);
-      all.push_back({{"scene", spec},
-                     {"run", row.label},
-                     {"solved_by", row.solved_by},
-                     {"certified", row.ok},
-                     {"backend_ran", row.ran},
-                     {"backend_minimizations", row.backend.minimizations},
-                     {"backend_iterations", row.backend.iterations},
-                     {"backend_evaluations", row.backend.evaluations},
-                     {"backend_seconds", row.backend.seconds},
-                     {"exact_seconds", row.exact.seconds},
-                     {"seconds", row.seconds},
-                     {"energy", row.energy},
-                     {"certificate", row.certificate},
-                     {"du", row.du},
-                     {"dE", row.de},
-                     {"status_diff", row.status_diff},
-                     {"message", row.message}});
+      std::cerr << spec << ": " << runs[r].first << "\n";
+      rows.push_back(run_one(model, runs[r].first, runs[r].second, repeats, reference, r == 0));
+      failures += !rows.back().ok;
+      all.push_back(row_json(spec, rows.back()));
     }
-    md << "**" << spec << "** (" << model.dofs.n_free() << " dofs, " << model.contact.size() << " Γ3 nodes; inner "
-       << "problem " << (reference.inner_convexity.checked ? (reference.inner_convexity.strongly_convex ? "strongly convex" : "not strongly convex") : "not checked")
-       << ")\n\n| run | solved by | certified | backend it / ev / s | exact s | total s | energy | Δu | ΔE | statuses |\n"
-          "|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const Row& r : rows) {
-      md << "| " << r.label << " | " << (r.solved_by.empty() ? "-" : r.solved_by) << " | "
-         << (r.ok ? "yes (" + g3(r.certificate) + ")" : "NO") << " | "
-         << (r.ran ? std::to_string(r.backend.iterations) + " / " + std::to_string(r.backend.evaluations) + " / " +
-                         g3(r.backend.seconds)
-                   : std::string("not run"))
-         << " | " << g3(r.exact.seconds) << " | " << g3(r.seconds) << " | " << g3(r.energy) << " | " << g3(r.du)
-         << " | " << g3(r.de) << " | " << r.status_diff << " |\n";
-      if (!r.ok) md << "| | " << r.message.substr(0, 200) << " | | | | | | | | |\n";
-    }
-    md << "\n";
+    md << scene_table(spec, model, reference, rows);
   }
   std::ofstream(fs::path(out) / "backends.md") << md.str();
   std::ofstream(fs::path(out) / "backends.json") << all.dump(2) << "\n";

@@ -1,18 +1,27 @@
 #pragma once
 /// @file solve.hpp  The design's solve: min Π_λ subject to u_ν ≤ g, smoothed, handed to an NLP
-/// backend, with ε-continuation and the outer fixed point λ_i = F_b(u_ν,i) (MODEL.md §2).
+/// backend, inside the outer fixed point λ_i = F_b(u_ν,i) (MODEL.md §2), then the exact solver.
 /// ContactSolver::solve() is this, one named step per line (src/driver/solve.cpp):
 ///
+///   exact_first: solver.backend = auto and Φ_λ strongly convex (unique minimizer), or
+///                solver.exact.start = always → the exact solver from the start; certified → done,
+///                and the report says why the backend did not run
 ///   start:       z ← z0 projected onto the bounds; λ ← F_b(u_ν(z))
 ///   for each stage ε of the continuation schedule (large → small, warm-started):   run_stage
 ///     set_smoothing(ε)
-///     repeat:    z ← argmin Π_λ,ε (backend, warm start)                           minimize
+///     repeat:    z ← argmin Π_λ,ε (backend, warm start; to solver.exact.stage_tol)  minimize
 ///                λ ← (1−θ)λ + θ F_b(u_ν(z))                                      relax_lambda
 ///     — once per coarse ε; at the final ε until ‖Δz_Γ3‖/‖z_Γ3‖ ≤ tol_u and ‖Δλ‖/‖λ‖ ≤ tol_u, or
 ///       the cap / the non-contraction test stops it with a message naming the remedy
+///     hand over (after stage 0 by default, solver.exact.after_stage; earlier on a stall):
+///                the polish on the stage's statuses if that is certified, else   exact_solve
+///                the exact solver (unsmoothed Φ_λ, Anderson on λ = F_b(u_ν)) from z
 ///   polish:      solve the unsmoothed conditions of (22) on the identified statuses (polish.hpp)
 ///   certify:     the certificate of u (MODEL.md §4) decides; timings and the verdict
+///   last resort: not certified → the exact solver from the start; kept only if certified
 ///
+/// Every minimization is recorded with its solver (OuterIteration::solver): reports count the
+/// backend's own work apart from the exact solver's (Solution::work_of, solved_by).
 /// Skipped when not needed (and said so in the report): no friction or F_b independent of u_ν →
 /// no outer loop; no soft layer → no j_ν term; g = ∞ → no bounds; nothing to smooth → no continuation.
 
