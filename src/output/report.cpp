@@ -63,15 +63,13 @@ json phases(const Solution& sol, bool lagged) {
                {"accepted", sol.polish.accepted},
                {"iterations", sol.polish.iterations},
                {"seconds", polish_time == sol.timings.end() ? 0.0 : polish_time->second}});
-  int updates = 0;
-  for (const auto& o : sol.history) updates += o.solver == sol.backend;
   p.push_back({{"phase", "fixed_point"},
                {"solver", b.minimizations && h.used ? sol.backend + " stages, then exact (Anderson)"
                           : h.used                  ? std::string("exact (Anderson)")
                                                     : sol.backend + " stages"},
                {"ran", lagged},
                {"converged", sol.fixed_point_converged},
-               {"iterations", (b.minimizations > 0 ? updates : 0) + h.outer_iterations}});
+               {"iterations", b.minimizations + h.outer_iterations}});  // backend stages' updates + Anderson's
   return p;
 }
 
