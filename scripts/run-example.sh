@@ -9,7 +9,9 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
-bash scripts/build.sh
+# The programs only (hemicontact, and hemicontact-mpi where PETSc is installed, which it depends
+# on): the tests and benchmarks are built by the test command.
+bash scripts/build.sh hemicontact_cli
 build="${BUILD_DIR:-build}"
 for scene in sofonea2017-fig2 sofonea2017-printed sofonea2017-3d; do
   echo
