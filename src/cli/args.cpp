@@ -4,6 +4,7 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/text.hpp>
+#include <hemicontact/scene/config.hpp>
 
 #include <algorithm>
 #include <cstdlib>
@@ -12,15 +13,18 @@
 namespace hemicontact::cli {
 
 // Options every scene command takes (parse_scene_args).
-const char* const SCENE_OPTIONS =
-    "  --out DIR          output folder (default shown above); created if missing\n"
-    "  --set path=value   override a scene entry by its dotted path, value in JSON (repeatable),\n"
-    "                     e.g. --set mesh.n=128 --set solver.tol=1e-10; every key: docs/scene-format.md\n"
-    "  --backend NAME     the same as --set solver.backend=NAME (default: the scene's, ipopt);\n"
-    "                     hemicontact backends lists them\n"
-    "  --force            replace the results of an earlier run in DIR (only the files it wrote)\n"
-    "  --quiet            warnings only on stderr (progress is on stderr by default)\n"
-    "  -h, --help         this help\n";
+std::string scene_options_help() {
+  return "  --out DIR          output folder (default shown above); created if missing\n"
+         "  --set path=value   override a scene entry by its dotted path, value in JSON (repeatable),\n"
+         "                     e.g. --set mesh.n=128 --set solver.tol=1e-10; every key: docs/scene-format.md\n"
+         "  --backend NAME     the same as --set solver.backend=NAME (default: the scene's, else " +
+         schema_default("solver.backend").get<std::string>() +
+         ");\n"
+         "                     hemicontact backends lists them\n"
+         "  --force            replace the results of an earlier run in DIR (only the files it wrote)\n"
+         "  --quiet            warnings only on stderr (progress is on stderr by default)\n"
+         "  -h, --help         this help\n";
+}
 
 void refuse_mpi_ranks(const std::string& command) {
   // Open MPI's mpirun sets OMPI_COMM_WORLD_SIZE; MPICH, Intel MPI and Slurm's srun set PMI_SIZE.

@@ -1,6 +1,9 @@
 #include "cli.hpp"
 
 #include <hemicontact/driver/adapt.hpp>
+#include <hemicontact/driver/adapt_study.hpp>
+#include <hemicontact/driver/minima.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
@@ -46,7 +49,8 @@ std::string command_help(const std::string& command) {
                "usage: hemicontact solve SCENE.json [--out DIR] [--set path=value]... [--backend NAME] [--force]\n"
                "                         [--quiet] [--plot [--magnification M]]\n"
                "Solve a scene: min Pi_lambda subject to u_nu <= g with the nonsmooth terms smoothed, handed to\n"
-               "the NLP backend (ipopt by default) inside the outer fixed point lambda = F_b(u_nu); the exact\n"
+               "the NLP backend (solver.backend; auto: ipopt where built) inside the outer fixed point\n"
+               "lambda = F_b(u_nu); the exact\n"
                "solver (no smoothing) takes over from the backend's first eps-stage, and the certificate judges\n"
                "the unsmoothed answer. Under solver.backend = auto (the default) the backend's\n"
                "stage is skipped where the inner problem is strongly convex (its minimizer is unique), and the\n"
@@ -54,7 +58,7 @@ std::string command_help(const std::string& command) {
                "report.json (backend, phases, solved_by) say what ran. Writes DIR/report.json, DIR/solution.vtu\n"
                "(ParaView), DIR/gamma3.csv; DIR defaults to out/<scene name>.\n"
                "options:\n") +
-           SCENE_OPTIONS +
+           scene_options_help() +
            "  --plot             also draw DIR/fig2.png (3D: DIR/status3d.png) with /usr/bin/python3 +\n"
            "                     matplotlib (default off; output.plot = true in the scene does the same)\n"
            "  --magnification M  deformation magnification of the picture (default: largest displacement\n"
@@ -70,19 +74,21 @@ std::string command_help(const std::string& command) {
                "DIR/convergence.csv, DIR/convergence.json and stdout. DIR defaults to out/<scene name>-convergence.\n"
                "Exit code 3/4 if a solve did not converge / certify, 2 if --plot could not draw.\n"
                "options:\n"
-               "  --levels LIST      mesh levels, e.g. 4,8,16 or 4,8,...,128 (doubling) (default 4,8,...,128)\n"
-               "  --reference R      reference level (default 256, the paper's)\n"
+               "  --levels LIST      mesh levels, e.g. 4,8,16 or 4,8,...,128 (doubling) (default " + CONVERGE_LEVELS + ")\n"
+               "  --reference R      reference level (default " + CONVERGE_REFERENCE + ", the paper's)\n"
                "  --plot             also draw DIR/convergence.png (error vs h, log-log)\n"
                "adaptive study (--adaptive): uniform (--levels), graded (--graded-levels, mesh.grading x both,\n"
-               "y high, --graded-power B, default 2) and the adaptive sequence of the scene's adapt block (target\n"
-               "adapt.target_error, default 0.01) against one reference: --reference uniform:R or adaptive:T\n"
-               "(default adaptive:0.002, a deeper run of the same sequence). Writes DIR/work_precision.csv,\n"
+               "y high, --graded-power B, default " + round_trip(WorkPrecisionRequest{}.graded_power) +
+               ") and the adaptive sequence of the scene's adapt block (target\n"
+               "adapt.target_error, default " + round_trip(AdaptOptions{}.target_error) +
+               ") against one reference: --reference uniform:R or adaptive:T\n"
+               "(default " + WorkPrecisionRequest{}.reference + ", a deeper run of the same sequence). Writes DIR/work_precision.csv,\n"
                ".json (error, estimate, efficiency index, time per mesh) and with --plot work_precision.png;\n"
                "DIR defaults to out/<scene name>-adaptive.\n"
                "  --adaptive         the work-precision study instead of the uniform one\n"
-               "  --graded-levels L  n of the graded meshes (default 4,8,...,64; none: skip)\n"
-               "  --graded-power B   grading exponent (default 2)\n") +
-           SCENE_OPTIONS +
+               "  --graded-levels L  n of the graded meshes (default " + ADAPTIVE_LEVELS + "; none: skip)\n"
+               "  --graded-power B   grading exponent (default " + round_trip(WorkPrecisionRequest{}.graded_power) + ")\n" +
+           scene_options_help() +
            "example:\n"
            "  hemicontact converge problems/sofonea2017-fig2.json --levels 4,8,...,64 --reference 128 --plot\n";
   if (command == "minima")
@@ -97,15 +103,19 @@ std::string command_help(const std::string& command) {
                "DIR/minima.png; DIR defaults to out/<scene name>-minima. Exit code 3/4 if no run converged /\n"
                "certified.\n"
                "options:\n"
-               "  --starts N         random starts (default 8, at most 10000)\n"
-               "  --seed S           seed of the random starts (default 1; 0 to 4294967295)\n"
-               "  --box B            random starts in the box +-B*U_s (default 1)\n"
+               "  --starts N         random starts (default " + std::to_string(MinimaOptions{}.starts) + ", at most " +
+           std::to_string(MAX_STARTS) + ")\n"
+               "  --seed S           seed of the random starts (default " + std::to_string(MinimaOptions{}.seed) +
+           "; 0 to 4294967295)\n"
+               "  --box B            random starts in the box +-B*U_s (default " + round_trip(MinimaOptions{}.box) + ")\n"
                "  --backends LIST    backends to run every start with (default: the scene's)\n"
                "  --start FILE       a start: a JSON array of [u_nu, u_tau] per Gamma3 node, or a report.json\n"
                "                     (repeatable)\n"
-               "  --group-tol T      relative energy-norm distance below which two results are one (default 1e-6)\n"
-               "  --load-path-steps N  load path steps per unit load, up and down (default 10; 0: none)\n") +
-           SCENE_OPTIONS +
+               "  --group-tol T      relative energy-norm distance below which two results are one (default " +
+           round_trip(MinimaOptions{}.group_tol) + ")\n"
+               "  --load-path-steps N  load path steps per unit load, up and down (default " +
+           std::to_string(MinimaOptions{}.load_path_steps) + "; 0: none)\n" +
+           scene_options_help() +
            "example:\n"
            "  hemicontact minima problems/minima-softening.json --starts 16 --seed 3 --backends ipopt,newton\n";
   if (command == "backends")

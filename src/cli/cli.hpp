@@ -64,8 +64,17 @@ void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plo
                          const Vec* cell_indicators = nullptr);
 /// The exit code of a solve: the certificate decides (EXIT_OK, EXIT_NOT_CONVERGED, EXIT_CERTIFICATE).
 int solve_verdict(const Solution& sol, const SolveOptions& opt);
-/// The options every scene command takes (args.cpp), for the commands' help texts.
-extern const char* const SCENE_OPTIONS;
+/// The options every scene command takes (args.cpp), for the commands' help texts; the defaults
+/// it states come from the scene schema.
+std::string scene_options_help();
+/// Defaults of the study commands' own options, written once: the parsers start from them and the
+/// help texts print them.
+inline constexpr const char* CONVERGE_LEVELS = "4,8,...,128";  ///< the paper's Fig. 3 levels
+inline constexpr const char* CONVERGE_REFERENCE = "256";       ///< the paper's reference h = 1/256
+inline constexpr const char* ADAPTIVE_LEVELS = "4,8,...,64";   ///< uniform and graded levels of --adaptive
+/// Most random starts `minima --starts` takes: each is a full solve, so 10 000 is hours at n = 64
+/// already; more is an effective hang, not a study.
+inline constexpr long MAX_STARTS = 10000;
 int cmd_backends(const std::vector<std::string>& args);
 /// `converge SCENE --levels L1,L2,... --reference R`: mesh-convergence study (src/cli/converge.cpp).
 int cmd_converge(const std::vector<std::string>& args);

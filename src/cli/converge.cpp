@@ -42,7 +42,7 @@ int converge_adaptive(const std::vector<std::string>& args) {
   const std::string name = std::filesystem::path(a.scene).stem().string();
   if (std::find(args.begin(), args.end(), "--out") == args.end()) a.out = "out/" + name + "-adaptive";
   WorkPrecisionRequest req;
-  std::string uniform_text = "4,8,...,64", graded_text = "4,8,...,64";
+  std::string uniform_text = ADAPTIVE_LEVELS, graded_text = ADAPTIVE_LEVELS;
   for (const auto& [key, value] : a.extra) {
     if (key == "--levels") uniform_text = value;
     if (key == "--graded-levels") graded_text = value;
@@ -110,7 +110,7 @@ int cmd_converge(const std::vector<std::string>& all_args) {
   SceneArgs a = parse_scene_args(args, {"--levels", "--reference"});
   const std::string name = std::filesystem::path(a.scene).stem().string();
   if (std::find(args.begin(), args.end(), "--out") == args.end()) a.out = "out/" + name + "-convergence";
-  std::string levels_text = "4,8,...,128", reference_text = "256";  // the paper's study
+  std::string levels_text = CONVERGE_LEVELS, reference_text = CONVERGE_REFERENCE;  // the paper's study
   for (const auto& [key, value] : a.extra) (key == "--levels" ? levels_text : reference_text) = value;
   const std::vector<int> levels = parse_levels(levels_text);
   std::vector<int> reference;

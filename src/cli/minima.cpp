@@ -42,9 +42,6 @@
 namespace hemicontact::cli {
 namespace {
 
-// Most random starts `minima --starts` takes: each is a full solve, so 10 000 is hours at
-// n = 64 already; more is an effective hang, not a study.
-constexpr long MAX_STARTS = 10000;
 
 long parse_int(const std::string& key, const std::string& v, long lo, long hi) {
   char* end = nullptr;

@@ -24,6 +24,8 @@ BisectionRule parse_bisection_rule(const std::string& name) {
   input_error("adapt.bisection: unknown rule '" + name + "' (expected newest_vertex or bisec3)");
 }
 
+const char* to_string(BisectionRule rule) { return rule == BisectionRule::BISEC3 ? "bisec3" : "newest_vertex"; }
+
 void label_longest_edges(Mesh& mesh) {
   require_2d(mesh, "label_longest_edges");
   for (Index c = 0; c < mesh.num_cells(); ++c) {

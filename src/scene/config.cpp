@@ -580,6 +580,12 @@ json value_from_text(const std::string& text, const std::string& assignment) {
 
 // ============================================================== public API
 
+const json& schema_default(const std::string& dotted) {
+  for (const SchemaEntry& e : scene_schema())
+    if (dotted_from_pointer(e.pointer) == dotted) return e.default_value;
+  input_error("schema_default: no scene key '" + dotted + "'");
+}
+
 json validate_scene(json scene) {
   const SchemaIndex& idx = schema_index();
   if (!scene.is_object()) key_error("", "the top level must be a JSON object, got " + show(scene));

@@ -1,10 +1,12 @@
-// The scene schema: the one place where a scene key, its type, its default and its documentation
-// are written (polyfem json-specs). validate_scene() and schema_markdown() in config.cpp only
+// The scene schema: the one place where a scene key, its type, its range and its documentation
+// are written (polyfem json-specs); the solver's and the adaptive loop's defaults are read from
+// their options structs (build_scene_schema). validate_scene() and schema_markdown() in config.cpp only
 // interpret this table, and docs/scene-format.md is generated from it.
 //
 // Rows appear in documentation order. A parent row must come before its children; config.cpp
 // checks that, and that every default satisfies its own row, when it first indexes the table.
 
+#include <hemicontact/check/adapt_options.hpp>
 #include <hemicontact/problem/solve_options.hpp>
 #include <hemicontact/scene/config.hpp>
 
@@ -93,9 +95,11 @@ void add_selector(std::vector<SchemaEntry>& t, const std::string& gamma, const s
 
 std::vector<SchemaEntry> build_scene_schema() {
   std::vector<SchemaEntry> t;
-  // The solver's and the check's defaults have one home, the member initialisers of SolveOptions
-  // (and its BackendOptions): the rows below inject those values, so a scene and a
-  // default-constructed SolveOptions (tests, benches) cannot disagree.
+  // The solver's, the check's and the adaptive loop's defaults have one home, the member
+  // initialisers of SolveOptions (and its BackendOptions) and of AdaptOptions: the rows below inject
+  // those values, so a scene and a default-constructed options struct (tests, benches) cannot disagree.
+  // This table is the one home of each key's type, range and documentation, and of the defaults
+  // that no options struct holds (mesh, material, loads, output).
   const SolveOptions D;
 
   t.push_back(key("/description", "string", "", "Free text; echoed in the report."));
@@ -497,6 +501,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                   {"auto", "exact"}));
 
   // ------------------------------------------------------------------ adapt
+  const AdaptOptions A;  // the defaults' one home
   t.push_back(section("/adapt",
                       "Adaptive refinement (2D): solve, estimate, Dörfler-mark, bisect, until the "
                       "estimated relative energy-norm error is below target_error (docs/adaptivity.md)."));
@@ -506,35 +511,35 @@ std::vector<SchemaEntry> build_scene_schema() {
                               "(the scene's mesh is solved as it is)."),
                           1e-6),
                     1));
-  t.push_back(at_least(key("/adapt/max_dofs", "integer", 400000,
+  t.push_back(at_least(key("/adapt/max_dofs", "integer", A.max_dofs,
                            "No mesh with more free unknowns (2 per node) is solved: the loop stops "
                            "before it."),
                        1));
-  t.push_back(at_least(key("/adapt/max_levels", "integer", 30, "At most this many meshes, the first included."), 1));
+  t.push_back(at_least(key("/adapt/max_levels", "integer", A.max_levels, "At most this many meshes, the first included."), 1));
   // Below 0.1 a level refines a handful of cells: θ = 1e-9 took thousands of levels to a target.
-  t.push_back(at_most(at_least(key("/adapt/theta", "number", 0.5,
+  t.push_back(at_most(at_least(key("/adapt/theta", "number", A.theta,
                                    "Dörfler bulk parameter θ: the fewest cells whose η_T² sum to θ·η² are "
                                    "refined (θ = 1: all; at least 0.1, or the loop needs hundreds of levels)."),
                                0.1),
                       1));
-  t.push_back(at_least(key("/adapt/landing", "number", 1.1,
+  t.push_back(at_least(key("/adapt/landing", "number", A.landing,
                            "The last step: when the Dörfler step would overshoot landing × N* nodes, "
                            "N* = N (η/target)² the need predicted by the optimal rate η ∝ N^(-1/2), "
                            "only the largest indicators are marked, about as many as reach it; 0: off, "
                            "else >= 1 (the margin, against a step that falls short of the target)."),
                        0));
   // OpenBLAS's thread table is fixed when it is built (Debian: 64): 64 and more hung the loop.
-  t.push_back(at_most(at_least(key("/adapt/blas_threads", "integer", 1,
+  t.push_back(at_most(at_least(key("/adapt/blas_threads", "integer", A.blas_threads,
                                    "OpenBLAS threads during the adaptive loop, restored after it (0: leave the "
                                    "BLAS as configured; OPENBLAS_NUM_THREADS in the environment wins). The 2D "
                                    "levels' small supernodes gain nothing from BLAS threads (docs/adaptivity.md)."),
                                0),
                       32));
-  t.push_back(key("/adapt/estimator", "string", "zz",
+  t.push_back(key("/adapt/estimator", "string", to_string(A.estimator),
                   "zz: Zienkiewicz–Zhu recovery of the strain; residual: element residuals, traction "
                   "jumps, Γ2 traction and Γ3 contact-traction mismatch.",
                   {"zz", "residual"}));
-  t.push_back(key("/adapt/bisection", "string", "bisec3",
+  t.push_back(key("/adapt/bisection", "string", to_string(A.bisection),
                   "bisec3: every edge of a marked cell is bisected (4 children); newest_vertex: only "
                   "its refinement edge (2 children). Both with the conforming closure.",
                   {"bisec3", "newest_vertex"}));

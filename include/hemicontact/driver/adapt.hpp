@@ -15,6 +15,7 @@
 /// the adaptive choice and costs an extra eigenvalue computation): only on the final mesh when the
 /// scene asks for it, from that mesh's condensation as a plain solve does (ContactSolver::smallness).
 
+#include <hemicontact/check/adapt_options.hpp>
 #include <hemicontact/check/estimator.hpp>
 #include <hemicontact/mesh/bisection.hpp>
 #include <hemicontact/problem/model.hpp>
@@ -28,32 +29,6 @@
 #include <vector>
 
 namespace hemicontact {
-
-/// The scene's `adapt` block (docs/scene-format.md).
-struct AdaptOptions {
-  double target_error = 0.01;  ///< stop once the relative estimate η/‖u_h‖_E is at or below this
-  Index max_dofs = 400000;     ///< never solve a mesh with more free unknowns than this
-  int max_levels = 30;         ///< at most this many meshes (the first included)
-  double theta = 0.5;          ///< Dörfler bulk parameter θ ∈ (0, 1]
-  /// The last step's size (0: off, else ≥ 1). Adaptive P1 meshes follow η ≈ C N^(−1/2) (on the
-  /// fig2 scene η√N = 3.42–3.47 over levels 6–12), so the target needs about
-  /// N* = N (η/target)² unknowns. When Dörfler's marking would give a next mesh of more than
-  /// landing · N* nodes, only the largest indicators are marked (mark_largest, a subset of
-  /// Dörfler's set), as many as should give about landing · N*. The margin (10 %: η√N varies by
-  /// ±1 % over the fine levels, the node count of a cut marking is off by a few %) is there
-  /// because a step that misses the target costs a further level. Without it, a sequence that stops
-  /// just short of the target doubles N once more (fig2 from n = 64: 107k unknowns at 1.08 %,
-  /// then 190k).
-  double landing = 1.1;
-  /// OpenBLAS threads during the loop (restored after it; 0: leave the BLAS as configured; an
-  /// OPENBLAS_NUM_THREADS in the environment wins). The levels' 2D factorizations have small
-  /// supernodes, where BLAS threads only synchronize: on the 2-core machine of issue 17 the fig2
-  /// run to 1 % took 1.42 s CPU / 1.47 s wall with OpenBLAS's default 2 threads and 0.90 / 0.98 s
-  /// with 1. No effect with another BLAS (the OpenBLAS entry points are looked up at run time).
-  int blas_threads = 1;
-  EstimatorKind estimator = EstimatorKind::ZZ;
-  BisectionRule bisection = BisectionRule::BISEC3;
-};
 
 /// @return true when the scene asks for adaptation (adapt.target_error is set).
 bool adapt_requested(const nlohmann::json& scene);

@@ -35,6 +35,8 @@ enum class BisectionRule {
 
 /// @return the BisectionRule named "newest_vertex" or "bisec3". @throws Error otherwise.
 BisectionRule parse_bisection_rule(const std::string& name);
+/// @return the scene's name of @p rule ("newest_vertex" or "bisec3"), the inverse of parse_bisection_rule.
+const char* to_string(BisectionRule rule);
 
 /// A refined mesh and how it derives from the coarse one.
 struct Bisection {

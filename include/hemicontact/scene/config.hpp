@@ -62,6 +62,9 @@ struct SchemaEntry {
 /// @brief The scene schema: every key a scene may contain, in documentation order.
 /// @return the table, built once (defined in src/scene/scene_schema.cpp).
 const std::vector<SchemaEntry>& scene_schema();
+/// @return the schema's default of the key at dotted path @p dotted (e.g. "solver.backend"), for
+/// texts that state it (the CLI's help): written once, in the table. @throws Error for an unknown key.
+const nlohmann::json& schema_default(const std::string& dotted);
 
 /// Deepest nesting of objects and arrays a scene may have (the deepest valid scene needs 5, e.g.
 /// boundary.gamma2[0].traction[1]). Checked while parsing a file or a --set value, on --set
