@@ -13,7 +13,7 @@
 // The problem (paper eqs. (1)-(6)): find u with σ = F(ε(u)), Div σ + f0 = 0 in Ω, u = 0 on Γ1,
 // σν = f2 on Γ2, and on Γ3: u_ν ≤ g, σ_ν + ξ_ν ≤ 0, (u_ν − g)(σ_ν + ξ_ν) = 0, ξ_ν ∈ ∂j_ν(u_ν),
 // |σ_τ| ≤ F_b(u_ν), −σ_τ = F_b(u_ν) u_τ/|u_τ| where u_τ ≠ 0. Discretized with P1 elements (22) and
-// solved as min Π_λ(u) s.t. u_ν ≤ g with an outer fixed point on λ = F_b(u_ν) (MODEL.md §2).
+// solved as min Π_λ(u) s.t. u_ν ≤ g with an outer fixed point on λ = F_b(u_ν) (docs/model.md §2).
 #include "cli.hpp"
 
 #include <hemicontact/core/error.hpp>

@@ -506,7 +506,7 @@ Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_star
     const bool ok = I.run_stage(run, stage);  // false: the backend failed
     const bool last = stage + 1 == I.schedule.size();
     // Once a stage barely moved the answer, its statuses are likely final: the exact polish on
-    // a copy, and if the certificate (the unsmoothed problem, MODEL.md §4) passes, the remaining
+    // a copy, and if the certificate (the unsmoothed problem, docs/model.md §4) passes, the remaining
     // stages, which only shrink ε towards an answer already in hand, are skipped.
     bool tried = false;
     if (ok && !last && I.settled(run)) {
@@ -601,7 +601,7 @@ bool ContactSolver::Impl::run_stage(Run& run, size_t stage) {
       return true;
     }
     // Non-contraction: the change has not shrunk by 1 − stall_ratio for stall_iters iterations in
-    // a row (an oscillating or diverging λ; large μ·slope of p_ν, MODEL.md §1 (21)).
+    // a row (an oscillating or diverging λ; large μ·slope of p_ν, docs/model.md §1 (21)).
     slow = (change > opt.stall_ratio * prev_change) ? slow + 1 : 0;
     prev_change = change;
     if (slow >= opt.stall_iters) {
@@ -708,7 +708,7 @@ bool ContactSolver::Impl::all_separated(const Vec& z) const {
   return true;
 }
 
-// The certificate of the answer (MODEL.md §4), the timings and the verdict.
+// The certificate of the answer (docs/model.md §4), the timings and the verdict.
 void ContactSolver::Impl::certify(Run& run, clk::time_point t_start) const {
   Solution& sol = run.sol;
   auto t1 = clk::now();

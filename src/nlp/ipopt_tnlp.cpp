@@ -44,7 +44,7 @@ void IpoptTnlp::update_x(Ipopt::Index n, const Ipopt::Number* x, bool new_x) {
 bool IpoptTnlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
                              IndexStyleEnum& index_style) {
   n = static_cast<Ipopt::Index>(m_problem.f->size());
-  m = 0;  // bounds only (MODEL.md §2)
+  m = 0;  // bounds only (docs/model.md §2)
   nnz_jac_g = 0;
   nnz_h_lag = m_nnz_h;
   index_style = TNLP::C_STYLE;  // 0-based, as Eigen

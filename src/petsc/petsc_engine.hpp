@@ -7,7 +7,7 @@
 ///               bound x_ν ≤ g), split into contiguous row blocks of size d (one node per block);
 ///               each rank owns its rows of K and of every vector, and the Γ3 nodes whose rows it owns
 ///   scales:     the elastic solve K z = f (CG + GAMG with the rigid-body modes): U_s = ‖z‖∞, F_s = ‖f‖∞
-///   minimize:   Π_λ,ε(x) = ½xᵀKx − fᵀx + Σ w j_ε(x_ν) + Σ w λ f0(|x_τ|, ε)  (MODEL.md §2),
+///   minimize:   Π_λ,ε(x) = ½xᵀKx − fᵀx + Σ w j_ε(x_ν) + Σ w λ f0(|x_τ|, ε)  (docs/model.md §2),
 ///               nondimensionalized as the cholmod engine does, by TAO's bounded Newton (tao:bnls,
 ///               tao:bntr, tao:bntl); its Newton steps are CG + BoomerAMG on the Hessian restricted to
 ///               the inactive set

@@ -1,4 +1,4 @@
-// Finite-difference tests of the energy terms (MODEL.md §2; STYLE.md §7): value → gradient and
+// Finite-difference tests of the energy terms (docs/model.md §2; STYLE.md §7): value → gradient and
 // gradient → Hessian for ElasticEnergy, LoadEnergy, NormalComplianceEnergy, FrictionEnergy, the
 // composite TotalEnergy and ScaledObjective, at 10 random points plus points on every branch of
 // the paper's law (32) (c = (100, −100, 400), r = (0.1, 0.15)) and of the smoothed norm, for

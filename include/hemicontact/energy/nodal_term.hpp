@@ -1,7 +1,7 @@
 #pragma once
 /// @file nodal_term.hpp  The shared layer of the nodal contact terms on Γ3 (STYLE.md §2; ipc-toolkit's
 /// `Potential`): a term Σ_k e_k(x_k) whose every summand depends only on the d local unknowns
-/// x_k = (x_ν, x_τ[, x_τ2]) of one Γ3 node k (nodal quadrature, MODEL.md §2). A derived term writes
+/// x_k = (x_ν, x_τ[, x_τ2]) of one Γ3 node k (nodal quadrature, docs/model.md §2). A derived term writes
 /// the per-node kernel (value e_k, gradient ∇e_k ∈ R^d, Hessian ∇²e_k ∈ R^{d×d}); this base sums the
 /// kernels into the global value and gradient and scatters the nodal blocks into the fixed
 /// lower-triangular Hessian pattern:

@@ -42,7 +42,7 @@ struct Model {
   int dim() const { return mesh.dim; }
   /// @return full displacement u_ν of contact node k.
   double u_nu(const Vec& u, Index k) const;
-  /// @return the full internal force vector r(u) = ∫ F(ε(u)) : ε(φ) (MODEL.md §4: the equilibrium
+  /// @return the full internal force vector r(u) = ∫ F(ε(u)) : ε(φ) (docs/model.md §4: the equilibrium
   /// residual is r(u) − f) on the free dofs and the Γ3 nodes; 0 on Γ1 and on roller-held components
   /// of other nodes (their reactions, which the certificate does not use). For a linear material
   /// T K_x Tᵀ u, which equals K u there for every u that vanishes on Γ1 and the held components.

@@ -1,6 +1,6 @@
 #pragma once
 /// @file reports.hpp  The records the checks and the polish leave on a solution: the certificate
-/// (MODEL.md §4, check/certificate.hpp), the smallness condition (21) (check/smallness.hpp) and
+/// (docs/model.md §4, check/certificate.hpp), the smallness condition (21) (check/smallness.hpp) and
 /// the exact polish (driver/polish.hpp). Plain data; the writers read them.
 
 #include <hemicontact/core/types.hpp>

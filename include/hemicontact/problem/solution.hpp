@@ -57,7 +57,7 @@ struct Solution {
   Vec u;                           ///< full displacement
   ContactState state;              ///< Γ3 quantities
   std::vector<NodeStatus> status;  ///< per Γ3 node
-  CertificateReport certificate;   ///< MODEL.md §4
+  CertificateReport certificate;   ///< docs/model.md §4
   double energy = 0;  ///< Π = ∫W(ε(u)) − f(u) + Σ w j_ν(u_ν) + Σ w F_b(u_ν)|u_τ| (unsmoothed; ∫W = ½a(u,u) if linear)
   double energy_norm = 0;                                   ///< sqrt(a(u,u))
   double a_uu = 0, f_u = 0, j_term = 0, friction_term = 0;  ///< the parts of energy
