@@ -145,7 +145,7 @@ bool IpoptTnlp::eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt
   // Values, in the same column-major order. With m = 0 the Hessian of the Lagrangian is
   // obj_factor·∇²f (Ipopt's objective scaling arrives through obj_factor).
   update_x(n, x, new_x);
-  m_problem.f->hessian(m_x, m_H, Psd::NONE);  // Ipopt corrects the inertia itself (STYLE §2)
+  m_problem.f->hessian(m_x, m_H, Psd::NONE);  // Ipopt corrects the inertia itself
   ++m_result.h_evaluations;
   if (m_H.nonZeros() != m_nnz_h)
     throw Error("ipopt: NlpObjective::hessian() changed the pattern (" + std::to_string(m_H.nonZeros()) +

@@ -273,7 +273,7 @@ std::vector<SchemaEntry> build_scene_schema() {
 
   // ------------------------------------------------------------------ solver
   // ε's and tolerances are relative to the displacement scale U so that one scene works at any
-  // load level (STYLE.md §4).
+  // load level.
   t.push_back(section("/solver", "NLP backend, smoothing and the outer loops (docs/model.md §2)."));
   t.push_back(key("/solver/backend", "string", D.backend,
                   "NLP backend by name (hemicontact backends lists them): \"ipopt\", \"newton\", "
