@@ -1,6 +1,6 @@
 #pragma once
 /// @file exact_inner.hpp  Exact solver of the condensed inner problem with the friction bound λ
-/// frozen (issue 15), no smoothing:
+/// frozen, no smoothing:
 ///
 ///   min Φ_λ(x) = ½ (x − y)ᵀ S (x − y) + Σ_k w_k j_ν(x_ν,k) + Σ_k w_k λ_k |x_τ,k|,  x_ν,k ≤ g_k,
 ///
@@ -81,8 +81,8 @@ ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const Exa
 /// triangular solves). Skipped above @p max_unknowns (the dense factorization costs m³/3).
 InnerConvexity inner_convexity(const Mat& S, const Vec& w, int d, const PiecewiseLinearLaw* law, Index max_unknowns);
 
-/// Anderson acceleration (type II, memory m) of a fixed-point iteration λ = G(λ) (issue 15: the
-/// outer map λ ↦ F_b(u_ν(λ)) need not contract). Each call takes λ_k and G(λ_k) and returns
+/// Anderson acceleration (type II, memory m) of a fixed-point iteration λ = G(λ) (the outer
+/// map λ ↦ F_b(u_ν(λ)) need not contract). Each call takes λ_k and G(λ_k) and returns
 /// λ_{k+1} = G(λ_k) − ΔG γ, γ = argmin ‖f_k − ΔF γ‖₂ over the last m differences of f = G(λ) − λ
 /// and of G; with m = 0 it is the plain iteration λ_{k+1} = G(λ_k).
 class Anderson {
