@@ -122,8 +122,8 @@ int cmd_minima(const std::vector<std::string>& args) {
   const std::filesystem::path out(a.out);
 
   const SolveOptions opt = solve_options_from_scene(scene);
-  // Each finished run is kept as it ends (issue 12): an interrupted search loses only the run it
-  // was in, and the interrupt message names minima-runs.csv.
+  // Each finished run is kept as it ends: an interrupted search loses only the run it was in, and
+  // the interrupt message names minima-runs.csv.
   mo.on_run = [&](const std::vector<MinimaRun>& runs) {
     write_minima_runs_csv((out / "minima-runs.csv").string(), runs);
   };

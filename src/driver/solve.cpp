@@ -513,8 +513,8 @@ Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_star
       tried = true;
       if (auto sol = certified_trial(stage, false)) return std::move(*sol);
     }
-    // Issue 15: once the statuses stop changing, or the backend stalls or fails, the exact solver
-    // takes over (the polish first, when it has not been tried: it is cheaper and often enough).
+    // Once the statuses stop changing, or the backend stalls or fails, the exact solver takes over
+    // (the polish first, when it has not been tried: it is cheaper and often enough).
     if (I.exact_available()) {
       const std::string why = I.exact_due(run, stage, !ok);
       if (!why.empty()) {
@@ -638,7 +638,7 @@ OuterIteration ContactSolver::Impl::minimize(Run& run, size_t stage) {
   rec.eps_nu = schedule[stage].second * U_s;
   BackendOptions bo = opt.backend_options;
   // With the exact solver behind it, a stage that needs more than exact_stage_max_iter iterations
-  // has stalled: it hands over instead of grinding (issue 15).
+  // has stalled: it hands over instead of grinding.
   if (exact_available() && opt.exact_stage_max_iter > 0) bo.max_iter = std::min(bo.max_iter, opt.exact_stage_max_iter);
   // ... and stops at the statuses' neighbourhood (solver.exact.stage_tol), not at round-off.
   if (exact_available() && opt.exact_stage_tol > 0) bo.tol = std::max(bo.tol, opt.exact_stage_tol);
@@ -785,10 +785,10 @@ std::string ContactSolver::Impl::exact_due(Run& run, size_t stage, bool backend_
   return "";
 }
 
-// The exact solver from the current iterate (issue 15): the inner problem with λ frozen solved
-// exactly (driver/exact_inner.hpp), λ = F_b(u_ν) by Anderson acceleration, until the coupled
-// stationarity residual (the certificate's terms with λ = F_b(u_ν), λ not frozen) is at most
-// solver.exact.tol; then the exact polish. Only the condensed formulation has it.
+// The exact solver from the current iterate: the inner problem with λ frozen solved exactly
+// (driver/exact_inner.hpp), λ = F_b(u_ν) by Anderson acceleration, until the coupled stationarity
+// residual (the certificate's terms with λ = F_b(u_ν), λ not frozen) is at most solver.exact.tol;
+// then the exact polish. Only the condensed formulation has it.
 void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& reason) {
   const auto t0 = clk::now();
   const Model& md = *model;

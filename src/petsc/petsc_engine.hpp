@@ -1,7 +1,7 @@
 #pragma once
-/// @file petsc_engine.hpp  The distributed engine (solver.engine = "petsc", issue 16): the same
-/// problem, algorithm and certificate as ContactSolver (driver/solve.hpp), with the unknowns spread
-/// over the MPI ranks and every linear solve by CG with algebraic multigrid instead of CHOLMOD.
+/// @file petsc_engine.hpp  The distributed engine (solver.engine = "petsc"): the same problem,
+/// algorithm and certificate as ContactSolver (driver/solve.hpp), with the unknowns spread over the
+/// MPI ranks and every linear solve by CG with algebraic multigrid instead of CHOLMOD.
 ///
 ///   unknowns:   the reduced x of DofMap (Γ3 nodes in their local (ν, τ) frames, so u_ν ≤ g is the
 ///               bound x_ν ≤ g), split into contiguous row blocks of size d (one node per block);
@@ -50,7 +50,7 @@ Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& 
 
 /// Replace PETSc's error handler (traceback on every rank) by one that keeps the failure's first
 /// message for the engine's Error, which then names @p user_options (solver.petsc.options) when
-/// set, with exit code 2 (issue 28). Call once after PetscInitialize.
+/// set, with exit code 2 (an input error, not a crash). Call once after PetscInitialize.
 void install_error_handler(const std::string& user_options);
 
 /// @return this process's resident memory now (kB), from /proc/self/statm (0 if unreadable).

@@ -420,11 +420,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                                0),
                       50));
   t.push_back(section("/solver/exact",
-                      "The exact inner solver (no smoothing) and the hand-over to it (issue 15, condensed "
+                      "The exact inner solver (no smoothing) and the hand-over to it (condensed "
                       "formulation): it takes over once the statuses stop changing between stages, or the "
                       "backend stalls or fails."));
   t.push_back(key("/solver/exact/enabled", "boolean", D.exact,
-                  "Default true (issue 15). false: the ε-continuation and the polish alone (the design's path)."));
+                  "Default true: the exact solver replaces the costly late ε-stages. false: the ε-continuation and "
+                  "the polish alone (the design's path)."));
   // The floor: the coupled residual's round-off (a relative residual of a double at unit scale, times
   // the conditioning of the condensed problem) — fig2 reaches 1e-14 up to n = 512 but not 1e-15 at
   // n = 128, where a smaller tolerance could only end in exit 3 on a certified answer.
