@@ -1,4 +1,4 @@
-// Issue 12, the output side, through the program: one run at a time per output folder (a lock),
+// The output side, through the program: one run at a time per output folder (a lock),
 // files written atomically with the report last, a failed write that says so with its own exit
 // code (6) and leaves no report, an interrupt that removes the half-written file and names what
 // was kept, and studies (minima) that keep each finished run as it ends.
@@ -225,7 +225,7 @@ TEST_F(OutputSafety, AnInterruptedMinimaSearchKeepsItsFinishedRuns) {
   EXPECT_NE(again.err.find("an incomplete set"), std::string::npos) << again.err;
 }
 
-// ---- issue 28: a planted file in the output folder cannot redirect, hang or lose a run
+// ---- a planted file in the output folder cannot redirect, hang or lose a run
 
 /// The names of the entries of @p out that do not start with a dot.
 std::vector<std::string> visible_files(const fs::path& out) {
