@@ -1,5 +1,6 @@
-// hemicontact_adapt_study — issue 17's numbers: the work-precision study (uniform, graded,
-// adaptive against one reference; driver/adapt_study.hpp) and the whole-process time to a target.
+// hemicontact_adapt_study — the numbers of docs/adaptivity.md: the work-precision study (uniform,
+// graded, adaptive against one reference; driver/adapt_study.hpp) and the whole-process time to a
+// target.
 //
 //   hemicontact_adapt_study [--scene problems/sofonea2017-fig2.json] [--reference adaptive:0.002]
 //                           [--target 0.01] [--repeats 3] [--out DIR] [--set KEY=VALUE ...]

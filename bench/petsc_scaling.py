@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
-"""Scaling of the petsc engine (issue 16): the 3D paper scene (problems/sofonea2017-3d.json) on
-n^3 boxes, run as `mpirun -np P hemicontact solve ... --set solver.engine="petsc"` for each n and P,
-one run at a time. Reads each run's report.json and prints one row per run: unknowns, ranks, wall
-time (the whole process, measured here), the solve's own time, peak memory summed over the ranks
-(getrusage, from report.json "petsc"), bytes per unknown, the method (ssn by default; --backend
-tao:bnls for TAO), Newton and Krylov counts, Krylov per Newton step (mean and largest), how many
-times the AMG hierarchy was built, the certificate, the share of K's entries that couple two ranks
-(report.json petsc.partition), and the speedup against P = 1 of the same n.
+"""Scaling of the petsc engine (the distributed one, for meshes beyond one process): the 3D paper
+scene (problems/sofonea2017-3d.json) on n^3 boxes, run as `mpirun -np P hemicontact solve ... --set
+solver.engine="petsc"` for each n and P, one run at a time. Reads each run's report.json and prints
+one row per run: unknowns, ranks, wall time (the whole process, measured here), the solve's own
+time, peak memory summed over the ranks (getrusage, from report.json "petsc"), bytes per unknown,
+the method (ssn by default; --backend tao:bnls for TAO), Newton and Krylov counts, Krylov per Newton
+step (mean and largest), how many times the AMG hierarchy was built, the certificate, the share of
+K's entries that couple two ranks (report.json petsc.partition), and the speedup against P = 1 of
+the same n.
 The CSV goes to --out.
 
   python3 bench/petsc_scaling.py --build build --levels 8,16,24,32 --ranks 1,2 --out /tmp/petsc-scaling

@@ -1,4 +1,5 @@
-// hemicontact_random_study — issue 15's random-scene study with DEFAULT solver settings.
+// hemicontact_random_study — the random-scene study with DEFAULT solver settings (what a user gets
+// without tuning).
 //
 // Seeds 1..N of tests/stress/random_scenes.hpp (draw_default_scene: E, ν, plane stress/strain,
 // loads, layer law, μ, g, mesh, perturbation, aspect drawn over realistic and extreme ranges; no

@@ -1,8 +1,9 @@
-// hemicontact_stress_report — the full numerical stress report of issue 6 ("Studies and stability").
+// hemicontact_stress_report — the full numerical stress report: where the solver holds, and where it
+// fails honestly.
 //
 // Three parts, each a CSV and a markdown table in the output directory (plus stress-report.md, all
 // tables together):
-//   cases   every stress case of the issue at a finer mesh than CI (--n, default 64): scale
+//   cases   every stress case of tests/stress at a finer mesh than CI (--n, default 64): scale
 //           invariance (loads × s with E, c_i × s; lengths × L), κ → 0.499 plane strain, E over
 //           1e-3..1e9, c1 over 1e-2..1e8 with the Signorini limit (distance to the gap-0
 //           frictionless solution as c1 grows), μ over 0..5, g = 0 and huge, ε over 1e-2..1e-12,

@@ -6,7 +6,7 @@
 // same mesh (one sparse Cholesky factor + solve of K_x u = f_x): the ratio solve/linear says what
 // the contact nonlinearity costs over the cheapest possible solve on that mesh. Each solution is
 // then compared with a reference solution on a finer mesh (level R, computed once per scene):
-//     e_rel = ‖u_ref − P u_h‖_E / ‖u_ref‖_E,   ‖v‖_E² = vᵀ K_R v = a(v, v)   (MODEL.md §5),
+//     e_rel = ‖u_ref − P u_h‖_E / ‖u_ref‖_E,   ‖v‖_E² = vᵀ K_R v = a(v, v)   (docs/model.md §5),
 // with P the P1 prolongation onto the reference mesh (fem/prolongation.hpp; exact embedding on
 // these nested meshes).
 //

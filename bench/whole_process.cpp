@@ -1,6 +1,6 @@
 // hemicontact_whole_process — what a user waits for: `hemicontact solve SCENE` with default
-// settings, start to exit, against a plain linear-elastic program on the same mesh (issue 14's
-// yardstick), both measured in the same run.
+// settings, start to exit, against a plain linear-elastic program on the same mesh (the yardstick:
+// what one linear solve of that size costs), both measured in the same run.
 //
 // The plain program is what a careful user writes for one linear elastic solve, and nothing else:
 //   mesh      the same generator and boundary tags (scene/build_model: build_mesh), timed apart;

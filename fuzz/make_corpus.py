@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Seed corpus and dictionary of fuzz/scene_fuzz.cpp (issue 12), regenerated from the sources:
-the shipped scenes (problems/*.json) at a tiny mesh size, and edits in the spirit of the bad-input
-battery (tests/cli/bad_input_test.cpp): wrong types, missing parts, tables, gaps, selectors.
+"""Seed corpus and dictionary of fuzz/scene_fuzz.cpp, regenerated from the sources: the shipped
+scenes (problems/*.json) at a tiny mesh size, and edits in the spirit of the bad-input battery
+(tests/cli/bad_input_test.cpp): wrong types, missing parts, tables, gaps, selectors.
 Usage: python3 fuzz/make_corpus.py   (writes fuzz/corpus/*.json and fuzz/scene.dict)"""
 import copy
 import glob

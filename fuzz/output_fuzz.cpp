@@ -1,6 +1,6 @@
-// libFuzzer target (issue 28): the text the CLI's file handling trusts or refuses — an output
-// folder's manifest (which names --force may remove) and text checked as UTF-8 before it reaches
-// a JSON result. The bytes are a manifest's content and, as a whole, a piece of text.
+// libFuzzer target: the text the CLI's file handling trusts or refuses — an output folder's
+// manifest (which names --force may remove) and text checked as UTF-8 before it reaches a JSON
+// result. The bytes are a manifest's content and, as a whole, a piece of text.
 //
 // Findings (abort): a manifest name that is not a plain file name of the folder (a path, "..",
 // the manifest or the lock, a control character), a name listed twice, a manifest that does not

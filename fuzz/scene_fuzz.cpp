@@ -1,4 +1,4 @@
-// libFuzzer target (issue 12): the bytes are the text of a scene file, and the target does what
+// libFuzzer target: the bytes are the text of a scene file, and the target does what
 // `hemicontact solve` does before solving — parse (duplicate keys, overflowing numbers, nesting),
 // validate against the schema, read the solve options, build the mesh, the boundary parts and the
 // model (assembly, contact nodes, laws, scale and memory checks) — at tiny sizes.

@@ -264,7 +264,7 @@ def main():
         key = f"{r['normal']}/{r['tangential']}"
         counts[key] = counts.get(key, 0) + 1
     # Only the scaled scene reproduces the paper's Fig. 2; the printed loads are too small for it
-    # (MODEL.md section 5, problems/README.md), and other scenes are merely drawn in its manner.
+    # (docs/model.md section 5, problems/README.md), and other scenes are merely drawn in its manner.
     note = {"sofonea2017-fig2": " (the paper's Fig. 2: loads x 1e6)",
             "sofonea2017-printed": " (the paper's data as printed: not its Fig. 2, see problems/README.md)"}.get(name, "")
     fig.suptitle(f"{name}: deformed mesh and interface forces{note}\n{len(g3)} Γ3 nodes: "

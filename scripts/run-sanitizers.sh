@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The safety net of issue 12, run by .ci/run after the test suite: a second build folder with
-# AddressSanitizer + UndefinedBehaviorSanitizer (Debian's clang 14, -O1), the whole test suite under
-# it (so the next out-of-bounds read or undefined behaviour fails CI), then the libFuzzer targets
+# The safety net, run by .ci/run after the test suite: a second build folder with AddressSanitizer +
+# UndefinedBehaviorSanitizer (Debian's clang 14, -O1), the whole test suite under it (so the next
+# out-of-bounds read or undefined behaviour fails CI), then the libFuzzer targets
 # fuzz/scene_fuzz.cpp (scene parsing, validation and model building) and fuzz/output_fuzz.cpp (the
 # output folder's manifest parser and the UTF-8 checks) for a bounded time shared between them.
 # Usage: scripts/run-sanitizers.sh   (env: SAN_BUILD_DIR, default build-san; FUZZ_SECONDS, default 45;
@@ -38,7 +38,7 @@ ctest --test-dir "$build" --output-on-failure -j "$jobs"
 # Each fuzzer works on a copy of its seed corpus (it adds the inputs it finds interesting there),
 # so the source tree is never written. A crash leaves its input in $build/fuzz-crashes and fails.
 # The time is shared, not added: the scene target (the larger input space) gets 7/9 of it, the
-# output target (manifest parser, UTF-8 checks; issue 28) the rest, 35 s + 10 s by default.
+# output target (manifest parser, UTF-8 checks) the rest, 35 s + 10 s by default.
 output_seconds=$((fuzz_seconds * 2 / 9))
 scene_seconds=$((fuzz_seconds - output_seconds))
 rm -rf "$build/fuzz-work" && mkdir -p "$build/fuzz-crashes"

@@ -9,7 +9,7 @@ ContactState contact_state(const Model& md, const Vec& u) {
   const int d = md.dim();
   const Index n = md.contact.size();
   ContactState s;
-  s.residual = md.internal_force(u) - md.f;  // K u − f for a linear law (MODEL.md §4)
+  s.residual = md.internal_force(u) - md.f;  // K u − f for a linear law (docs/model.md §4)
   s.u_nu.resize(n);
   s.u_tau.resize(n);
   s.sigma_nu.resize(n);

@@ -34,7 +34,7 @@ void refuse_mpi_ranks(const std::string& command) {
     char* end = nullptr;
     const long ranks = std::strtol(v, &end, 10);
     if (end == v || ranks <= 1) continue;
-    // Every rank would run the whole command on its own and race the others for --out (issue 28).
+    // Every rank would run the whole command on its own and race the others for --out.
     throw Error(command + ": this process is one of " + std::to_string(ranks) + " MPI ranks (" + var + " = " + v +
                     "), but the default engine (solver.engine = cholmod) runs in one process: every rank would "
                     "solve the same scene and write the same --out. Run it without mpirun, or, for `solve`, use the "

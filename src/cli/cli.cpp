@@ -188,7 +188,7 @@ int cmd_solve(const std::vector<std::string>& args) {
     aopt = adapt_options_from_scene(scene);
     // Each certified level is kept as it ends (adapt_levels.json, rewritten whole and atomically,
     // labelled partial until the loop ends): an interrupted or failed run keeps its certified
-    // levels (issue 28).
+    // levels.
     std::vector<AdaptLevel> levels_so_far;
     const auto write_levels = [&](bool partial) {
       AdaptResult so_far;
@@ -223,7 +223,7 @@ int cmd_solve(const std::vector<std::string>& args) {
     std::printf("adapt: %zu levels, %lld dofs, estimate %.3g (target %.3g, %s), %.3g s\n", adapted.history.size(),
                 static_cast<long long>(last.dofs), last.estimate, aopt.target_error, adapted.stop_reason.c_str(),
                 last.cumulative_seconds);
-    // A cap that stops the loop above the target is not success (issue 28: it exited 0, "ok": true).
+    // A cap that stops the loop above the target is not success (it once exited 0, "ok": true).
     // An uncertified level is the verdict's own business (exit 3 or 4).
     if (!adapted.reached && sol.ok()) {
       char buf[320];

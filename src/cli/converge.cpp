@@ -135,9 +135,9 @@ int cmd_converge(const std::vector<std::string>& all_args) {
       scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
   std::vector<std::pair<double, std::string>> vtus;
   const bool write_vtus = scene.at("output").at("vtu").get<bool>();
-  // Each finished level is kept as it completes (issue 12): its VTU, and convergence.csv with the
-  // levels so far (rewritten whole, atomically). convergence.json, written last, marks the study
-  // complete; an interrupt names what was kept.
+  // Each finished level is kept as it completes, so an interrupt loses none of them: its VTU, and
+  // convergence.csv with the levels so far (rewritten whole, atomically). convergence.json, written
+  // last, marks the study complete; an interrupt names what was kept.
   const auto on_level = [&](const ConvergenceStudy& so_far, int n, const Model& md, const Solution& sol) {
     if (write_vtus) {
       const std::string file = "level_" + std::to_string(n) + ".vtu";

@@ -13,7 +13,7 @@
 // The problem (paper eqs. (1)-(6)): find u with σ = F(ε(u)), Div σ + f0 = 0 in Ω, u = 0 on Γ1,
 // σν = f2 on Γ2, and on Γ3: u_ν ≤ g, σ_ν + ξ_ν ≤ 0, (u_ν − g)(σ_ν + ξ_ν) = 0, ξ_ν ∈ ∂j_ν(u_ν),
 // |σ_τ| ≤ F_b(u_ν), −σ_τ = F_b(u_ν) u_τ/|u_τ| where u_τ ≠ 0. Discretized with P1 elements (22) and
-// solved as min Π_λ(u) s.t. u_ν ≤ g with an outer fixed point on λ = F_b(u_ν) (MODEL.md §2).
+// solved as min Π_λ(u) s.t. u_ν ≤ g with an outer fixed point on λ = F_b(u_ν) (docs/model.md §2).
 #include "cli.hpp"
 
 #include <hemicontact/core/error.hpp>
@@ -44,12 +44,12 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 128 << 20);
   // CHOLMOD 3 (SuiteSparse 5.x, Debian's) is compiled with CHOLMOD_OMP_NUM_THREADS = 4: each
   // supernode of a numeric factorization opens an OpenMP team of 4 threads (to clear and scatter
-  // into its block) whatever the machine has. On 2 cores, shared with other work, those teams
-  // spin and wait for descheduled threads: the fig2 adaptive run to 1 % took 1.84 s of CPU
-  // instead of 1.31 s (issue 17). With dynamic adjustment (OpenMP's dyn-var) the runtime gives a
-  // team at most the idle processors (libgomp: online processors minus the load average, at
-  // least 1). Only the team sizes change, not the arithmetic (the parallel loops clear and copy
-  // entries; the BLAS is OpenBLAS's own threads). An explicit OMP_DYNAMIC is left as the user set it.
+  // into its block) whatever the machine has. On 2 cores, shared with other work, those teams spin
+  // and wait for descheduled threads: the fig2 adaptive run to 1 % took 1.84 s of CPU instead of
+  // 1.31 s. With dynamic adjustment (OpenMP's dyn-var) the runtime gives a team at most the idle
+  // processors (libgomp: online processors minus the load average, at least 1). Only the team sizes
+  // change, not the arithmetic (the parallel loops clear and copy entries; the BLAS is OpenBLAS's
+  // own threads). An explicit OMP_DYNAMIC is left as the user set it.
   // libgomp is already loaded as CHOLMOD's dependency; looked up, so the build needs no OpenMP flags.
   if (!std::getenv("OMP_DYNAMIC"))
     if (auto* set_dynamic = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"))) set_dynamic(1);
@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
     return e.code();
   } catch (const std::bad_alloc&) {
     // Anywhere in a command (Eigen, std containers, Ipopt): a memory message and exit code 2, like
-    // the memory estimate's refusal, never "internal error" (issue 28).
+    // the memory estimate's refusal, never "internal error".
     const std::string what = "'hemicontact " + (args.empty() ? std::string() : args[0]) +
                              "' (an allocation failed: std::bad_alloc)";
     std::fprintf(stderr, "hemicontact: error: %s\n", out_of_memory_message(what).c_str());

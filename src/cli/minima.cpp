@@ -9,7 +9,7 @@
 // Σ w λ |u_τ| subject to u_ν ≤ g, λ = F_b(u_ν) — may have several solutions, and a local solver
 // returns the one whose basin holds its start. This command solves from many starts (zero, all
 // at g, all separated, random in a box, a load path up and down, the user's), keeps the results
-// that pass the certificate (MODEL.md §4), groups them by energy-norm distance, and classifies
+// that pass the certificate (docs/model.md §4), groups them by energy-norm distance, and classifies
 // each distinct solution as a local minimum or a saddle by a second-order check on the free
 // subspace (driver/minima.hpp). Output: a table on stdout, DIR/minima.csv, DIR/minima.json,
 // DIR/solution_<k>.vtu per distinct solution (k as in the table, lowest energy first), and
@@ -119,8 +119,8 @@ int cmd_minima(const std::vector<std::string>& args) {
   const std::filesystem::path out(a.out);
 
   const SolveOptions opt = solve_options_from_scene(scene);
-  // Each finished run is kept as it ends (issue 12): an interrupted search loses only the run it
-  // was in, and the interrupt message names minima-runs.csv.
+  // Each finished run is kept as it ends: an interrupted search loses only the run it was in, and
+  // the interrupt message names minima-runs.csv.
   mo.on_run = [&](const std::vector<MinimaRun>& runs) {
     write_minima_runs_csv((out / "minima-runs.csv").string(), runs);
   };

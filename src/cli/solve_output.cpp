@@ -67,7 +67,7 @@ int solve_verdict(const Solution& sol, const SolveOptions& opt) {
   if (!sol.fixed_point_converged || (!sol.backend_ok && !sol.certificate.passed)) {
     log_warn() << sol.message;
     // allow_not_converged accepts an unconverged fixed point only when its answer is certified:
-    // an answer that fails the certificate never exits 0 (issue 12).
+    // an answer that fails the certificate never exits 0, since exit 0 promises a solution.
     if (opt.allow_not_converged && sol.certificate.passed) {
       log_warn() << "solver.fixed_point.allow_not_converged: accepted, the certificate passed";
       return EXIT_OK;

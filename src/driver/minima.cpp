@@ -230,7 +230,7 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
     r.backend = backend;
     r.solved_by = sol.solved_by();
     r.converged = sol.backend_ok && sol.fixed_point_converged;
-    // The certificate is the judge (MODEL.md §4): a backend that stopped short of its own
+    // The certificate is the judge (docs/model.md §4): a backend that stopped short of its own
     // tolerance may still have delivered a solution of (22), and a converged one may not.
     r.certified = sol.certificate.passed;
     r.energy = sol.energy;

@@ -215,7 +215,7 @@ PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, cons
 }
 
 // The next status guess of an active-set round, from the rejected candidate @p c of the guess @p g
-// (a primal-dual active-set step on the unsmoothed conditions, MODEL.md §4):
+// (a primal-dual active-set step on the unsmoothed conditions, docs/model.md §4):
 //  * primal: the candidate's own statuses (its u_ν picks contact / the branch of p_ν; its u_τ the slip);
 //  * dual, normal: a node held at g whose rigid reaction pulls (σ_ν + ξ > 0) is released to the
 //    branch of p_ν just below g;

@@ -506,15 +506,15 @@ Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_star
     const bool ok = I.run_stage(run, stage);  // false: the backend failed
     const bool last = stage + 1 == I.schedule.size();
     // Once a stage barely moved the answer, its statuses are likely final: the exact polish on
-    // a copy, and if the certificate (the unsmoothed problem, MODEL.md §4) passes, the remaining
+    // a copy, and if the certificate (the unsmoothed problem, docs/model.md §4) passes, the remaining
     // stages, which only shrink ε towards an answer already in hand, are skipped.
     bool tried = false;
     if (ok && !last && I.settled(run)) {
       tried = true;
       if (auto sol = certified_trial(stage, false)) return std::move(*sol);
     }
-    // Issue 15: once the statuses stop changing, or the backend stalls or fails, the exact solver
-    // takes over (the polish first, when it has not been tried: it is cheaper and often enough).
+    // Once the statuses stop changing, or the backend stalls or fails, the exact solver takes over
+    // (the polish first, when it has not been tried: it is cheaper and often enough).
     if (I.exact_available()) {
       const std::string why = I.exact_due(run, stage, !ok);
       if (!why.empty()) {
@@ -601,7 +601,7 @@ bool ContactSolver::Impl::run_stage(Run& run, size_t stage) {
       return true;
     }
     // Non-contraction: the change has not shrunk by 1 − stall_ratio for stall_iters iterations in
-    // a row (an oscillating or diverging λ; large μ·slope of p_ν, MODEL.md §1 (21)).
+    // a row (an oscillating or diverging λ; large μ·slope of p_ν, docs/model.md §1 (21)).
     slow = (change > opt.stall_ratio * prev_change) ? slow + 1 : 0;
     prev_change = change;
     if (slow >= opt.stall_iters) {
@@ -638,7 +638,7 @@ OuterIteration ContactSolver::Impl::minimize(Run& run, size_t stage) {
   rec.eps_nu = schedule[stage].second * U_s;
   BackendOptions bo = opt.backend_options;
   // With the exact solver behind it, a stage that needs more than exact_stage_max_iter iterations
-  // has stalled: it hands over instead of grinding (issue 15).
+  // has stalled: it hands over instead of grinding.
   if (exact_available() && opt.exact_stage_max_iter > 0) bo.max_iter = std::min(bo.max_iter, opt.exact_stage_max_iter);
   // ... and stops at the statuses' neighbourhood (solver.exact.stage_tol), not at round-off.
   if (exact_available() && opt.exact_stage_tol > 0) bo.tol = std::max(bo.tol, opt.exact_stage_tol);
@@ -708,7 +708,7 @@ bool ContactSolver::Impl::all_separated(const Vec& z) const {
   return true;
 }
 
-// The certificate of the answer (MODEL.md §4), the timings and the verdict.
+// The certificate of the answer (docs/model.md §4), the timings and the verdict.
 void ContactSolver::Impl::certify(Run& run, clk::time_point t_start) const {
   Solution& sol = run.sol;
   auto t1 = clk::now();
@@ -785,10 +785,10 @@ std::string ContactSolver::Impl::exact_due(Run& run, size_t stage, bool backend_
   return "";
 }
 
-// The exact solver from the current iterate (issue 15): the inner problem with λ frozen solved
-// exactly (driver/exact_inner.hpp), λ = F_b(u_ν) by Anderson acceleration, until the coupled
-// stationarity residual (the certificate's terms with λ = F_b(u_ν), λ not frozen) is at most
-// solver.exact.tol; then the exact polish. Only the condensed formulation has it.
+// The exact solver from the current iterate: the inner problem with λ frozen solved exactly
+// (driver/exact_inner.hpp), λ = F_b(u_ν) by Anderson acceleration, until the coupled stationarity
+// residual (the certificate's terms with λ = F_b(u_ν), λ not frozen) is at most solver.exact.tol;
+// then the exact polish. Only the condensed formulation has it.
 void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& reason) {
   const auto t0 = clk::now();
   const Model& md = *model;

@@ -32,7 +32,7 @@ SpMat stiffness(const Mesh& m, const Mat& Ddyn) {
   const Index N = m.num_nodes(), n = N * D;
   // Column d·a+i holds rows d·b+j for b ∈ adj(a), j < d: already sorted. The pattern and values
   // are written straight into K's compressed storage: building them in vectors and copying them in
-  // through a Map was one more pass over (and page faults on) the largest array of the run (issue 14).
+  // through a Map was one more pass over (and page faults on) the largest array of the run.
   SpMat K(n, n);
   int* outer = K.outerIndexPtr();  // n + 1 entries, zeroed by the constructor
   for (Index a = 0; a < N; ++a)

@@ -14,7 +14,7 @@
 namespace hemicontact {
 namespace {
 
-// Every CHOLMOD call's status, checked (issue 28: an out-of-memory factorization left L->x null
+// Every CHOLMOD call's status, checked (an unchecked out-of-memory factorization left L->x null
 // and the Schur complement's copy below crashed on it). Out of memory (and "too large", an
 // integer overflow of the sizes) is the memory message; anything else an internal error.
 void check_condensation_status(const cholmod_common& c, const std::string& phase, Index n) {
@@ -47,7 +47,7 @@ cholmod_sparse view_lower(const SpMat& A) {
 // unknowns of one node) are one vertex. The ordering is the node graph's, expanded to the unknowns:
 // d times fewer vertices and d² times fewer edges to order, and no worse fill (the unknowns of a
 // node are indistinguishable to the elimination). Rows ≥ n are ignored, so the block is read in
-// place instead of copied (issue 14: one copy of K). Timings below.
+// place instead of copied (the model keeps one copy of K). Timings below.
 std::vector<int> node_graph_ordering(const SpMat& A, Index n, std::string& method, cholmod_common& c) {
   const int* p = A.outerIndexPtr();
   const int* i = A.innerIndexPtr();
@@ -98,8 +98,8 @@ std::vector<int> node_graph_ordering(const SpMat& A, Index n, std::string& metho
   // where its smaller fill does. The unknowns per vertex (n/ng) tell 2D from 3D.
   const bool three_d = static_cast<double>(n) / static_cast<double>(std::max<Index>(ng, 1)) > 2.5;
   // Only the permutation is wanted, so the ordering routines are called directly: cholmod_analyze
-  // on Q would also compute Q's symbolic factorization, which is thrown away (issue 14: a third of
-  // the ordering's cost).
+  // on Q would also compute Q's symbolic factorization, which is thrown away (a third of the
+  // ordering's cost).
   if (method == "auto") method = three_d || ng > 200000 ? "nesdis" : "amd";
   std::vector<int> P(ng);
   bool ok;
@@ -258,7 +258,7 @@ Vec Condensation::recover(const Vec& x_C, double load_scale) const {
   // place (checked at the analysis), the forward half of that solve is known in closed form:
   // L w = [0; L_CC L_CCᵀ d] gives w = [0; L_CCᵀ d] (L_II w_I = 0). Only the backward half
   // z = L⁻ᵀ w and x = Pᵀ z are left: half the cost of a full solve (the polish recovers several
-  // candidates per solve; issue 17).
+  // candidates per solve).
   const Index n = m_y.size(), m = this->m();
   Vec w = Vec::Zero(n);
   w.tail(m) = m_impl->LCC.triangularView<Eigen::Lower>().transpose() * (x_C - load_scale * m_y.tail(m));

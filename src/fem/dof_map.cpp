@@ -109,7 +109,7 @@ MovableSpMat DofMap::reduce(const SpMat& A) const {
   // Select free dofs and renumber, straight into the result's compressed storage. The renumbering
   // keeps the interior dofs in their order and moves the Γ3 dofs to the end, so in each column the
   // interior rows come out sorted and only the few Γ3 rows (a handful of node blocks) need sorting:
-  // no general sort, no intermediate arrays (issue 14: assembly at the cost of a plain CSC one).
+  // no general sort, no intermediate arrays (assembly at the cost of a plain CSC one).
   const Index n = m_T.cols();
   std::vector<Index> full_of(n);
   for (Index f = 0; f < A.rows(); ++f)

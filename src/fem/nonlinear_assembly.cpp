@@ -1,4 +1,4 @@
-// Nonlinear P1 assembly (MODEL.md §2: ½ a(u,u) becomes ∫ W(ε(u)), F = ∂W/∂ε): one quadrature point
+// Nonlinear P1 assembly (docs/model.md §2: ½ a(u,u) becomes ∫ W(ε(u)), F = ∂W/∂ε): one quadrature point
 // per cell, exact since ε is constant on a cell. The energy term that minimizes with it is
 // energy/nonlinear_elastic_energy.hpp; the model's internal force and energy (problem/model.hpp)
 // read it directly.

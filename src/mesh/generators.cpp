@@ -61,7 +61,7 @@ Mesh make_rectangle(const RectangleSpec& s) {
   if (graded) {
     // The smallest cell (the two smallest spacings) against the largest spacing: below check_cells'
     // round-off floor (1e-12 h²; 1e-10 here, a margin) the power made it degenerate, and the message
-    // should name the power, not a cell (issue 28: power 50, or inf, did).
+    // should name the power, not a cell (power 50, or inf, once named a cell).
     const auto spacings = [](int n, const auto& g, double len) {
       double lo = INF, hi = 0;
       for (int i = 0; i < n; ++i) lo = std::min(lo, len * (g(i + 1) - g(i))), hi = std::max(hi, len * (g(i + 1) - g(i)));

@@ -20,11 +20,11 @@
 // Compiled only when the Gmsh API was found (CMake globs src/mesh/gmsh_*.cpp then); the fallback
 // read_gmsh() of other builds lives in mesh_io.cpp.
 //
-// Why dlopen (issue 14): linking libgmsh pulls in ~90 shared libraries (OpenCASCADE, FLTK, MED,
-// ...) whose loading and relocation cost ~80 ms at every start of the program, also for the
-// scenes that never read a .msh file (all generated meshes), i.e. 15 % of the whole default run
-// at h = 1/256. Gmsh's C API (gmshc.h) has plain C symbols, so the few functions used here are
-// looked up once with dlsym when the first .msh file is read.
+// Why dlopen: linking libgmsh pulls in ~90 shared libraries (OpenCASCADE, FLTK, MED, ...) whose
+// loading and relocation cost ~80 ms at every start of the program, also for the scenes that never
+// read a .msh file (all generated meshes), i.e. 15 % of the whole default run at h = 1/256. Gmsh's
+// C API (gmshc.h) has plain C symbols, so the few functions used here are looked up once with dlsym
+// when the first .msh file is read.
 
 namespace hemicontact {
 namespace {
@@ -370,8 +370,8 @@ Mesh read_gmsh(const std::string& path, bool allow_scripts) {
     input_error(where + "is not a regular file (a device, FIFO or socket)");
   if (!std::ifstream(path).good()) input_error(where + "cannot open it (missing or unreadable)");
   // Gmsh picks the format from the content, and anything that is not a mesh it runs as a script:
-  // SystemCall runs commands, Printf > "file" writes files (issue 28). So mesh.file must show the
-  // header of a mesh (Gmsh's "MSH file format") before Gmsh sees it; scripts only on request.
+  // SystemCall runs commands, Printf > "file" writes files. So mesh.file must show the header of a
+  // mesh (Gmsh's "MSH file format") before Gmsh sees it; scripts only on request.
   if (!allow_scripts) check_msh_header(path);
   const GmshApi& api = gmsh();  // a library that cannot be loaded is an Error of its own, not the file's
   GmshSession session;

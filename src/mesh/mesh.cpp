@@ -116,9 +116,9 @@ void extract_boundary_facets(Mesh& mesh) {
       all.push_back({key, f, c});
     }
   }
-  // Sorted by key in two steps (issue 14: one comparison sort of all 3·cells entries was 6 % of a
-  // default run at n = 256): a counting sort on the smallest node, then each bucket — the few
-  // facets whose smallest node is that node — sorted in place. Same order as one full sort.
+  // Sorted by key in two steps (one comparison sort of all 3·cells entries was 6 % of a default run
+  // at n = 256): a counting sort on the smallest node, then each bucket — the few facets whose
+  // smallest node is that node — sorted in place. Same order as one full sort.
   {
     const Index N = mesh.num_nodes();
     std::vector<Index> start(static_cast<size_t>(N) + 1, 0);

@@ -4,7 +4,8 @@
 /// Only src/nlp/make_backend.cpp (the registry) calls these. Each factory is declared only when its
 /// backend is compiled in, so a missing optional dependency is a compile-time absence, never a
 /// link error; make_backend() turns the absence into a clear "not compiled in" Error instead.
-/// No Ipopt/NLopt header is included here (optional dependencies stay PRIVATE, STYLE.md §1).
+/// No Ipopt/NLopt header is included here: optional dependencies stay PRIVATE to their backend's
+/// source, so that nothing else needs them to compile.
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/nlp/backend.hpp>

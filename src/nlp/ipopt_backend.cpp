@@ -92,7 +92,7 @@ SolveStatus map_status(Ipopt::ApplicationReturnStatus s) {
 
 // Ipopt registers most integer options without an upper bound; sizes and counts such as
 // limited_memory_max_history or mumps_mem_percent at 2^31 − 1 are sized into allocations or loops
-// (issue 28: the NLopt analogue corrupted the heap). No option needs more than a million.
+// (the NLopt analogue corrupted the heap). No option needs more than a million.
 constexpr int MAX_PASSTHROUGH_INT = 1000000;
 
 // One Set*Value, checked (OptionsList returns false for an unknown name, a wrong type or a value
@@ -267,7 +267,7 @@ SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
               << " relative to G = " << scale << ", max_iter " << options.max_iter;
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
   // Ipopt catches std::bad_alloc (its own and MUMPS's allocations) and returns this status: the
-  // memory message and code of every other allocation failure, not "not converged" (issue 28).
+  // memory message and code of every other allocation failure, not "not converged".
   if (status == Ipopt::Insufficient_Memory)
     memory_error("Ipopt (n = " + std::to_string(n) + " unknowns; its sparse factorization, MUMPS, could not allocate)");
 

@@ -44,7 +44,7 @@ void IpoptTnlp::update_x(Ipopt::Index n, const Ipopt::Number* x, bool new_x) {
 bool IpoptTnlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
                              IndexStyleEnum& index_style) {
   n = static_cast<Ipopt::Index>(m_problem.f->size());
-  m = 0;  // bounds only (MODEL.md §2)
+  m = 0;  // bounds only (docs/model.md §2)
   nnz_jac_g = 0;
   nnz_h_lag = m_nnz_h;
   index_style = TNLP::C_STYLE;  // 0-based, as Eigen
@@ -145,7 +145,7 @@ bool IpoptTnlp::eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt
   // Values, in the same column-major order. With m = 0 the Hessian of the Lagrangian is
   // obj_factor·∇²f (Ipopt's objective scaling arrives through obj_factor).
   update_x(n, x, new_x);
-  m_problem.f->hessian(m_x, m_H, Psd::NONE);  // Ipopt corrects the inertia itself (STYLE §2)
+  m_problem.f->hessian(m_x, m_H, Psd::NONE);  // Ipopt corrects the inertia itself
   ++m_result.h_evaluations;
   if (m_H.nonZeros() != m_nnz_h)
     throw Error("ipopt: NlpObjective::hessian() changed the pattern (" + std::to_string(m_H.nonZeros()) +

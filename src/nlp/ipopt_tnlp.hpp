@@ -5,7 +5,7 @@
 /// bounds in get_bounds_info, the start in get_starting_point, and for each derivative callback
 /// the *structure* when the values pointer is null and the *values* otherwise, in the same fixed
 /// order. Differences from hs071:
-///  - m = 0: the unilateral contact condition u_ν <= g is a variable bound (MODEL.md §2), so
+///  - m = 0: the unilateral contact condition u_ν <= g is a variable bound (docs/model.md §2), so
 ///    eval_g/eval_jac_g are empty;
 ///  - the Hessian pattern comes from NlpObjective::hessian_pattern() (lower triangle, row >= col,
 ///    column-major order) and is walked in the same order for structure and values;

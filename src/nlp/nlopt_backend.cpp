@@ -106,11 +106,11 @@ namespace {
 
 constexpr Index DENSE_MAX_N = 3000;        // SLSQP and MLSL: largest n accepted
 constexpr int VECTOR_STORAGE = 20;         // Luksan codes: stored correction pairs
-// Bounds of the numeric pass-through options (issue 28). NLopt sizes its work arrays in int
-// arithmetic (luksan_plis: n·m·2 + ...): vector_storage = 2^31−1 overflowed that product and
-// corrupted the heap (LD_VAR1 crashed, LD_LBFGS aborted), so both m and the stored numbers n·m are
-// bounded. Limited-memory quasi-Newton gains nothing beyond a few dozen pairs. MLSL samples
-// `population` points per round before it looks at maxeval again: 2^31−1 was an effective hang.
+// Bounds of the numeric pass-through options. NLopt sizes its work arrays in int arithmetic
+// (luksan_plis: n·m·2 + ...): vector_storage = 2^31−1 overflowed that product and corrupted the
+// heap (LD_VAR1 crashed, LD_LBFGS aborted), so both m and the stored numbers n·m are bounded.
+// Limited-memory quasi-Newton gains nothing beyond a few dozen pairs. MLSL samples `population`
+// points per round before it looks at maxeval again: 2^31−1 was an effective hang.
 constexpr int MAX_VECTOR_STORAGE = 1000;
 constexpr double MAX_STORED_PAIRS = 1e8;  // n·vector_storage: 1.6 GB of pairs, far below int overflow
 constexpr int MAX_POPULATION = 100000;

@@ -274,7 +274,7 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
                  {"iterations", sol.polish.iterations},   {"certificate_before", sol.polish.before},
                  {"certificate_after", sol.polish.after}, {"note", sol.polish.note}};
   {
-    // Issue 15: the exact solver's part, and whether the inner problem (λ frozen) is strongly convex.
+    // The exact solver's part, and whether the inner problem (λ frozen) is strongly convex.
     const HandoverReport& h = sol.handover;
     r["inner"] = {{"handover",
                    {{"used", h.used},

@@ -110,8 +110,8 @@ std::string appended_block(const std::string& raw, bool compress, int level) {
         c.resize(cap);
       }
     };
-    // The blocks are independent: compressed on every core (issue 14: output is a few % of the
-    // run, not 15%); the file is the same whatever the number of threads.
+    // The blocks are independent: compressed on every core (output is then a few % of the run, not
+    // 15%); the file is the same whatever the number of threads.
     const std::uint64_t threads =
         std::min<std::uint64_t>({std::max(1u, std::thread::hardware_concurrency()), 8, (nblocks + 7) / 8});
     const std::uint64_t stride = std::max<std::uint64_t>(threads, 1);
@@ -119,7 +119,7 @@ std::string appended_block(const std::string& raw, bool compress, int level) {
     std::uint64_t started = 1;
     // A thread that cannot be created (EAGAIN: under ulimit -v its stack may not fit) leaves its
     // share of the blocks to this one; the vector must not be destroyed with joinable threads
-    // (std::terminate) — issue 28.
+    // (std::terminate).
     try {
       for (; started < threads; ++started) pool.emplace_back(compress_blocks, started, stride);
     } catch (const std::system_error&) {

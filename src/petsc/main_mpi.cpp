@@ -1,5 +1,5 @@
-// hemicontact-mpi — the petsc engine (solver.engine = "petsc", issue 16): `hemicontact solve` execs
-// it with its own arguments, on every MPI rank:
+// hemicontact-mpi — the petsc engine (solver.engine = "petsc"): `hemicontact solve` execs it with
+// its own arguments, on every MPI rank:
 //
 //   mpirun -np 2 build/hemicontact solve problems/sofonea2017-fig2.json --set solver.engine='"petsc"' --out out/p2
 //   mpirun -np 2 build/hemicontact-mpi solve problems/sofonea2017-3d.json --backend tao:bntr --out out/p3d
@@ -164,7 +164,7 @@ int main(int argc, char** argv) {
   }
   // PetscFinalize stops at its first error (with the engine's error handler it returns it) before
   // MPI_Finalize, and mpirun then reports the rank as "exiting improperly" with exit code 1 after
-  // a complete report (issue 28: -log_view given after PetscInitialize did so).
+  // a complete report (-log_view given after PetscInitialize did so).
   if (PetscFinalize() != 0) {
     int finalized = 0;
     MPI_Finalized(&finalized);

@@ -44,7 +44,7 @@ std::string g_petsc_message;
 std::string g_user_options;
 
 // A PETSc call that fails is a bug or a resource problem (EXIT_INTERNAL), or, with options of the
-// user's set (solver.petsc.options), most likely one of them: EXIT_INPUT naming them (issue 28).
+// user's set (solver.petsc.options), most likely one of them: EXIT_INPUT naming them.
 [[noreturn]] void petsc_failure(PetscErrorCode ierr, const char* call) {
   std::string m = "PETSc error " + std::to_string(ierr) + " in " + call;
   if (!g_petsc_message.empty()) m += ": " + g_petsc_message;
@@ -1336,7 +1336,8 @@ Solution Engine::run_ssn(clk::time_point t0) {
   HC_PETSC(MatGetDiagonal(K.m, diagK.v));
   // No second matrix: each step's J is K itself, changed in place (Γ3 blocks added, fixed rows and
   // columns zeroed) and put back from the saved rows before K is read again. A copy of K would cost
-  // ~0.5 KB per unknown (44 nonzeros per row in 3D), a quarter of the memory bound of issue 16.
+  // ~0.5 KB per unknown (44 nonzeros per row in 3D), a quarter of the engine's memory target (2 KB
+  // per unknown).
   const BandRows band = save_band();
   HC_PETSC(MatSetOption(K.m, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
   HC_PETSC(MatSetOption(K.m, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));

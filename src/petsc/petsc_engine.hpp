@@ -1,13 +1,13 @@
 #pragma once
-/// @file petsc_engine.hpp  The distributed engine (solver.engine = "petsc", issue 16): the same
-/// problem, algorithm and certificate as ContactSolver (driver/solve.hpp), with the unknowns spread
-/// over the MPI ranks and every linear solve by CG with algebraic multigrid instead of CHOLMOD.
+/// @file petsc_engine.hpp  The distributed engine (solver.engine = "petsc"): the same problem,
+/// algorithm and certificate as ContactSolver (driver/solve.hpp), with the unknowns spread over the
+/// MPI ranks and every linear solve by CG with algebraic multigrid instead of CHOLMOD.
 ///
 ///   unknowns:   the reduced x of DofMap (Γ3 nodes in their local (ν, τ) frames, so u_ν ≤ g is the
 ///               bound x_ν ≤ g), split into contiguous row blocks of size d (one node per block);
 ///               each rank owns its rows of K and of every vector, and the Γ3 nodes whose rows it owns
 ///   scales:     the elastic solve K z = f (CG + GAMG with the rigid-body modes): U_s = ‖z‖∞, F_s = ‖f‖∞
-///   minimize:   Π_λ,ε(x) = ½xᵀKx − fᵀx + Σ w j_ε(x_ν) + Σ w λ f0(|x_τ|, ε)  (MODEL.md §2),
+///   minimize:   Π_λ,ε(x) = ½xᵀKx − fᵀx + Σ w j_ε(x_ν) + Σ w λ f0(|x_τ|, ε)  (docs/model.md §2),
 ///               nondimensionalized as the cholmod engine does, by TAO's bounded Newton (tao:bnls,
 ///               tao:bntr, tao:bntl); its Newton steps are CG + BoomerAMG on the Hessian restricted to
 ///               the inactive set
@@ -50,7 +50,7 @@ Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& 
 
 /// Replace PETSc's error handler (traceback on every rank) by one that keeps the failure's first
 /// message for the engine's Error, which then names @p user_options (solver.petsc.options) when
-/// set, with exit code 2 (issue 28). Call once after PetscInitialize.
+/// set, with exit code 2 (an input error, not a crash). Call once after PetscInitialize.
 void install_error_handler(const std::string& user_options);
 
 /// @return this process's resident memory now (kB), from /proc/self/statm (0 if unreadable).

@@ -222,7 +222,7 @@ double dense_gamma3_memory(double gamma3_nodes, int dim) {
   // The condensation's two dense m × m blocks (L_CC and S, m = d·Γ3 nodes; fem/condensation.cpp)
   // and one more of the same size held meanwhile (the smallness check's condensation, the exact
   // solver's and the backends' dense copies). A long thin strip is all Γ3: 20000 × 1 cells have
-  // 40 002 Γ3 unknowns, 12.8 GB per matrix; it died with bad_alloc before this term (issue 28).
+  // 40 002 Γ3 unknowns, 12.8 GB per matrix; it died with bad_alloc before this term.
   const double m = dim * std::max(0.0, gamma3_nodes);
   return 3.0 * 8.0 * m * m;
 }
@@ -391,8 +391,8 @@ Model build_model(const json& scene, Mesh mesh, bool stiffness) {
   const auto t0 = clk::now();
   // A nonlinear law's K is its tangent at u = 0 (the small-strain stiffness): it sets the solver's
   // scales and the K(0) energy norm; equilibrium and energies use internal_force / elastic_energy.
-  // K_x = Tᵀ K T straight into the free dofs' pattern: the full K is never built (issue 14). The
-  // model keeps this one copy (moved in: MovableSpMat).
+  // K_x = Tᵀ K T straight into the free dofs' pattern: the full K is never built. The model keeps
+  // this one copy (moved in: MovableSpMat).
   if (stiffness)
     md.Kx = assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs);
   const auto f0v = scene.at("loads").at("body_force").get<std::vector<double>>();

@@ -342,8 +342,8 @@ void check_finite(const json& v, const std::string& path) {
 }
 
 // Every result file is JSON, which is UTF-8: a key or string that is not would make the report
-// unwritable after the whole computation (issue 28), so it is refused here, naming it. Iterative,
-// as depth_of: no recursion over a structure that came from outside.
+// unwritable after the whole computation, so it is refused here, naming it. Iterative, as depth_of:
+// no recursion over a structure that came from outside.
 void check_text(const json& scene) {
   const std::string advice =
       "; scene text must be UTF-8, as the JSON results are (re-encode it, e.g. iconv -f latin1 -t utf-8)";
@@ -425,7 +425,7 @@ void check_gap(const json& gap) {
 }
 
 // solver.options is passed to the backend verbatim, but a scene may not make the tool write or
-// read files of its choosing (issue 12: output_file truncated any writable file): Ipopt's
+// read files of its choosing (output_file could truncate any writable file): Ipopt's
 // file options are refused here, before anything runs.
 void check_solver_options(const json& solver) {
   for (const char* file_option : {"output_file", "option_file_name", "print_options_documentation"})

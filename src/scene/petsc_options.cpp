@@ -1,4 +1,4 @@
-// solver.petsc.options: the PETSc options a scene may pass to the petsc engine (issue 28).
+// solver.petsc.options: the PETSc options a scene may pass to the petsc engine, and those it may not.
 //
 // PETSc options reach far beyond the solvers: viewers write any file (-ksp_view ascii:PATH,
 // -ksp_view_mat binary:PATH, -log_view :PATH), -options_file reads one (and printed the first line

@@ -173,7 +173,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                       10));
 
   // ------------------------------------------------------------------ material
-  t.push_back(section("/material", "Constitutive law F (paper eq. (12); MODEL.md §1)."));
+  t.push_back(section("/material", "Constitutive law F (paper eq. (12); docs/model.md §1)."));
   t.push_back(key("/material/model", "string", "linear_elastic",
                   "linear_elastic: linear isotropic elasticity. hencky: nonlinear Hencky-type law "
                   "W = (K/2)(tr ε)² + Φ(|dev ε|²) whose shear modulus μ(s) = μ_∞ + (μ_0 − μ_∞)/√(1 + s/eps_ref²) "
@@ -206,7 +206,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                     0));
 
   // ------------------------------------------------------------------ boundary
-  t.push_back(section("/boundary", "The split of ∂Ω into Γ1, Γ2, Γ3 (MODEL.md §1), as lists of facet selectors."));
+  t.push_back(section("/boundary", "The split of ∂Ω into Γ1, Γ2, Γ3 (docs/model.md §1), as lists of facet selectors."));
   add_selector(t, "gamma1", "Γ1, clamped (u = 0): list of selectors.", false);
   add_selector(t, "gamma2", "Γ2, traction f2: list of selectors, each with its traction.", true);
   add_selector(t, "gamma3", "Γ3, contact with the foundation: list of selectors.", false);
@@ -277,8 +277,8 @@ std::vector<SchemaEntry> build_scene_schema() {
 
   // ------------------------------------------------------------------ solver
   // ε's and tolerances are relative to the displacement scale U so that one scene works at any
-  // load level (STYLE.md §4).
-  t.push_back(section("/solver", "NLP backend, smoothing and the outer loops (MODEL.md §2)."));
+  // load level.
+  t.push_back(section("/solver", "NLP backend, smoothing and the outer loops (docs/model.md §2)."));
   t.push_back(key("/solver/backend", "string", D.backend,
                   "NLP backend by name (hemicontact backends lists them): \"ipopt\", \"newton\", "
                   "\"nlopt:mma\", ... A named backend runs at least the first ε-stage, then the exact "
@@ -397,7 +397,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                                    "remaining stages are skipped. 0: run every stage."),
                                0),
                       1));
-  t.push_back(section("/solver/fixed_point", "Outer loop λ_i = F_b(u_ν,i) (MODEL.md §2)."));
+  t.push_back(section("/solver/fixed_point", "Outer loop λ_i = F_b(u_ν,i) (docs/model.md §2)."));
   t.push_back(at_most(above(key("/solver/fixed_point/tol_u", "number", D.tol_u,
                                 "Converged when the relative change of u on Γ3 and of λ is ≤ tol_u."),
                             0),
@@ -424,11 +424,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                                0),
                       50));
   t.push_back(section("/solver/exact",
-                      "The exact inner solver (no smoothing) and the hand-over to it (issue 15, condensed "
+                      "The exact inner solver (no smoothing) and the hand-over to it (condensed "
                       "formulation): it takes over once the statuses stop changing between stages, or the "
                       "backend stalls or fails."));
   t.push_back(key("/solver/exact/enabled", "boolean", D.exact,
-                  "Default true (issue 15). false: the ε-continuation and the polish alone (the design's path)."));
+                  "Default true: the exact solver replaces the costly late ε-stages. false: the ε-continuation and "
+                  "the polish alone (the design's path)."));
   // The floor: the coupled residual's round-off (a relative residual of a double at unit scale, times
   // the conditioning of the condensed problem) — fig2 reaches 1e-14 up to n = 512 but not 1e-15 at
   // n = 128, where a smaller tolerance could only end in exit 3 on a certified answer.
@@ -479,7 +480,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                        0));
 
   // ------------------------------------------------------------------ check
-  t.push_back(section("/check", "Acceptance of the computed solution (MODEL.md §3, §4)."));
+  t.push_back(section("/check", "Acceptance of the computed solution (docs/model.md §3, §4)."));
   // Upper bounds: a tolerance of 1e300 would accept any answer as certified and exit 0 "ok". A
   // certificate looser than 1e-3 accepts answers wrong in the third digit.
   t.push_back(at_most(

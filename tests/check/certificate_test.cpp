@@ -1,4 +1,4 @@
-// The certificate on its own (MODEL.md §4, check/certificate.hpp): each residual is the formula of
+// The certificate on its own (docs/model.md §4, check/certificate.hpp): each residual is the formula of
 // the header, evaluated on a Γ3 state whose entries are set by hand, so every expected value below
 // is exact (a few multiplications by powers of two of the scales, exact in binary): feasibility,
 // normal, complementarity, friction cone, slip direction and equilibrium, their worst node, the

@@ -1,8 +1,8 @@
-// The bad-input battery of issue 6 ("Studies and stability"), end to end through the program: every
-// malformed scene — wrong types, missing parts, a p_ν table that is not a function, negative
-// thicknesses and coefficients, F_b < 0, an empty Γ3, inverted or zero-area triangles, non-finite
-// loads, unknown backends and keys — exits with code 2 (bad input), one line on stderr that names
-// the key or the element, and never reaches the solver.
+// The bad-input battery, end to end through the program: every malformed scene — wrong types,
+// missing parts, a p_ν table that is not a function, negative thicknesses and coefficients,
+// F_b < 0, an empty Γ3, inverted or zero-area triangles, non-finite loads, unknown backends and
+// keys — exits with code 2 (bad input), one line on stderr that names the key or the element, and
+// never reaches the solver.
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 
@@ -210,7 +210,7 @@ INSTANTIATE_TEST_SUITE_P(
                  {"unknown key 'contact.normal_law.c4'"}},
         BadInput{"UnknownEnumValue", [](json& s) { s["mesh"]["diagonal"] = "x"; },
                  {"'mesh.diagonal': \"x\" is not one of"}},
-        // ---- issue 12: what crashed, hung, wrote elsewhere or passed a wrong answer before
+        // ---- what once crashed, hung, wrote elsewhere or passed a wrong answer
         // 40 000 levels of nesting overflowed the stack (SIGSEGV) in the recursive walks.
         BadInput{"DeeplyNestedSceneFile", none, {"scene.json': nesting deeper than 32 levels"}, "",
                  [](std::string t) {
@@ -247,7 +247,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "--set loads.scale=1e-300"},
         BadInput{"MeshIntervalOverflows", none, {"'mesh.x': the interval [-1e+308,1e+308] is out of range"},
                  "--set 'mesh.x=[-1e308,1e308]'"},
-        // ---- issue 28: text that is not UTF-8 could not be written into report.json at the end
+        // ---- text that is not UTF-8 could not be written into report.json at the end
         // (exit 5 after the whole solve); refused at input, naming the key.
         BadInput{"SetValueNotUtf8", none,
                  {"scene key 'description': the text is not valid UTF-8 (byte 0xE9 at position 3)", "re-encode"},
@@ -257,12 +257,12 @@ INSTANTIATE_TEST_SUITE_P(
                  "--set 'solver.options.caf\xe9" "=1'"},
         BadInput{"SceneStringNotUtf8", none, {"scene file", "scene.json'", "UTF-8"}, "",
                  [](std::string t) { return t.replace(t.find("\"description\": \""), 16, "\"description\": \"\xe9"); }},
-        // ---- issue 28, messages: a NUL in a key cut the message; nu was rounded to "1"
+        // ---- messages: a NUL in a key cut the message; nu was rounded to "1"
         BadInput{"NulInAKey", none, {"scene: unknown key 'contcat\\x00tail' (allowed here: "}, "",
                  [](std::string t) { return t.replace(t.find('{'), 1, "{\"contcat\\u0000tail\": 1, "); }},
         BadInput{"PoissonJustBelowOne", [](json& s) { s["material"]["nu"] = 0.9999999999; },
                  {"material.nu = 0.9999999999: Poisson's ratio must lie in (-1, 0.5)"}},
-        // ---- issue 28: PETSc options that reach the file system or crash PETSc (checked when the
+        // ---- PETSc options that reach the file system or crash PETSc (checked when the
         // scene is read, so also in a build without the petsc engine)
         BadInput{"PetscViewerToAFile", none, {"'solver.petsc.options'", "'-ssn_ksp_view' takes no value", "never name a file"},
                  "--set 'solver.petsc.options=\"-ssn_ksp_view ascii:/tmp/hemicontact-victim\"'"},
@@ -285,7 +285,7 @@ INSTANTIATE_TEST_SUITE_P(
         // Ipopt's integer options have no upper bound of their own.
         BadInput{"IpoptIntegerUnbounded", none, {"'limited_memory_max_history'", "above 1000000"},
                  "--set solver.options.limited_memory_max_history=2147483647"},
-        // ---- issue 28: unbounded knobs, named by their key and range
+        // ---- unbounded knobs, named by their key and range
         BadInput{"BlasThreadsUnbounded", none, {"'adapt.blas_threads' must be >= 0 and <= 32, got 64"},
                  "--set adapt.target_error=0.1 --set adapt.blas_threads=64"},
         BadInput{"DorflerThetaTiny", none, {"'adapt.theta' must be >= 0.1 and <= 1, got 1e-09"},
@@ -308,12 +308,12 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<BadInput>& i) { return i.param.name; });
 // clang-format on
 
-// Not bad input but the other exit path of issue 6: an outer fixed point that does not contract
+// Not bad input but the other honest way out: an outer fixed point that does not contract
 // (the sliding scene of tests/stress/fixed_point_test.cpp at μ = 8) exits with code 3, a warning
 // naming the fixed point and suggesting relaxation, and report.json records the contraction factors;
 // with θ = 0.5 the same scene exits 0. This is the continuation's own fixed point
 // (solver.exact.enabled = false); with the exact solver on, its Anderson-accelerated fixed
-// point certifies the scene (issue 15), exit 0.
+// point certifies the scene, exit 0.
 TEST(FixedPointCli, NonContractionExits3AndRelaxationSucceeds) {
   const fs::path dir = fs::temp_directory_path() / ("hemicontact_fp_cli_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -342,7 +342,7 @@ TEST(FixedPointCli, NonContractionExits3AndRelaxationSucceeds) {
   fs::remove_all(dir);
 }
 
-// Issue 12, the command line: values that are missing or out of range are usage errors (exit 1);
+// The command line: values that are missing or out of range are usage errors (exit 1);
 // a start that is a directory is bad input (exit 2, it was an internal error); nothing is written.
 TEST(BadInputCli, MissingValuesAndOutOfRangeCountsAreRefused) {
   const fs::path dir = fs::temp_directory_path() / ("hemicontact_badcli_" + std::to_string(::getpid()));
@@ -377,7 +377,7 @@ TEST(BadInputCli, MissingValuesAndOutOfRangeCountsAreRefused) {
   fs::remove_all(dir);
 }
 
-// Issue 12: a scene cannot truncate a file outside its output folder through Ipopt's output_file.
+// A scene cannot truncate a file outside its output folder through Ipopt's output_file.
 TEST(BadInputCli, IpoptOutputFileLeavesTheNamedFileAlone) {
   const fs::path dir = fs::temp_directory_path() / ("hemicontact_victim_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -393,7 +393,7 @@ TEST(BadInputCli, IpoptOutputFileLeavesTheNamedFileAlone) {
   fs::remove_all(dir);
 }
 
-// Issue 12: allow_not_converged never turns an uncertified answer into exit 0 (the non-contracting
+// allow_not_converged never turns an uncertified answer into exit 0 (the non-contracting
 // scene of FixedPointCli without the exact solver: the fixed point fails and so does the certificate).
 TEST(FixedPointCli, AllowNotConvergedDoesNotAcceptAFailedCertificate) {
   const fs::path dir = fs::temp_directory_path() / ("hemicontact_allow_" + std::to_string(::getpid()));
@@ -413,7 +413,7 @@ TEST(FixedPointCli, AllowNotConvergedDoesNotAcceptAFailedCertificate) {
   fs::remove_all(dir);
 }
 
-// Issue 28: what converge and minima record that is not UTF-8 (a --set value, the scene file's
+// What converge and minima record that is not UTF-8 (a --set value, the scene file's
 // name) is refused before the study, naming it; before, the study ran to the end and then lost
 // convergence.json / minima.json with exit 5. A --start number beyond the double range was an
 // "internal error"; it is bad input naming the file.

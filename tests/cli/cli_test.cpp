@@ -1,5 +1,5 @@
-// The command-line program end to end: every bad input of the Foundation issue gets a one-line
-// message naming the problem and a non-zero exit code; good runs write their files.
+// The command-line program end to end: every bad input gets a one-line message naming the problem
+// and a non-zero exit code; good runs write their files.
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 
@@ -126,7 +126,7 @@ TEST_F(Cli, ForceReplacesThePreviousResultSet) {
   EXPECT_EQ(rep["files"], json({"gamma3.csv", "report.json"}));
 }
 
-// Issue 12, BAD 4: a folder holding the user's own gamma3.csv and solution.vtu but no report.json
+// A folder holding the user's own gamma3.csv and solution.vtu but no report.json
 // used to have both overwritten without --force; now the run is refused before any work, and
 // --force does not change that (it replaces only files the tool wrote).
 TEST_F(Cli, UsersFilesInTheOutputFolderAreNeverOverwritten) {

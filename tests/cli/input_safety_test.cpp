@@ -1,4 +1,4 @@
-// Issue 28, the inputs: what a careless or hostile input did to the program, end to end through
+// The inputs: what a careless or hostile input did to the program, end to end through
 // the built `hemicontact`. Scene paths that are devices, FIFOs or huge files; memory limits (the
 // estimate honours ulimit -v, Γ3 is in it, an allocation failure is a memory message with exit 2,
 // never a crash); the default engine under mpirun; an adaptive target that is not met (exit 3,

@@ -1,4 +1,4 @@
-// Issue 12, the output side, through the program: one run at a time per output folder (a lock),
+// The output side, through the program: one run at a time per output folder (a lock),
 // files written atomically with the report last, a failed write that says so with its own exit
 // code (6) and leaves no report, an interrupt that removes the half-written file and names what
 // was kept, and studies (minima) that keep each finished run as it ends.
@@ -225,7 +225,7 @@ TEST_F(OutputSafety, AnInterruptedMinimaSearchKeepsItsFinishedRuns) {
   EXPECT_NE(again.err.find("an incomplete set"), std::string::npos) << again.err;
 }
 
-// ---- issue 28: a planted file in the output folder cannot redirect, hang or lose a run
+// ---- a planted file in the output folder cannot redirect, hang or lose a run
 
 /// The names of the entries of @p out that do not start with a dot.
 std::vector<std::string> visible_files(const fs::path& out) {
@@ -236,7 +236,7 @@ std::vector<std::string> visible_files(const fs::path& out) {
   return r;
 }
 
-// BAD 1: a link planted under the report's temporary name made the report land in its target
+// A link planted under the report's temporary name made the report land in its target
 // (exit 0). Now the run is refused before it starts, naming the link; the target is untouched.
 // A FIFO under the manifest's name hung the run; now it is refused at once.
 TEST_F(OutputSafety, ALinkOrFifoPlantedInTheFolderIsRefusedNamingIt) {
@@ -269,7 +269,7 @@ TEST_F(OutputSafety, ALinkOrFifoPlantedInTheFolderIsRefusedNamingIt) {
   EXPECT_EQ(slurp(dir / "victim"), "the user's\n");
 }
 
-// BAD 2: a report.json of the user's made --force delete every file the run would write and the
+// A report.json of the user's made --force delete every file the run would write and the
 // tool's picture names (fig2.png). A report.json proves nothing now: the run is refused naming it,
 // --force or not, and every file stays.
 TEST_F(OutputSafety, AForeignReportJsonDoesNotLetForceDeleteFiles) {
@@ -292,7 +292,7 @@ TEST_F(OutputSafety, AForeignReportJsonDoesNotLetForceDeleteFiles) {
   EXPECT_EQ(slurp(out / "fig2.png"), "mine\n");
 }
 
-// BAD 3: converge overwrote a user's level_4.vtu and minima a user's solution_1.vtu, without
+// converge overwrote a user's level_4.vtu and minima a user's solution_1.vtu, without
 // --force. Both are refused before any solve, naming the file, which stays.
 TEST_F(OutputSafety, ConvergeAndMinimaRefuseAUsersNumberedFileBeforeSolving) {
   const fs::path x = dir / "conv", y = dir / "min";

@@ -1,4 +1,4 @@
-// The petsc engine (issue 16) end to end: `mpirun -np P hemicontact solve SCENE --set
+// The petsc engine end to end: `mpirun -np P hemicontact solve SCENE --set
 // solver.engine="petsc"` against the cholmod engine on the paper's scenes (2D fig2, printed, 3D),
 // small meshes, P = 1 and 2; then its bad input. In a build without PETSc, the engine asked for
 // must be refused naming the package.
@@ -9,8 +9,8 @@
 // Agreement tolerances: both engines end on the unsmoothed conditions of (22), solved on the same
 // statuses to round-off (driver/polish.hpp, the ssn steps and the polish in src/petsc/), so the
 // answers differ by the conditioning of the status system times machine precision: κ ~ 1e4 for
-// these meshes (h = 1/16, 3D 1/4) gives ~1e-12; the issue's 1e-8 is the bound asserted, and the
-// certificate of each answer must pass at 1e-8 (check.certificate_tol).
+// these meshes (h = 1/16, 3D 1/4) gives ~1e-12; 1e-8 is the bound asserted, and the certificate of
+// each answer must pass at 1e-8 (check.certificate_tol).
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 
@@ -328,7 +328,7 @@ TEST(PetscEngine, DivergedKrylovSolveExits3NamingTheReason) {
   fs::remove_all(dir);
 }
 
-// Issue 28: a PETSc error from an option of the user's printed PETSc's traceback on every rank (or
+// A PETSc error from an option of the user's printed PETSc's traceback on every rank (or
 // crashed); now it is one message naming PETSc's reason and solver.petsc.options, exit code 2. ILU
 // is allowed (it works on one rank) but has no parallel implementation for MPIAIJ.
 TEST(PetscEngine, PetscErrorFromAnOptionNamesTheOptions) {

@@ -61,7 +61,7 @@ TEST(Adapt, CornerProblemRestoresTheOptimalRate) {
     const double e = std::sqrt(ref_model.a(diff, diff)) / norm_ref;
     lx.push_back(std::log(static_cast<double>(k.dofs)));
     ly.push_back(std::log(e));
-    // ZZ efficiency against the true error, the band.
+    // ZZ efficiency against the true error, in the band [0.5, 3].
     EXPECT_GE(k.estimate / e, 0.5) << k.dofs;
     EXPECT_LE(k.estimate / e, 3.0) << k.dofs;
   }

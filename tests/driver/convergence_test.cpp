@@ -93,8 +93,8 @@ TEST(ConvergenceStudy, ReferenceAgainstItselfHasNoError) {
 }
 
 // The callback sees each solved mesh once, the reference first, then each level other than the
-// reference with its error already in so_far (what the CLI keeps as it comes, issue 12); the
-// study so far agrees with the finished study.
+// reference with its error already in so_far (what the CLI keeps as it comes, so that an interrupt
+// loses no finished level); the study so far agrees with the finished study.
 TEST(ConvergenceStudy, EachLevelIsAnnouncedWithItsErrorAsItEnds) {
   std::vector<int> seen;
   std::vector<size_t> levels_so_far;

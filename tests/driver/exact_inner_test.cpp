@@ -1,4 +1,4 @@
-// The exact inner solver (driver/exact_inner.hpp, issue 15): exactness on small condensed problems
+// The exact inner solver (driver/exact_inner.hpp): exactness on small condensed problems
 // (its stationarity residual, and no feasible perturbation lowers the exact energy), the convexity
 // check and Anderson acceleration against closed forms, and through the solver: the hand-over
 // agrees with the polished continuation on the paper's scenes in 2D and 3D, and certifies a scene

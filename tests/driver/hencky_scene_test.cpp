@@ -32,8 +32,8 @@ bool skipped_starts_with(const Solution& s, const std::string& prefix) {
 
 }  // namespace
 
-// Certificate ≤ 1e-8 (the acceptance level) with ipopt and newton; both minimize the same
-// strongly convex-in-the-interior energy to the backend tolerance (1e-12, scaled) and the same
+// Certificate ≤ 1e-8 (the default check.certificate_tol) with ipopt and newton; both minimize the
+// same strongly convex-in-the-interior energy to the backend tolerance (1e-12, scaled) and the same
 // ε-smoothing (1e-10·U_s), so they agree to ~1e-9 relative in u and energy.
 TEST(HenckyScene, SolvesCertifiedWithBothBackends) {
   const Solution a = solve_scene({"mesh.n=16", "solver.backend=ipopt"});

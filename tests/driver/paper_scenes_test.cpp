@@ -45,7 +45,7 @@ std::vector<Index> mirror_nodes(const Mesh& m) {
 
 class Fig2Pattern : public ::testing::TestWithParam<int> {};
 
-// MODEL.md §5 / paper Fig. 2: a few nodes at each end in normal compliance slipping outward
+// docs/model.md §5 / paper Fig. 2: a few nodes at each end in normal compliance slipping outward
 // (slip− on the left, slip+ on the right), all others at u_ν = g slipping, the centre node sticking.
 TEST_P(Fig2Pattern, StatusesCertificateSymmetry) {
   const int n = GetParam();

@@ -134,7 +134,7 @@ json make_scene(const NodeCase& c, const std::string& pipeline = "default") {
       {"output", {{"vtu", false}, {"csv", false}}}};
   json s = scene;
   // Every stage of the continuation: no early stop and no hand-over to the exact inner solver
-  // (which ends the continuation once the statuses are known; issue 15).
+  // (which ends the continuation once the statuses are known).
   if (c.continuation_only) s["solver"]["exact"]["enabled"] = false;
   if (c.all_stages) {
     s["solver"]["continuation"]["certify_below"] = 0;

@@ -1,4 +1,4 @@
-// A 3D slab matches the 2D plane-strain solution (issue 7).
+// A 3D slab matches the 2D plane-strain solution (the 3D code checked against the 2D one).
 //
 // With Poisson's ratio ν = 0, plane strain has σ_yy = λ(ε_xx + ε_zz) = 0, so the plane-strain
 // displacement field (extended constantly in y, with u_y = 0) also solves the 3D problem on the

@@ -1,8 +1,9 @@
-// Finite-difference tests of the energy terms (MODEL.md §2; STYLE.md §7): value → gradient and
-// gradient → Hessian for ElasticEnergy, LoadEnergy, NormalComplianceEnergy, FrictionEnergy, the
-// composite TotalEnergy and ScaledObjective, at 10 random points plus points on every branch of
-// the paper's law (32) (c = (100, −100, 400), r = (0.1, 0.15)) and of the smoothed norm, for
-// ε = ε_ν = ε_τ ∈ {1e-8, …, 1} and d = 2, 3 (3D friction: τ-blocks of a NodalDofs with dim = 3).
+// Finite-difference tests of the energy terms (docs/model.md §2; every term, because every backend
+// trusts the derivatives it is given): value → gradient and gradient → Hessian for ElasticEnergy,
+// LoadEnergy, NormalComplianceEnergy, FrictionEnergy, the composite TotalEnergy and
+// ScaledObjective, at 10 random points plus points on every branch of the paper's law (32)
+// (c = (100, −100, 400), r = (0.1, 0.15)) and of the smoothed norm, for ε = ε_ν = ε_τ ∈ {1e-8, …, 1}
+// and d = 2, 3 (3D friction: τ-blocks of a NodalDofs with dim = 3).
 //
 // ---------------------------------------------------------------- how the tolerances are derived
 // Central differences with step h_i in coordinate i:

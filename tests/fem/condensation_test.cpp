@@ -85,7 +85,7 @@ TEST(Condensation, AllCondensedAndNotPositiveDefinite) {
   EXPECT_THROW(Condensation(bad, Vec::Ones(K.rows()), 3), std::exception);
 }
 
-// Issue 28: an out-of-memory status of CHOLMOD was not checked (the Schur complement's copy then
+// An out-of-memory status of CHOLMOD was once not checked (the Schur complement's copy then
 // read a null factor: SIGSEGV). Every allocation CHOLMOD makes goes through SuiteSparse_config's
 // functions; here the k-th one fails, for every k until a run needs no failure: each run either
 // succeeds or throws the memory Error (exit code 2), and never crashes.

@@ -85,7 +85,7 @@ TEST_P(DofMapByDiagonal, RoundTripAndLocalFrames) {
 INSTANTIATE_TEST_SUITE_P(AllDiagonals, DofMapByDiagonal,
                          ::testing::Values(Diagonal::RIGHT, Diagonal::LEFT, Diagonal::SYMMETRIC, Diagonal::CROSSED));
 
-// Issue 14: the reduced stiffness is the largest array of a run and must move, not be copied, from
+// The reduced stiffness is the largest array of a run and must move, not be copied, from
 // reduce into the model and with the DofMap (Eigen 3.4's SparseMatrix has no move constructor;
 // MovableSpMat adds one). A copy would allocate new storage: the value array's address tells.
 TEST(MovableSpMat, ReducedStiffnessMovesWithoutACopy) {

@@ -22,7 +22,7 @@ using namespace hemicontact;
 namespace {
 
 // Unit square, Γ1 = top, f0 = (0, −1), f2 = (p, 0) on {0}×[0.5, 1) and (−p, 0) on {1}×[0.5, 1)
-// (MODEL.md §5, loads scaled to O(1)). Returns the full displacement.
+// (docs/model.md §5, loads scaled to O(1)). Returns the full displacement.
 Vec solve_paper_like(Mesh& m) {
   const double p = 8;
   BoundarySpec spec;

@@ -15,12 +15,17 @@
 //   petsc                                          11 the petsc engine's program (hemicontact-mpi; reads cli)
 //
 // The test reads the sources, so it fails the moment an include climbs a layer.
+//
+// The house also stands alone: no file in it points at files a clone does not have (a folder beside
+// the repository, documents kept elsewhere) or at an issue tracker its reader cannot see; a comment
+// says the reason itself. House.NothingPointsOutsideTheRepository reads every text file of the tree.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <regex>
 #include <set>
@@ -119,4 +124,72 @@ TEST(House, FolderGraphHasNoCycle) {
   for (const auto& [v, _] : out)
     if (state[v] == 0) visit(v);
   EXPECT_TRUE(cycle.empty()) << "include cycle: " << cycle;
+}
+
+namespace {
+
+/// What the repository holds: its folders and the files at its top, as git tracks them. Build
+/// folders, caches and editor files (.gitignore) are left out, and so are binary files (a NUL byte:
+/// the pictures). @return the files, sorted, as paths relative to @p root.
+std::vector<fs::path> standalone_repository_files(const fs::path& root) {
+  const std::set<std::string> folders = {"src",     "include",  "tests", "bench", "fuzz",
+                                         "scripts", "problems", "docs",  "cmake", ".ci"};
+  const auto ignored = [](const fs::path& p) {
+    const std::string name = p.filename().string();
+    return name == "__pycache__" || p.extension() == ".swp";
+  };
+  std::vector<fs::path> files;
+  for (const auto& top : fs::directory_iterator(root)) {
+    const std::string name = top.path().filename().string();
+    if (top.is_regular_file() && name != ".git" && !ignored(top.path())) {
+      files.push_back(top.path());
+    } else if (top.is_directory() && folders.count(name)) {
+      for (auto it = fs::recursive_directory_iterator(top.path()); it != fs::recursive_directory_iterator(); ++it) {
+        if (ignored(it->path())) {
+          if (it->is_directory()) it.disable_recursion_pending();
+          continue;
+        }
+        if (it->is_regular_file()) files.push_back(it->path());
+      }
+    }
+  }
+  std::vector<fs::path> text;
+  for (const fs::path& f : files) {
+    std::ifstream in(f, std::ios::binary);
+    const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (content.find('\0') == std::string::npos) text.push_back(fs::relative(f, root));
+  }
+  std::sort(text.begin(), text.end());
+  return text;
+}
+
+}  // namespace
+
+// A clone has only what is in the repository: no path may lead out of it (the shared folder beside
+// the working copy, its documents and data), no citation may name a document that lives there (the
+// model and the style guide the repository restates in docs/), and no comment may send its reader to
+// a tracker's issue number instead of saying the reason. Each pattern is written in two pieces so
+// that this file does not match itself.
+TEST(House, NothingPointsOutsideTheRepository) {
+  const fs::path root(HEMICONTACT_SOURCE_DIR);
+  const std::vector<std::string> pieces = {std::string("shared/") + "docs", std::string("shared/") + "data",
+                                           std::string("../") + "shared", std::string("MODEL") + ".md",
+                                           std::string("STYLE") + ".md"};
+  const std::regex tracker(std::string(R"(\b[Ii]ssues? #?)") + "[0-9]+");
+  const std::vector<fs::path> files = standalone_repository_files(root);
+  ASSERT_GT(files.size(), 200u);  // the tree was found
+  for (const fs::path& rel : files) {
+    std::ifstream in(root / rel);
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+      std::string found;
+      for (const std::string& p : pieces)
+        if (line.find(p) != std::string::npos) found = "'" + p + "'";
+      std::smatch m;
+      if (found.empty() && std::regex_search(line, m, tracker)) found = "tracker reference '" + m.str() + "'";
+      if (!found.empty())
+        ADD_FAILURE() << rel.string() << ":" << n << ": " << found
+                      << " points outside the repository: " << line.substr(0, 160);
+    }
+  }
 }

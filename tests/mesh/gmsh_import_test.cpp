@@ -241,7 +241,7 @@ TEST(GmshImport, FallbackWithoutGmsh) {
   EXPECT_TRUE(has_text(e, "not compiled in") && has_text(e, "libgmsh-dev")) << e;
 }
 
-// Issue 28: Gmsh picks a file's format from its content and runs anything that is not a mesh as
+// Gmsh picks a file's format from its content and runs anything that is not a mesh as
 // a script: a file named evil.msh holding `SystemCall "touch PATH";` ran the command, and
 // `Printf(...) > "PATH";` wrote files. Without allow_scripts the MSH header is checked before Gmsh
 // sees the file; the script does nothing and the message names mesh.allow_scripts.

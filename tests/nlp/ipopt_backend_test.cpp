@@ -106,7 +106,7 @@ TEST(SolveStatus, ToString) {
 // ------------------------------------------------------------------ test problems themselves
 
 // The reference answers are only as good as the test objectives' derivatives: check them by
-// finite differences at several points (STYLE.md §7, tests/support/fd_check.hpp).
+// finite differences at several points (tests/support/fd_check.hpp, the checker of the energy terms).
 TEST(TestProblems, DerivativesMatchFiniteDifferences) {
   const BoxQp q = make_box_qp();
   const QuadraticObjective quad(q.A, q.b);
@@ -250,9 +250,10 @@ TEST(IpoptBackend, ChainedRosenbrockInactiveBounds) {
   EXPECT_LE((x - Vec::Ones(n)).cwiseAbs().maxCoeff(), 1e-8);
 }
 
-// Ipopt's own derivative checker (STYLE.md §3: turn on derivative_test in one test). Ipopt only
-// reports what it finds and carries on, so its report is sent to a file and read back; the
-// negative case shows the check would catch a wrong gradient.
+// Ipopt's own derivative checker (derivative_test, on in this one test: Ipopt itself confirms that
+// the adapter hands it the right derivatives). Ipopt only reports what it finds and carries on, so
+// its report is sent to a file and read back; the negative case shows the check would catch a wrong
+// gradient.
 TEST(IpoptBackend, IpoptDerivativeTestPasses) {
   HEMICONTACT_REQUIRE_IPOPT();
   const DoubleWellObjective well;

@@ -31,7 +31,7 @@ namespace {
 #define HEMICONTACT_REQUIRE_NLOPT() \
   if (!HEMICONTACT_HAS_NLOPT) GTEST_SKIP() << "NLopt backends not compiled in (install libnlopt-cxx-dev and rebuild)"
 
-/// The local algorithms the issue names, plus the other Luksan codes offered.
+/// The main bound-constrained local algorithms, plus the other Luksan codes offered.
 const std::vector<std::string> NAMED_LOCAL = {"LD_MMA", "LD_CCSAQ", "LD_SLSQP", "LD_LBFGS"};
 const std::vector<std::string> ALL_LOCAL = {
     "LD_MMA",  "LD_CCSAQ",   "LD_SLSQP",           "LD_LBFGS",           "LD_VAR1",
@@ -171,7 +171,7 @@ TEST(NloptBackend, OptionsAreCheckedNotIgnored) {
                         {"LN_BOBYQA", "derivative-free"});
   expect_minimize_error("nlopt:G_MLSL_LDS+LD_MMA", p, x0, with("local_algorithm", "LD_LBFGS"),
                         {"local_algorithm", "contradicts"});
-  // Issue 28: numbers beyond what NLopt can size (vector_storage = 2^31 - 1 overflowed its int
+  // Numbers beyond what NLopt can size (vector_storage = 2^31 - 1 overflowed its int
   // work-array size and corrupted the heap; population = 2^31 - 1 hung MLSL) are refused with the
   // key and the range, before NLopt runs.
   for (const char* algo : {"nlopt:LD_LBFGS", "nlopt:LD_VAR1"})
@@ -569,7 +569,7 @@ TEST(NloptScenesDefaultTol, StallAtRoundoffFloorAndSaySo) {
   EXPECT_NE(s.sol.message.find("stalled"), std::string::npos) << s.sol.message;
 }
 
-// With the exact inner solver behind the continuation (the default, issue 15) the same stall is no
+// With the exact inner solver behind the continuation (the default) the same stall is no
 // failure: the first stage's answer, stopped at the algorithm's round-off floor, is the
 // neighbourhood the exact solver starts from, and the answer is certified. Every local algorithm,
 // both paper scenes, default tol: certified, the hand-over names the backend and why it handed

@@ -1,7 +1,7 @@
 #pragma once
 /// @file test_problems.hpp  Small NlpObjective implementations with known minimizers, for the
-/// backend tests (every backend should pass the same problems; see STYLE.md §7 "all backends
-/// agree").
+/// backend tests (every backend should pass the same problems, so that backends that disagree show
+/// up here rather than in a scene).
 ///
 /// Each objective derives from DenseObjective, which turns a dense lower-triangle Hessian into the
 /// fixed sparse pattern NlpObjective promises (explicit zeros kept, values written in place).

@@ -704,7 +704,7 @@ TEST(OutputDir, CreatesRefusesFilesAndKeepsResults) {
   EXPECT_EQ(read_text(file), "user data\n");
 
   // A report.json the manifest does not list is not ours: refused as a name the run would write,
-  // kept with --force (issue 28: it proved that the tool wrote the folder, and --force then
+  // kept with --force (it once counted as proof that the tool wrote the folder, and --force then
   // removed the user's files).
   std::ofstream(nested + "/report.json") << "{}\n";
   EXPECT_EQ(input_error_of([&] { prepare_output_dir(nested, true, {"report.json"}); }),
@@ -751,7 +751,7 @@ TEST(OutputDir, ForceReplacesExactlyTheFilesOfTheEarlierRun) {
                   "'gamma3.csv' exists and was not written by hemicontact");
   EXPECT_EQ(read_text(out + "/gamma3.csv"), "the user's own\n");
 
-  // Issue 28: a report.json without a manifest of ours proves nothing (a user's, or anyone's):
+  // A report.json without a manifest of ours proves nothing (a user's, or anyone's):
   // the names the run would write are refused, with --force too, and nothing is removed.
   const std::string old = dir / "old";
   fs::create_directories(old);
@@ -787,7 +787,7 @@ TEST(OutputDir, ManifestParserKeepsPlainNamesAfterTheSignature) {
   EXPECT_FALSE(plain_output_name(std::string("a\0b", 3)));
 }
 
-// Issue 28, BAD 1: nothing in the folder is written, read or removed through a symbolic link, and
+// Nothing in the folder is written, read or removed through a symbolic link, and
 // a FIFO is refused rather than opened (it hung the run). Each name the run uses is named.
 TEST(OutputDir, LinksAndFifosInTheFolderAreRefusedNotFollowed) {
   TempDir dir("links");

@@ -1,7 +1,7 @@
-// Model keeps one stiffness, K_x = Tᵀ K T (issue 14). Its bilinear form a(u, v), elastic energy and
-// internal force must agree with the full K (assembled here independently) wherever they are used:
-// on displacements that vanish on Γ1 and on roller-held components, and on the rows the
-// certificate reads (free dofs and Γ3 nodes).
+// Model keeps one stiffness, K_x = Tᵀ K T (the largest array of a run). Its bilinear form a(u, v),
+// elastic energy and internal force must agree with the full K (assembled here independently)
+// wherever they are used: on displacements that vanish on Γ1 and on roller-held components, and on
+// the rows the certificate reads (free dofs and Γ3 nodes).
 #include <hemicontact/fem/assembly.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
@@ -84,7 +84,7 @@ TEST(Model, InternalForceEqualsFullStiffnessOnTheRowsTheCertificateReads) {
   EXPECT_GE(held_gamma3, 1);  // the roller holds a Γ3 node: its full force is there
 }
 
-// Issue 14: K_x is assembled straight into the free dofs' pattern (no full K). It must equal the
+// K_x is assembled straight into the free dofs' pattern (no full K). It must equal the
 // definition Tᵀ K T (two sparse products of the full K) to round-off, with sorted rows, on scenes
 // with everything the selection handles: Γ1, a roller (held components, one on a Γ3 node),
 // perturbed Γ3 frames in 2D, and 3D (frames with two tangents).
@@ -104,7 +104,7 @@ TEST(Model, ReducedAssemblyEqualsTheReducedFullStiffness) {
   check(build_model(scene3d, HEMICONTACT_SOURCE_DIR "/problems"));
 }
 
-// Issue 16: each rank of the petsc engine assembles only its own columns (= rows, K_x symmetric),
+// Each rank of the petsc engine assembles only its own columns (= rows, K_x symmetric),
 // split at node boundaries. Every such slice must be exactly those columns of K_x and nothing else:
 // on the half fig2 scene (perturbed mesh, a roller on a Γ3 node: node blocks of uneven size) and
 // on the 3D box (Γ3 frames, 3 × 3 blocks).

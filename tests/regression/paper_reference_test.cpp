@@ -1,8 +1,8 @@
-// The paper's example (MODEL.md §5) against an independent exact solution
-// (tests/data/paper-reference-small.json, a copy of shared/data/paper-reference-small.json):
+// The paper's example (docs/model.md §5) against an independent exact solution
+// (tests/data/paper-reference-small.json; its "about" field says how it was computed):
 // n = 4, 8, 'right' mesh, loads as printed (s = 1) and × 1e6 (s = 1e6). Every case with both
 // exact backends (ipopt, newton) and both paths: the default (the exact inner solver takes over
-// from the continuation, issue 15) and the continuation alone (solver.exact.enabled = false):
+// from the continuation) and the continuation alone (solver.exact.enabled = false):
 // the default certifies what the continuation certified, with the same answer.
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>

@@ -46,7 +46,7 @@ json minimal_scene() {
   })");
 }
 
-/// The paper's example (MODEL.md §5), exercising most sections.
+/// The paper's example (docs/model.md §5), exercising most sections.
 json paper_scene() {
   return json::parse(R"({
     "description": "paper example",

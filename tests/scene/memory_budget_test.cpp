@@ -1,4 +1,4 @@
-// Issue 28: the memory estimate's budget is the process's, not the machine's: the cgroup limit
+// The memory estimate's budget is the process's, not the machine's: the cgroup limit
 // (v2 memory.max, v1 memory.limit_in_bytes, of the process's group and the groups above it) less
 // its usage without the inactive page cache, read here from a folder laid out like / (cgroup_memory_budget's root).
 #include <hemicontact/scene/build_model.hpp>

@@ -1,4 +1,4 @@
-// The outer fixed point λ = F_b(u_ν) (MODEL.md §2) under stress: its measured contraction factor,
+// The outer fixed point λ = F_b(u_ν) (docs/model.md §2) under stress: its measured contraction factor,
 // a scene where it does not contract and says so, and what the relaxed update θ < 1 buys.
 //
 // Scene: fig2 at n = 16 without rigid obstacle and without side tractions, with a large horizontal

@@ -1,8 +1,8 @@
 #pragma once
-/// @file random_scenes.hpp  Randomized stress scenes with fixed seeds (issue 6): parameters drawn
-/// over the issue's ranges, written as `--set` overrides of problems/sofonea2017-fig2.json so that
-/// any seed can be rerun from the command line. Shared by tests/stress/random_test.cpp (fast part)
-/// and bench/stress_report.cpp (full part).
+/// @file random_scenes.hpp  Randomized stress scenes with fixed seeds: parameters drawn over
+/// realistic and extreme ranges, written as `--set` overrides of problems/sofonea2017-fig2.json so
+/// that any seed can be rerun from the command line. Shared by tests/stress/random_test.cpp (fast
+/// part) and bench/stress_report.cpp (full part).
 ///
 /// Portability: std::mt19937's output sequence is fixed by the standard, the library's
 /// distributions are not (libstdc++ and libc++ differ), so every draw maps raw 32-bit outputs
@@ -106,10 +106,10 @@ inline RandomScene draw_scene(unsigned seed, int n_min, int n_max) {
   return s;
 }
 
-/// Scene @p seed of the default-settings study (issue 15): the physics of draw_scene (E, ν, plane
-/// stress/strain, loads, the layer law c1, c2, c3, r1, r2, μ, g, the mesh, its perturbation and
-/// aspect; realistic and extreme alike) with NO solver override: ε, iteration caps and tolerances
-/// stay at their defaults. check.smallness stays off (a diagnostic, timed apart).
+/// Scene @p seed of the default-settings study (bench/random_study.cpp): the physics of draw_scene
+/// (E, ν, plane stress/strain, loads, the layer law c1, c2, c3, r1, r2, μ, g, the mesh, its
+/// perturbation and aspect; realistic and extreme alike) with NO solver override: ε, iteration caps
+/// and tolerances stay at their defaults. check.smallness stays off (a diagnostic, timed apart).
 inline RandomScene draw_default_scene(unsigned seed, int n_min, int n_max) {
   RandomScene s = draw_scene(seed, n_min, n_max);
   std::vector<std::string> o;

@@ -1,8 +1,8 @@
-// Randomized stress scenes with fixed seeds, fast part (issue 6): each drawn scene either converges
-// with its certificate below tolerance or says it did not (a non-empty message and a reason: the
-// fixed point, the backend or the certificate) — never NaN, never a crash, never an uncertified
-// answer presented as converged. The full part (300 seeds, finer meshes) is
-// bench/stress_report.cpp. A failing seed prints the command line that reruns it.
+// Randomized stress scenes with fixed seeds, fast part: each drawn scene either converges with its
+// certificate below tolerance or says it did not (a non-empty message and a reason: the fixed
+// point, the backend or the certificate) — never NaN, never a crash, never an uncertified answer
+// presented as converged. The full part (300 seeds, finer meshes) is bench/stress_report.cpp. A
+// failing seed prints the command line that reruns it.
 #include "stress/random_scenes.hpp"
 
 #include <hemicontact/core/error.hpp>
@@ -115,11 +115,11 @@ TEST(RandomScenesPolish, StatusesReadAtTheSmoothingScale) {
   EXPECT_LT(s.certificate.max_residual, 1e-12);
 }
 
-// Issue 15's study in CI: seeds 1..48 of draw_default_scene (n = 4..8) with DEFAULT solver
-// settings. Each is certified or honestly not (as above), every strongly convex inner problem is
-// certified (a solution exists there, so a failure would be the solver's), and a floor on the
-// count: CERTIFIED_MEASURED when it was set, less a margin of 1 for a machine whose rounding tips a
-// borderline draw. The 1000-seed study is bench/random_study.cpp.
+// The default-settings study in CI: seeds 1..48 of draw_default_scene (n = 4..8) with DEFAULT
+// solver settings. Each is certified or honestly not (as above), every strongly convex inner
+// problem is certified (a solution exists there, so a failure would be the solver's), and a floor
+// on the count: CERTIFIED_MEASURED when it was set, less a margin of 1 for a machine whose rounding
+// tips a borderline draw. The 1000-seed study is bench/random_study.cpp.
 TEST(RandomScenesDefault, CertifiedWithDefaultSettingsWithAFloor) {
   constexpr int SEEDS = 48, CERTIFIED_MEASURED = 48, MARGIN = 1;
   int certified = 0, solved = 0;

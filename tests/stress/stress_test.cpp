@@ -1,6 +1,6 @@
-// Fast part of the numerical stress tests (issue "Studies and stability"): each case either
-// converges with a passing certificate or reports non-convergence — never NaN, never a crash, never
-// an uncertified answer presented as converged.
+// Fast part of the numerical stress tests: each case either converges with a passing certificate or
+// reports non-convergence — never NaN, never a crash, never an uncertified answer presented as
+// converged.
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>

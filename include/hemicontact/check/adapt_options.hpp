@@ -29,9 +29,9 @@ struct AdaptOptions {
   double landing = 1.1;
   /// OpenBLAS threads during the loop (restored after it; 0: leave the BLAS as configured; an
   /// OPENBLAS_NUM_THREADS in the environment wins). The levels' 2D factorizations have small
-  /// supernodes, where BLAS threads only synchronize: on the 2-core machine of issue 17 the fig2
-  /// run to 1 % took 1.42 s CPU / 1.47 s wall with OpenBLAS's default 2 threads and 0.90 / 0.98 s
-  /// with 1. No effect with another BLAS (the OpenBLAS entry points are looked up at run time).
+  /// supernodes, where BLAS threads only synchronize: on a 2-core machine the fig2 run to 1 % took
+  /// 1.42 s CPU / 1.47 s wall with OpenBLAS's default 2 threads and 0.90 / 0.98 s with 1. No effect
+  /// with another BLAS (the OpenBLAS entry points are looked up at run time).
   int blas_threads = 1;
   EstimatorKind estimator = EstimatorKind::ZZ;
   BisectionRule bisection = BisectionRule::BISEC3;

@@ -1,5 +1,5 @@
 #pragma once
-/// @file certificate.hpp  Is u a solution of the *unsmoothed* discrete problem (22)? (MODEL.md §4)
+/// @file certificate.hpp  Is u a solution of the *unsmoothed* discrete problem (22)? (docs/model.md §4)
 ///
 /// Independent of the backend and of any smoothing: tractions come from the discrete equilibrium
 /// (K u − f)_i = w_i σ_i ν-frame at Γ3 nodes; ξ, λ from the exact laws at u_ν. Residuals:

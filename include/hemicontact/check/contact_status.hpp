@@ -1,6 +1,6 @@
 #pragma once
 /// @file contact_status.hpp  Γ3 tractions from the discrete equilibrium and the contact status of
-/// each node (MODEL.md §3-§4; deal.II step-41: the contact force is the residual of the
+/// each node (docs/model.md §3-§4; deal.II step-41: the contact force is the residual of the
 /// unconstrained system divided by the nodal weight).
 
 #include <hemicontact/problem/contact_state.hpp>

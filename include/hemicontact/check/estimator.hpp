@@ -14,7 +14,7 @@
 ///     η_T² = (1/m_F) [ h_T² ‖f0 + div σ_h‖²_T + ½ Σ_{E⊂∂T interior} h_E ‖[σ_h n]‖²_E
 ///                       + Σ_{E⊂∂T∩(Γ2 ∪ free)} h_E ‖f2 − σ_h n‖²_E + Σ_{E⊂∂T∩Γ3} h_E ‖t_h − σ_h n‖²_E ]
 ///   with div σ_h = 0 on P1 cells (σ_h constant per cell), f2 = 0 on traction-free facets, and on
-///   Γ3 t_h the P1 interpolant of the nodal tractions t_i = (K u − f)_i / w_i (MODEL.md §4); at a
+///   Γ3 t_h the P1 interpolant of the nodal tractions t_i = (K u − f)_i / w_i (docs/model.md §4); at a
 ///   certified solution t_i equals the contact terms −(ξ_i + rigid reaction) ν_i − friction within
 ///   the certificate tolerance, so the last term is the mismatch between the computed stress and
 ///   the layer/foundation/friction reactions. 1/m_F (the strong-monotonicity constant (12)(b))

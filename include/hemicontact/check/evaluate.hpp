@@ -1,6 +1,6 @@
 #pragma once
 /// @file evaluate.hpp  What a displacement is worth on the unsmoothed problem (22): its Γ3 state,
-/// statuses, certificate (MODEL.md §4) and energies. The solve, the polish and the studies all
+/// statuses, certificate (docs/model.md §4) and energies. The solve, the polish and the studies all
 /// judge a candidate with this one function.
 
 #include <hemicontact/problem/model.hpp>

@@ -1,7 +1,7 @@
 #pragma once
 /// @file contact_nodes.hpp  Γ3 nodes with nodal-quadrature weights w_i, normals ν_i, frames and gaps g_i.
 ///
-/// MODEL.md §2: the contact integrals ∫Γ3 j_ν(u_ν), ∫Γ3 F_b|u_τ| are evaluated by nodal quadrature:
+/// docs/model.md §2: the contact integrals ∫Γ3 j_ν(u_ν), ∫Γ3 F_b|u_τ| are evaluated by nodal quadrature:
 /// node i carries w_i = Σ |F|/d over the Γ3 facets F touching it (half the adjacent lengths in 2D).
 /// Its normal ν_i is the facet normal; at a kink of Γ3 it is the measure-weighted average of the
 /// adjacent facet normals, normalized (this makes Σ_i w_i ν_i equal ∫Γ3 ν, the consistent choice for

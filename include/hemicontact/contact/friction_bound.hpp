@@ -5,7 +5,7 @@
 /// where u_τ ≠ 0. The paper assumes (15):
 /// \f[ \text{(a)}\ |F_b(r_1) - F_b(r_2)| \le L_{F_b} |r_1 - r_2|, \qquad
 ///     \text{(c)}\ F_b(r) = 0 \text{ for } r \le 0,\ F_b(r) \ge 0 \text{ for } r \ge 0 . \f]
-/// The solver lags F_b: each outer pass freezes \f$ \lambda_i = F_b(u_{\nu,i}) \f$ (MODEL.md §2), so a
+/// The solver lags F_b: each outer pass freezes \f$ \lambda_i = F_b(u_{\nu,i}) \f$ (docs/model.md §2), so a
 /// bound is only ever evaluated at a given u_ν, and uses the EXACT (unmollified) law.
 /// L_Fb enters the smallness condition (21).
 
@@ -26,7 +26,7 @@ class FrictionBound {
   /// @brief Lipschitz constant L_Fb of (15a). @return L_Fb; +INF if F_b is discontinuous
   virtual double lipschitz() const = 0;
   /// @brief Whether F_b varies with u_ν. If false, λ is fixed and the outer fixed-point loop
-  /// (MODEL.md §2) needs one pass only. @return true if F_b is not constant
+  /// (docs/model.md §2) needs one pass only. @return true if F_b is not constant
   virtual bool depends_on_u_nu() const = 0;
   /// @brief One-line description for logs and the report. @return description
   virtual std::string describe() const = 0;

@@ -24,7 +24,7 @@ namespace hemicontact {
 /// @brief Exact piecewise-linear normal law (kinks and jumps kept), e.g. the paper's (32).
 ///
 /// j_ν is C¹ where p_ν is continuous and only Lipschitz at jumps; it is nonconvex wherever a
-/// slope is negative (softening, c2 < 0 in (32)). Use it for the certificate (MODEL.md §4) and
+/// slope is negative (softening, c2 < 0 in (32)). Use it for the certificate (docs/model.md §4) and
 /// for the lagged friction bound (34); the NLP sees MollifiedLaw.
 class PiecewiseLinearLaw : public NormalLaw {
  public:

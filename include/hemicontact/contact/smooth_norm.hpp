@@ -1,7 +1,7 @@
 #pragma once
 /// @file smooth_norm.hpp  C² mollifier of the slip norm |u_τ| (friction term of (20)/(22)), exact for |u_τ| ≥ ε.
 ///
-/// The friction energy \f$ \sum_i w_i \lambda_i |u_{\tau,i}| \f$ (MODEL.md §2) is not differentiable at
+/// The friction energy \f$ \sum_i w_i \lambda_i |u_{\tau,i}| \f$ (docs/model.md §2) is not differentiable at
 /// u_τ = 0. Following ipc-toolkit's friction mollifier we replace |y| by
 /// \f[ f_0(y) = \begin{cases} -\dfrac{y^3}{3\varepsilon^2} + \dfrac{y^2}{\varepsilon} + \dfrac{\varepsilon}{3}
 ///       = y + \dfrac{\varepsilon}{3}\Big(1-\dfrac{y}{\varepsilon}\Big)^3 & 0 \le y < \varepsilon

@@ -12,7 +12,7 @@ enum ExitCode : int {
   EXIT_USAGE = 1,          ///< bad command line
   EXIT_INPUT = 2,          ///< bad input: scene, mesh, parameters, output directory; or too big for the memory
   EXIT_NOT_CONVERGED = 3,  ///< a solver or the outer fixed point did not converge; a requested target not met
-  EXIT_CERTIFICATE = 4,    ///< converged, but the certificate (MODEL.md §4) failed
+  EXIT_CERTIFICATE = 4,    ///< converged, but the certificate (docs/model.md §4) failed
   EXIT_INTERNAL = 5,       ///< anything else (a bug)
   EXIT_OUTPUT = 6          ///< the results could not be written (disk full, permissions, file-size limit)
 };

@@ -4,7 +4,7 @@
 ///
 /// Every result file is JSON, and JSON text is UTF-8: a string that is not valid UTF-8 cannot be
 /// written at all (nlohmann::json::dump throws). Such text is therefore refused where it enters
-/// (issue 28: a --set description with a Latin-1 byte lost a whole study's results at the end).
+/// (a --set description with a Latin-1 byte once lost a whole study's results at the end).
 
 #include <cstddef>
 #include <string>

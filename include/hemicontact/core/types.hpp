@@ -24,8 +24,8 @@ using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowM
 using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 /// A SpMat that moves. Eigen 3.4's SparseMatrix has neither a move constructor nor a move
 /// assignment, so a struct holding one (the model's stiffness, the largest array of a run) is
-/// copied whenever it is moved: `model = build_model(...)` cost a full copy of K_x (issue 14). This
-/// holder moves by swap; everything else is SpMat's (it binds to `const SpMat&`).
+/// copied whenever it is moved: `model = build_model(...)` cost a full copy of K_x. This holder
+/// moves by swap; everything else is SpMat's (it binds to `const SpMat&`).
 class MovableSpMat : public SpMat {
  public:
   using SpMat::SpMat;

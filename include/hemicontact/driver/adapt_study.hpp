@@ -2,12 +2,12 @@
 /// @file study.hpp  Work-precision study: uniform, graded and adaptive meshes of one scene against
 /// one reference solution (`hemicontact converge --adaptive`, bench/adapt_study.cpp).
 ///
-/// The reference is either a fine uniform mesh (reference "uniform:R", the issue's choice) or a
-/// deeper run of the same adaptive sequence (reference "adaptive:T", target estimate T): marking is
-/// deterministic, so the adaptive levels of the study are then a prefix of the reference's sequence
-/// and nested in its final mesh. Every other mesh's solution u_h is carried to the reference mesh's
-/// nodes by point location (fem/prolongation.hpp: the P1 interpolant, exact where the reference
-/// refines the mesh), and its error is
+/// The reference is either a fine uniform mesh (reference "uniform:R") or a deeper run of the same
+/// adaptive sequence (reference "adaptive:T", target estimate T): marking is deterministic, so the
+/// adaptive levels of the study are then a prefix of the reference's sequence and nested in its
+/// final mesh. Every other mesh's solution u_h is carried to the reference mesh's nodes by point
+/// location (fem/prolongation.hpp: the P1 interpolant, exact where the reference refines the mesh),
+/// and its error is
 ///   e_h = ‖u_ref − I_ref u_h‖_E / ‖u_ref‖_E,   ‖v‖_E² = vᵀ K_ref v.
 /// What this cannot see: the reference's own error e_ref. For nested meshes and a linear problem
 /// e_h² = e_true² − e_ref² (Galerkin orthogonality), so e_h is meaningful only well above e_ref: a

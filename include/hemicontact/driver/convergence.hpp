@@ -1,5 +1,5 @@
 #pragma once
-/// @file convergence.hpp  Mesh-convergence study of a scene (paper §5, Fig. 3; MODEL.md §5).
+/// @file convergence.hpp  Mesh-convergence study of a scene (paper §5, Fig. 3; docs/model.md §5).
 ///
 /// The scene is solved on uniform meshes n = L for each level L and on a reference mesh n = R,
 /// every level by overriding `mesh.n` (so nx = ny [= nz for a box] = L). With u_ref the reference solution and P the

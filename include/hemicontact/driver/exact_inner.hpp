@@ -1,10 +1,10 @@
 #pragma once
 /// @file exact_inner.hpp  Exact solver of the condensed inner problem with the friction bound λ
-/// frozen (issue 15), no smoothing:
+/// frozen, no smoothing:
 ///
 ///   min Φ_λ(x) = ½ (x − y)ᵀ S (x − y) + Σ_k w_k j_ν(x_ν,k) + Σ_k w_k λ_k |x_τ,k|,  x_ν,k ≤ g_k,
 ///
-/// the discrete energy Π_λ of MODEL.md §2 after static condensation (fem/condensation.hpp; S the
+/// the discrete energy Π_λ of docs/model.md §2 after static condensation (fem/condensation.hpp; S the
 /// Schur complement, y = (K⁻¹f)_C). j_ν is piecewise quadratic (p_ν piecewise linear, eqs. (32),
 /// (33), with kinks and jumps), the friction term is a weighted norm, the bound a box: the
 /// optimality system is piecewise linear (2D) or piecewise smooth (3D, the disk |σ_τ| ≤ λ).
@@ -24,7 +24,7 @@
 ///    search on Φ_λ (exact), projected on x_ν ≤ g. In 2D the factorization of the reduced Hessian
 ///    is kept while the pinned set and the slopes of p_ν stay the same.
 ///
-/// It stops when the stationarity residual of Φ_λ (the certificate of MODEL.md §4 with λ held
+/// It stops when the stationarity residual of Φ_λ (the certificate of docs/model.md §4 with λ held
 /// fixed, in the certificate's traction units) is at most ExactInnerOptions::tol. From any start
 /// the energy decreases monotonically; for a strongly convex Φ_λ (see inner_convexity) the
 /// minimizer is unique and the sweeps alone converge to it, Newton only makes it fast.
@@ -51,7 +51,7 @@ struct ExactInnerProblem {
   Vec lambda;                              ///< frozen friction bounds λ_k ≥ 0
   const PiecewiseLinearLaw* law = nullptr;  ///< exact p_ν; null: no soft layer (j_ν = 0)
   std::vector<unsigned> fixed;             ///< per node, bit c set: local unknown c held at 0 (roller)
-  double traction_scale = 1;               ///< the certificate's traction scale (MODEL.md §4)
+  double traction_scale = 1;               ///< the certificate's traction scale (docs/model.md §4)
 };
 
 /// What the exact inner solve did.
@@ -81,8 +81,8 @@ ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const Exa
 /// triangular solves). Skipped above @p max_unknowns (the dense factorization costs m³/3).
 InnerConvexity inner_convexity(const Mat& S, const Vec& w, int d, const PiecewiseLinearLaw* law, Index max_unknowns);
 
-/// Anderson acceleration (type II, memory m) of a fixed-point iteration λ = G(λ) (issue 15: the
-/// outer map λ ↦ F_b(u_ν(λ)) need not contract). Each call takes λ_k and G(λ_k) and returns
+/// Anderson acceleration (type II, memory m) of a fixed-point iteration λ = G(λ) (the outer
+/// map λ ↦ F_b(u_ν(λ)) need not contract). Each call takes λ_k and G(λ_k) and returns
 /// λ_{k+1} = G(λ_k) − ΔG γ, γ = argmin ‖f_k − ΔF γ‖₂ over the last m differences of f = G(λ) − λ
 /// and of G; with m = 0 it is the plain iteration λ_{k+1} = G(λ_k).
 class Anderson {

@@ -2,7 +2,7 @@
 /// @file minima.hpp  Many starts, many solutions: a search for the distinct solutions of (22) when
 /// the smallness condition (21) fails (`hemicontact minima`).
 ///
-/// When (21) fails, Π_λ(u) = ½a(u,u) − f(u) + Σ w_i j_ν(u_ν,i) + Σ w_i λ_i |u_τ,i| (MODEL.md §2) is
+/// When (21) fails, Π_λ(u) = ½a(u,u) − f(u) + Σ w_i j_ν(u_ν,i) + Σ w_i λ_i |u_τ,i| (docs/model.md §2) is
 /// nonconvex and (22) may have several solutions: local minima and saddles. A local method (every
 /// NLP backend here) finds the one whose basin holds its start. find_minima() therefore
 ///
@@ -20,7 +20,7 @@
 ///     - "user-k": what the caller gives (MinimaOptions::user_starts);
 ///     where U_s = the solver's displacement scale (max |Γ3 unknown| of the unconstrained elastic
 ///     solution, Solution::x_scale);
-///  2. verifies each result with the certificate (MODEL.md §4), the only judge: a result that
+///  2. verifies each result with the certificate (docs/model.md §4), the only judge: a result that
 ///     passes it is a solution of (22) even if its backend stopped short of its own tolerance
 ///     (MinimaRun::converged records that); uncertified results are listed but not grouped;
 ///  3. groups the certified results into distinct solutions: a result joins the first group whose

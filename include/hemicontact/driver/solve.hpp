@@ -1,6 +1,6 @@
 #pragma once
 /// @file solve.hpp  The design's solve: min Π_λ subject to u_ν ≤ g, smoothed, handed to an NLP
-/// backend, inside the outer fixed point λ_i = F_b(u_ν,i) (MODEL.md §2), then the exact solver.
+/// backend, inside the outer fixed point λ_i = F_b(u_ν,i) (docs/model.md §2), then the exact solver.
 /// ContactSolver::solve() is this, one named step per line (src/driver/solve.cpp):
 ///
 ///   exact_first: solver.backend = auto and Φ_λ strongly convex (unique minimizer), or
@@ -17,7 +17,7 @@
 ///                the polish on the stage's statuses if that is certified, else   exact_solve
 ///                the exact solver (unsmoothed Φ_λ, Anderson on λ = F_b(u_ν)) from z
 ///   polish:      solve the unsmoothed conditions of (22) on the identified statuses (polish.hpp)
-///   certify:     the certificate of u (MODEL.md §4) decides; timings and the verdict
+///   certify:     the certificate of u (docs/model.md §4) decides; timings and the verdict
 ///   last resort: not certified → the exact solver from the start; kept only if certified
 ///
 /// Every minimization is recorded with its solver (OuterIteration::solver): reports count the

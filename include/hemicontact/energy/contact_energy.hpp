@@ -1,5 +1,5 @@
 #pragma once
-/// @file contact_energy.hpp  The nodal contact terms on Γ3 (MODEL.md §2), kernels on NodalTerm:
+/// @file contact_energy.hpp  The nodal contact terms on Γ3 (docs/model.md §2), kernels on NodalTerm:
 ///   normal compliance  Σ_i w_i j_ε(x_ν,i)                (soft layer, eqs. (32)-(33) mollified)
 ///   lagged friction     Σ_i w_i λ_i f0(|x_τ,i|, ε_τ)      (eq. (6), |·| smoothed)
 /// Both are separable per node in the local frame, so their Hessians are nodal blocks inside

@@ -1,5 +1,5 @@
 #pragma once
-/// @file energy_term.hpp  One additive term of the discrete energy Π_λ (MODEL.md §2), in the
+/// @file energy_term.hpp  One additive term of the discrete energy Π_λ (docs/model.md §2), in the
 /// solver's reduced unknowns x (free dofs; Γ3 nodes in their local (ν, τ) frame).
 ///
 /// polyfem's "form" shape: value, gradient, Hessian, and a hook to re-freeze lagged data; the

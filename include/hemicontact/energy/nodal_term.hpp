@@ -1,10 +1,10 @@
 #pragma once
-/// @file nodal_term.hpp  The shared layer of the nodal contact terms on Γ3 (STYLE.md §2; ipc-toolkit's
-/// `Potential`): a term Σ_k e_k(x_k) whose every summand depends only on the d local unknowns
-/// x_k = (x_ν, x_τ[, x_τ2]) of one Γ3 node k (nodal quadrature, MODEL.md §2). A derived term writes
-/// the per-node kernel (value e_k, gradient ∇e_k ∈ R^d, Hessian ∇²e_k ∈ R^{d×d}); this base sums the
-/// kernels into the global value and gradient and scatters the nodal blocks into the fixed
-/// lower-triangular Hessian pattern:
+/// @file nodal_term.hpp  The shared layer of the nodal contact terms on Γ3 (the scatter written
+/// once for every term, as in ipc-toolkit's `Potential`): a term Σ_k e_k(x_k) whose every summand
+/// depends only on the d local unknowns x_k = (x_ν, x_τ[, x_τ2]) of one Γ3 node k (nodal
+/// quadrature, docs/model.md §2). A derived term writes the per-node kernel (value e_k, gradient
+/// ∇e_k ∈ R^d, Hessian ∇²e_k ∈ R^{d×d}); this base sums the kernels into the global value and
+/// gradient and scatters the nodal blocks into the fixed lower-triangular Hessian pattern:
 /// \f[ E(x) = \sum_k e_k(x_k), \qquad \nabla E = \sum_k P_k^T \nabla e_k, \qquad
 ///     \nabla^2 E = \sum_k P_k^T \nabla^2 e_k P_k, \f]
 /// P_k selecting node k's unknowns. Where each block entry lies in the pattern's value array is

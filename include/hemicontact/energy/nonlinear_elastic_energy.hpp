@@ -1,6 +1,6 @@
 #pragma once
 /// @file nonlinear_elastic_energy.hpp  The elastic energy of a (possibly nonlinear) material,
-/// E(u) = Σ_T |T| W(ε_T(u)) (MODEL.md §2: ½ a(u,u) becomes ∫ W(ε(u)) with F = ∂W/∂ε), its gradient
+/// E(u) = Σ_T |T| W(ε_T(u)) (docs/model.md §2: ½ a(u,u) becomes ∫ W(ε(u)) with F = ∂W/∂ε), its gradient
 /// (the internal force vector r(u) = ∫ F(ε(u)) : ε(v)) and Hessian (the tangent stiffness
 /// K_t(u) = ∫ ε(v) : C(ε(u)) ε(w), C = ∂F/∂ε), P1 elements, one quadrature point per cell (exact:
 /// ε is constant on a cell).

@@ -21,15 +21,15 @@ SpMat assemble_stiffness(const Mesh& mesh, const Mat& D);
 /// K_x = Tᵀ K T for a constant Voigt matrix @p D, assembled straight into the free dofs' pattern
 /// (Γ1 and roller-held components never enter; Γ3 node blocks rotated into (ν, τ...) in place):
 /// equal to dofs.reduce(assemble_stiffness(mesh, D)) without the full K, which at 2.1M dofs was a
-/// 450 MB array assembled, reduced and freed (issue 14).
+/// 450 MB array assembled, reduced and freed.
 /// @param col_lo, col_hi only the columns [col_lo, col_hi) are assembled (whole nodes; the others
-/// stay empty): K_x is symmetric, so they are the rows a rank of the petsc engine owns (issue 16),
+/// stay empty): K_x is symmetric, so they are the rows a rank of the petsc engine owns,
 /// and the node graph is built for those nodes only. Default: all.
 MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const DofMap& dofs, Index col_lo = 0,
                                         Index col_hi = -1);
 
 /// The same, with the columns of the nodes marked in @p own_nodes (one flag per mesh node):
-/// the rows a rank of the petsc engine owns after the graph partitioner moved them (issue 16).
+/// the rows a rank of the petsc engine owns after the graph partitioner moved them.
 MovableSpMat assemble_reduced_stiffness(const Mesh& mesh, const Mat& D, const DofMap& dofs,
                                         const std::vector<char>& own_nodes);
 

@@ -5,7 +5,7 @@
 /// (node-major), then for each Γ3 node k its local components (x_ν, x_τ[, x_τ2]) — contact dofs
 /// last, which is the ordering static condensation wants. With R_k = [ν_k τ_k (ν_k×τ_k)] the map is
 /// u = T x (u_D = 0 on Γ1, eq. (3)); T has orthonormal columns, so x = Tᵀ u for any u that vanishes
-/// on Γ1, gradients map as g_x = Tᵀ g_u and Hessians as H_x = Tᵀ H_u T (MODEL.md §2). The bound
+/// on Γ1, gradients map as g_x = Tᵀ g_u and Hessians as H_x = Tᵀ H_u T (docs/model.md §2). The bound
 /// u_ν,k ≤ g_k is then the variable bound x_ν,k ≤ g_k.
 
 #include <hemicontact/contact/contact_nodes.hpp>

@@ -1,6 +1,6 @@
 #pragma once
 /// @file nonlinear_assembly.hpp  Assembly for a (possibly nonlinear) material: the elastic energy
-/// E(u) = Σ_T |T| W(ε_T(u)) (MODEL.md §2: ½ a(u,u) becomes ∫ W(ε(u)) with F = ∂W/∂ε), the internal
+/// E(u) = Σ_T |T| W(ε_T(u)) (docs/model.md §2: ½ a(u,u) becomes ∫ W(ε(u)) with F = ∂W/∂ε), the internal
 /// force vector r(u) = ∫ F(ε(u)) : ε(v) and the tangent stiffness K_t(u) = ∫ ε(v) : C(ε(u)) ε(w),
 /// C = ∂F/∂ε; P1 elements, one quadrature point per cell (exact: ε is constant on a cell).
 

@@ -9,7 +9,7 @@
 ///   (P u_h)(x) = Σ_a λ_a(x) u_h(x_a),   a over the d+1 nodes of T, each of the d components.
 /// On nested meshes (the fine mesh refines the coarse one) P is the exact embedding V_h ⊂ V_h/2 of
 /// the coarse P1 space, so ‖u_ref − P u_h‖_E is the true energy-norm error a(e, e)^{1/2} of u_h
-/// measured in the reference space (MODEL.md §5). On non-nested meshes it is the P1 interpolant of
+/// measured in the reference space (docs/model.md §5). On non-nested meshes it is the P1 interpolant of
 /// u_h, which reproduces every affine field exactly.
 ///
 /// Typical use (bench/study.cpp):

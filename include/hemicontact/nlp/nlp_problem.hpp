@@ -2,7 +2,7 @@
 /// @file nlp_problem.hpp  The bound-constrained minimization problem handed to an NLP backend.
 ///
 /// Backends see only this: an objective with value, gradient and a sparse Hessian on a fixed
-/// lower-triangular pattern, and simple bounds lower <= x <= upper (MODEL.md §2: with the Γ3
+/// lower-triangular pattern, and simple bounds lower <= x <= upper (docs/model.md §2: with the Γ3
 /// unknowns in their local (ν, τ) frame, u_ν <= g is a variable bound, so there are no
 /// constraint functions). No Ipopt/NLopt header is included here.
 

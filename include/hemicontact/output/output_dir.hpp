@@ -10,14 +10,14 @@
 /// of the user's with the name of one this run would write is refused before any work is done,
 /// --force or not.
 ///
-/// The folder is reached through one directory handle (issue 28): every file in it is opened,
-/// created, renamed and removed relative to that handle, never through a symbolic link (O_NOFOLLOW,
-/// fstatat without following), and only regular files are read or written; a symbolic link, FIFO,
-/// device or folder under a name the run uses is refused with a message naming it (a FIFO would
-/// hang the run, a link would redirect its writes). The --out path itself may be a link to a folder:
-/// that is the user's choice of place.
+/// The folder is reached through one directory handle, so that nothing planted in it can redirect
+/// or hang a run: every file in it is opened, created, renamed and removed relative to that handle,
+/// never through a symbolic link (O_NOFOLLOW, fstatat without following), and only regular files
+/// are read or written; a symbolic link, FIFO, device or folder under a name the run uses is
+/// refused with a message naming it (a FIFO would hang the run, a link would redirect its writes).
+/// The --out path itself may be a link to a folder: that is the user's choice of place.
 ///
-/// Safety of a run's results (issue 12):
+/// Safety of a run's results (neither a second run, a full disk nor a kill may leave a half file):
 /// - one run at a time: prepare_output_dir takes an exclusive lock (flock on OUTPUT_LOCK) that the
 ///   returned OutputLock holds until the run ends; a second run into the same folder is refused;
 /// - every file is written atomically: to a temporary name beside it (".NAME.partial", created

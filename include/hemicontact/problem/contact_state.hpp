@@ -1,6 +1,6 @@
 #pragma once
 /// @file contact_state.hpp  What a displacement means on Γ3: the unsmoothed nodal quantities and
-/// the contact status of each node (MODEL.md §3-§4). Computed by check/contact_status.hpp; read by
+/// the contact status of each node (docs/model.md §3-§4). Computed by check/contact_status.hpp; read by
 /// the polish, the certificate and every writer.
 
 #include <hemicontact/core/types.hpp>

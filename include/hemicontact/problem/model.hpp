@@ -28,10 +28,10 @@ struct Model {
   ContactNodes contact;                                  ///< Γ3 nodes, weights, frames, g_i
   DofMap dofs;                                           ///< full ↔ reduced unknowns
   Vec f;                                                 ///< full load vector, eq. (17)
-  MovableSpMat Kx;  ///< reduced stiffness Tᵀ K T (nonlinear F: tangent at u = 0); the only copy of K (issue 14)
+  MovableSpMat Kx;  ///< reduced stiffness Tᵀ K T (nonlinear F: tangent at u = 0); the only copy of K
   Vec fx;                                                ///< reduced load Tᵀ f
-  /// y = K_x x when this process does not keep K_x (Kx empty): the petsc engine's distributed model
-  /// (issue 16), where each rank holds only its rows of K_x, inside PETSc. Collective there: the
+  /// y = K_x x when this process does not keep K_x (Kx empty): the petsc engine's distributed model,
+  /// where each rank holds only its rows of K_x, inside PETSc. Collective there: the
   /// certificate (internal_force) and a(u, u) call it on every rank at once.
   std::function<Vec(const Vec&)> Kx_apply;
   std::shared_ptr<const PiecewiseLinearLaw> normal_law;  ///< exact p_ν; null: no soft layer
@@ -42,7 +42,7 @@ struct Model {
   int dim() const { return mesh.dim; }
   /// @return full displacement u_ν of contact node k.
   double u_nu(const Vec& u, Index k) const;
-  /// @return the full internal force vector r(u) = ∫ F(ε(u)) : ε(φ) (MODEL.md §4: the equilibrium
+  /// @return the full internal force vector r(u) = ∫ F(ε(u)) : ε(φ) (docs/model.md §4: the equilibrium
   /// residual is r(u) − f) on the free dofs and the Γ3 nodes; 0 on Γ1 and on roller-held components
   /// of other nodes (their reactions, which the certificate does not use). For a linear material
   /// T K_x Tᵀ u, which equals K u there for every u that vanishes on Γ1 and the held components.
@@ -51,8 +51,9 @@ struct Model {
   double elastic_energy(const Vec& u) const;
   /// @return the bilinear form a(u, v) = uᵀ K v of eq. (17) (K(0) for a nonlinear law) of two full
   /// displacements that vanish on Γ1 and on roller-held components (solutions and their
-  /// interpolants on nested meshes): (Tᵀu)ᵀ K_x (Tᵀv), since u = T Tᵀ u for such u. Issue 14:
-  /// the model keeps one stiffness; the full K is reduced in place and dropped after assembly.
+  /// interpolants on nested meshes): (Tᵀu)ᵀ K_x (Tᵀv), since u = T Tᵀ u for such u. The model keeps
+  /// one stiffness (the largest array of a run); the full K is reduced in place and dropped after
+  /// assembly.
   double a(const Vec& u, const Vec& v) const;
 };
 

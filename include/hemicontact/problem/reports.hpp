@@ -1,6 +1,6 @@
 #pragma once
 /// @file reports.hpp  The records the checks and the polish leave on a solution: the certificate
-/// (MODEL.md §4, check/certificate.hpp), the smallness condition (21) (check/smallness.hpp) and
+/// (docs/model.md §4, check/certificate.hpp), the smallness condition (21) (check/smallness.hpp) and
 /// the exact polish (driver/polish.hpp). Plain data; the writers read them.
 
 #include <hemicontact/core/types.hpp>
@@ -56,10 +56,10 @@ struct PolishResult {
   double after = 0;        ///< after (of the candidate)
   std::string note;        ///< why not accepted, if not
 };
-/// Whether the inner problem Φ_λ (driver/exact_inner.hpp) is strongly convex (issue 15): the smallest eigenvalue of S − α W_ν, the condensed
-/// Hessian of the convex part minus the softening of j_ν (α = the one-sided Lipschitz constant of
-/// ∂j_ν, (13)(d), W_ν = the weights on the normal rows), is positive. The friction term and the
-/// bound are convex and do not enter.
+/// Whether the inner problem Φ_λ (driver/exact_inner.hpp) is strongly convex: the smallest
+/// eigenvalue of S − α W_ν, the condensed Hessian of the convex part minus the softening of j_ν
+/// (α = the one-sided Lipschitz constant of ∂j_ν, (13)(d), W_ν = the weights on the normal rows),
+/// is positive. The friction term and the bound are convex and do not enter.
 struct InnerConvexity {
   bool checked = false;         ///< false: not evaluated (note says why)
   bool strongly_convex = false;  ///< min_eigenvalue > 0

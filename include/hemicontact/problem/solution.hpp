@@ -57,7 +57,7 @@ struct Solution {
   Vec u;                           ///< full displacement
   ContactState state;              ///< Γ3 quantities
   std::vector<NodeStatus> status;  ///< per Γ3 node
-  CertificateReport certificate;   ///< MODEL.md §4
+  CertificateReport certificate;   ///< docs/model.md §4
   double energy = 0;  ///< Π = ∫W(ε(u)) − f(u) + Σ w j_ν(u_ν) + Σ w F_b(u_ν)|u_τ| (unsmoothed; ∫W = ½a(u,u) if linear)
   double energy_norm = 0;                                   ///< sqrt(a(u,u))
   double a_uu = 0, f_u = 0, j_term = 0, friction_term = 0;  ///< the parts of energy
@@ -77,14 +77,14 @@ struct Solution {
   std::vector<std::string> skipped;       ///< what was not needed and not done
   std::string formulation;                ///< "full" or "condensed" (empty for a linear solve)
   PolishResult polish;                    ///< what the exact polish did
-  HandoverReport handover;                ///< the exact solver's part (issue 15)
+  HandoverReport handover;                ///< the exact solver's part
   InnerConvexity inner_convexity;         ///< is the inner problem (λ frozen) strongly convex?
   SmallnessReport smallness;              ///< the smallness condition (21)
   double start_energy = 0;                ///< smoothed energy at the start (first ε, λ frozen there)
   double x_scale = 1, f_scale = 1;        ///< the nondimensionalization used
   std::map<std::string, double> timings;  ///< seconds
   /// @return true when the answer is accepted: the outer fixed point converged and the certificate
-  /// passed. A backend's own failure status does not decide (issue: "the certificate decides").
+  /// passed. A backend's own failure status does not decide: the certificate does.
   bool ok() const { return fixed_point_converged && certificate.passed; }
   /// @return the work of the minimizations in history whose solver is @p solver.
   SolverWork work_of(const std::string& solver) const;

@@ -47,9 +47,9 @@ struct PetscEngineOptions {
   double acceptable_tol = 1e-6;
   /// Newton iterations of the exact polish (full space, statuses fixed).
   int polish_max_iters = 30;
-  /// Backend "ssn" (semismooth Newton on the unsmoothed statuses, issue 16): the step cap. Each
-  /// step reads every Γ3 node's status again from the current iterate, so cycling between status
-  /// sets (possible with a nonmonotone p_ν) ends here with exit 3.
+  /// Backend "ssn" (semismooth Newton on the unsmoothed statuses): the step cap. Each step reads
+  /// every Γ3 node's status again from the current iterate, so cycling between status sets
+  /// (possible with a nonmonotone p_ν) ends here with exit 3.
   int ssn_max_iters = 60;
   /// Backend "ssn": the Krylov rtol of a step while statuses still change (inexact Newton: such a
   /// step only has to find the next status set); a step with no status change uses ksp_rtol.
@@ -137,7 +137,7 @@ struct SolveOptions {
   /// (one more sparse factorization) only when the bracket cannot decide; "exact" always does.
   std::string smallness_method = "auto";
 
-  // Issue 15: the exact inner solver (driver/exact_inner.hpp) and the hand-over to it.
+  // The exact inner solver (driver/exact_inner.hpp) and the hand-over to it.
   /// Hand the condensed problem to the exact solver after the continuation stage whose statuses
   /// (read at 10 ε) equal the previous stage's, after a backend failure or stall, and after the
   /// last stage when the polished answer is not certified. false: the continuation alone (the
@@ -147,7 +147,7 @@ struct SolveOptions {
   ExactInnerOptions exact_inner;  ///< the exact solver's tolerance and caps
   /// Hand over after this continuation stage at the latest. Stage 0 (ε = 1e-2 U) already puts the
   /// iterate in the statuses' neighbourhood; every later stage costs backend iterations on an ever
-  /// less smooth problem, which the exact solver does not need (issue 15: ipopt 5–25 s where the
+  /// less smooth problem, which the exact solver does not need (measured: ipopt 5–25 s where the
   /// exact solver takes 0.02 s on the same scene).
   int exact_after_stage = 0;
   /// When the exact solver starts, before any ε-stage (the design's path otherwise: the backend's
@@ -157,11 +157,11 @@ struct SolveOptions {
   /// sweeps reach it from any start (driver/exact_inner.hpp), so the backend's stage could not
   /// change the answer and is skipped; a backend the user named always runs its first stage;
   /// "convex" — as auto, also for a named backend; "always" — on every condensed problem (a not
-  /// strongly convex Φ_λ may then end in another of its stationary points than the design's
-  /// path); "never" — the backend's stage 0 first, always. Measured on 1000 random scenes
+  /// strongly convex Φ_λ may then end in another of its stationary points than the design's path);
+  /// "never" — the backend's stage 0 first, always. Measured on 1000 random scenes
   /// (bench/README.md, hemicontact_random_study): auto certifies as many as "always", and on the
   /// scenes that are not strongly convex it returns the design path's minimum, which "always" may
-  /// not (issue measurements: minima-one-node −34.11 against −10.11).
+  /// not (minima-one-node: −34.11 against −10.11).
   std::string exact_start = "auto";
   /// When the exact solver's answer from the start is not certified: run the continuation from the
   /// same start (true), or stop there with that answer and its reason (false, the default: in the

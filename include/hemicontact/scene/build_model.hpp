@@ -23,7 +23,7 @@ void assign_scene_boundary(Mesh& mesh, const nlohmann::json& scene);
 /// Build the model from an effective scene and a mesh whose boundary parts are already assigned
 /// (assign_scene_boundary); the scene's "mesh" block is then not read. Used by tests and studies.
 /// @param stiffness false: K_x is not assembled (the petsc engine assembles each rank's own rows
-/// into PETSc and sets Model::Kx_apply; issue 16).
+/// into PETSc and sets Model::Kx_apply).
 Model build_model(const nlohmann::json& scene, Mesh mesh, bool stiffness = true);
 
 /// @brief Estimated peak memory (bytes) of a default solve on a mesh of @p nodes nodes in

@@ -74,7 +74,7 @@ inline constexpr std::size_t MAX_SCENE_DEPTH = 32;
 
 /// Longest scene file read (bytes): a scene is a few KB and its longest tables (MAX_TABLE_POINTS
 /// points each) take well under 1 MB; a path such as /dev/zero or a huge file must not be read
-/// for minutes (issue 28). Non-regular files (devices, FIFOs) are refused before they are opened.
+/// for minutes. Non-regular files (devices, FIFOs) are refused before they are opened.
 inline constexpr std::size_t MAX_SCENE_BYTES = 16u << 20;
 
 /// Most points of a piecewise-linear table (contact.gap.points, contact.normal_law.points,
