@@ -6,7 +6,7 @@
 // path (solver.exact.start = always, no backend stage), then each backend named (each runs its
 // first ε-stage and hands over: the design's path). Each solve is the best of --repeats (the
 // answers are deterministic; the best time keeps a preemption on a shared machine out of the
-// table). Writes DIR/backends.md (the table README.md quotes) and DIR/backends.json.
+// table). Writes DIR/backends.md (the table docs/backends.md quotes) and DIR/backends.json.
 //
 //   hemicontact_backends --out docs/backends
 //   hemicontact_backends --scenes sofonea2017-fig2.json:mesh.n=64,minima-softening.json --repeats 3 --out DIR

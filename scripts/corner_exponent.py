@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Singular exponent of a clamped-free elastic corner (Williams 1952), the rate that limits
-the P1 energy-norm convergence of the paper's scenes (README, "Convergence").
+the P1 energy-norm convergence of the paper's scenes (docs/convergence.md).
 
 Near a corner of opening angle omega with one side clamped (u = 0) and the other traction-free,
 the displacement behaves like r^lam; the energy-norm error of P1 on uniform meshes is then

@@ -78,7 +78,7 @@ inline constexpr long MAX_STARTS = 10000;
 int cmd_backends(const std::vector<std::string>& args);
 /// `converge SCENE --levels L1,L2,... --reference R`: mesh-convergence study (src/cli/converge.cpp).
 int cmd_converge(const std::vector<std::string>& args);
-/// `minima SCENE [--starts N] [--seed S] [--backends a,b]`: distinct solutions from many starts (src/cli/minima.cpp).
+/// `minima SCENE [--starts N] [--seed S] [--backends a,b]`: distinct solutions from many starts (src/cli/minima_command.cpp).
 int cmd_minima(const std::vector<std::string>& args);
 
 /// @brief Run scripts/@p script with /usr/bin/python3 (or $HEMICONTACT_PYTHON) and @p args

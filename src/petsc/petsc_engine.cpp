@@ -270,7 +270,7 @@ long peak_rss_kb() {
 
 std::string tao_type(const std::string& backend) {
   // solver.backend = auto: this engine's own, ssn, which reaches the cholmod engine's answers ~10x
-  // faster than tao:bnls (README "The petsc engine"). A backend of the cholmod engine that is named
+  // faster than tao:bnls (docs/petsc-engine.md). A backend of the cholmod engine that is named
   // is refused below: a named backend runs, or the run stops saying why.
   if (backend == AUTO_BACKEND) return "ssn";
   for (const char* t : {"bnls", "bntr", "bntl"})

@@ -18,7 +18,7 @@
 ///
 /// The model (mesh, K, f) is built on every rank by the same code as the cholmod engine, and each
 /// rank copies its own rows of K into PETSc (per-rank mesh generation and assembly are not done yet:
-/// the model is replicated, see README "The petsc engine"): the certificate, the report and the writers then read
+/// the model is replicated, see docs/petsc-engine.md): the certificate, the report and the writers then read
 /// the same Model, and the answers are comparable to round-off.
 
 #include <hemicontact/problem/model.hpp>

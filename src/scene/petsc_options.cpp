@@ -102,7 +102,7 @@ const std::vector<Rule>& rules() {
       {"mg_levels_ksp_max_it", Kind::INT, 1, 100},
       {"mg_coarse_pc_type", Kind::CHOICE, 0, 0, {"bjacobi", "jacobi", "redundant", "svd", "none"}},
       {"mg_coarse_ksp_type", Kind::CHOICE, 0, 0, {"preonly", "cg", "gmres"}},
-      // GAMG's Galerkin products (the engine defaults to hypre's on several ranks: README)
+      // GAMG's Galerkin products (the engine defaults to hypre's on several ranks: docs/petsc-engine.md)
       {"matptap_via", Kind::CHOICE, 0, 0, {"scalable", "nonscalable", "allatonce", "allatonce_merged", "hypre"}},
       // BoomerAMG
       {"pc_hypre_type", Kind::CHOICE, 0, 0, {"boomeramg"}},

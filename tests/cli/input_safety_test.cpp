@@ -115,7 +115,7 @@ TEST_F(InputSafety, Gamma3IsInTheMemoryEstimate) {
 // memory message and exit code 2: never a signal, a hang or "internal error" (at 336 MB it hung in
 // OpenBLAS, whose buffer the budget now keeps room for; at 352 MB a thread that could not be
 // created ended as "internal error"). OPENBLAS_NUM_THREADS=1: OpenBLAS's worker threads map their
-// buffers when the library loads, before main, and retry for ever when that fails (README).
+// buffers when the library loads, before main, and retry for ever when that fails (docs/robustness.md).
 TEST_F(InputSafety, AllocationFailuresUnderALimitEndWithAMemoryMessage) {
 #if defined(HEMICONTACT_SANITIZED)
   GTEST_SKIP() << "address-space limits (ulimit -v) cannot apply under AddressSanitizer: its shadow memory is reserved "

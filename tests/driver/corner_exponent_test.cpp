@@ -1,4 +1,4 @@
-// scripts/corner_exponent.py: the clamped-free corner exponent that the README uses to explain the
+// scripts/corner_exponent.py: the clamped-free corner exponent that docs/convergence.md uses to explain the
 // observed convergence rate of the paper's scenes (≈ 0.72, not the O(h) of eq. (31)).
 #include <gtest/gtest.h>
 

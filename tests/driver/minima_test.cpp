@@ -314,7 +314,7 @@ TEST(Minima, SofteningSceneHasTwoCertifiedLocalMinima) {
 // solver.exact.start = auto means "convex" in minima: where the inner problem is not strongly
 // convex (this scene), each start goes through the continuation's neighbourhood (ε-stages run),
 // which is what gives the search its variety; "always" sends every start to the exact solver at
-// once and, from the same starts, finds no more distinct solutions (README: 6 against 3).
+// once and, from the same starts, finds no more distinct solutions (6 against 3 when measured).
 TEST(Minima, AutoStartKeepsTheContinuationForTheStarts) {
   const Loaded L = load("minima-softening.json");
   ASSERT_EQ(L.opt.exact_start, "auto");

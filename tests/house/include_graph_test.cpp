@@ -1,4 +1,4 @@
-// The house as drawn (README "Layout"): folders form layers and every `#include <hemicontact/X/...>`
+// The house as drawn (docs/architecture.md): folders form layers and every `#include <hemicontact/X/...>`
 // points down (or within its own folder), so the folder-level include graph has no cycle.
 //
 //   core, config                                   0  types, errors, logging
@@ -192,4 +192,27 @@ TEST(House, NothingPointsOutsideTheRepository) {
                       << " points outside the repository: " << line.substr(0, 160);
     }
   }
+}
+
+// Every C++ source file has a basename of its own across src/, include/, tests/, bench/ and fuzz/
+// (a header and its source, x.hpp and x.cpp, are one pair): a debugger's breakpoint, a compiler
+// message or a profile names a file by its basename, and two minima.cpp are two guesses.
+TEST(House, SourceBasenamesAreUnique) {
+  const fs::path root(HEMICONTACT_SOURCE_DIR);
+  std::map<std::string, std::vector<std::string>> by_name;  // basename with extension -> paths
+  for (const char* dir : {"src", "include", "tests", "bench", "fuzz"}) {
+    if (!fs::exists(root / dir)) continue;
+    for (const auto& e : fs::recursive_directory_iterator(root / dir)) {
+      const std::string ext = e.path().extension().string();
+      if (!e.is_regular_file() || (ext != ".cpp" && ext != ".hpp")) continue;
+      by_name[e.path().filename().string()].push_back(fs::relative(e.path(), root).string());
+    }
+  }
+  ASSERT_GT(by_name.size(), 50u) << "the walk found too few sources under " << root;
+  for (const auto& [name, paths] : by_name)
+    if (paths.size() > 1) {
+      std::string all;
+      for (const std::string& p : paths) all += "\n  " + p;
+      ADD_FAILURE() << name << " is the basename of " << paths.size() << " files:" << all;
+    }
 }

@@ -1,6 +1,6 @@
 #pragma once
 /// @file study.hpp  Work-precision study: uniform, graded and adaptive meshes of one scene against
-/// one reference solution (`hemicontact converge --adaptive`, bench/adapt_study.cpp).
+/// one reference solution (`hemicontact converge --adaptive`, bench/adapt_study_bench.cpp).
 ///
 /// The reference is either a fine uniform mesh (reference "uniform:R") or a deeper run of the same
 /// adaptive sequence (reference "adaptive:T", target estimate T): marking is deterministic, so the

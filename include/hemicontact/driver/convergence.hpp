@@ -76,7 +76,7 @@ struct ConvergenceStudy {
 /// so if ‖u − u_L‖_E ≈ C h_L^α then the measured e_L ≈ C sqrt(h_L^{2α} − h_R^{2α}) (relative
 /// errors: C absorbs ‖u_R‖_E). fit_rate() fits C and α to that model, which removes the bias
 /// and turns the errors into an estimate of the asymptotic rate (for the paper's scenes α ≈ 0.72,
-/// the corner exponent where the clamped side meets the free sides; README "Convergence").
+/// the corner exponent where the clamped side meets the free sides; docs/convergence.md).
 /// With contact the identity is approximate (the solution set is not a linear space); the
 /// reported max_rel_residual says how well the model fits.
 struct RateFit {

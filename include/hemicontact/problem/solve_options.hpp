@@ -170,7 +170,7 @@ struct SolveOptions {
   bool exact_start_fallback = false;
   /// Backend iterations per minimization while the exact solver can take over: a stage that needs
   /// more is a stalled one (the smoothed problem grows nearly nonsmooth as ε → 0) and hands over.
-  /// The paper's scenes need about 20 (README); 0: solver.max_iter alone.
+  /// The paper's scenes need about 20; 0: solver.max_iter alone.
   int exact_stage_max_iter = 200;
   /// The backend's first-order tolerance per minimization while the exact solver can take over
   /// (the larger of this and solver.tol): the stage only has to put the iterate in the statuses'
