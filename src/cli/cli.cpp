@@ -43,6 +43,17 @@ std::string usage() {
          "            not be written (disk full, permissions)\n";
 }
 
+namespace {
+// A default as the help text writes it: the shortest round-trip text without the exponent's
+// leading zero ("1e-6", as a user types it, not "1e-06").
+std::string help_number(double v) {
+  std::string t = round_trip(v);
+  const auto e = t.find("e-0");
+  if (e != std::string::npos) t.erase(e + 2, 1);
+  return t;
+}
+}  // namespace
+
 std::string command_help(const std::string& command) {
   if (command == "solve")
     return std::string(
@@ -50,13 +61,12 @@ std::string command_help(const std::string& command) {
                "                         [--quiet] [--plot [--magnification M]]\n"
                "Solve a scene: min Pi_lambda subject to u_nu <= g with the nonsmooth terms smoothed, handed to\n"
                "the NLP backend (solver.backend; auto: ipopt where built) inside the outer fixed point\n"
-               "lambda = F_b(u_nu); the exact\n"
-               "solver (no smoothing) takes over from the backend's first eps-stage, and the certificate judges\n"
-               "the unsmoothed answer. Under solver.backend = auto (the default) the backend's\n"
-               "stage is skipped where the inner problem is strongly convex (its minimizer is unique), and the\n"
-               "summary says so with the eigenvalue; --backend NAME always runs NAME's first stage. stdout and\n"
-               "report.json (backend, phases, solved_by) say what ran. Writes DIR/report.json, DIR/solution.vtu\n"
-               "(ParaView), DIR/gamma3.csv; DIR defaults to out/<scene name>.\n"
+               "lambda = F_b(u_nu); the exact solver (no smoothing) takes over from the backend's first\n"
+               "eps-stage, and the certificate judges the unsmoothed answer. Under solver.backend = auto (the\n"
+               "default) the backend's stage is skipped where the inner problem is strongly convex (its\n"
+               "minimizer is unique), and the summary says so with the eigenvalue; --backend NAME always runs\n"
+               "NAME's first stage. stdout and report.json (backend, phases, solved_by) say what ran. Writes\n"
+               "DIR/report.json, DIR/solution.vtu (ParaView), DIR/gamma3.csv; DIR defaults to out/<scene name>.\n"
                "options:\n") +
            scene_options_help() +
            "  --plot             also draw DIR/fig2.png (3D: DIR/status3d.png) with /usr/bin/python3 +\n"
@@ -65,7 +75,8 @@ std::string command_help(const std::string& command) {
            "                     drawn as 10% of the body)\n"
            "example:\n"
            "  hemicontact solve problems/sofonea2017-fig2.json --set mesh.n=128 --out out/fig2-128 --plot\n";
-  if (command == "converge")
+  if (command == "converge") {
+    const WorkPrecisionRequest wp;
     return std::string(
                "usage: hemicontact converge SCENE.json [--levels L1,L2,...] [--reference R] [--out DIR]\n"
                "                            [--set path=value]... [--backend NAME] [--force] [--quiet] [--plot]\n"
@@ -74,24 +85,27 @@ std::string command_help(const std::string& command) {
                "DIR/convergence.csv, DIR/convergence.json and stdout. DIR defaults to out/<scene name>-convergence.\n"
                "Exit code 3/4 if a solve did not converge / certify, 2 if --plot could not draw.\n"
                "options:\n"
-               "  --levels LIST      mesh levels, e.g. 4,8,16 or 4,8,...,128 (doubling) (default " + CONVERGE_LEVELS + ")\n"
-               "  --reference R      reference level (default " + CONVERGE_REFERENCE + ", the paper's)\n"
-               "  --plot             also draw DIR/convergence.png (error vs h, log-log)\n"
-               "adaptive study (--adaptive): uniform (--levels), graded (--graded-levels, mesh.grading x both,\n"
-               "y high, --graded-power B, default " + round_trip(WorkPrecisionRequest{}.graded_power) +
-               ") and the adaptive sequence of the scene's adapt block (target\n"
-               "adapt.target_error, default " + round_trip(AdaptOptions{}.target_error) +
-               ") against one reference: --reference uniform:R or adaptive:T\n"
-               "(default " + WorkPrecisionRequest{}.reference + ", a deeper run of the same sequence). Writes DIR/work_precision.csv,\n"
-               ".json (error, estimate, efficiency index, time per mesh) and with --plot work_precision.png;\n"
-               "DIR defaults to out/<scene name>-adaptive.\n"
-               "  --adaptive         the work-precision study instead of the uniform one\n"
-               "  --graded-levels L  n of the graded meshes (default " + ADAPTIVE_LEVELS + "; none: skip)\n"
-               "  --graded-power B   grading exponent (default " + round_trip(WorkPrecisionRequest{}.graded_power) + ")\n" +
+               "  --levels LIST      mesh levels, e.g. 4,8,16 or 4,8,...,128 (doubling) (default ") +
+           CONVERGE_LEVELS + ")\n  --reference R      reference level (default " + CONVERGE_REFERENCE +
+           ", the paper's)\n"
+           "  --plot             also draw DIR/convergence.png (error vs h, log-log)\n"
+           "adaptive study (--adaptive): uniform (--levels), graded (--graded-levels, mesh.grading x both,\n"
+           "y high, --graded-power B, default " + help_number(wp.graded_power) +
+           ") and the adaptive sequence of the scene's adapt block\n"
+           "(target adapt.target_error, default " + help_number(AdaptOptions{}.target_error) +
+           ") against one reference: --reference uniform:R or adaptive:T\n"
+           "(default " + wp.reference + ", a deeper run of the same sequence). Writes DIR/work_precision.csv,\n"
+           ".json (error, estimate, efficiency index, time per mesh) and with --plot work_precision.png;\n"
+           "DIR defaults to out/<scene name>-adaptive.\n"
+           "  --adaptive         the work-precision study instead of the uniform one\n"
+           "  --graded-levels L  n of the graded meshes (default " + ADAPTIVE_LEVELS + "; none: skip)\n"
+           "  --graded-power B   grading exponent (default " + help_number(wp.graded_power) + ")\n" +
            scene_options_help() +
            "example:\n"
            "  hemicontact converge problems/sofonea2017-fig2.json --levels 4,8,...,64 --reference 128 --plot\n";
-  if (command == "minima")
+  }
+  if (command == "minima") {
+    const MinimaOptions mo;
     return std::string(
                "usage: hemicontact minima SCENE.json [--starts N] [--seed S] [--backends a,b,...] [--start FILE]...\n"
                "                          [--group-tol T] [--load-path-steps N] [--box B] [--out DIR]\n"
@@ -103,21 +117,20 @@ std::string command_help(const std::string& command) {
                "DIR/minima.png; DIR defaults to out/<scene name>-minima. Exit code 3/4 if no run converged /\n"
                "certified.\n"
                "options:\n"
-               "  --starts N         random starts (default " + std::to_string(MinimaOptions{}.starts) + ", at most " +
-           std::to_string(MAX_STARTS) + ")\n"
-               "  --seed S           seed of the random starts (default " + std::to_string(MinimaOptions{}.seed) +
+               "  --starts N         random starts (default ") +
+           std::to_string(mo.starts) + ", at most " + std::to_string(MAX_STARTS) +
+           ")\n  --seed S           seed of the random starts (default " + std::to_string(mo.seed) +
            "; 0 to 4294967295)\n"
-               "  --box B            random starts in the box +-B*U_s (default " + round_trip(MinimaOptions{}.box) + ")\n"
-               "  --backends LIST    backends to run every start with (default: the scene's)\n"
-               "  --start FILE       a start: a JSON array of [u_nu, u_tau] per Gamma3 node, or a report.json\n"
-               "                     (repeatable)\n"
-               "  --group-tol T      relative energy-norm distance below which two results are one (default " +
-           round_trip(MinimaOptions{}.group_tol) + ")\n"
-               "  --load-path-steps N  load path steps per unit load, up and down (default " +
-           std::to_string(MinimaOptions{}.load_path_steps) + "; 0: none)\n" +
-           scene_options_help() +
+           "  --box B            random starts in the box +-B*U_s (default " + help_number(mo.box) + ")\n"
+           "  --backends LIST    backends to run every start with (default: the scene's)\n"
+           "  --start FILE       a start: a JSON array of [u_nu, u_tau] per Gamma3 node, or a report.json\n"
+           "                     (repeatable)\n"
+           "  --group-tol T      relative energy-norm distance below which two results are one (default " +
+           help_number(mo.group_tol) + ")\n  --load-path-steps N  load path steps per unit load, up and down (default " +
+           std::to_string(mo.load_path_steps) + "; 0: none)\n" + scene_options_help() +
            "example:\n"
            "  hemicontact minima problems/minima-softening.json --starts 16 --seed 3 --backends ipopt,newton\n";
+  }
   if (command == "backends")
     return "usage: hemicontact backends\n"
            "List the NLP backends compiled in, one per line with a description; pass one to\n"
