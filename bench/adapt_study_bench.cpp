@@ -73,115 +73,136 @@ ChildTime run_child(const std::vector<std::string>& argv) {
   return t;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The command line (usage in parse_bench_args's message).
+struct BenchArgs {
   std::string scene_path = HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json";
   std::string out = "out/adapt-study", reference = "adaptive:0.002";
   double target = 0.01;
   int repeats = 3;
   bool study = true;
   std::vector<std::string> sets;
+};
+
+// False on a bad command line (after saying why).
+bool parse_bench_args(int argc, char** argv, BenchArgs& A) {
   for (int i = 1; i < argc; i += 2) {
     const std::string k = argv[i];
     if (k == "--no-study") {
-      study = false;
+      A.study = false;
       --i;
       continue;
     }
     if (i + 1 >= argc) {
       std::fprintf(stderr, "%s: %s needs a value\n", argv[0], k.c_str());
-      return 1;
+      return false;
     }
     const std::string v = argv[i + 1];
-    if (k == "--scene") scene_path = v;
-    else if (k == "--set") sets.push_back(v);
-    else if (k == "--out") out = v;
-    else if (k == "--reference") reference = v;
-    else if (k == "--target") target = std::stod(v);
-    else if (k == "--repeats") repeats = std::stoi(v);
+    if (k == "--scene") A.scene_path = v;
+    else if (k == "--set") A.sets.push_back(v);
+    else if (k == "--out") A.out = v;
+    else if (k == "--reference") A.reference = v;
+    else if (k == "--target") A.target = std::stod(v);
+    else if (k == "--repeats") A.repeats = std::stoi(v);
     else {
       std::fprintf(stderr,
                    "usage: %s [--scene S] [--reference R] [--target T] [--repeats N] [--out DIR] [--set K=V ...] "
                    "[--no-study]\n",
                    argv[0]);
-      return 1;
+      return false;
     }
   }
+  return true;
+}
+
+// 1. The study, in this process: its CSV, its JSON into @p js, and its table on stdout.
+WorkPrecisionStudy run_study(const nlohmann::json& scene, const BenchArgs& A, nlohmann::json& js) {
+  WorkPrecisionRequest req;
+  req.reference = A.reference;
+  req.uniform_levels = {4, 8, 16, 32, 64, 128};
+  req.graded_levels = {4, 8, 16, 32, 64, 128};
+  req.adapt = adapt_options_from_scene(scene);
+  req.adapt.target_error = A.target;
+  WorkPrecisionStudy st = run_work_precision(scene, scene_directory(A.scene_path), req);
+  std::ofstream(fs::path(A.out) / "work_precision.csv") << work_precision_csv(st);
+  js = work_precision_json(st);
+  std::printf("reference %s: %lld dofs, its own estimate %.3g\n", st.reference.c_str(),
+              static_cast<long long>(st.reference_dofs), st.reference_estimate);
+  std::printf("%-9s %6s %9s %9s %10s %10s %10s %8s %9s\n", "family", "level", "dofs", "seconds", "error",
+              "corrected", "estimate", "eff.", "cert.");
+  for (const StudyPoint& p : st.points)
+    std::printf("%-9s %6d %9lld %9.3g %10.4g %10.4g %10.4g %8.3f %9.1e\n", p.family.c_str(), p.level,
+                static_cast<long long>(p.dofs), p.seconds, p.error, p.error_corrected, p.estimate, p.efficiency,
+                p.certificate);
+  for (const char* f : {"uniform", "graded", "adaptive"}) std::printf("%s: error ~ N^%.3f\n", f, st.slope(f));
+  return st;
+}
+
+// 2. The whole process to the target, start to exit (the scene's own check.smallness), --repeats
+// times: js["whole_process"].
+void time_whole_process(const BenchArgs& A, const WorkPrecisionStudy& st, nlohmann::json& js) {
+  const double target = A.target;
+  const int repeats = A.repeats;
+  const std::string cli = HEMICONTACT_CLI_PATH;
+  std::vector<std::string> argv_solve = {cli, "solve", A.scene_path, "--set",
+                                         "adapt.target_error=" + std::to_string(target)};
+  for (const std::string& kv : A.sets) argv_solve.insert(argv_solve.end(), {"--set", kv});
+  argv_solve.insert(argv_solve.end(), {"--set", "output.vtu=false", "--set", "output.csv=false", "--out",
+                                       (fs::path(A.out) / "solve").string(), "--force", "--quiet"});
+  std::vector<double> walls, cpus;
+  for (int r = 0; r < repeats; ++r) {
+    const ChildTime t = run_child(argv_solve);
+    walls.push_back(t.wall);
+    cpus.push_back(t.cpu);
+  }
+  std::ifstream rin(fs::path(A.out) / "solve" / "report.json");
+  const nlohmann::json rep = nlohmann::json::parse(rin);
+  const auto& a = rep.at("adapt");
+  const StudyPoint* last = nullptr;
+  for (const StudyPoint& p : st.points)
+    if (p.family == "adaptive" && p.dofs == a.at("history").back().at("dofs").get<Index>()) last = &p;
+  std::sort(walls.begin(), walls.end());
+  std::sort(cpus.begin(), cpus.end());
+  std::printf("solve --set adapt.target_error=%g: %zu levels, %lld dofs, estimate %.4g, true error %.4g; "
+              "whole process %.3f s wall, %.3f s CPU (min of %d; max %.3f s wall, %.3f s CPU)\n",
+              target, a.at("history").size(), a.at("history").back().at("dofs").get<long long>(),
+              a.at("final_estimate").get<double>(), last ? last->error_corrected : std::nan(""), walls.front(),
+              cpus.front(), repeats, walls.back(), cpus.back());
+  js["whole_process"] = {{"target", target},
+                         {"levels", a.at("history").size()},
+                         {"dofs", a.at("history").back().at("dofs")},
+                         {"estimate", a.at("final_estimate")},
+                         {"true_error", last ? nlohmann::json(last->error_corrected) : nlohmann::json(nullptr)},
+                         {"seconds_min", walls.front()},
+                         {"seconds_max", walls.back()},
+                         {"cpu_seconds_min", cpus.front()},
+                         {"cpu_seconds_max", cpus.back()},
+                         {"repeats", repeats},
+                         {"history", a.at("history")}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  BenchArgs A;
+  if (!parse_bench_args(argc, argv, A)) return 1;
   try {
     set_log_level(LogLevel::WARN);
-    fs::create_directories(out);
+    fs::create_directories(A.out);
     std::vector<std::string> overrides = {"check.smallness=false"};
-    overrides.insert(overrides.end(), sets.begin(), sets.end());
-    const nlohmann::json scene = load_scene(scene_path, overrides);
+    overrides.insert(overrides.end(), A.sets.begin(), A.sets.end());
+    const nlohmann::json scene = load_scene(A.scene_path, overrides);
     WorkPrecisionStudy st;
     nlohmann::json js;
-    if (study) {
-      WorkPrecisionRequest req;
-      req.reference = reference;
-      req.uniform_levels = {4, 8, 16, 32, 64, 128};
-      req.graded_levels = {4, 8, 16, 32, 64, 128};
-      req.adapt = adapt_options_from_scene(scene);
-      req.adapt.target_error = target;
-      st = run_work_precision(scene, scene_directory(scene_path), req);
-      std::ofstream(fs::path(out) / "work_precision.csv") << work_precision_csv(st);
-      js = work_precision_json(st);
-      std::printf("reference %s: %lld dofs, its own estimate %.3g\n", st.reference.c_str(),
-                  static_cast<long long>(st.reference_dofs), st.reference_estimate);
-      std::printf("%-9s %6s %9s %9s %10s %10s %10s %8s %9s\n", "family", "level", "dofs", "seconds", "error",
-                  "corrected", "estimate", "eff.", "cert.");
-      for (const StudyPoint& p : st.points)
-        std::printf("%-9s %6d %9lld %9.3g %10.4g %10.4g %10.4g %8.3f %9.1e\n", p.family.c_str(), p.level,
-                    static_cast<long long>(p.dofs), p.seconds, p.error, p.error_corrected, p.estimate, p.efficiency,
-                    p.certificate);
-      for (const char* f : {"uniform", "graded", "adaptive"}) std::printf("%s: error ~ N^%.3f\n", f, st.slope(f));
-    }
-    js["scene_file"] = fs::path(scene_path).filename().string();
-    js["target_error"] = target;
-    js["set"] = sets;
-
-    // 2. The whole process to the target, start to exit (the scene's own check.smallness).
-    const std::string cli = HEMICONTACT_CLI_PATH;
-    std::vector<std::string> argv_solve = {cli, "solve", scene_path, "--set",
-                                           "adapt.target_error=" + std::to_string(target)};
-    for (const std::string& kv : sets) argv_solve.insert(argv_solve.end(), {"--set", kv});
-    argv_solve.insert(argv_solve.end(), {"--set", "output.vtu=false", "--set", "output.csv=false", "--out",
-                                         (fs::path(out) / "solve").string(), "--force", "--quiet"});
-    std::vector<double> walls, cpus;
-    for (int r = 0; r < repeats; ++r) {
-      const ChildTime t = run_child(argv_solve);
-      walls.push_back(t.wall);
-      cpus.push_back(t.cpu);
-    }
-    std::ifstream rin(fs::path(out) / "solve" / "report.json");
-    const nlohmann::json rep = nlohmann::json::parse(rin);
-    const auto& a = rep.at("adapt");
-    const StudyPoint* last = nullptr;
-    for (const StudyPoint& p : st.points)
-      if (p.family == "adaptive" && p.dofs == a.at("history").back().at("dofs").get<Index>()) last = &p;
-    std::sort(walls.begin(), walls.end());
-    std::sort(cpus.begin(), cpus.end());
-    std::printf("solve --set adapt.target_error=%g: %zu levels, %lld dofs, estimate %.4g, true error %.4g; "
-                "whole process %.3f s wall, %.3f s CPU (min of %d; max %.3f s wall, %.3f s CPU)\n",
-                target, a.at("history").size(), a.at("history").back().at("dofs").get<long long>(),
-                a.at("final_estimate").get<double>(), last ? last->error_corrected : std::nan(""), walls.front(),
-                cpus.front(), repeats, walls.back(), cpus.back());
-    js["whole_process"] = {{"target", target},
-                           {"levels", a.at("history").size()},
-                           {"dofs", a.at("history").back().at("dofs")},
-                           {"estimate", a.at("final_estimate")},
-                           {"true_error", last ? nlohmann::json(last->error_corrected) : nlohmann::json(nullptr)},
-                           {"seconds_min", walls.front()},
-                           {"seconds_max", walls.back()},
-                           {"cpu_seconds_min", cpus.front()},
-                           {"cpu_seconds_max", cpus.back()},
-                           {"repeats", repeats},
-                           {"history", a.at("history")}};
-    std::ofstream(fs::path(out) / "work_precision.json") << js.dump(2) << '\n';
-    fs::remove_all(fs::path(out) / "solve");
-    if (study) {
+    if (A.study) st = run_study(scene, A, js);
+    js["scene_file"] = fs::path(A.scene_path).filename().string();
+    js["target_error"] = A.target;
+    js["set"] = A.sets;
+    time_whole_process(A, st, js);
+    std::ofstream(fs::path(A.out) / "work_precision.json") << js.dump(2) << '\n';
+    fs::remove_all(fs::path(A.out) / "solve");
+    if (A.study) {
       const std::string plot = "/usr/bin/python3 " HEMICONTACT_SOURCE_DIR "/scripts/plot_work_precision.py " +
-                               (fs::path(out) / "work_precision.csv").string() + " --title fig2";
+                               (fs::path(A.out) / "work_precision.csv").string() + " --title fig2";
       if (std::system(plot.c_str()) != 0) std::fprintf(stderr, "adapt_study: the plot was not drawn\n");
     }
   } catch (const Error& e) {

@@ -143,24 +143,36 @@ struct CaseRow {
 
 std::string pass(bool p) { return p ? "pass" : "FAIL"; }
 
-std::vector<CaseRow> run_cases(int n) {
+// The stress cases, run in order; each adds its rows (and a progress line on stderr).
+struct CaseRunner {
+  int n;
+  std::string N;  // "mesh.n=<n>"
   std::vector<CaseRow> rows;
-  const std::string N = "mesh.n=" + std::to_string(n);
-  const auto base = [&](std::vector<std::string> extra) {
+
+  explicit CaseRunner(int n_) : n(n_), N("mesh.n=" + std::to_string(n_)) {}
+  std::vector<std::string> base(std::vector<std::string> extra) const {
     std::vector<std::string> o{N, "check.smallness=false"};
     o.insert(o.end(), extra.begin(), extra.end());
     return o;
-  };
-  const auto honest = [](const Outcome& o) {
+  }
+  static bool honest(const Outcome& o) {
     return o.finite && !o.outcome.empty() && (o.ok ? o.certificate <= 1e-8 : !o.message.empty());
-  };
-  const auto add = [&](std::string name, std::string checked, bool p, std::string measured, Outcome o) {
+  }
+  void add(std::string name, std::string checked, bool p, std::string measured, Outcome o) {
     rows.push_back(
         {std::move(name), std::move(checked), pass(p) + (measured.empty() ? "" : " (" + measured + ")"), std::move(o)});
     std::fprintf(stderr, "  %-34s %-5s %s  %.2f s\n", rows.back().name.c_str(), pass(p).c_str(),
                  rows.back().o.outcome.c_str(), rows.back().o.seconds);
-  };
+  }
+  Outcome scale_invariance();
+  void material_extremes(const Outcome& ref);
+  void layer_stiffness();
+  void friction_obstacle_smoothing();
+  void gamma3_and_meshes();
+};
 
+// Returns fig2's own outcome, the reference of the scaled cases.
+Outcome CaseRunner::scale_invariance() {
   // ---- scale invariance
   const Outcome ref = run(base({}));
   add("fig2 (reference)", "certified", ref.ok, "", ref);
@@ -195,6 +207,10 @@ std::vector<CaseRow> run_cases(int n) {
     add("lengths × " + g3(L), "u/L equals fig2's u: max|Δ|/max|u| ≤ 1e-7", r.ok && d <= 1e-7, "Δu " + g3(d), r);
   }
 
+  return ref;
+}
+
+void CaseRunner::material_extremes(const Outcome& ref) {
   // ---- material extremes
   for (double nu : {0.45, 0.49, 0.499}) {
     const Outcome o = run(base({"material.plane=strain", "material.nu=" + stress::num(nu)}));
@@ -213,7 +229,9 @@ std::vector<CaseRow> run_cases(int n) {
     const double d = rel_diff(o.u, ref.u);
     add("E = " + g3(E) + ", loads and c_i scaled", "same u as fig2 (≤ 1e-7)", o.ok && d <= 1e-7, "Δu " + g3(d), o);
   }
+}
 
+void CaseRunner::layer_stiffness() {
   // ---- the layer's stiffness and the Signorini limit (gap 0, frictionless)
   for (double c1 : {1e-2, 1e0, 1e2, 1e4, 1e6, 1e8}) {
     const Outcome o = run(base({"contact.normal_law.c1=" + stress::num(c1), "contact.normal_law.c2=" + stress::num(-c1),
@@ -240,7 +258,9 @@ std::vector<CaseRow> run_cases(int n) {
         "Δu " + g3(d) + (std::isnan(order) ? "" : ", order " + g3(order)), o);
     prev = d, prev_c = c1;
   }
+}
 
+void CaseRunner::friction_obstacle_smoothing() {
   // ---- friction
   for (double mu : {0.0, 0.2, 1.0, 2.0, 5.0}) {
     const Outcome o = run(base({"contact.friction.mu=" + stress::num(mu)}));
@@ -266,7 +286,9 @@ std::vector<CaseRow> run_cases(int n) {
     const double d = rel_diff(o.u, eps_ref.u);
     add("ε = " + g3(eps), "certified on the unsmoothed problem", o.ok, "Δu vs ε=1e-12: " + g3(d), o);
   }
+}
 
+void CaseRunner::gamma3_and_meshes() {
   // ---- Γ3 all separated / all at g
   {
     const Outcome o = run(base({"loads.body_force=[0,500]", "boundary.gamma2=[]"}));
@@ -296,7 +318,16 @@ std::vector<CaseRow> run_cases(int n) {
     add("aspect 1:100 (" + std::to_string(ny) + "×" + std::to_string(100 * ny) + ")", "certified or honest", honest(t),
         t.outcome, t);
   }
-  return rows;
+}
+
+std::vector<CaseRow> run_cases(int n) {
+  CaseRunner c(n);
+  const Outcome ref = c.scale_invariance();
+  c.material_extremes(ref);
+  c.layer_stiffness();
+  c.friction_obstacle_smoothing();
+  c.gamma3_and_meshes();
+  return c.rows;
 }
 
 // ============================================================== random

@@ -90,25 +90,22 @@ struct PlainTimes {
   double f_u = 0;  ///< fᵀu = a(u, u): checked against report.json's f_u of a linear scene
 };
 
-PlainTimes plain_linear(const json& scene) {
-  PlainTimes t;
-  auto t0 = clk::now();
-  const Mesh mesh = build_mesh(scene, HEMICONTACT_SOURCE_DIR "/problems");
-  t.mesh = since(t0);
-  if (mesh.dim != 2) throw Error("whole_process: the plain program is 2D", EXIT_INPUT);
-  t0 = clk::now();
+// Dof numbering without clamped nodes: each free node's equation number (−1: clamped).
+std::vector<long> free_node_numbers(const Mesh& mesh, long& n_free_nodes) {
   const Index N = mesh.num_nodes();
-  // Dof numbering without clamped nodes.
   std::vector<char> clamped(N, 0);
   for (Index f = 0; f < mesh.num_facets(); ++f)
     if (mesh.facet_part[f] == Part::GAMMA1)
       for (int a = 0; a < 2; ++a) clamped[mesh.facets(f, a)] = 1;
   std::vector<long> node_eq(N, -1);
-  long n_free_nodes = 0;
+  n_free_nodes = 0;
   for (Index v = 0; v < N; ++v)
     if (!clamped[v]) node_eq[v] = n_free_nodes++;
-  const long n = 2 * n_free_nodes;
-  // Node graph (upper triangle incl. diagonal, by column): neighbours of each free node.
+  return node_eq;
+}
+
+// Node graph (upper triangle incl. diagonal, by column): neighbours of each free node.
+std::vector<std::vector<long>> node_graph(const Mesh& mesh, const std::vector<long>& node_eq, long n_free_nodes) {
   std::vector<std::vector<long>> nbr(n_free_nodes);
   for (Index c = 0; c < mesh.num_cells(); ++c)
     for (int a = 0; a < 3; ++a)
@@ -120,15 +117,19 @@ PlainTimes plain_linear(const json& scene) {
     std::sort(v.begin(), v.end());
     v.erase(std::unique(v.begin(), v.end()), v.end());
   }
-  // CSC, upper triangle (stype = 1): column 2q+j holds rows 2p+i for p ≤ q (p = q: i ≤ j).
-  std::vector<long> colptr(n + 1, 0);
+  return nbr;
+}
+
+// CSC, upper triangle (stype = 1): column 2q+j holds rows 2p+i for p ≤ q (p = q: i ≤ j). The
+// pattern filled in, the values zero; @p colptr the column pointers.
+cholmod_sparse* csc_pattern(const std::vector<std::vector<long>>& nbr, std::vector<long>& colptr, cholmod_common& cc) {
+  const long n_free_nodes = static_cast<long>(nbr.size()), n = 2 * n_free_nodes;
+  colptr.assign(n + 1, 0);
   for (long q = 0; q < n_free_nodes; ++q) {
     const long cnt = 2 * static_cast<long>(nbr[q].size());
     colptr[2 * q + 1] = colptr[2 * q] + cnt - 1;  // column 2q: rows up to 2q
     colptr[2 * q + 2] = colptr[2 * q + 1] + cnt;  // column 2q+1: rows up to 2q+1
   }
-  cholmod_common cc;
-  cholmod_l_start(&cc);
   cholmod_sparse* K = cholmod_l_allocate_sparse(n, n, colptr[n], 1, 1, 1, CHOLMOD_REAL, &cc);
   auto* Kp = static_cast<long*>(K->p);
   auto* Ki = static_cast<long*>(K->i);
@@ -142,11 +143,18 @@ PlainTimes plain_linear(const json& scene) {
           if (2 * p + i <= 2 * q + j) Ki[k++] = 2 * p + i;
     }
   std::fill(Kx, Kx + colptr[n], 0.0);
+  return K;
+}
+
+// P1 element matrices scattered into K by a position lookup, and the body force into bx.
+void assemble_cells(const Mesh& mesh, const json& scene, const std::vector<long>& node_eq, cholmod_sparse* K,
+                    double* bx) {
+  const auto* Kp = static_cast<const long*>(K->p);
+  const auto* Ki = static_cast<const long*>(K->i);
+  auto* Kx = static_cast<double*>(K->x);
   const auto position = [&](long r, long c) {  // entry (r, c), r ≤ c
     return std::lower_bound(Ki + Kp[c], Ki + Kp[c + 1], r) - Ki;
   };
-  cholmod_dense* b = cholmod_l_zeros(n, 1, CHOLMOD_REAL, &cc);
-  auto* bx = static_cast<double*>(b->x);
   const Eigen::Matrix3d D = elasticity(scene);
   const auto f0 = scene.at("loads").at("body_force").get<std::vector<double>>();
   const double scale = scene.at("loads").at("scale").get<double>();
@@ -184,7 +192,10 @@ PlainTimes plain_linear(const json& scene) {
       }
     }
   }
-  // Γ2 tractions: each facet gives half its length times f2 to its two nodes.
+}
+
+// Γ2 tractions: each facet gives half its length times f2 to its two nodes.
+void add_tractions(const Mesh& mesh, const std::vector<long>& node_eq, double* bx) {
   for (Index f = 0; f < mesh.num_facets(); ++f)
     if (mesh.facet_part[f] == Part::GAMMA2 && mesh.facet_load[f] >= 0) {
       const Vec& f2 = mesh.tractions[static_cast<size_t>(mesh.facet_load[f])];
@@ -195,6 +206,27 @@ PlainTimes plain_linear(const json& scene) {
           for (int i = 0; i < 2; ++i) bx[2 * p + i] += f2[i] * len / 2;
       }
     }
+}
+
+PlainTimes plain_linear(const json& scene) {
+  PlainTimes t;
+  auto t0 = clk::now();
+  const Mesh mesh = build_mesh(scene, HEMICONTACT_SOURCE_DIR "/problems");
+  t.mesh = since(t0);
+  if (mesh.dim != 2) throw Error("whole_process: the plain program is 2D", EXIT_INPUT);
+  t0 = clk::now();
+  long n_free_nodes = 0;
+  const std::vector<long> node_eq = free_node_numbers(mesh, n_free_nodes);
+  const long n = 2 * n_free_nodes;
+  const std::vector<std::vector<long>> nbr = node_graph(mesh, node_eq, n_free_nodes);
+  cholmod_common cc;
+  cholmod_l_start(&cc);
+  std::vector<long> colptr;
+  cholmod_sparse* K = csc_pattern(nbr, colptr, cc);
+  cholmod_dense* b = cholmod_l_zeros(n, 1, CHOLMOD_REAL, &cc);
+  auto* bx = static_cast<double*>(b->x);
+  assemble_cells(mesh, scene, node_eq, K, bx);
+  add_tractions(mesh, node_eq, bx);
   t.assemble = since(t0);
   t.dofs = n;
   t.nnz = colptr[n];

@@ -61,17 +61,8 @@ double parse_positive(const std::string& key, const std::string& v) {
   return x;
 }
 
-}  // namespace
-
-int cmd_minima(const std::vector<std::string>& args) {
-  refuse_mpi_ranks("minima");
-  SceneArgs a = parse_scene_args(
-      args, {"--starts", "--seed", "--backends", "--start", "--group-tol", "--load-path-steps", "--box"});
-  const std::string name = std::filesystem::path(a.scene).stem().string();
-  if (std::find(args.begin(), args.end(), "--out") == args.end()) a.out = "out/" + name + "-minima";
-  if (a.quiet) set_log_level(LogLevel::WARN);
-  MinimaOptions mo;
-  std::vector<std::string> start_files;
+// The command's own options (--starts, --seed, ...) into @p mo; the --start files into @p start_files.
+void parse_minima_options(const SceneArgs& a, MinimaOptions& mo, std::vector<std::string>& start_files) {
   for (const auto& [key, value] : a.extra) {
     if (key == "--starts")
       mo.starts = static_cast<int>(parse_int(key, value, 0, MAX_STARTS));
@@ -93,10 +84,10 @@ int cmd_minima(const std::vector<std::string>& args) {
       if (mo.backends.empty()) throw UsageError("--backends: expected a comma-separated list, got '" + value + "'");
     }
   }
+}
 
-  require_utf8_scene_name(a.scene, "minima.json");
-  const nlohmann::json scene = load_scene(a.scene, a.overrides);
-  const Model md = build_model(scene, scene_directory(a.scene));
+// The starts in the --start files (Γ3 values, or a report.json) into mo.user_starts.
+void read_start_files(const std::vector<std::string>& start_files, const Model& md, MinimaOptions& mo) {
   for (const auto& f : start_files) {
     if (std::filesystem::is_directory(f)) input_error("--start '" + f + "': is a directory, not a start file");
     std::ifstream in(f);
@@ -112,6 +103,58 @@ int cmd_minima(const std::vector<std::string>& args) {
     }
     for (Vec& v : read_gamma3_starts(js, md, "--start '" + f + "'")) mo.user_starts.push_back(std::move(v));
   }
+}
+
+// solution_<k>.vtu per distinct solution and minima.pvd, the steps of one collection.
+void write_minima_vtus(const std::filesystem::path& out, const nlohmann::json& scene, const Model& md,
+                       const MinimaReport& r) {
+  const VtuFormat vtu_format =
+      scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
+  std::vector<std::pair<double, std::string>> vtus;
+  for (size_t k = 0; k < r.solutions.size(); ++k) {
+    const std::string file = "solution_" + std::to_string(k) + ".vtu";
+    write_vtu((out / file).string(), md, r.solutions[k].solution, vtu_format);
+    vtus.emplace_back(static_cast<double>(k), file);
+  }
+  // The distinct solutions, lowest energy first, as the steps of one collection.
+  if (!vtus.empty()) write_pvd((out / "minima.pvd").string(), vtus);
+}
+
+// minima.png: the Γ3 profile of each solution; nothing to draw without Γ3 (or solutions).
+void draw_minima_plot(const std::filesystem::path& out, const std::string& name, const Model& md,
+                      const MinimaReport& r) {
+  if (md.contact.size() == 0)
+    log_info() << "minima: no Gamma3 nodes, so no minima.png (the problem is linear elasticity: one solution)";
+  else if (!r.solutions.empty()) {
+    const int code = run_plot_script(
+        "plot_minima.py", {(out / "minima.json").string(), "--out", (out / "minima.png").string(), "--title", name},
+        (out / "minima.png").string());
+    // The scripts exit with 2 exactly when matplotlib is missing (after saying so themselves).
+    if (code != 0)
+      log_warn() << "minima: " << (out / "minima.png").string() << " was not drawn"
+                 << (code == 2 ? " (needs /usr/bin/python3 with matplotlib)" : "")
+                 << "; the table, CSV, JSON and VTU files are written";
+  }
+  if (std::filesystem::exists(out / "minima.png")) record_output_file((out / "minima.png").string());
+}
+
+}  // namespace
+
+int cmd_minima(const std::vector<std::string>& args) {
+  refuse_mpi_ranks("minima");
+  SceneArgs a = parse_scene_args(
+      args, {"--starts", "--seed", "--backends", "--start", "--group-tol", "--load-path-steps", "--box"});
+  const std::string name = std::filesystem::path(a.scene).stem().string();
+  if (std::find(args.begin(), args.end(), "--out") == args.end()) a.out = "out/" + name + "-minima";
+  if (a.quiet) set_log_level(LogLevel::WARN);
+  MinimaOptions mo;
+  std::vector<std::string> start_files;
+  parse_minima_options(a, mo, start_files);
+
+  require_utf8_scene_name(a.scene, "minima.json");
+  const nlohmann::json scene = load_scene(a.scene, a.overrides);
+  const Model md = build_model(scene, scene_directory(a.scene));
+  read_start_files(start_files, md, mo);
   // solution_<k>.vtu: one per distinct solution, how many is known at the end.
   const OutputLock lock = prepare_output_dir(a.out, a.force,
                                              {"minima.csv", "minima.json", "minima.png", "minima.pvd", "minima-runs.csv"},
@@ -131,35 +174,13 @@ int cmd_minima(const std::vector<std::string>& args) {
   js["scene_file"] = a.scene;
   js["scene"] = scene;
   write_minima_csv((out / "minima.csv").string(), r);
-  const VtuFormat vtu_format =
-      scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
-  std::vector<std::pair<double, std::string>> vtus;
-  for (size_t k = 0; k < r.solutions.size(); ++k) {
-    const std::string file = "solution_" + std::to_string(k) + ".vtu";
-    write_vtu((out / file).string(), md, r.solutions[k].solution, vtu_format);
-    vtus.emplace_back(static_cast<double>(k), file);
-  }
-  // The distinct solutions, lowest energy first, as the steps of one collection.
-  if (!vtus.empty()) write_pvd((out / "minima.pvd").string(), vtus);
+  write_minima_vtus(out, scene, md, r);
   // minima.json last of the set: it marks the search complete (and the picture is drawn from it).
   write_text_file((out / "minima.json").string(), js.dump(2) + '\n');
   std::printf("%s: distinct solutions (lowest energy first)\n", name.c_str());
   std::fputs(minima_table(r).c_str(), stdout);
   std::printf("results in %s\n", a.out.c_str());
-  // The picture is the Γ3 profile of each solution: nothing to draw without Γ3 (or solutions).
-  if (md.contact.size() == 0)
-    log_info() << "minima: no Gamma3 nodes, so no minima.png (the problem is linear elasticity: one solution)";
-  else if (!r.solutions.empty()) {
-    const int code = run_plot_script(
-        "plot_minima.py", {(out / "minima.json").string(), "--out", (out / "minima.png").string(), "--title", name},
-        (out / "minima.png").string());
-    // The scripts exit with 2 exactly when matplotlib is missing (after saying so themselves).
-    if (code != 0)
-      log_warn() << "minima: " << (out / "minima.png").string() << " was not drawn"
-                 << (code == 2 ? " (needs /usr/bin/python3 with matplotlib)" : "")
-                 << "; the table, CSV, JSON and VTU files are written";
-  }
-  if (std::filesystem::exists(out / "minima.png")) record_output_file((out / "minima.png").string());
+  draw_minima_plot(out, name, md, r);
 
   if (r.solutions.empty()) {
     const bool any_converged =

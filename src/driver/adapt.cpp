@@ -65,6 +65,77 @@ AdaptOptions adapt_options_from_scene(const nlohmann::json& scene) {
   return o;
 }
 
+namespace {
+
+// The level's record from its model, answer and estimate (the timings apart).
+void record_level(AdaptLevel& L, int level, const Model& md, const Solution& sol, const ErrorEstimate& est) {
+  L.level = level;
+  L.nodes = md.mesh.num_nodes();
+  L.cells = md.mesh.num_cells();
+  L.dofs = md.dofs.n_free();
+  L.contact_nodes = md.contact.size();
+  L.estimate = est.relative;
+  L.estimate_abs = est.total;
+  L.energy_norm = sol.energy_norm;
+  L.certificate = sol.certificate.max_residual;
+  L.ok = sol.ok();
+}
+
+// The next mesh: Dörfler marking, cut by the landing, then bisection; sets L.marked and L.landed.
+// Empty (with @p stop = "max_dofs") when the next mesh would exceed max_dofs; else @p u_start is
+// this level's u carried to it.
+std::optional<Bisection> refine_level(const Model& md, const Solution& sol, const ErrorEstimate& est,
+                                      const AdaptOptions& aopt, int level, AdaptLevel& L, std::string& stop,
+                                      Vec& u_start) {
+  std::optional<Bisection> next;
+  std::vector<char> marked = dorfler_mark(est.eta, aopt.theta);
+  next = bisect(md.mesh, marked, aopt.bisection);
+  // Landing (AdaptOptions::landing): the nodes the target needs at the rate N^(−1/2), with the
+  // margin; a bigger Dörfler step is cut to the largest indicators, in proportion to the new
+  // nodes it would have made (the closure makes the count approximate, hence the margin).
+  const double ratio = L.estimate / aopt.target_error;  // > 1: the target is not reached
+  const double need = aopt.landing * ratio * ratio * static_cast<double>(L.nodes);
+  const Index n_next = next->mesh.num_nodes();
+  if (aopt.landing > 0 && need < static_cast<double>(n_next)) {
+    Index k = 0;
+    for (char c : marked) k += c;
+    const double share = (need - static_cast<double>(L.nodes)) / static_cast<double>(n_next - L.nodes);
+    const Index k_land = std::max<Index>(1, std::llround(share * static_cast<double>(k)));
+    marked = mark_largest(est.eta, k_land);
+    next = bisect(md.mesh, marked, aopt.bisection);
+    L.landed = true;
+    log_info() << "adapt level " << level << ": landing, the target needs about " << std::llround(need)
+               << " nodes (margin " << aopt.landing << "): " << k_land << " of Dörfler's " << k
+               << " cells marked, " << next->mesh.num_nodes() << " nodes instead of " << n_next;
+  }
+  for (char c : marked) L.marked += c;
+  // The next mesh's free unknowns are at most 2 per node: refuse it beyond max_dofs.
+  if (2 * next->mesh.num_nodes() > aopt.max_dofs) {
+    stop = "max_dofs";
+    L.marked = 0;
+    next.reset();
+  } else {
+    u_start = prolongate_bisection(*next, sol.u, 2);
+  }
+  return next;
+}
+
+// From the last level's condensation while the solver still holds it: the bracket of
+// check/smallness.hpp decides (21) without a factorization (the exact evaluation factorized the
+// ε:ε Gram matrix of the final mesh again, ~30 % of the whole adaptive run on the fig2 scene), and
+// check.smallness_method = exact, 3D or an undecided bracket still get it.
+void final_smallness(const ContactSolver& solver, Solution& sol) {
+  sol.smallness = solver.smallness();
+  sol.timings["smallness"] = sol.smallness.seconds;
+  const SmallnessReport& q = sol.smallness;
+  if (q.computed)
+    log_info() << "smallness (21) on the final mesh, " << q.method << ": lhs = " << q.lhs
+               << (q.holds ? " < " : " >= ") << "m_F = " << q.m_F
+               << ": uniqueness guaranteed: " << (q.holds ? "yes" : "no");
+}
+
+}  // namespace
+
 AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOptions& aopt, const SolveOptions& sopt,
                          const AdaptLevelSolved& on_level) {
   const auto t_start = clk::now();
@@ -98,16 +169,7 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
     const auto t_estimate = clk::now();
     ErrorEstimate est = estimate_error(md, sol, aopt.estimator);
     L.estimate_seconds = since(t_estimate);
-    L.level = level;
-    L.nodes = md.mesh.num_nodes();
-    L.cells = md.mesh.num_cells();
-    L.dofs = md.dofs.n_free();
-    L.contact_nodes = md.contact.size();
-    L.estimate = est.relative;
-    L.estimate_abs = est.total;
-    L.energy_norm = sol.energy_norm;
-    L.certificate = sol.certificate.max_residual;
-    L.ok = sol.ok();
+    record_level(L, level, md, sol, est);
     log_info() << "adapt level " << level << ": " << L.dofs << " dofs, estimate " << L.estimate << " ("
                << to_string(aopt.estimator) << "), certificate " << L.certificate;
 
@@ -117,37 +179,7 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
     else if (level + 1 >= aopt.max_levels) stop = "max_levels";
     std::optional<Bisection> next;
     const auto t_refine = clk::now();
-    if (stop.empty()) {
-      std::vector<char> marked = dorfler_mark(est.eta, aopt.theta);
-      next = bisect(md.mesh, marked, aopt.bisection);
-      // Landing (AdaptOptions::landing): the nodes the target needs at the rate N^(−1/2), with the
-      // margin; a bigger Dörfler step is cut to the largest indicators, in proportion to the new
-      // nodes it would have made (the closure makes the count approximate, hence the margin).
-      const double ratio = L.estimate / aopt.target_error;  // > 1: the target is not reached
-      const double need = aopt.landing * ratio * ratio * static_cast<double>(L.nodes);
-      const Index n_next = next->mesh.num_nodes();
-      if (aopt.landing > 0 && need < static_cast<double>(n_next)) {
-        Index k = 0;
-        for (char c : marked) k += c;
-        const double share = (need - static_cast<double>(L.nodes)) / static_cast<double>(n_next - L.nodes);
-        const Index k_land = std::max<Index>(1, std::llround(share * static_cast<double>(k)));
-        marked = mark_largest(est.eta, k_land);
-        next = bisect(md.mesh, marked, aopt.bisection);
-        L.landed = true;
-        log_info() << "adapt level " << level << ": landing, the target needs about " << std::llround(need)
-                   << " nodes (margin " << aopt.landing << "): " << k_land << " of Dörfler's " << k
-                   << " cells marked, " << next->mesh.num_nodes() << " nodes instead of " << n_next;
-      }
-      for (char c : marked) L.marked += c;
-      // The next mesh's free unknowns are at most 2 per node: refuse it beyond max_dofs.
-      if (2 * next->mesh.num_nodes() > aopt.max_dofs) {
-        stop = "max_dofs";
-        L.marked = 0;
-        next.reset();
-      } else {
-        u_start = prolongate_bisection(*next, sol.u, 2);
-      }
-    }
+    if (stop.empty()) next = refine_level(md, sol, est, aopt, level, L, stop, u_start);
     L.refine_seconds = since(t_refine);
     L.seconds = since(t_level);
     L.cumulative_seconds = since(t_start);
@@ -156,19 +188,7 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
     if (!stop.empty()) {
       r.stop_reason = stop;
       r.reached = stop == "target reached";
-      if (sopt.smallness) {
-        // From this level's condensation while the solver still holds it: the bracket of
-        // check/smallness.hpp decides (21) without a factorization (the exact evaluation factorized
-        // the ε:ε Gram matrix of the final mesh again, ~30 % of the whole adaptive run on the fig2
-        // scene), and check.smallness_method = exact, 3D or an undecided bracket still get it.
-        sol.smallness = solver.smallness();
-        sol.timings["smallness"] = sol.smallness.seconds;
-        const SmallnessReport& q = sol.smallness;
-        if (q.computed)
-          log_info() << "smallness (21) on the final mesh, " << q.method << ": lhs = " << q.lhs
-                     << (q.holds ? " < " : " >= ") << "m_F = " << q.m_F
-                     << ": uniqueness guaranteed: " << (q.holds ? "yes" : "no");
-      }
+      if (sopt.smallness) final_smallness(solver, sol);
       r.model = std::move(md);
       r.solution = std::move(sol);
       r.estimate = std::move(est);

@@ -56,6 +56,85 @@ bool WorkPrecisionStudy::ok() const {
   return true;
 }
 
+namespace {
+
+// --reference uniform:R or adaptive:T.
+struct ReferenceSpec {
+  std::string kind;
+  double value = 0;
+};
+
+ReferenceSpec parse_reference(const std::string& reference) {
+  const auto colon = reference.find(':');
+  ReferenceSpec r;
+  r.kind = reference.substr(0, colon);
+  const std::string& kind = r.kind;
+  double& value = r.value;
+  if (colon != std::string::npos) {
+    std::istringstream in(reference.substr(colon + 1));
+    in >> value;
+    if (!in || !in.eof()) value = 0;
+  }
+  if ((kind != "uniform" && kind != "adaptive") || !(value > 0) ||
+      (kind == "uniform" && value != std::floor(value)) || (kind == "adaptive" && value >= 1))
+    input_error("--reference: expected uniform:R (R cells per side) or adaptive:T (0 < T < 1), got '" + reference +
+                "'");
+  // T is a target_error of the same adaptive sequence: the key's floor holds (1e-9 was accepted).
+  if (kind == "adaptive") check_key_range("adapt.target_error", value, "--reference adaptive:T", EXIT_INPUT);
+  if (kind == "uniform" && value > MAX_LEVEL)
+    input_error("--reference uniform:R: R = " + reference.substr(colon + 1) + " is above the level cap " +
+                std::to_string(MAX_LEVEL) + " (2^20 cells per side)");
+  return r;
+}
+
+// The error of a solution against the reference: relative energy norm, corrected by the
+// reference's own estimate.
+struct ReferenceError {
+  const Model& ref;
+  const Solution& sref;
+  double reference_estimate;
+  double norm_ref;
+  void measure(const Mesh& mesh, const Vec& u, StudyPoint& p) const {
+    // The interpolant vanishes on the reference's Γ1 (every mesh clamps the same sides), so a(e, e)
+    // through the model's K_x is the energy norm of the difference.
+    const Vec e = sref.u - prolongate(mesh, u, ref.mesh);
+    p.error = std::sqrt(std::max(0.0, ref.a(e, e))) / norm_ref;
+    p.error_corrected = std::hypot(p.error, reference_estimate);
+    p.efficiency = p.estimate / p.error_corrected;
+  }
+};
+
+// A structured family (uniform or graded meshes), one solve per level, measured against the reference.
+void structured_family(const json& scene, const std::string& scene_dir, const SolveOptions& opt,
+                       const WorkPrecisionRequest& req, const ReferenceError& err, const std::string& family,
+                       const std::vector<int>& levels, bool graded, WorkPrecisionStudy& st) {
+  for (int n : levels) {
+    json s = with_mesh(scene, n);
+    if (graded) {
+      s["mesh"]["grading"]["x"] = req.graded_x;
+      s["mesh"]["grading"]["y"] = req.graded_y;
+      s["mesh"]["grading"]["power"] = req.graded_power;
+    }
+    const auto t0 = clk::now();
+    const Model md = build_model(s, scene_dir);
+    const Solution sol = solve(md, opt);
+    StudyPoint p;
+    p.seconds = since(t0);
+    p.family = family;
+    p.level = n;
+    p.dofs = md.dofs.n_free();
+    const ErrorEstimate e = estimate_error(md, sol, req.adapt.estimator);
+    p.estimate = e.relative;
+    p.certificate = sol.certificate.max_residual;
+    p.ok = sol.ok();
+    err.measure(md.mesh, sol.u, p);
+    log_info() << family << " n = " << n << ": " << p.dofs << " dofs, error " << p.error << ", " << p.seconds << " s";
+    st.points.push_back(p);
+  }
+}
+
+}  // namespace
+
 WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scene_dir, const WorkPrecisionRequest& req) {
   if (scene.at("mesh").at("type") != "rectangle")
     input_error("converge --adaptive: the scene's mesh must be a generated rectangle (mesh.type = rectangle)");
@@ -63,24 +142,9 @@ WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scen
   opt.smallness = false;  // a diagnostic, not part of the work measured
   WorkPrecisionStudy st;
   st.reference = req.reference;
-
-  const auto colon = req.reference.find(':');
-  const std::string kind = req.reference.substr(0, colon);
-  double value = 0;
-  if (colon != std::string::npos) {
-    std::istringstream in(req.reference.substr(colon + 1));
-    in >> value;
-    if (!in || !in.eof()) value = 0;
-  }
-  if ((kind != "uniform" && kind != "adaptive") || !(value > 0) ||
-      (kind == "uniform" && value != std::floor(value)) || (kind == "adaptive" && value >= 1))
-    input_error("--reference: expected uniform:R (R cells per side) or adaptive:T (0 < T < 1), got '" +
-                req.reference + "'");
-  // T is a target_error of the same adaptive sequence: the key's floor holds (1e-9 was accepted).
-  if (kind == "adaptive") check_key_range("adapt.target_error", value, "--reference adaptive:T", EXIT_INPUT);
-  if (kind == "uniform" && value > MAX_LEVEL)
-    input_error("--reference uniform:R: R = " + req.reference.substr(colon + 1) + " is above the level cap " +
-                std::to_string(MAX_LEVEL) + " (2^20 cells per side)");
+  const ReferenceSpec spec = parse_reference(req.reference);
+  const std::string& kind = spec.kind;
+  const double value = spec.value;
 
   // The adaptive sequence, kept level by level (its meshes and solutions).
   std::vector<Kept> adaptive;
@@ -123,45 +187,11 @@ WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scen
   }
   if (!sref.ok()) log_warn() << "converge --adaptive: the reference solve was not certified: " << sref.message;
   st.reference_dofs = ref.dofs.n_free();
-  const double norm_ref = std::sqrt(std::max(0.0, ref.a(sref.u, sref.u)));
-  const auto measure = [&](const Mesh& mesh, const Vec& u, StudyPoint& p) {
-    // The interpolant vanishes on the reference's Γ1 (every mesh clamps the same sides), so a(e, e)
-    // through the model's K_x is the energy norm of the difference.
-    const Vec e = sref.u - prolongate(mesh, u, ref.mesh);
-    p.error = std::sqrt(std::max(0.0, ref.a(e, e))) / norm_ref;
-    p.error_corrected = std::hypot(p.error, st.reference_estimate);
-    p.efficiency = p.estimate / p.error_corrected;
-  };
-
-  const auto structured = [&](const std::string& family, const std::vector<int>& levels, bool graded) {
-    for (int n : levels) {
-      json s = with_mesh(scene, n);
-      if (graded) {
-        s["mesh"]["grading"]["x"] = req.graded_x;
-        s["mesh"]["grading"]["y"] = req.graded_y;
-        s["mesh"]["grading"]["power"] = req.graded_power;
-      }
-      const auto t0 = clk::now();
-      const Model md = build_model(s, scene_dir);
-      const Solution sol = solve(md, opt);
-      StudyPoint p;
-      p.seconds = since(t0);
-      p.family = family;
-      p.level = n;
-      p.dofs = md.dofs.n_free();
-      const ErrorEstimate e = estimate_error(md, sol, req.adapt.estimator);
-      p.estimate = e.relative;
-      p.certificate = sol.certificate.max_residual;
-      p.ok = sol.ok();
-      measure(md.mesh, sol.u, p);
-      log_info() << family << " n = " << n << ": " << p.dofs << " dofs, error " << p.error << ", " << p.seconds << " s";
-      st.points.push_back(p);
-    }
-  };
-  structured("uniform", req.uniform_levels, false);
-  structured("graded", req.graded_levels, true);
+  const ReferenceError err{ref, sref, st.reference_estimate, std::sqrt(std::max(0.0, ref.a(sref.u, sref.u)))};
+  structured_family(scene, scene_dir, opt, req, err, "uniform", req.uniform_levels, false, st);
+  structured_family(scene, scene_dir, opt, req, err, "graded", req.graded_levels, true, st);
   for (Kept& k : adaptive) {
-    measure(k.mesh, k.u, k.p);
+    err.measure(k.mesh, k.u, k.p);
     st.points.push_back(k.p);
   }
   return st;

@@ -157,152 +157,203 @@ ActiveSet active_set(const ExactInnerProblem& P, const Vec& x) {
   return A;
 }
 
-}  // namespace
+// The state of one exact_inner_solve: x and r = S (x − y) (kept together), Φ_λ(x), and the
+// reduced Hessian's factor kept across Newton steps.
+class InnerSolver {
+ public:
+  InnerSolver(const ExactInnerProblem& P, Vec& x, const ExactInnerOptions& opt, ExactInnerResult& R)
+      : P(P), S(*P.S), d(P.d), nc(P.w.size()), m(d * nc), x(x), opt(opt), R(R) {}
+  void start();
+  bool sweep();
+  bool newton();
+  double& energy() { return E; }
+  void refresh_r() { r = S * (x - P.y); }
 
-ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const ExactInnerOptions& opt) {
-  ExactInnerResult R;
-  const Mat& S = *P.S;
-  const int d = P.d;
-  const Index nc = P.w.size(), m = d * nc;
+ private:
+  void move(Index i, double t);
+  Vec piece_gradient(const ActiveSet& A, std::vector<std::pair<Index, Eigen::Matrix2d>>& slip_blocks) const;
+  bool factor(const ActiveSet& A, const std::vector<std::pair<Index, Eigen::Matrix2d>>& slip_blocks);
+  bool line_search(const ActiveSet& A, const Vec& dF);
+
+  const ExactInnerProblem& P;
+  const Mat& S;
+  const int d;
+  const Index nc, m;
+  Vec& x;
+  const ExactInnerOptions& opt;
+  ExactInnerResult& R;
+  Vec r;
+  double E = 0;
+  ActiveSet cached;
+  Eigen::LLT<Mat> llt;
+  Eigen::LDLT<Mat> ldlt;
+  bool factored = false, use_llt = false;  // a factor of the reduced Hessian of `cached`
+};
+
+void InnerSolver::start() {
   for (Index k = 0; k < nc; ++k) {
     x[d * k] = std::min(x[d * k], P.g[k]);
     for (int c = 0; c < d; ++c)
       if (held(P, k, c)) x[d * k + c] = 0;
   }
-  Vec r = S * (x - P.y);
-  double E = exact_inner_energy(P, x);
+  r = S * (x - P.y);
+  E = exact_inner_energy(P, x);
+}
 
-  // One sweep of exact proximal coordinate steps (file comment); r follows x by rank-one updates.
-  const auto move = [&](Index i, double t) {
-    const double dt = t - x[i];
-    if (dt == 0) return;
-    x[i] = t;
-    r += dt * S.col(i);
-  };
-  const auto sweep = [&]() {
-    for (Index k = 0; k < nc; ++k) {
-      const Index iv = d * k;
-      const double w = P.w[k], lam = P.lambda[k];
-      if (!held(P, k, 0)) {
-        const double t = normal_prox(S(iv, iv), x[iv], r[iv], w, P.g[k], P.law);
-        if (std::isnan(t)) return false;
-        move(iv, t);
-      }
-      if (d == 2 || held(P, k, 1) || held(P, k, 2)) {
-        for (int c = 1; c < d; ++c)
-          if (!held(P, k, c)) {
-            const Index i = iv + c;
-            const double a = S(i, i);
-            move(i, soft(x[i] - r[i] / a, w * lam / a));
-          }
-      } else {
-        // 3D: proximal-gradient step on the tangential block, majorized by L = λ_max(S_ττ);
-        // the proximal map of w λ |·| is the disk shrink.
-        const Index i = iv + 1;
-        const double a = S(i, i), b = S(i, i + 1), c = S(i + 1, i + 1);
-        const double L = 0.5 * (a + c) + std::sqrt(0.25 * (a - c) * (a - c) + b * b);
-        Eigen::Vector2d z = x.segment<2>(i) - r.segment<2>(i) / L;
-        const double nz = z.norm(), kappa = w * lam / L;
-        z *= nz > kappa ? 1 - kappa / nz : 0.0;
-        move(i, z[0]);
-        move(i + 1, z[1]);
-      }
+void InnerSolver::move(Index i, double t) {
+  const double dt = t - x[i];
+  if (dt == 0) return;
+  x[i] = t;
+  r += dt * S.col(i);
+}
+
+// One sweep of exact proximal coordinate steps (file comment); r follows x by rank-one updates.
+// False if Φ_λ is unbounded below along a normal unknown.
+bool InnerSolver::sweep() {
+  for (Index k = 0; k < nc; ++k) {
+    const Index iv = d * k;
+    const double w = P.w[k], lam = P.lambda[k];
+    if (!held(P, k, 0)) {
+      const double t = normal_prox(S(iv, iv), x[iv], r[iv], w, P.g[k], P.law);
+      if (std::isnan(t)) return false;
+      move(iv, t);
     }
-    return true;
-  };
-
-  // One active-set Newton step with backtracking on Φ_λ (file comment). 2D: the reduced Hessian
-  // depends only on the active set, so its factorization is kept while the set stays the same.
-  // The reduced Hessian's factor: blocked Cholesky when it is positive definite (the convex case;
-  // m³/3 flops), else LDLᵀ, whose direction is used only if it is a descent direction.
-  ActiveSet cached;
-  Eigen::LLT<Mat> llt;
-  Eigen::LDLT<Mat> ldlt;
-  bool factored = false, use_llt = false;  // a factor of the reduced Hessian of `cached`
-  const auto newton = [&]() {
-    const ActiveSet A = active_set(P, x);
-    const Index nf = static_cast<Index>(A.free.size());
-    if (nf == 0) return false;
-    Vec G = r;  // gradient of Φ_λ on the current pieces
-    std::vector<std::pair<Index, Eigen::Matrix2d>> slip_blocks;
-    for (Index k = 0; k < nc; ++k) {
-      const Index iv = d * k;
-      const double w = P.w[k], lam = P.lambda[k];
-      const int cn = A.code[static_cast<size_t>(iv)];
-      if (cn >= 0 && P.law) {
-        const Piece q = piece(*P.law, static_cast<size_t>(cn));
-        G[iv] += w * (q.A + q.s * x[iv]);
-      }
-      const Vec ut = x.segment(iv + 1, d - 1);
-      const double y = ut.norm();
-      if (lam > 0 && y > 0) {
-        G.segment(iv + 1, d - 1) += w * lam * ut / y;
-        if (d == 3) {
-          const Eigen::Vector2d t = ut / y;
-          slip_blocks.emplace_back(iv + 1, w * lam / y * (Eigen::Matrix2d::Identity() - t * t.transpose()));
+    if (d == 2 || held(P, k, 1) || held(P, k, 2)) {
+      for (int c = 1; c < d; ++c)
+        if (!held(P, k, c)) {
+          const Index i = iv + c;
+          const double a = S(i, i);
+          move(i, soft(x[i] - r[i] / a, w * lam / a));
         }
-      }
+    } else {
+      // 3D: proximal-gradient step on the tangential block, majorized by L = λ_max(S_ττ);
+      // the proximal map of w λ |·| is the disk shrink.
+      const Index i = iv + 1;
+      const double a = S(i, i), b = S(i, i + 1), c = S(i + 1, i + 1);
+      const double L = 0.5 * (a + c) + std::sqrt(0.25 * (a - c) * (a - c) + b * b);
+      Eigen::Vector2d z = x.segment<2>(i) - r.segment<2>(i) / L;
+      const double nz = z.norm(), kappa = w * lam / L;
+      z *= nz > kappa ? 1 - kappa / nz : 0.0;
+      move(i, z[0]);
+      move(i + 1, z[1]);
     }
-    const bool reuse = d == 2 && factored && A == cached;
-    if (!reuse) {
-      Mat H(nf, nf);
-      for (Index a = 0; a < nf; ++a)
-        for (Index b = 0; b < nf; ++b) H(a, b) = S(A.free[a], A.free[b]);
-      std::vector<Index> pos(static_cast<size_t>(m), -1);
-      for (Index a = 0; a < nf; ++a) pos[static_cast<size_t>(A.free[a])] = a;
-      for (Index k = 0; k < nc; ++k) {
-        const Index iv = d * k;
-        const int cn = A.code[static_cast<size_t>(iv)];
-        if (cn >= 0 && P.law) H(pos[iv], pos[iv]) += P.w[k] * P.law->slopes()[static_cast<size_t>(cn)];
-      }
-      for (const auto& [i, B] : slip_blocks)
-        for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 2; ++b)
-            if (pos[i + a] >= 0 && pos[i + b] >= 0) H(pos[i + a], pos[i + b]) += B(a, b);
-      ++R.factorizations;
-      cached = A;
-      llt.compute(H);
-      use_llt = llt.info() == Eigen::Success;
-      if (!use_llt) ldlt.compute(H);
-      factored = use_llt || ldlt.info() == Eigen::Success;
-      if (!factored) return false;
-    }
-    Vec gF(nf);
-    for (Index a = 0; a < nf; ++a) gF[a] = G[A.free[a]];
-    const Vec dF = use_llt ? Vec(llt.solve(-gF)) : Vec(ldlt.solve(-gF));
-    if (!dF.allFinite() || !(dF.dot(gF) < 0)) return false;  // not a descent direction (softening)
-    Vec xt = x;
-    // Near a solution the decrease of Φ_λ (~ residual²) falls below Φ_λ's round-off and cannot be
-    // seen: there the full step is also taken when Φ_λ stays within round-off (1e-14 of its
-    // terms' size) and the stationarity residual drops (3D: Newton's quadratic convergence).
-    const double res0 = exact_inner_residual(P, x);
-    const double E_noise = 1e-14 * (std::abs(E) + std::abs((x - P.y).dot(r)));
-    for (double alpha = 1; alpha >= std::ldexp(1.0, -opt.max_halvings); alpha *= 0.5) {
-      for (Index a = 0; a < nf; ++a) xt[A.free[a]] = x[A.free[a]] + alpha * dF[a];
-      for (Index k = 0; k < nc; ++k) xt[d * k] = std::min(xt[d * k], P.g[k]);
-      const double Et = exact_inner_energy(P, xt);
-      if (Et < E || (alpha == 1 && Et <= E + E_noise && exact_inner_residual(P, xt) < 0.5 * res0)) {
-        x = xt;
-        E = Et;
-        r = S * (x - P.y);
-        ++R.newton_steps;
-        return true;
-      }
-    }
-    return false;
-  };
+  }
+  return true;
+}
 
+// The gradient of Φ_λ on the current pieces; 3D: the slip nodes' curvature blocks of w λ |u_τ|.
+Vec InnerSolver::piece_gradient(const ActiveSet& A,
+                                std::vector<std::pair<Index, Eigen::Matrix2d>>& slip_blocks) const {
+  Vec G = r;
+  for (Index k = 0; k < nc; ++k) {
+    const Index iv = d * k;
+    const double w = P.w[k], lam = P.lambda[k];
+    const int cn = A.code[static_cast<size_t>(iv)];
+    if (cn >= 0 && P.law) {
+      const Piece q = piece(*P.law, static_cast<size_t>(cn));
+      G[iv] += w * (q.A + q.s * x[iv]);
+    }
+    const Vec ut = x.segment(iv + 1, d - 1);
+    const double y = ut.norm();
+    if (lam > 0 && y > 0) {
+      G.segment(iv + 1, d - 1) += w * lam * ut / y;
+      if (d == 3) {
+        const Eigen::Vector2d t = ut / y;
+        slip_blocks.emplace_back(iv + 1, w * lam / y * (Eigen::Matrix2d::Identity() - t * t.transpose()));
+      }
+    }
+  }
+  return G;
+}
+
+// The reduced Hessian's factor: blocked Cholesky when it is positive definite (the convex case;
+// m³/3 flops), else LDLᵀ, whose direction is used only if it is a descent direction. 2D: the
+// reduced Hessian depends only on the active set, so its factorization is kept while the set
+// stays the same. False if neither factors.
+bool InnerSolver::factor(const ActiveSet& A, const std::vector<std::pair<Index, Eigen::Matrix2d>>& slip_blocks) {
+  const bool reuse = d == 2 && factored && A == cached;
+  if (reuse) return true;
+  const Index nf = static_cast<Index>(A.free.size());
+  Mat H(nf, nf);
+  for (Index a = 0; a < nf; ++a)
+    for (Index b = 0; b < nf; ++b) H(a, b) = S(A.free[a], A.free[b]);
+  std::vector<Index> pos(static_cast<size_t>(m), -1);
+  for (Index a = 0; a < nf; ++a) pos[static_cast<size_t>(A.free[a])] = a;
+  for (Index k = 0; k < nc; ++k) {
+    const Index iv = d * k;
+    const int cn = A.code[static_cast<size_t>(iv)];
+    if (cn >= 0 && P.law) H(pos[iv], pos[iv]) += P.w[k] * P.law->slopes()[static_cast<size_t>(cn)];
+  }
+  for (const auto& [i, B] : slip_blocks)
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        if (pos[i + a] >= 0 && pos[i + b] >= 0) H(pos[i + a], pos[i + b]) += B(a, b);
+  ++R.factorizations;
+  cached = A;
+  llt.compute(H);
+  use_llt = llt.info() == Eigen::Success;
+  if (!use_llt) ldlt.compute(H);
+  factored = use_llt || ldlt.info() == Eigen::Success;
+  return factored;
+}
+
+// Backtracking on Φ_λ along the free unknowns' direction dF; true if a step was taken.
+bool InnerSolver::line_search(const ActiveSet& A, const Vec& dF) {
+  const Index nf = static_cast<Index>(A.free.size());
+  Vec xt = x;
+  // Near a solution the decrease of Φ_λ (~ residual²) falls below Φ_λ's round-off and cannot be
+  // seen: there the full step is also taken when Φ_λ stays within round-off (1e-14 of its
+  // terms' size) and the stationarity residual drops (3D: Newton's quadratic convergence).
+  const double res0 = exact_inner_residual(P, x);
+  const double E_noise = 1e-14 * (std::abs(E) + std::abs((x - P.y).dot(r)));
+  for (double alpha = 1; alpha >= std::ldexp(1.0, -opt.max_halvings); alpha *= 0.5) {
+    for (Index a = 0; a < nf; ++a) xt[A.free[a]] = x[A.free[a]] + alpha * dF[a];
+    for (Index k = 0; k < nc; ++k) xt[d * k] = std::min(xt[d * k], P.g[k]);
+    const double Et = exact_inner_energy(P, xt);
+    if (Et < E || (alpha == 1 && Et <= E + E_noise && exact_inner_residual(P, xt) < 0.5 * res0)) {
+      x = xt;
+      E = Et;
+      r = S * (x - P.y);
+      ++R.newton_steps;
+      return true;
+    }
+  }
+  return false;
+}
+
+// One active-set Newton step with backtracking on Φ_λ (file comment).
+bool InnerSolver::newton() {
+  const ActiveSet A = active_set(P, x);
+  const Index nf = static_cast<Index>(A.free.size());
+  if (nf == 0) return false;
+  std::vector<std::pair<Index, Eigen::Matrix2d>> slip_blocks;
+  const Vec G = piece_gradient(A, slip_blocks);
+  if (!factor(A, slip_blocks)) return false;
+  Vec gF(nf);
+  for (Index a = 0; a < nf; ++a) gF[a] = G[A.free[a]];
+  const Vec dF = use_llt ? Vec(llt.solve(-gF)) : Vec(ldlt.solve(-gF));
+  if (!dF.allFinite() || !(dF.dot(gF) < 0)) return false;  // not a descent direction (softening)
+  return line_search(A, dF);
+}
+
+}  // namespace
+
+ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const ExactInnerOptions& opt) {
+  ExactInnerResult R;
+  InnerSolver solver(P, x, opt, R);
+  solver.start();
+  double& E = solver.energy();
   for (R.rounds = 1; R.rounds <= opt.max_rounds; ++R.rounds) {
     const double E0 = E;
-    if (!sweep()) {
+    if (!solver.sweep()) {
       R.note = "Phi_lambda is unbounded below along a normal unknown (an outer slope of p_nu below -S_ii/w)";
       break;
     }
     E = exact_inner_energy(P, x);
     R.residual = exact_inner_residual(P, x);
     if (R.residual <= opt.tol) break;
-    const bool stepped = newton();
-    r = S * (x - P.y);  // drop the rank-one updates' accumulated round-off
+    const bool stepped = solver.newton();
+    solver.refresh_r();  // drop the rank-one updates' accumulated round-off
     R.residual = exact_inner_residual(P, x);
     if (R.residual <= opt.tol) break;
     if (!stepped && !(E < E0)) {

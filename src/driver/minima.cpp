@@ -207,142 +207,154 @@ void pair_mirror_images(const Model& md, MinimaReport& R, double group_tol) {
     }
 }
 
-MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaOptions& mopt_in) {
-  const auto t0 = clk::now();
-  MinimaReport R;
-  R.options = mopt_in;
-  MinimaOptions& mopt = R.options;
-  if (mopt.backends.empty()) mopt.backends = {opt.backend};
-  if (mopt.starts < 0) input_error("minima: --starts must be >= 0");
-  if (!(mopt.group_tol > 0)) input_error("minima: group_tol must be > 0");
-  if (!(mopt.box > 0)) input_error("minima: box must be > 0");
-  if (mopt.load_path_steps < 0) input_error("minima: load_path_steps must be >= 0");
+namespace {
+/// One find_minima search in progress: the report so far and the certified runs (candidates).
+struct MinimaSearch {
+  const Model& md;
+  MinimaReport& R;
+  std::vector<Candidate> cands;
 
+  void record(const std::string& start, const std::string& backend, Solution sol, double secs);
+  void run_backend(std::unique_ptr<ContactSolver>& solver, const SolveOptions& opt, const std::string& name);
+  void gamma3_starts(ContactSolver& S, const std::string& name, double Us);
+  void load_path(ContactSolver& S, const std::string& name);
+  void group();
+};
+
+void MinimaSearch::record(const std::string& start, const std::string& backend, Solution sol, double secs) {
+  const MinimaOptions& mopt = R.options;
+  MinimaRun r;
+  r.start = start;
+  r.backend = backend;
+  r.solved_by = sol.solved_by();
+  r.converged = sol.backend_ok && sol.fixed_point_converged;
+  // The certificate is the judge (docs/model.md §4): a backend that stopped short of its own
+  // tolerance may still have delivered a solution of (22), and a converged one may not.
+  r.certified = sol.certificate.passed;
+  r.energy = sol.energy;
+  r.certificate = sol.certificate.max_residual;
+  r.seconds = secs;
+  r.message = sol.message;
+  log_info() << "minima: " << backend << " from " << start << ": energy " << fmt(sol.energy, 10) << ", certificate "
+             << fmt(sol.certificate.max_residual, 3) << (r.certified ? "" : " (NOT certified)");
+  R.runs.push_back(r);
+  if (r.certified) cands.push_back({static_cast<int>(R.runs.size()) - 1, std::move(sol)});
+  if (mopt.on_run) mopt.on_run(R.runs);
+}
+
+// Every start with backend @p name on the one solver (made by the first backend: factored, and
+// condensed, once for every backend, start and load step).
+void MinimaSearch::run_backend(std::unique_ptr<ContactSolver>& solver, const SolveOptions& opt,
+                               const std::string& name) {
+  const MinimaOptions& mopt = R.options;
+  SolveOptions o = opt;
+  o.backend = name;
+  // solver.exact.start = auto: the continuation's neighbourhoods for the starts whose inner problem
+  // is not strongly convex, since reaching different stationary points is what minima is for
+  // (solve_options.hpp; minima-softening: 6 distinct minima this way, 3 with "always").
+  if (o.exact_start == "auto") o.exact_start = "convex";
+  const bool first = !solver;
+  if (first)
+    solver = std::make_unique<ContactSolver>(md, o);
+  else
+    solver->set_backend(name);
+  ContactSolver& S = *solver;
+  auto t = clk::now();
+  Solution zero = S.solve(nullptr);
+  const double Us = zero.x_scale;
+  R.x_scale = Us;
+  if (first) R.smallness = zero.smallness;
+  record("zero", name, std::move(zero), since(t));
+  if (S.formulation().empty()) {  // linear: the solution is unique, one solve says it all
+    log_info() << "minima: linear problem, one solution; no further starts";
+    return;
+  }
+  // The exact solver's own path from zero (solver.exact.start = always), once: a solve that
+  // chooses it must find its answer among these (it can be another stationary point than the
+  // backend's neighbourhood leads to when Φ_λ is not strongly convex).
+  if (first && opt.exact) {
+    S.set_exact_start("always");
+    const auto t1 = clk::now();
+    record("exact-from-zero", name, S.solve(nullptr), since(t1));
+    S.set_exact_start(o.exact_start);
+  }
+  gamma3_starts(S, name, Us);
+  if (mopt.load_path_steps > 0) load_path(S, name);
+  for (size_t i = 0; i < mopt.user_starts.size(); ++i) {
+    const std::string label = "user-" + std::to_string(i + 1);
+    const Vec z0 = user_start(S, md, mopt.user_starts[i], label);
+    const auto t1 = clk::now();
+    record(label, name, S.solve(&z0), since(t1));
+  }
+}
+
+// Γ3 starts: at the gap, separated, random in the box.
+void MinimaSearch::gamma3_starts(ContactSolver& S, const std::string& name, double Us) {
+  const MinimaOptions& mopt = R.options;
   const Index nc = md.contact.size();
   const int d = md.dim();
-  std::vector<Candidate> cands;
-  // One solver for every backend, start and load step: factored (and condensed) once.
-  std::unique_ptr<ContactSolver> solver;
-
-  const auto record = [&](const std::string& start, const std::string& backend, Solution sol, double secs) {
-    MinimaRun r;
-    r.start = start;
-    r.backend = backend;
-    r.solved_by = sol.solved_by();
-    r.converged = sol.backend_ok && sol.fixed_point_converged;
-    // The certificate is the judge (docs/model.md §4): a backend that stopped short of its own
-    // tolerance may still have delivered a solution of (22), and a converged one may not.
-    r.certified = sol.certificate.passed;
-    r.energy = sol.energy;
-    r.certificate = sol.certificate.max_residual;
-    r.seconds = secs;
-    r.message = sol.message;
-    log_info() << "minima: " << backend << " from " << start << ": energy " << fmt(sol.energy, 10) << ", certificate "
-               << fmt(sol.certificate.max_residual, 3) << (r.certified ? "" : " (NOT certified)");
-    R.runs.push_back(r);
-    if (r.certified) cands.push_back({static_cast<int>(R.runs.size()) - 1, std::move(sol)});
-    if (mopt.on_run) mopt.on_run(R.runs);
+  const auto run_from = [&](const std::string& label, const Vec& z0) {
+    const auto t1 = clk::now();
+    record(label, name, S.solve(&z0), since(t1));
   };
-
-  for (const std::string& name : mopt.backends) {
-    SolveOptions o = opt;
-    o.backend = name;
-    // solver.exact.start = auto: the continuation's neighbourhoods for the starts whose inner problem
-    // is not strongly convex, since reaching different stationary points is what minima is for
-    // (solve_options.hpp; minima-softening: 6 distinct minima this way, 3 with "always").
-    if (o.exact_start == "auto") o.exact_start = "convex";
-    const bool first = !solver;
-    if (first)
-      solver = std::make_unique<ContactSolver>(md, o);
-    else
-      solver->set_backend(name);
-    ContactSolver& S = *solver;
-    auto t = clk::now();
-    Solution zero = S.solve(nullptr);
-    const double Us = zero.x_scale;
-    R.x_scale = Us;
-    if (first) R.smallness = zero.smallness;
-    record("zero", name, std::move(zero), since(t));
-    if (S.formulation().empty()) {  // linear: the solution is unique, one solve says it all
-      log_info() << "minima: linear problem, one solution; no further starts";
-      continue;
+  Vec c(d * nc);
+  c.setZero();
+  for (Index k = 0; k < nc; ++k) c[d * k] = std::isfinite(md.contact.g[k]) ? md.contact.g[k] : Us;
+  run_from("at-gap", from_gamma3(S, c));
+  c.setZero();
+  for (Index k = 0; k < nc; ++k) c[d * k] = -Us;
+  run_from("separated", from_gamma3(S, c));
+  std::mt19937 rng(mopt.seed);
+  const double B = mopt.box * Us;
+  for (int i = 0; i < mopt.starts; ++i) {
+    for (Index k = 0; k < nc; ++k) {
+      const double hi = std::min(B, md.contact.g[k]);
+      c[d * k] = std::uniform_real_distribution<double>(-B, std::max(-B, hi))(rng);
+      for (int a = 1; a < d; ++a) c[d * k + a] = std::uniform_real_distribution<double>(-B, B)(rng);
     }
-    // The exact solver's own path from zero (solver.exact.start = always), once: a solve that
-    // chooses it must find its answer among these (it can be another stationary point than the
-    // backend's neighbourhood leads to when Φ_λ is not strongly convex).
-    if (first && opt.exact) {
-      S.set_exact_start("always");
-      const auto t1 = clk::now();
-      record("exact-from-zero", name, S.solve(nullptr), since(t1));
-      S.set_exact_start(o.exact_start);
-    }
-    const auto run_from = [&](const std::string& label, const Vec& z0) {
-      const auto t1 = clk::now();
-      record(label, name, S.solve(&z0), since(t1));
-    };
-
-    // Γ3 starts: at the gap, separated, random in the box.
-    Vec c(d * nc);
-    c.setZero();
-    for (Index k = 0; k < nc; ++k) c[d * k] = std::isfinite(md.contact.g[k]) ? md.contact.g[k] : Us;
-    run_from("at-gap", from_gamma3(S, c));
-    c.setZero();
-    for (Index k = 0; k < nc; ++k) c[d * k] = -Us;
-    run_from("separated", from_gamma3(S, c));
-    std::mt19937 rng(mopt.seed);
-    const double B = mopt.box * Us;
-    for (int i = 0; i < mopt.starts; ++i) {
-      for (Index k = 0; k < nc; ++k) {
-        const double hi = std::min(B, md.contact.g[k]);
-        c[d * k] = std::uniform_real_distribution<double>(-B, std::max(-B, hi))(rng);
-        for (int a = 1; a < d; ++a) c[d * k + a] = std::uniform_real_distribution<double>(-B, B)(rng);
-      }
-      run_from("random-" + std::to_string(i + 1), from_gamma3(S, c));
-    }
-
-    // Load path up (1/N … 1), then on to 2 and back down to 1; warm starts all the way.
-    if (mopt.load_path_steps > 0) {
-      const int N = mopt.load_path_steps;
-      const auto t1 = clk::now();
-      Vec z = Vec::Zero(S.size());
-      bool ok = true;
-      const auto step = [&](int i) {  // solve at load factor i/N from z (i = N: the model itself)
-        if (i == N) {
-          Solution s = S.solve(&z);
-          z = S.to_unknowns(s.x);
-          return s;
-        }
-        const double scale = static_cast<double>(i) / N;
-        const Model ms = scaled_model(md, scale);
-        S.set_loads(ms, scale);  // same factorization, scaled loads
-        Solution s = S.solve(&z);
-        S.set_loads(md, 1.0);
-        z = S.to_unknowns(s.x);
-        if (!s.backend_ok || !s.fixed_point_converged) ok = false;
-        return s;
-      };
-      for (int i = 1; i < N; ++i) step(i);
-      Solution up = step(N);
-      if (!ok) up.message = "load path: an intermediate solve did not converge; " + up.message;
-      record("load-up", name, std::move(up), since(t1));
-      const auto t2 = clk::now();
-      ok = true;
-      for (int i = N + 1; i <= 2 * N; ++i) step(i);
-      for (int i = 2 * N - 1; i > N; --i) step(i);
-      Solution down = step(N);
-      if (!ok) down.message = "load path: an intermediate solve did not converge; " + down.message;
-      record("load-down", name, std::move(down), since(t2));
-    }
-
-    for (size_t i = 0; i < mopt.user_starts.size(); ++i) {
-      const std::string label = "user-" + std::to_string(i + 1);
-      run_from(label, user_start(S, md, mopt.user_starts[i], label));
-    }
+    run_from("random-" + std::to_string(i + 1), from_gamma3(S, c));
   }
+}
 
-  // Group: greedy, against each group's first member (its anchor), in run order.
+// Load path up (1/N … 1), then on to 2 and back down to 1; warm starts all the way.
+void MinimaSearch::load_path(ContactSolver& S, const std::string& name) {
+  const int N = R.options.load_path_steps;
+  const auto t1 = clk::now();
+  Vec z = Vec::Zero(S.size());
+  bool ok = true;
+  const auto step = [&](int i) {  // solve at load factor i/N from z (i = N: the model itself)
+    if (i == N) {
+      Solution s = S.solve(&z);
+      z = S.to_unknowns(s.x);
+      return s;
+    }
+    const double scale = static_cast<double>(i) / N;
+    const Model ms = scaled_model(md, scale);
+    S.set_loads(ms, scale);  // same factorization, scaled loads
+    Solution s = S.solve(&z);
+    S.set_loads(md, 1.0);
+    z = S.to_unknowns(s.x);
+    if (!s.backend_ok || !s.fixed_point_converged) ok = false;
+    return s;
+  };
+  for (int i = 1; i < N; ++i) step(i);
+  Solution up = step(N);
+  if (!ok) up.message = "load path: an intermediate solve did not converge; " + up.message;
+  record("load-up", name, std::move(up), since(t1));
+  const auto t2 = clk::now();
+  ok = true;
+  for (int i = N + 1; i <= 2 * N; ++i) step(i);
+  for (int i = 2 * N - 1; i > N; --i) step(i);
+  Solution down = step(N);
+  if (!ok) down.message = "load path: an intermediate solve did not converge; " + down.message;
+  record("load-down", name, std::move(down), since(t2));
+}
+
+// Group: greedy, against each group's first member (its anchor), in run order; each group's
+// representative is its member with the smallest certificate residual. Sorted by energy.
+void MinimaSearch::group() {
   for (const auto& cd : cands) R.norm_scale = std::max(R.norm_scale, cd.sol.energy_norm);
-  const double thr = mopt.group_tol * R.norm_scale;
+  const double thr = R.options.group_tol * R.norm_scale;
   std::vector<std::vector<int>> groups;  // indices into cands
   for (int i = 0; i < static_cast<int>(cands.size()); ++i) {
     int g = -1;
@@ -377,6 +389,25 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   std::stable_sort(R.solutions.begin(), R.solutions.end(), [](const DistinctSolution& a, const DistinctSolution& b) {
     return a.solution.energy < b.solution.energy;
   });
+}
+}  // namespace
+
+MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaOptions& mopt_in) {
+  const auto t0 = clk::now();
+  MinimaReport R;
+  R.options = mopt_in;
+  MinimaOptions& mopt = R.options;
+  if (mopt.backends.empty()) mopt.backends = {opt.backend};
+  if (mopt.starts < 0) input_error("minima: --starts must be >= 0");
+  if (!(mopt.group_tol > 0)) input_error("minima: group_tol must be > 0");
+  if (!(mopt.box > 0)) input_error("minima: box must be > 0");
+  if (mopt.load_path_steps < 0) input_error("minima: load_path_steps must be >= 0");
+
+  MinimaSearch search{md, R, {}};
+  // One solver for every backend, start and load step: factored (and condensed) once.
+  std::unique_ptr<ContactSolver> solver;
+  for (const std::string& name : mopt.backends) search.run_backend(solver, opt, name);
+  search.group();
   pair_mirror_images(md, R, mopt.group_tol);
   for (size_t k = 0; k < R.solutions.size(); ++k) {
     DistinctSolution& ds = R.solutions[k];

@@ -225,6 +225,10 @@ struct ContactSolver::Impl {
 
   Solution header() const;
   Solution linear_answer(clk::time_point t_start) const;
+  bool solve_linear(clk::time_point t_start);
+  void note_skipped();
+  void check_inner_convexity();
+  void make_schedule();
   Run start(const Vec* z0);
   bool run_stage(Run& run, size_t stage);
   bool settled(const Run& run) const;
@@ -259,17 +263,7 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   I.backend->check_options(opt.backend_options);
 
   // Nothing nonlinear and no obstacle: one sparse Cholesky solve is the answer (no backend at all).
-  if (!md.normal_law && !md.friction && md.gap.is_infinite() && md.material->is_linear() &&
-      md.contact.fixed_local.empty()) {
-    I.linear = true;
-    SparseCholesky chol;
-    chol.compute(md.Kx);
-    I.x_linear = chol.solve(md.fx);
-    I.setup_timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
-    I.skipped.push_back("backend: linear elasticity, solved by one sparse Cholesky factorization");
-    I.setup_timings["setup_total"] = since(t_start);
-    return;
-  }
+  if (I.solve_linear(t_start)) return;
 
   // The smallness condition (21) is a diagnostic, timed apart from the solve (timings
   // "smallness") and switched off by check.smallness = false. By default (check.smallness_method
@@ -297,19 +291,7 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   Formulation& F = I.F;
   if (opt.smallness && !exact_first) report_smallness(smallness());
   I.lagged = md.friction && md.friction->depends_on_u_nu();
-  if (!md.material->is_linear()) {
-    const std::string why =
-        "condensation: nonlinear material, static condensation is not exact (formulation " + F.name + ")";
-    log_info() << why;
-    I.skipped.push_back(why);
-  }
-  log_info() << "formulation " << F.name << ": " << F.energy->size() << " unknowns ("
-             << I.setup_timings["factorization_total"] << " s to factor" << (F.cond ? " and condense" : "") << ")";
-  if (!md.normal_law) I.skipped.push_back("normal_compliance: no soft layer (contact.normal_law.type = none)");
-  if (!md.friction) I.skipped.push_back("friction: frictionless (contact.friction.type = none)");
-  if (md.friction && !md.friction->depends_on_u_nu()) I.skipped.push_back("fixed_point: F_b does not depend on u_nu");
-  if (!md.friction) I.skipped.push_back("fixed_point: no friction");
-  if (md.gap.is_infinite()) I.skipped.push_back("bounds: no rigid obstacle (g = inf)");
+  I.note_skipped();
 
   // Scales from the unconstrained elastic solution: U_s sets the smoothing widths and, with
   // F_s = ‖f‖∞, nondimensionalizes the NLP so that tolerances mean the same for the printed
@@ -317,23 +299,71 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   I.U_s = F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0 ? F.z_free.cwiseAbs().maxCoeff() : 1.0;
   I.F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
   add_contact_terms(F, md, opt, I.U_s);
-  if (F.cond) {
-    const auto t_cvx = clk::now();
-    I.convexity = inner_convexity(F.cond->S(), md.contact.w, md.dim(), md.normal_law.get(), opt.convexity_max_unknowns);
-    I.setup_timings["inner_convexity"] = since(t_cvx);
-    if (I.convexity.checked)
-      log_info() << "inner problem (lambda frozen): smallest eigenvalue of S - alpha W_nu = " << I.convexity.min_eigenvalue
-                 << " (alpha = " << I.convexity.softening
-                 << "): strongly convex: " << (I.convexity.strongly_convex ? "yes" : "no");
-  } else {
-    I.convexity.note = "not checked: needs the condensed formulation";
-  }
+  I.check_inner_convexity();
   I.scaled = std::make_unique<ScaledObjective>(*F.energy, I.U_s, I.F_s * I.U_s);
   I.prob.f = I.scaled.get();
   I.prob.lower = F.lower / I.U_s;
   I.prob.upper = F.upper / I.U_s;
 
-  // Continuation schedule: ε_s = max(ε_final, ε_start·factor^s), until both widths are final.
+  I.make_schedule();
+  I.setup_timings["setup_total"] = since(t_start) - t_smallness;
+}
+
+// Nothing nonlinear and no obstacle: one sparse Cholesky solve is the answer (no backend at all).
+// True if that is the case (the answer is then x_linear).
+bool ContactSolver::Impl::solve_linear(clk::time_point t_start) {
+  const Model& md = *model;
+  if (!md.normal_law && !md.friction && md.gap.is_infinite() && md.material->is_linear() &&
+      md.contact.fixed_local.empty()) {
+    linear = true;
+    SparseCholesky chol;
+    chol.compute(md.Kx);
+    x_linear = chol.solve(md.fx);
+    setup_timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
+    skipped.push_back("backend: linear elasticity, solved by one sparse Cholesky factorization");
+    setup_timings["setup_total"] = since(t_start);
+    return true;
+  }
+  return false;
+}
+
+// What the model leaves out, in the answer's skipped list.
+void ContactSolver::Impl::note_skipped() {
+  const Model& md = *model;
+  if (!md.material->is_linear()) {
+    const std::string why =
+        "condensation: nonlinear material, static condensation is not exact (formulation " + F.name + ")";
+    log_info() << why;
+    skipped.push_back(why);
+  }
+  log_info() << "formulation " << F.name << ": " << F.energy->size() << " unknowns ("
+             << setup_timings["factorization_total"] << " s to factor" << (F.cond ? " and condense" : "") << ")";
+  if (!md.normal_law) skipped.push_back("normal_compliance: no soft layer (contact.normal_law.type = none)");
+  if (!md.friction) skipped.push_back("friction: frictionless (contact.friction.type = none)");
+  if (md.friction && !md.friction->depends_on_u_nu()) skipped.push_back("fixed_point: F_b does not depend on u_nu");
+  if (!md.friction) skipped.push_back("fixed_point: no friction");
+  if (md.gap.is_infinite()) skipped.push_back("bounds: no rigid obstacle (g = inf)");
+}
+
+// Whether the inner problem (λ frozen) is strongly convex: decided once, on the condensed S.
+void ContactSolver::Impl::check_inner_convexity() {
+  const Model& md = *model;
+  if (F.cond) {
+    const auto t_cvx = clk::now();
+    convexity = inner_convexity(F.cond->S(), md.contact.w, md.dim(), md.normal_law.get(), opt.convexity_max_unknowns);
+    setup_timings["inner_convexity"] = since(t_cvx);
+    if (convexity.checked)
+      log_info() << "inner problem (lambda frozen): smallest eigenvalue of S - alpha W_nu = " << convexity.min_eigenvalue
+                 << " (alpha = " << convexity.softening
+                 << "): strongly convex: " << (convexity.strongly_convex ? "yes" : "no");
+  } else {
+    convexity.note = "not checked: needs the condensed formulation";
+  }
+}
+
+// Continuation schedule: ε_s = max(ε_final, ε_start·factor^s), until both widths are final.
+void ContactSolver::Impl::make_schedule() {
+  const Model& md = *model;
   if (md.normal_law || md.friction) {
     // A width within 1e-9 (relative) of the final one counts as final: 1e-2·(1e-2)⁴ is not 1e-10
     // in floating point, and a stage that repeats the final width would only cost time.
@@ -341,14 +371,13 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
     for (double e = opt.eps_start;; e *= opt.eps_factor) {
       const double et = at_final(e, opt.eps_tau) ? opt.eps_tau : e;
       const double en = at_final(e, opt.eps_nu) ? opt.eps_nu : e;
-      I.schedule.emplace_back(et, en);
+      schedule.emplace_back(et, en);
       if (et == opt.eps_tau && en == opt.eps_nu) break;
     }
   } else {
-    I.schedule.emplace_back(0.0, 0.0);
-    I.skipped.push_back("continuation: nothing is smoothed");
+    schedule.emplace_back(0.0, 0.0);
+    skipped.push_back("continuation: nothing is smoothed");
   }
-  I.setup_timings["setup_total"] = since(t_start) - t_smallness;
 }
 
 ContactSolver::~ContactSolver() = default;
@@ -785,6 +814,127 @@ std::string ContactSolver::Impl::exact_due(Run& run, size_t stage, bool backend_
   return "";
 }
 
+namespace {
+
+// The exact solver's two maps of the Γ3 unknowns x (d per node): the bounds λ = F_b(u_ν), and the
+// certificate's traction scale (check/certificate.cpp): max(|f|∞/w̄, max λ, max |p_ν|).
+struct ExactCoupling {
+  const Model& md;
+  int d;
+  Index nc;
+  double f_trac;
+  explicit ExactCoupling(const Model& m)
+      : md(m),
+        d(m.dim()),
+        nc(m.contact.size()),
+        f_trac((m.f.size() ? m.f.cwiseAbs().maxCoeff() : 0.0) / (nc ? m.contact.w.mean() : 1.0)) {}
+  Vec bounds(const Vec& x) const {
+    Vec l = Vec::Zero(nc);
+    if (md.friction)
+      for (Index k = 0; k < nc; ++k) l[k] = md.friction->F(x[d * k]);
+    return l;
+  }
+  double scale(const Vec& x, const Vec& lam) const {
+    double s = std::max(f_trac, nc ? lam.cwiseAbs().maxCoeff() : 0.0);
+    if (md.normal_law)
+      for (Index k = 0; k < nc; ++k) s = std::max(s, std::abs(md.normal_law->p(x[d * k])));
+    return s > 0 ? s : 1.0;
+  }
+};
+
+// The inner problem with λ frozen (driver/exact_inner.hpp), λ and the traction scale still unset.
+ExactInnerProblem exact_inner_problem(const Model& md, const Formulation& F) {
+  ExactInnerProblem P;
+  P.S = &F.cond->S();
+  P.y = F.load_scale * F.cond->y_C();
+  P.d = md.dim();
+  P.w = md.contact.w;
+  P.g = md.contact.g;
+  P.law = md.normal_law.get();
+  P.fixed.assign(md.contact.fixed_local.begin(), md.contact.fixed_local.end());
+  return P;
+}
+
+// One inner solve's work in the handover report, and its record as an outer iteration.
+OuterIteration inner_solve_record(HandoverReport& H, const ExactInnerResult& R, int k, int stage, double seconds) {
+  H.inner_rounds += R.rounds;
+  H.newton_steps += R.newton_steps;
+  H.factorizations += R.factorizations;
+  H.inner_converged = R.converged;
+  H.note = R.note;
+  OuterIteration rec;
+  rec.k = k;
+  rec.stage = stage;
+  rec.backend.status = R.converged ? SolveStatus::CONVERGED : SolveStatus::FAILED;
+  rec.backend.iterations = R.rounds;
+  rec.backend.f = R.energy;
+  rec.backend.kkt_norm = R.residual;
+  rec.backend.seconds = seconds;
+  rec.backend.message = "exact inner solver" + (R.note.empty() ? std::string() : ": " + R.note);
+  rec.solver = EXACT_SOLVER;
+  rec.grad_norm = R.residual;
+  return rec;
+}
+
+// The exact solver's stop test after update @p it: the coupled residual at solver.exact.tol, or
+// at its round-off floor below check.certificate_tol (@p floor_ref: the residual 5 updates ago).
+bool exact_converged(HandoverReport& H, const ExactInnerResult& R, int it, double floor_ref, const SolveOptions& opt) {
+  if (H.residual <= opt.exact_inner.tol) {
+    H.fixed_point_converged = true;
+    return true;
+  }
+  // The round-off floor: the coupled residual has not halved in 5 updates but is already below
+  // the user's acceptance tolerance (check.certificate_tol). Further updates only stir round-off;
+  // the certificate, computed from u alone, decides.
+  if (R.converged && it >= 5 && H.residual <= opt.certificate_tol && !(H.residual < 0.5 * floor_ref)) {
+    H.fixed_point_converged = true;
+    H.note = "coupled residual " + short_number(H.residual) +
+             " below check.certificate_tol but at its round-off floor above solver.exact.tol";
+    return true;
+  }
+  return false;
+}
+
+// The cap (solver.fixed_point.max_iters) reached while still converging, with the coupled residual
+// already below the user's acceptance tolerance (check.certificate_tol): as at the round-off floor
+// (exact_converged), the certificate, computed from u alone, decides (the sliding scene at c_i × 10,
+// μ = 12 of docs/stress/theta.md: 2.9e-10 after 50 updates, converged at 51).
+void accept_at_cap(HandoverReport& H, const SolveOptions& opt) {
+  if (!H.fixed_point_converged && H.inner_converged && H.outer_iterations >= opt.max_outer &&
+      H.residual <= opt.certificate_tol) {
+    H.fixed_point_converged = true;
+    H.note = "coupled residual " + short_number(H.residual) + " after " + std::to_string(H.outer_iterations) +
+             " updates (solver.fixed_point.max_iters): below check.certificate_tol, above solver.exact.tol";
+  }
+}
+
+// Anderson relaxation of λ = F_b(u_ν): the next λ from the frozen @p lam and its image @p G.
+Vec anderson_relax(Anderson& aa, const Vec& lam, const Vec& G, double delta_lambda, double& best) {
+  Vec next = aa.next(lam, G);
+  // A safeguard: an accelerated step that made the update grow tenfold restarts the history.
+  if (delta_lambda > 10 * best) aa.reset();
+  best = std::min(best, delta_lambda);
+  return next;
+}
+
+// The exact solver's verdict in the answer (@p when: where it started, for the message).
+void exact_verdict(Solution& sol, const std::string& when) {
+  const HandoverReport& H = sol.handover;
+  sol.backend_ok = true;
+  sol.message.clear();
+  sol.fixed_point_converged = H.fixed_point_converged;
+  if (!H.fixed_point_converged) {
+    if (!H.inner_converged)
+      sol.message = "backend exact (inner solver " + when + ") did not converge: " + H.note;
+    else
+      sol.message = "fixed point lambda = F_b(u_nu) did not converge in the exact solver: " +
+                    std::to_string(H.outer_iterations) + " Anderson iterations (solver.fixed_point.max_iters), " +
+                    "coupled residual " + short_number(H.residual);
+  }
+}
+
+}  // namespace
+
 // The exact solver from the current iterate: the inner problem with λ frozen solved exactly
 // (driver/exact_inner.hpp), λ = F_b(u_ν) by Anderson acceleration, until the coupled stationarity
 // residual (the certificate's terms with λ = F_b(u_ν), λ not frozen) is at most solver.exact.tol;
@@ -792,7 +942,6 @@ std::string ContactSolver::Impl::exact_due(Run& run, size_t stage, bool backend_
 void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& reason) {
   const auto t0 = clk::now();
   const Model& md = *model;
-  const int d = md.dim();
   const Index nc = md.contact.size();
   HandoverReport& H = run.sol.handover;
   H.used = true;
@@ -801,111 +950,40 @@ void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& re
   const std::string when = stage < 0 ? "from the start, no eps-stage" : "after stage " + std::to_string(stage);
   log_info() << "exact solver " << (stage < 0 ? "runs " : "takes over ") << when << ": " << reason;
 
-  ExactInnerProblem P;
-  P.S = &F.cond->S();
-  P.y = F.load_scale * F.cond->y_C();
-  P.d = d;
-  P.w = md.contact.w;
-  P.g = md.contact.g;
-  P.law = md.normal_law.get();
-  P.fixed.assign(md.contact.fixed_local.begin(), md.contact.fixed_local.end());
-  const auto bounds = [&](const Vec& x) {
-    Vec l = Vec::Zero(nc);
-    if (md.friction)
-      for (Index k = 0; k < nc; ++k) l[k] = md.friction->F(x[d * k]);
-    return l;
-  };
-  // The certificate's traction scale (check/certificate.cpp): max(|f|∞/w̄, max λ, max |p_ν|).
-  const double f_trac = (md.f.size() ? md.f.cwiseAbs().maxCoeff() : 0.0) / (nc ? md.contact.w.mean() : 1.0);
-  const auto scale = [&](const Vec& x, const Vec& lam) {
-    double s = std::max(f_trac, nc ? lam.cwiseAbs().maxCoeff() : 0.0);
-    if (md.normal_law)
-      for (Index k = 0; k < nc; ++k) s = std::max(s, std::abs(md.normal_law->p(x[d * k])));
-    return s > 0 ? s : 1.0;
-  };
-
+  ExactInnerProblem P = exact_inner_problem(md, F);
+  const ExactCoupling coupling(md);
   Vec x = U_s * run.zs, x_prev = x;
-  P.lambda = bounds(x);
+  P.lambda = coupling.bounds(x);
   Anderson aa(opt.anderson_memory);
   double best = INF, floor_ref = INF;
   for (int it = 0; it < opt.max_outer; ++it) {
-    P.traction_scale = scale(x, P.lambda);
+    P.traction_scale = coupling.scale(x, P.lambda);
     const auto ti = clk::now();
     const ExactInnerResult R = exact_inner_solve(P, x, opt.exact_inner);
-    H.inner_rounds += R.rounds;
-    H.newton_steps += R.newton_steps;
-    H.factorizations += R.factorizations;
-    H.inner_converged = R.converged;
-    H.note = R.note;
-    OuterIteration rec;
-    rec.k = run.k_total++;
-    rec.stage = stage;
-    rec.backend.status = R.converged ? SolveStatus::CONVERGED : SolveStatus::FAILED;
-    rec.backend.iterations = R.rounds;
-    rec.backend.f = R.energy;
-    rec.backend.kkt_norm = R.residual;
-    rec.backend.seconds = since(ti);
-    rec.backend.message = "exact inner solver" + (R.note.empty() ? std::string() : ": " + R.note);
-    rec.solver = EXACT_SOLVER;
+    OuterIteration rec = inner_solve_record(H, R, run.k_total++, stage, since(ti));
     rec.change_u = rel_change(x, x_prev);
     x_prev = x;
-    const Vec lam = P.lambda, G = bounds(x);
+    const Vec lam = P.lambda, G = coupling.bounds(x);
     rec.change_lambda = rel_change(G, lam);
     rec.delta_lambda = nc ? (G - lam).cwiseAbs().maxCoeff() : 0.0;
-    rec.grad_norm = R.residual;
     // The coupled residual: stationarity with λ = F_b(u_ν) itself.
     P.lambda = G;
-    P.traction_scale = scale(x, G);
+    P.traction_scale = coupling.scale(x, G);
     H.residual = exact_inner_residual(P, x);
     run.sol.history.push_back(rec);
     H.outer_iterations = it + 1;
     log_info() << "exact " << it << ": inner " << (R.converged ? "converged" : "not converged") << " in " << R.rounds
                << " rounds (" << R.newton_steps << " Newton steps), residual " << R.residual
                << "; |dlambda|/|lambda| = " << rec.change_lambda << ", coupled residual " << H.residual;
-    if (H.residual <= opt.exact_inner.tol) {
-      H.fixed_point_converged = true;
-      break;
-    }
-    // The round-off floor: the coupled residual has not halved in 5 updates but is already below
-    // the user's acceptance tolerance (check.certificate_tol). Further updates only stir round-off;
-    // the certificate, computed from u alone, decides.
-    if (R.converged && it >= 5 && H.residual <= opt.certificate_tol && !(H.residual < 0.5 * floor_ref)) {
-      H.fixed_point_converged = true;
-      H.note = "coupled residual " + short_number(H.residual) +
-               " below check.certificate_tol but at its round-off floor above solver.exact.tol";
-      break;
-    }
+    if (exact_converged(H, R, it, floor_ref, opt)) break;
     if (it % 5 == 0) floor_ref = H.residual;
     if (!lagged) break;  // λ does not depend on u: the inner answer is the answer
-    const double fn = rec.delta_lambda;
-    P.lambda = aa.next(lam, G);
-    // A safeguard: an accelerated step that made the update grow tenfold restarts the history.
-    if (fn > 10 * best) aa.reset();
-    best = std::min(best, fn);
+    P.lambda = anderson_relax(aa, lam, G, rec.delta_lambda, best);
   }
-  // The cap (solver.fixed_point.max_iters) reached while still converging, with the coupled residual
-  // already below the user's acceptance tolerance (check.certificate_tol): as at the round-off floor
-  // above, the certificate, computed from u alone, decides (the sliding scene at c_i × 10, μ = 12 of
-  // docs/stress/theta.md: 2.9e-10 after 50 updates, converged at 51).
-  if (!H.fixed_point_converged && H.inner_converged && H.outer_iterations >= opt.max_outer &&
-      H.residual <= opt.certificate_tol) {
-    H.fixed_point_converged = true;
-    H.note = "coupled residual " + short_number(H.residual) + " after " + std::to_string(H.outer_iterations) +
-             " updates (solver.fixed_point.max_iters): below check.certificate_tol, above solver.exact.tol";
-  }
+  accept_at_cap(H, opt);
   run.zs = x / U_s;
   if (F.friction) F.friction->set_lambda(P.lambda);
-  run.sol.backend_ok = true;
-  run.sol.message.clear();
-  run.sol.fixed_point_converged = H.fixed_point_converged;
-  if (!H.fixed_point_converged) {
-    if (!H.inner_converged)
-      run.sol.message = "backend exact (inner solver " + when + ") did not converge: " + H.note;
-    else
-      run.sol.message = "fixed point lambda = F_b(u_nu) did not converge in the exact solver: " +
-                        std::to_string(H.outer_iterations) + " Anderson iterations (solver.fixed_point.max_iters), " +
-                        "coupled residual " + short_number(H.residual);
-  }
+  exact_verdict(run.sol, when);
   H.seconds = since(t0);
   run.sol.timings["exact"] = H.seconds;
   // The polish on the exact answer's statuses: kept only if the certificate improves, it takes the

@@ -40,36 +40,44 @@ void label_longest_edges(Mesh& mesh) {
   }
 }
 
-Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionRule rule) {
-  require_2d(coarse, "bisect");
-  const Index M = coarse.num_cells();
-  if (static_cast<Index>(marked.size()) != M)
-    throw Error("bisect: " + std::to_string(marked.size()) + " flags for " + std::to_string(M) + " cells",
-                EXIT_INTERNAL);
+namespace {
 
-  // Edges of the coarse mesh: per cell its refinement edge (c1,c2) and the two others.
+// The coarse mesh's edges: per cell its refinement edge (c1,c2) and the two others.
+struct CoarseEdges {
+  std::vector<std::array<int, 2>> edge_nodes;
+  std::vector<std::array<int, 3>> cell_edges;  // [0] refinement edge
+  std::vector<std::array<int, 2>> edge_cells;  // ≤ 2 cells per edge
+};
+
+// The midpoint node of each marked edge, by edge_key.
+using EdgeMidpoints = std::unordered_map<std::uint64_t, int>;
+
+CoarseEdges coarse_edges(const Mesh& coarse) {
+  const Index M = coarse.num_cells();
+  CoarseEdges E;
   std::unordered_map<std::uint64_t, int> edge_id;
   edge_id.reserve(static_cast<size_t>(2 * M + coarse.num_facets()));
-  std::vector<std::array<int, 2>> edge_nodes;
-  std::vector<std::array<int, 3>> cell_edges(static_cast<size_t>(M));  // [0] refinement edge
-  std::vector<std::array<int, 2>> edge_cells;                          // ≤ 2 cells per edge
+  E.cell_edges.resize(static_cast<size_t>(M));
   for (Index c = 0; c < M; ++c) {
     const int v0 = coarse.cells(c, 0), v1 = coarse.cells(c, 1), v2 = coarse.cells(c, 2);
     const int ends[3][2] = {{v1, v2}, {v2, v0}, {v0, v1}};
     for (int k = 0; k < 3; ++k) {
-      auto [it, fresh] = edge_id.emplace(edge_key(ends[k][0], ends[k][1]), static_cast<int>(edge_nodes.size()));
+      auto [it, fresh] = edge_id.emplace(edge_key(ends[k][0], ends[k][1]), static_cast<int>(E.edge_nodes.size()));
       if (fresh) {
-        edge_nodes.push_back({ends[k][0], ends[k][1]});
-        edge_cells.push_back({static_cast<int>(c), -1});
+        E.edge_nodes.push_back({ends[k][0], ends[k][1]});
+        E.edge_cells.push_back({static_cast<int>(c), -1});
       } else {
-        edge_cells[static_cast<size_t>(it->second)][1] = static_cast<int>(c);
+        E.edge_cells[static_cast<size_t>(it->second)][1] = static_cast<int>(c);
       }
-      cell_edges[static_cast<size_t>(c)][static_cast<size_t>(k)] = it->second;
+      E.cell_edges[static_cast<size_t>(c)][static_cast<size_t>(k)] = it->second;
     }
   }
+  return E;
+}
 
-  // Mark, then close: a cell with a marked edge must have its refinement edge marked.
-  std::vector<char> edge_marked(edge_nodes.size(), 0);
+// Mark, then close: a cell with a marked edge must have its refinement edge marked.
+std::vector<char> close_marking(const CoarseEdges& E, const std::vector<char>& marked, BisectionRule rule) {
+  std::vector<char> edge_marked(E.edge_nodes.size(), 0);
   std::vector<int> queue;
   const auto mark = [&](int e) {
     if (!edge_marked[static_cast<size_t>(e)]) {
@@ -77,41 +85,27 @@ Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionR
       queue.push_back(e);
     }
   };
-  for (Index c = 0; c < M; ++c)
-    if (marked[static_cast<size_t>(c)]) {
-      mark(cell_edges[static_cast<size_t>(c)][0]);
+  for (size_t c = 0; c < marked.size(); ++c)
+    if (marked[c]) {
+      mark(E.cell_edges[c][0]);
       if (rule == BisectionRule::BISEC3) {
-        mark(cell_edges[static_cast<size_t>(c)][1]);
-        mark(cell_edges[static_cast<size_t>(c)][2]);
+        mark(E.cell_edges[c][1]);
+        mark(E.cell_edges[c][2]);
       }
     }
   while (!queue.empty()) {
     const int e = queue.back();
     queue.pop_back();
-    for (int c : edge_cells[static_cast<size_t>(e)])
-      if (c >= 0) mark(cell_edges[static_cast<size_t>(c)][0]);
+    for (int c : E.edge_cells[static_cast<size_t>(e)])
+      if (c >= 0) mark(E.cell_edges[static_cast<size_t>(c)][0]);
   }
+  return edge_marked;
+}
 
-  // One new node per marked edge, numbered in edge order (deterministic).
-  Bisection out;
-  const Index N0 = coarse.num_nodes();
-  std::unordered_map<std::uint64_t, int> midpoint;
-  for (size_t e = 0; e < edge_nodes.size(); ++e)
-    if (edge_marked[e]) {
-      midpoint.emplace(edge_key(edge_nodes[e][0], edge_nodes[e][1]),
-                       static_cast<int>(N0 + static_cast<Index>(out.new_node_parents.size())));
-      out.new_node_parents.push_back(edge_nodes[e]);
-    }
-  Mesh& fine = out.mesh;
-  fine.dim = 2;
-  fine.points.resize(N0 + static_cast<Index>(out.new_node_parents.size()), 2);
-  fine.points.topRows(N0) = coarse.points;
-  for (size_t k = 0; k < out.new_node_parents.size(); ++k)
-    fine.points.row(N0 + static_cast<Index>(k)) =
-        0.5 * (coarse.points.row(out.new_node_parents[k][0]) + coarse.points.row(out.new_node_parents[k][1]));
-
-  // Recursive bisection along marked refinement edges (depth ≤ 2: the grandchildren's refinement
-  // edges are new edges, never marked).
+// Recursive bisection along marked refinement edges (depth ≤ 2: the grandchildren's refinement
+// edges are new edges, never marked).
+void bisect_cells(const Mesh& coarse, const EdgeMidpoints& midpoint, Bisection& out) {
+  const Index M = coarse.num_cells();
   std::vector<std::array<int, 3>> cells;
   cells.reserve(static_cast<size_t>(M) + 3 * midpoint.size());
   const auto refine = [&](auto&& self, int a0, int a1, int a2, int parent) -> void {
@@ -127,11 +121,14 @@ Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionR
   };
   for (Index c = 0; c < M; ++c)
     refine(refine, coarse.cells(c, 0), coarse.cells(c, 1), coarse.cells(c, 2), static_cast<int>(c));
+  Mesh& fine = out.mesh;
   fine.cells.resize(static_cast<Index>(cells.size()), 3);
   for (size_t c = 0; c < cells.size(); ++c)
     for (int k = 0; k < 3; ++k) fine.cells(static_cast<Index>(c), k) = cells[c][static_cast<size_t>(k)];
+}
 
-  // Boundary facets: a split facet (a, b) becomes (a, m), (m, b), same part, load and groups.
+// Boundary facets: a split facet (a, b) becomes (a, m), (m, b), same part, load and groups.
+void split_facets(const Mesh& coarse, const EdgeMidpoints& midpoint, Mesh& fine) {
   std::vector<std::vector<Index>> children(static_cast<size_t>(coarse.num_facets()));
   std::vector<std::array<int, 2>> facets;
   for (Index f = 0; f < coarse.num_facets(); ++f) {
@@ -163,21 +160,56 @@ Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionR
     for (Index f : list) for (Index g : children[static_cast<size_t>(f)]) to.push_back(g);
   }
   fine.tractions = coarse.tractions;
+}
 
-  // Rollers: a node inserted on a boundary edge is held in the components both ends are held in
-  // (a roller selects whole facets, so both ends of a roller facet carry its mask; the AND leaves
-  // out a corner's other roller). Interior midpoints are free.
-  if (!coarse.node_fixed.empty()) {
-    fine.node_fixed.assign(static_cast<size_t>(fine.num_nodes()), 0);
-    std::copy(coarse.node_fixed.begin(), coarse.node_fixed.end(), fine.node_fixed.begin());
-    for (Index f = 0; f < coarse.num_facets(); ++f) {
-      const int a = coarse.facets(f, 0), b = coarse.facets(f, 1);
-      const auto it = midpoint.find(edge_key(a, b));
-      if (it != midpoint.end())
-        fine.node_fixed[static_cast<size_t>(it->second)] =
-            coarse.node_fixed[static_cast<size_t>(a)] & coarse.node_fixed[static_cast<size_t>(b)];
-    }
+// Rollers: a node inserted on a boundary edge is held in the components both ends are held in
+// (a roller selects whole facets, so both ends of a roller facet carry its mask; the AND leaves
+// out a corner's other roller). Interior midpoints are free.
+void inherit_rollers(const Mesh& coarse, const EdgeMidpoints& midpoint, Mesh& fine) {
+  if (coarse.node_fixed.empty()) return;
+  fine.node_fixed.assign(static_cast<size_t>(fine.num_nodes()), 0);
+  std::copy(coarse.node_fixed.begin(), coarse.node_fixed.end(), fine.node_fixed.begin());
+  for (Index f = 0; f < coarse.num_facets(); ++f) {
+    const int a = coarse.facets(f, 0), b = coarse.facets(f, 1);
+    const auto it = midpoint.find(edge_key(a, b));
+    if (it != midpoint.end())
+      fine.node_fixed[static_cast<size_t>(it->second)] =
+          coarse.node_fixed[static_cast<size_t>(a)] & coarse.node_fixed[static_cast<size_t>(b)];
   }
+}
+
+}  // namespace
+
+Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionRule rule) {
+  require_2d(coarse, "bisect");
+  const Index M = coarse.num_cells();
+  if (static_cast<Index>(marked.size()) != M)
+    throw Error("bisect: " + std::to_string(marked.size()) + " flags for " + std::to_string(M) + " cells",
+                EXIT_INTERNAL);
+  const CoarseEdges E = coarse_edges(coarse);
+  const std::vector<char> edge_marked = close_marking(E, marked, rule);
+
+  // One new node per marked edge, numbered in edge order (deterministic).
+  Bisection out;
+  const Index N0 = coarse.num_nodes();
+  EdgeMidpoints midpoint;
+  for (size_t e = 0; e < E.edge_nodes.size(); ++e)
+    if (edge_marked[e]) {
+      midpoint.emplace(edge_key(E.edge_nodes[e][0], E.edge_nodes[e][1]),
+                       static_cast<int>(N0 + static_cast<Index>(out.new_node_parents.size())));
+      out.new_node_parents.push_back(E.edge_nodes[e]);
+    }
+  Mesh& fine = out.mesh;
+  fine.dim = 2;
+  fine.points.resize(N0 + static_cast<Index>(out.new_node_parents.size()), 2);
+  fine.points.topRows(N0) = coarse.points;
+  for (size_t k = 0; k < out.new_node_parents.size(); ++k)
+    fine.points.row(N0 + static_cast<Index>(k)) =
+        0.5 * (coarse.points.row(out.new_node_parents[k][0]) + coarse.points.row(out.new_node_parents[k][1]));
+
+  bisect_cells(coarse, midpoint, out);
+  split_facets(coarse, midpoint, fine);
+  inherit_rollers(coarse, midpoint, fine);
   fine.origin = coarse.origin;
   return out;
 }

@@ -45,6 +45,74 @@ double grade_map(double t, GradeTowards towards, double beta) {
   }
 }
 
+namespace {
+
+// The graded grid lines' positions in [0, 1] (grade_map).
+double rect_grade_x(const RectangleSpec& s, int i) {
+  return grade_map(static_cast<double>(i) / s.nx, s.grade_x, s.grading_power);
+}
+double rect_grade_y(const RectangleSpec& s, int j) {
+  return grade_map(static_cast<double>(j) / s.ny, s.grade_y, s.grading_power);
+}
+
+void check_graded_cells(const RectangleSpec& s) {
+  const int nx = s.nx, ny = s.ny;
+  const auto gx = [&](int i) { return rect_grade_x(s, i); };
+  const auto gy = [&](int j) { return rect_grade_y(s, j); };
+  // The smallest cell (the two smallest spacings) against the largest spacing: below check_cells'
+  // round-off floor (1e-12 h²; 1e-10 here, a margin) the power made it degenerate, and the message
+  // should name the power, not a cell (power 50, or inf, once named a cell).
+  const auto spacings = [](int n, const auto& g, double len) {
+    double lo = INF, hi = 0;
+    for (int i = 0; i < n; ++i) lo = std::min(lo, len * (g(i + 1) - g(i))), hi = std::max(hi, len * (g(i + 1) - g(i)));
+    return std::pair<double, double>(lo, hi);
+  };
+  const auto [dx_min, dx_max] = spacings(nx, gx, s.x1 - s.x0);
+  const auto [dy_min, dy_max] = spacings(ny, gy, s.y1 - s.y0);
+  const double h = std::max(dx_max, dy_max);
+  if (!(0.5 * dx_min * dy_min >= 1e-10 * h * h)) {
+    std::ostringstream os;
+    os << "mesh.grading.power = " << s.grading_power << " with " << nx << " x " << ny
+       << " cells: the smallest graded cell's area is " << 0.5 * dx_min * dy_min / (h * h)
+       << " of the largest spacing squared, below round-off (a degenerate cell); lower mesh.grading.power "
+          "(or mesh.n)";
+    input_error(os.str());
+  }
+}
+
+std::vector<Diagonal> column_splits(const RectangleSpec& s) {
+  const int nx = s.nx;
+  // Which split each column uses; SYMMETRIC mirrors RIGHT into LEFT about the centre line, and an
+  // odd middle column (which no two-triangle split keeps symmetric) is crossed.
+  std::vector<Diagonal> column(nx, s.diagonal);
+  if (s.diagonal == Diagonal::SYMMETRIC)
+    for (int i = 0; i < nx; ++i)
+      column[i] = (2 * i + 1 == nx) ? Diagonal::CROSSED : (2 * i + 1 < nx ? Diagonal::RIGHT : Diagonal::LEFT);
+  return column;
+}
+
+void perturb_interior(const RectangleSpec& s, double hx, double hy, Mesh& m) {
+  const int nx = s.nx, ny = s.ny;
+  const auto grid = [nx](int i, int j) { return j * (nx + 1) + i; };
+  // Interior grid nodes only, so the boundary (and the parts on it) stay exactly where they are.
+  // Each node moves by at most perturb·h (Euclidean, in units of the cell sides; uniform in the
+  // disc, drawn by rejection from the square), so "moved by up to 30 % of h" means what it says.
+  std::mt19937 rng(s.seed);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (int j = 1; j < ny; ++j)
+    for (int i = 1; i < nx; ++i) {
+      double a, b;
+      do {
+        a = U(rng);
+        b = U(rng);
+      } while (a * a + b * b > 1);
+      m.points(grid(i, j), 0) += s.perturb * hx * a;
+      m.points(grid(i, j), 1) += s.perturb * hy * b;
+    }
+}
+
+}  // namespace
+
 Mesh make_rectangle(const RectangleSpec& s) {
   if (s.nx < 1 || s.ny < 1) input_error("mesh: nx and ny must be >= 1");
   if (!(s.x1 > s.x0) || !(s.y1 > s.y0)) input_error("mesh: empty rectangle (need x0 < x1 and y0 < y1)");
@@ -55,37 +123,12 @@ Mesh make_rectangle(const RectangleSpec& s) {
   const bool graded = s.grading_power != 1 && (s.grade_x != GradeTowards::NONE || s.grade_y != GradeTowards::NONE);
   // A perturbation is sized by the uniform h: on a graded mesh it would invert the small cells.
   if (graded && s.perturb > 0) input_error("mesh.grading and mesh.perturb cannot be combined");
-  const auto gx = [&](int i) { return grade_map(static_cast<double>(i) / nx, s.grade_x, s.grading_power); };
-  const auto gy = [&](int j) { return grade_map(static_cast<double>(j) / ny, s.grade_y, s.grading_power); };
+  const auto gx = [&](int i) { return rect_grade_x(s, i); };
+  const auto gy = [&](int j) { return rect_grade_y(s, j); };
   const auto grid = [nx](int i, int j) { return j * (nx + 1) + i; };
-  if (graded) {
-    // The smallest cell (the two smallest spacings) against the largest spacing: below check_cells'
-    // round-off floor (1e-12 h²; 1e-10 here, a margin) the power made it degenerate, and the message
-    // should name the power, not a cell (power 50, or inf, once named a cell).
-    const auto spacings = [](int n, const auto& g, double len) {
-      double lo = INF, hi = 0;
-      for (int i = 0; i < n; ++i) lo = std::min(lo, len * (g(i + 1) - g(i))), hi = std::max(hi, len * (g(i + 1) - g(i)));
-      return std::pair<double, double>(lo, hi);
-    };
-    const auto [dx_min, dx_max] = spacings(nx, gx, s.x1 - s.x0);
-    const auto [dy_min, dy_max] = spacings(ny, gy, s.y1 - s.y0);
-    const double h = std::max(dx_max, dy_max);
-    if (!(0.5 * dx_min * dy_min >= 1e-10 * h * h)) {
-      std::ostringstream os;
-      os << "mesh.grading.power = " << s.grading_power << " with " << nx << " x " << ny
-         << " cells: the smallest graded cell's area is " << 0.5 * dx_min * dy_min / (h * h)
-         << " of the largest spacing squared, below round-off (a degenerate cell); lower mesh.grading.power "
-            "(or mesh.n)";
-      input_error(os.str());
-    }
-  }
+  if (graded) check_graded_cells(s);
 
-  // Which split each column uses; SYMMETRIC mirrors RIGHT into LEFT about the centre line, and an
-  // odd middle column (which no two-triangle split keeps symmetric) is crossed.
-  std::vector<Diagonal> column(nx, s.diagonal);
-  if (s.diagonal == Diagonal::SYMMETRIC)
-    for (int i = 0; i < nx; ++i)
-      column[i] = (2 * i + 1 == nx) ? Diagonal::CROSSED : (2 * i + 1 < nx ? Diagonal::RIGHT : Diagonal::LEFT);
+  const std::vector<Diagonal> column = column_splits(s);
   int n_crossed = 0;
   for (int i = 0; i < nx; ++i) n_crossed += (column[i] == Diagonal::CROSSED) ? ny : 0;
 
@@ -131,23 +174,7 @@ Mesh make_rectangle(const RectangleSpec& s) {
         }
       }
     }
-  if (s.perturb > 0) {
-    // Interior grid nodes only, so the boundary (and the parts on it) stay exactly where they are.
-    // Each node moves by at most perturb·h (Euclidean, in units of the cell sides; uniform in the
-    // disc, drawn by rejection from the square), so "moved by up to 30 % of h" means what it says.
-    std::mt19937 rng(s.seed);
-    std::uniform_real_distribution<double> U(-1.0, 1.0);
-    for (int j = 1; j < ny; ++j)
-      for (int i = 1; i < nx; ++i) {
-        double a, b;
-        do {
-          a = U(rng);
-          b = U(rng);
-        } while (a * a + b * b > 1);
-        m.points(grid(i, j), 0) += s.perturb * hx * a;
-        m.points(grid(i, j), 1) += s.perturb * hy * b;
-      }
-  }
+  if (s.perturb > 0) perturb_interior(s, hx, hy, m);
   std::ostringstream os;
   os << "rectangle [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "] " << nx << "x" << ny << " "
      << to_string(s.diagonal);

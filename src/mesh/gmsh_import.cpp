@@ -169,32 +169,39 @@ std::string element_name(int type) {
   return take_string(name) + " (MSH type " + std::to_string(type) + ")";
 }
 
-Mesh read_model(const std::string& path) {
-  const std::string where = "gmsh file '" + path + "': ";
-  int ierr = 0;
-  gmsh().gmshOpen(path.c_str(), &ierr);
-  check(ierr, "open");
-
-  // Dimension: tetrahedra make it 3D, otherwise triangles make it 2D.
-  Elements elements = get_elements(3, -1);
+// The cells of the model: tetrahedra make it 3D, otherwise triangles make it 2D.
+struct ModelCells {
   int dim = 3;
+  std::vector<std::size_t> nodes;  // Gmsh node tags, dim + 1 per cell
+};
+
+ModelCells read_cells(const std::string& where) {
+  ModelCells cells;
+  Elements elements = get_elements(3, -1);
   if (elements.types.empty()) {
-    dim = 2;
+    cells.dim = 2;
     elements = get_elements(2, -1);
   }
+  const int dim = cells.dim;
   const std::vector<int>& types = elements.types;
   const std::vector<std::vector<std::size_t>>& elem_nodes = elements.nodes;
   if (types.empty()) input_error(where + "no triangles or tetrahedra (was the mesh generated, e.g. with gmsh -2?)");
-  const int cell_type = dim == 2 ? 2 : 4, facet_type = dim == 2 ? 1 : 2, nv = dim + 1;
-  std::vector<std::size_t> cell_nodes;  // Gmsh node tags, nv per cell
+  const int cell_type = dim == 2 ? 2 : 4;
   for (std::size_t t = 0; t < types.size(); ++t) {
     if (types[t] != cell_type)
       input_error(where + "contains " + element_name(types[t]) + " cells; only " +
                   (dim == 2 ? "3-node triangles" : "4-node tetrahedra") + " are supported");
-    cell_nodes.insert(cell_nodes.end(), elem_nodes[t].begin(), elem_nodes[t].end());
+    cells.nodes.insert(cells.nodes.end(), elem_nodes[t].begin(), elem_nodes[t].end());
   }
+  return cells;
+}
 
-  // Coordinates of every node, then a renumbering of the nodes the cells use (increasing tag).
+// Coordinates of every node, then a renumbering of the nodes the cells use (increasing tag): sets
+// m.points and returns the index of each used tag.
+std::unordered_map<std::size_t, int> read_points(const std::string& where, const std::vector<std::size_t>& cell_nodes,
+                                                 Mesh& m) {
+  const int dim = m.dim;
+  int ierr = 0;
   std::size_t *node_tags_p = nullptr, n_node_tags = 0, n_coord = 0, n_param = 0;
   double *coord_p = nullptr, *param_p = nullptr;
   gmsh().gmshModelMeshGetNodes(&node_tags_p, &n_node_tags, &coord_p, &n_coord, &param_p, &n_param, -1, -1, 0, 0, &ierr);
@@ -211,9 +218,6 @@ Mesh read_model(const std::string& path) {
   std::unordered_map<std::size_t, int> index_of_tag;
   for (std::size_t i = 0; i < used.size(); ++i) index_of_tag[used[i]] = static_cast<int>(i);
 
-  Mesh m;
-  m.dim = dim;
-  m.origin = "gmsh " + path;
   m.points.resize(static_cast<Index>(used.size()), dim);
   double extent = 0;
   for (std::size_t i = 0; i < used.size(); ++i) {
@@ -234,26 +238,48 @@ Mesh read_model(const std::string& path) {
       }
     }
   }
+  return index_of_tag;
+}
 
-  const Index n_cells = static_cast<Index>(cell_nodes.size() / nv);
-  m.cells.resize(n_cells, nv);
-  for (Index c = 0; c < n_cells; ++c)
-    for (int a = 0; a < nv; ++a) m.cells(c, a) = index_of_tag[cell_nodes[static_cast<std::size_t>(c * nv + a)]];
-  // Gmsh orients cells by the geometry's parametrization, not necessarily counter-clockwise;
-  // swapping two nodes flips the sign of the measure.
-  for (Index c = 0; c < n_cells; ++c)
-    if (m.cell_measure(c) < 0) std::swap(m.cells(c, 1), m.cells(c, 2));
-  try {
-    check_cells(m);
-    extract_boundary_facets(m);
-  } catch (const Error& e) {
-    input_error(where + e.what());
+// Appends to @p members the boundary facets of entity @p ent of a physical group.
+void read_group_facets(const std::string& where, const std::string& name, int gdim, int ent, int dim,
+                       const std::unordered_map<std::size_t, int>& index_of_tag,
+                       const std::map<FacetKey, Index>& boundary, std::vector<Index>& members) {
+  const int facet_type = dim == 2 ? 1 : 2;
+  const Elements facets = get_elements(gdim, ent);
+  for (std::size_t t = 0; t < facets.types.size(); ++t) {
+    if (facets.types[t] != facet_type)
+      input_error(where + "physical group '" + name + "' contains " + element_name(facets.types[t]) +
+                  " elements; only " + (dim == 2 ? "2-node lines" : "3-node triangles") + " are supported");
+    const auto& nodes = facets.nodes[t];
+    for (std::size_t e = 0; e + dim <= nodes.size(); e += dim) {
+      int v[3] = {-1, -1, -1};
+      bool known = true;
+      for (int a = 0; a < dim; ++a) {
+        const auto it = index_of_tag.find(nodes[e + a]);
+        known = known && it != index_of_tag.end();
+        if (known) v[a] = it->second;
+      }
+      const auto hit = known ? boundary.find(sorted_key(v, dim)) : boundary.end();
+      if (hit == boundary.end()) {
+        std::ostringstream os;
+        os << where << "physical group '" << name << "' contains facet (" << nodes[e];
+        for (int a = 1; a < dim; ++a) os << ", " << nodes[e + a];
+        os << ") which is not on the boundary";
+        input_error(os.str());
+      }
+      members.push_back(hit->second);
+    }
   }
+}
 
+// Physical groups of dimension d−1 → named facet groups.
+void read_facet_groups(const std::string& where, const std::unordered_map<std::size_t, int>& index_of_tag, Mesh& m) {
+  const int dim = m.dim;
+  int ierr = 0;
   std::map<FacetKey, Index> boundary;
   for (Index f = 0; f < m.num_facets(); ++f) boundary[sorted_key(&m.facets(f, 0), dim)] = f;
 
-  // Physical groups of dimension d−1 → named facet groups.
   int* dim_tags_p = nullptr;
   std::size_t n_dim_tags = 0;
   gmsh().gmshModelGetPhysicalGroups(&dim_tags_p, &n_dim_tags, dim - 1, &ierr);
@@ -273,37 +299,42 @@ Mesh read_model(const std::string& path) {
     gmsh().gmshModelGetEntitiesForPhysicalGroup(gdim, gtag, &entities_p, &n_entities, &ierr);
     const std::vector<int> entities = take(entities_p, n_entities);
     check(ierr, "model::getEntitiesForPhysicalGroup");
-    for (int ent : entities) {
-      const Elements facets = get_elements(gdim, ent);
-      for (std::size_t t = 0; t < facets.types.size(); ++t) {
-        if (facets.types[t] != facet_type)
-          input_error(where + "physical group '" + name + "' contains " + element_name(facets.types[t]) +
-                      " elements; only " + (dim == 2 ? "2-node lines" : "3-node triangles") + " are supported");
-        const auto& nodes = facets.nodes[t];
-        for (std::size_t e = 0; e + dim <= nodes.size(); e += dim) {
-          int v[3] = {-1, -1, -1};
-          bool known = true;
-          for (int a = 0; a < dim; ++a) {
-            const auto it = index_of_tag.find(nodes[e + a]);
-            known = known && it != index_of_tag.end();
-            if (known) v[a] = it->second;
-          }
-          const auto hit = known ? boundary.find(sorted_key(v, dim)) : boundary.end();
-          if (hit == boundary.end()) {
-            std::ostringstream os;
-            os << where << "physical group '" << name << "' contains facet (" << nodes[e];
-            for (int a = 1; a < dim; ++a) os << ", " << nodes[e + a];
-            os << ") which is not on the boundary";
-            input_error(os.str());
-          }
-          members.push_back(hit->second);
-        }
-      }
-    }
+    for (int ent : entities) read_group_facets(where, name, gdim, ent, dim, index_of_tag, boundary, members);
     // A facet may be listed by two entities of one group; each facet counts once.
     std::sort(members.begin(), members.end());
     members.erase(std::unique(members.begin(), members.end()), members.end());
   }
+}
+
+Mesh read_model(const std::string& path) {
+  const std::string where = "gmsh file '" + path + "': ";
+  int ierr = 0;
+  gmsh().gmshOpen(path.c_str(), &ierr);
+  check(ierr, "open");
+
+  const ModelCells cells = read_cells(where);
+  const int dim = cells.dim, nv = dim + 1;
+  const std::vector<std::size_t>& cell_nodes = cells.nodes;
+  Mesh m;
+  m.dim = dim;
+  m.origin = "gmsh " + path;
+  std::unordered_map<std::size_t, int> index_of_tag = read_points(where, cell_nodes, m);
+
+  const Index n_cells = static_cast<Index>(cell_nodes.size() / nv);
+  m.cells.resize(n_cells, nv);
+  for (Index c = 0; c < n_cells; ++c)
+    for (int a = 0; a < nv; ++a) m.cells(c, a) = index_of_tag[cell_nodes[static_cast<std::size_t>(c * nv + a)]];
+  // Gmsh orients cells by the geometry's parametrization, not necessarily counter-clockwise;
+  // swapping two nodes flips the sign of the measure.
+  for (Index c = 0; c < n_cells; ++c)
+    if (m.cell_measure(c) < 0) std::swap(m.cells(c, 1), m.cells(c, 2));
+  try {
+    check_cells(m);
+    extract_boundary_facets(m);
+  } catch (const Error& e) {
+    input_error(where + e.what());
+  }
+  read_facet_groups(where, index_of_tag, m);
   return m;
 }
 

@@ -318,6 +318,62 @@ NewtonOptions parse_options(const BackendOptions& options) {
   return o;
 }
 
+/// Counts for the closing message of NewtonBackend::do_minimize.
+struct NewtonStats {
+  int exact_steps = 0, shifted = 0, halvings = 0;
+  double r = 0;  // the last first-order residual computed (0 before the first)
+};
+
+/// A Newton direction on the free set: which Hessian gave it and the diagonal shift it needed.
+struct NewtonDirection {
+  bool found = false;
+  bool exact = false;  // the exact Hessian (else the clamped one)
+  double delta = 0;    // shift / max|diag| (0: none)
+};
+
+/// The outcome of the projected backtracking line search.
+struct LineSearch {
+  bool accepted = false;
+  double alpha = 1, ft = 0;
+  int halvings = 0;
+};
+
+/// Marks the binding unknowns: on (within eps_b of) a bound with the gradient pointing out of the
+/// box. Returns their number.
+Index mark_binding(const Vec& x, const Vec& g, const Vec& lo, const Vec& up, double eps_b, std::vector<char>& binding) {
+  Index nb = 0;
+  for (Index i = 0; i < x.size(); ++i) {
+    const bool b = (x[i] <= lo[i] + eps_b && g[i] > 0) || (x[i] >= up[i] - eps_b && g[i] < 0);
+    binding[size_t(i)] = b;
+    nb += b;
+  }
+  return nb;
+}
+
+/// Projected backtracking (Armijo along the projection arc) from x along d; xt is the accepted
+/// point. Counts the evaluations in @p evaluations.
+LineSearch projected_line_search(const NlpObjective& f, const Vec& x, const Vec& g, const Vec& d, double fx,
+                                 const Vec& lo, const Vec& up, Vec& xt, int& evaluations) {
+  const double noise = F_NOISE * (1 + std::abs(fx));
+  LineSearch ls;
+  for (; ls.halvings <= MAX_HALVINGS; ++ls.halvings, ls.alpha *= 0.5) {
+    xt = (x + ls.alpha * d).cwiseMax(lo).cwiseMin(up);
+    // x(α) = x in every bit: no step left to try. (Component-wise on purpose: near a stick node
+    // the Newton step is ~1e-20 against a curvature ~2λw/ε_τ ~ 1e10, tiny next to ‖x‖∞ but
+    // not next to that node's u_τ ≈ 0, and it does reduce the residual.)
+    if ((xt.array() == x.array()).all()) break;
+    ls.ft = f.value(xt);
+    ++evaluations;
+    const double slope = g.dot(xt - x);
+    if (ls.ft <= fx + ARMIJO_SIGMA * std::min(0.0, slope) ||
+        (ls.halvings == 0 && -slope <= noise && ls.ft <= fx + noise)) {
+      ls.accepted = true;
+      break;
+    }
+  }
+  return ls;
+}
+
 /// See the top of this file for the method and the reasons behind each constant.
 class NewtonBackend final : public NlpBackend {
  public:
@@ -329,36 +385,30 @@ class NewtonBackend final : public NlpBackend {
   SolveResult do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) override;
 
  private:
+  void set_pattern(const NlpObjective& f, LinearSolver ls);
+  NewtonDirection direction(const NlpObjective& f, const Vec& x, const Vec& g, const std::vector<char>& binding,
+                            bool exact_first, double shift_last, int k, Vec& d);
+  SolveResult& finish(SolveResult& result, const NewtonStats& stats, SolveStatus status, const std::string& why);
+
   FreeSetSolver m_solver;  // keeps CHOLMOD's analysis across calls on the same pattern
 };
 
-// The problem is checked, x is inside the bounds and n ≥ 1 (NlpBackend::minimize).
-SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) {
-  const auto t0 = clk::now();
-  const NlpObjective& f = *problem.f;
+SolveResult& NewtonBackend::finish(SolveResult& result, const NewtonStats& stats, SolveStatus status,
+                                   const std::string& why) {
+  result.status = status;
+  std::ostringstream m;
+  m << "newton: " << why << " (" << m_solver.factorizations() << " factorizations ["
+    << (m_solver.dense() ? "dense" : "cholmod") << ", " << m_solver.seconds() << " s], " << m_solver.analyses()
+    << " analyses; Hessian exact " << stats.exact_steps << ", clamped " << result.iterations - stats.exact_steps
+    << ", shifted " << stats.shifted << "; " << stats.halvings << " halvings)";
+  result.message = m.str();
+  log_debug() << result.message << "; " << result.iterations << " iterations, " << result.evaluations
+              << " evaluations, f = " << result.f << ", r = " << stats.r;
+  return result;
+}
+
+void NewtonBackend::set_pattern(const NlpObjective& f, LinearSolver ls) {
   const Index n = f.size();
-  const NewtonOptions opt = parse_options(options);
-  const LinearSolver ls = opt.linear_solver;
-  const Vec& lo = problem.lower;
-  const Vec& up = problem.upper;
-
-  SolveResult result;
-  int exact_steps = 0, shifted = 0, halvings = 0;  // statistics for the message
-  const auto finish = [&](SolveStatus status, const std::string& why) {
-    result.status = status;
-    std::ostringstream m;
-    m << "newton: " << why << " (" << m_solver.factorizations() << " factorizations ["
-      << (m_solver.dense() ? "dense" : "cholmod") << ", " << m_solver.seconds() << " s], " << m_solver.analyses()
-      << " analyses; Hessian exact " << exact_steps << ", clamped " << result.iterations - exact_steps << ", shifted "
-      << shifted << "; " << halvings << " halvings)";
-    result.message = m.str();
-    result.seconds = since(t0);
-    log_debug() << result.message << "; " << result.iterations << " iterations, " << result.evaluations
-                << " evaluations, f = " << result.f << ", r = " << result.kkt_norm;
-    return result;
-  };
-  m_solver.reset_counters();
-
   const SpMat& pattern = f.hessian_pattern();
   if (pattern.rows() != n || pattern.cols() != n)
     throw Error("newton: Hessian pattern is " + std::to_string(pattern.rows()) + "×" + std::to_string(pattern.cols()) +
@@ -366,13 +416,68 @@ SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const 
                 EXIT_INTERNAL);
   const bool dense_pattern = pattern.nonZeros() == n * (n + 1) / 2;
   m_solver.set_pattern(pattern, ls == LinearSolver::DENSE || (ls == LinearSolver::AUTO && dense_pattern));
+}
+
+// Newton direction on the free set: the exact Hessian if H_FF is positive definite, else the
+// clamped one, shifting its diagonal until the factorization succeeds.
+NewtonDirection NewtonBackend::direction(const NlpObjective& f, const Vec& x, const Vec& g,
+                                         const std::vector<char>& binding, bool exact_first, double shift_last, int k,
+                                         Vec& d) {
+  const Index n = f.size();
+  double gF_norm = 0;
+  for (Index i = 0; i < n; ++i)
+    if (!binding[size_t(i)]) gF_norm = std::max(gF_norm, std::abs(g[i]));
+  // Factor and solve; false if not positive definite or numerically singular: ‖d_F‖∞·max|H_ii|
+  // / ‖g_F‖∞ is a lower bound on cond∞(H_FF), and beyond 1/(100 ε_mach) d_F is round-off (a
+  // clamped curvature that leaves a null direction "factors" with a pivot ~1e-16 and gives a
+  // step ~1e16). Unlike a pivot ratio, this is not fooled by a stiff but well-resolved
+  // direction (a stick node's 2λw/ε_τ ~ 1e10 next to O(1) elastic entries).
+  const auto solve = [&](double shift) {
+    if (!m_solver.factor(binding, shift)) return false;
+    d = m_solver.solve(g, binding);
+    const double dn = d.cwiseAbs().maxCoeff();
+    return std::isfinite(dn) && dn * m_solver.free_diagonal_max(binding) <= COND_MAX * gF_norm;
+  };
+  NewtonDirection out;
+  out.exact = exact_first;
+  f.hessian(x, m_solver.hessian(), out.exact ? Psd::NONE : Psd::CLAMP);
+  out.found = solve(0.0);
+  if (!out.found && out.exact) {
+    out.exact = false;
+    f.hessian(x, m_solver.hessian(), Psd::CLAMP);
+    out.found = solve(0.0);
+  }
+  if (!out.found) {
+    const double scale = m_solver.free_diagonal_max(binding);
+    for (out.delta = std::max(SHIFT_FIRST, shift_last / 10); out.delta <= SHIFT_LAST; out.delta *= 10) {
+      log_debug() << "newton: iteration " << k << ": H_FF is not (numerically) positive definite; shift " << out.delta
+                  << "·" << scale;
+      if ((out.found = solve(out.delta * scale))) break;
+    }
+  }
+  return out;
+}
+
+// The problem is checked, x is inside the bounds and n ≥ 1 (NlpBackend::minimize, which also sets
+// the result's kkt_norm and seconds).
+SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) {
+  const NlpObjective& f = *problem.f;
+  const Index n = f.size();
+  const NewtonOptions opt = parse_options(options);
+  const Vec& lo = problem.lower;
+  const Vec& up = problem.upper;
+
+  SolveResult result;
+  NewtonStats stats;  // statistics for the message
+  m_solver.reset_counters();
+  set_pattern(f, opt.linear_solver);
 
   const double tol = options.tol;
   const double eps_b = EPS_BINDING_PER_TOL * tol;
   double fx = f.value(x);
   result.evaluations = 1;
   result.f = fx;
-  if (!std::isfinite(fx)) return finish(SolveStatus::FAILED, "f is not finite at the start");
+  if (!std::isfinite(fx)) return finish(result, stats, SolveStatus::FAILED, "f is not finite at the start");
   Vec g, d, xt;
   f.gradient(x, g);
   std::vector<char> binding(size_t(n), 0);
@@ -380,55 +485,18 @@ SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const 
 
   for (int k = 0;; ++k) {
     const double r = first_order_residual(x, g, lo, up);
-    result.kkt_norm = r;
-    if (!std::isfinite(r)) return finish(SolveStatus::FAILED, "the gradient is not finite");
-    if (r <= tol) return finish(SolveStatus::CONVERGED, "converged: first-order residual <= tol");
-    if (k >= options.max_iter) return finish(SolveStatus::MAX_ITERATIONS, "iteration limit reached");
+    stats.r = r;
+    if (!std::isfinite(r)) return finish(result, stats, SolveStatus::FAILED, "the gradient is not finite");
+    if (r <= tol) return finish(result, stats, SolveStatus::CONVERGED, "converged: first-order residual <= tol");
+    if (k >= options.max_iter) return finish(result, stats, SolveStatus::MAX_ITERATIONS, "iteration limit reached");
 
-    Index nb = 0;
-    for (Index i = 0; i < n; ++i) {
-      const bool b = (x[i] <= lo[i] + eps_b && g[i] > 0) || (x[i] >= up[i] - eps_b && g[i] < 0);
-      binding[size_t(i)] = b;
-      nb += b;
-    }
-
-    // Newton direction on the free set: the exact Hessian if H_FF is positive definite, else the
-    // clamped one, shifting its diagonal until the factorization succeeds.
-    double gF_norm = 0;
-    for (Index i = 0; i < n; ++i)
-      if (!binding[size_t(i)]) gF_norm = std::max(gF_norm, std::abs(g[i]));
-    // Factor and solve; false if not positive definite or numerically singular: ‖d_F‖∞·max|H_ii|
-    // / ‖g_F‖∞ is a lower bound on cond∞(H_FF), and beyond 1/(100 ε_mach) d_F is round-off (a
-    // clamped curvature that leaves a null direction "factors" with a pivot ~1e-16 and gives a
-    // step ~1e16). Unlike a pivot ratio, this is not fooled by a stiff but well-resolved
-    // direction (a stick node's 2λw/ε_τ ~ 1e10 next to O(1) elastic entries).
-    const auto direction = [&](double shift) {
-      if (!m_solver.factor(binding, shift)) return false;
-      d = m_solver.solve(g, binding);
-      const double dn = d.cwiseAbs().maxCoeff();
-      return std::isfinite(dn) && dn * m_solver.free_diagonal_max(binding) <= COND_MAX * gF_norm;
-    };
-    bool exact = opt.exact_first;
-    f.hessian(x, m_solver.hessian(), exact ? Psd::NONE : Psd::CLAMP);
-    double delta = 0;
-    bool found = direction(0.0);
-    if (!found && exact) {
-      exact = false;
-      f.hessian(x, m_solver.hessian(), Psd::CLAMP);
-      found = direction(0.0);
-    }
-    if (!found) {
-      const double scale = m_solver.free_diagonal_max(binding);
-      for (delta = std::max(SHIFT_FIRST, shift_last / 10); delta <= SHIFT_LAST; delta *= 10) {
-        log_debug() << "newton: iteration " << k << ": H_FF is not (numerically) positive definite; shift " << delta
-                    << "·" << scale;
-        if ((found = direction(delta * scale))) break;
-      }
-      if (!found)
-        return finish(SolveStatus::FAILED, "H_FF not positive definite even with a diagonal shift of " +
-                                               std::to_string(SHIFT_LAST) + "·max|diag|");
-    }
-    shift_last = delta;
+    const Index nb = mark_binding(x, g, lo, up, eps_b, binding);
+    const NewtonDirection dir = direction(f, x, g, binding, opt.exact_first, shift_last, k, d);
+    if (!dir.found)
+      return finish(result, stats, SolveStatus::FAILED,
+                    "H_FF not positive definite even with a diagonal shift of " + std::to_string(SHIFT_LAST) +
+                        "·max|diag|");
+    shift_last = dir.delta;
     const double dF_norm = d.cwiseAbs().maxCoeff();  // d_B = 0 here
     bool snap = false;                               // binding unknowns move onto their bound (see the top)
     for (Index i = 0; i < n; ++i)
@@ -437,46 +505,28 @@ SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const 
         snap |= d[i] != 0;
       }
     if (!snap && dF_norm <= tol * std::max(1.0, x.cwiseAbs().maxCoeff()) && r <= 10 * tol)
-      return finish(SolveStatus::CONVERGED,
+      return finish(result, stats, SolveStatus::CONVERGED,
                     "converged: Newton step below tol and first-order residual <= 10·tol (round-off floor)");
 
-    // Projected backtracking (Armijo along the projection arc).
-    const double noise = F_NOISE * (1 + std::abs(fx));
-    double alpha = 1, ft = 0;
-    bool accepted = false;
-    int h = 0;
-    for (; h <= MAX_HALVINGS; ++h, alpha *= 0.5) {
-      xt = (x + alpha * d).cwiseMax(lo).cwiseMin(up);
-      // x(α) = x in every bit: no step left to try. (Component-wise on purpose: near a stick node
-      // the Newton step is ~1e-20 against a curvature ~2λw/ε_τ ~ 1e10, tiny next to ‖x‖∞ but
-      // not next to that node's u_τ ≈ 0, and it does reduce the residual.)
-      if ((xt.array() == x.array()).all()) break;
-      ft = f.value(xt);
-      ++result.evaluations;
-      const double slope = g.dot(xt - x);
-      if (ft <= fx + ARMIJO_SIGMA * std::min(0.0, slope) || (h == 0 && -slope <= noise && ft <= fx + noise)) {
-        accepted = true;
-        break;
-      }
-    }
-    halvings += h;
-    if (!accepted) {
+    const LineSearch ls = projected_line_search(f, x, g, d, fx, lo, up, xt, result.evaluations);
+    stats.halvings += ls.halvings;
+    if (!ls.accepted) {
       std::ostringstream why;
       why << "line search failed at iteration " << k << ": no decrease along the projected Newton step "
-          << "after " << h << " halvings (first-order residual " << r << ")";
-      return finish(SolveStatus::FAILED, why.str());
+          << "after " << ls.halvings << " halvings (first-order residual " << r << ")";
+      return finish(result, stats, SolveStatus::FAILED, why.str());
     }
     // Per-iteration progress: debug level, or info with solver.print_level > 0.
     LogStream(options.print_level > 0 ? LogLevel::INFO : LogLevel::DEBUG)
-        << "newton " << k << ": f " << fx << " -> " << ft << ", r " << r << ", |B| " << nb << ", |d_F| " << dF_norm
-        << ", alpha " << alpha << ", H " << (exact ? "exact" : "clamped")
-        << (delta > 0 ? ", shift " + std::to_string(delta) : std::string());
+        << "newton " << k << ": f " << fx << " -> " << ls.ft << ", r " << r << ", |B| " << nb << ", |d_F| " << dF_norm
+        << ", alpha " << ls.alpha << ", H " << (dir.exact ? "exact" : "clamped")
+        << (dir.delta > 0 ? ", shift " + std::to_string(dir.delta) : std::string());
     x.swap(xt);
-    fx = ft;
+    fx = ls.ft;
     result.f = fx;
     result.iterations = k + 1;
-    exact_steps += exact;
-    shifted += delta > 0;
+    stats.exact_steps += dir.exact;
+    stats.shifted += dir.delta > 0;
     f.gradient(x, g);
   }
 }

@@ -409,6 +409,113 @@ Run run(nlopt::opt& opt, Evaluator& ev, std::vector<double>& x) {
   return out;
 }
 
+/// The point do_minimize returns, with its objective and first-order residual.
+struct FinalPoint {
+  double f = 0.0, r = 0.0;
+};
+
+/// Global phase on a finite box, no first-order stop (it would end the search at the first
+/// local minimum); the local refinement (local_phase) then starts from the best point. Appends
+/// its facts to @p note.
+void global_phase(const NlpProblem& problem, const Vec& x, const GlobalAlgorithm& algorithm, nlopt::opt loc,
+                  const Extra& extra, int maxeval, Evaluator& ev, std::vector<double>& xv, std::ostringstream& note) {
+  const Index n = problem.f->size();
+  const auto to_std = [](const Vec& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  Vec lo = problem.lower, hi = problem.upper;
+  int replaced = 0;
+  for (Index i = 0; i < n; ++i) {
+    if (!std::isfinite(lo[i])) lo[i] = x[i] - extra.box_radius, ++replaced;
+    if (!std::isfinite(hi[i])) hi[i] = x[i] + extra.box_radius, ++replaced;
+  }
+  if (replaced > 0)
+    note << "; MLSL box: " << replaced << " infinite bounds replaced by the warm start +- " << extra.box_radius;
+  nlopt::srand(MLSL_SEED);
+  nlopt::opt global(algorithm.id, unsigned(n));
+  loc.set_xtol_rel(MLSL_LOCAL_XTOL_REL);
+  loc.set_ftol_rel(MLSL_LOCAL_FTOL_REL);
+  global.set_local_optimizer(loc);
+  global.set_lower_bounds(to_std(lo));
+  global.set_upper_bounds(to_std(hi));
+  global.set_maxeval(maxeval);
+  if (extra.population > 0) global.set_population(unsigned(extra.population));
+  ev.stop_on_tol = false;
+  const Run global_run = run(global, ev, xv);
+  const int global_evaluations = ev.evaluations;
+  // NLopt returns the best point it found; the refinement starts there, and "no worse than
+  // the start" is measured from it.
+  ev.f_start = problem.f->value(Eigen::Map<const Vec>(xv.data(), n));
+  ++ev.evaluations;
+  ev.stop_on_tol = true;
+  note << "; global phase " << result_name(global_run.result) << " after " << global_evaluations
+       << " evaluations, best f = " << ev.f_start;
+}
+
+/// The answer and its residual: the forced-stop point, else NLopt's x (normally the best point
+/// it evaluated; otherwise one more evaluation gives its residual). Sets @p x.
+FinalPoint final_point(const NlpProblem& problem, const std::vector<double>& xv, Evaluator& ev, Vec& x) {
+  const Index n = problem.f->size();
+  FinalPoint out;
+  if (ev.stopped) {
+    x = ev.x_stop;
+    out.f = ev.f_stop;
+    out.r = ev.r_stop;
+  } else {
+    x = Eigen::Map<const Vec>(xv.data(), n);
+    x = x.cwiseMax(problem.lower).cwiseMin(problem.upper);
+    if (ev.x_best.size() == n && x == ev.x_best) {
+      out.f = ev.f_best;
+      out.r = ev.r_best;
+    } else {
+      Vec g;
+      out.f = problem.f->value(x);
+      problem.f->gradient(x, g);
+      ++ev.evaluations;
+      ++ev.gradients;
+      out.r = first_order_residual(x.data(), g.data(), problem.lower, problem.upper);
+    }
+  }
+  return out;
+}
+
+/// The verdict on NLopt's result @p r (not forced-stop) given the final residual @p r_final;
+/// appends the explanation to @p msg.
+SolveStatus local_verdict(const Run& r, double r_final, const LocalAlgorithm& local, const BackendOptions& options,
+                          int maxeval, std::ostringstream& msg) {
+  const double acceptable = ACCEPTABLE_FACTOR * options.tol;
+  const auto by_residual = [&]() {
+    return r_final <= options.tol  ? SolveStatus::CONVERGED
+           : r_final <= acceptable ? SolveStatus::ACCEPTABLE
+                                   : SolveStatus::FAILED;
+  };
+  SolveStatus status = SolveStatus::FAILED;
+  switch (r.result) {
+    case nlopt::SUCCESS:
+    case nlopt::STOPVAL_REACHED:
+    case nlopt::FTOL_REACHED:
+    case nlopt::XTOL_REACHED:
+    case nlopt::ROUNDOFF_LIMITED:
+    case nlopt::FORCED_STOP: status = by_residual(); break;
+    case nlopt::MAXEVAL_REACHED:
+    case nlopt::MAXTIME_REACHED:
+      status = r_final <= options.tol ? SolveStatus::CONVERGED : SolveStatus::MAX_ITERATIONS;
+      break;
+    case nlopt::FAILURE:  // Luksan: a line search that found no decrease (see top of file)
+      status = local.luksan ? by_residual() : SolveStatus::FAILED;
+      break;
+    default: status = SolveStatus::FAILED;
+  }
+  msg << result_name(r.result);
+  if (!r.what.empty()) msg << " (" << r.what << ")";
+  msg << ", first-order residual " << r_final << " (tol " << options.tol << ")";
+  if (r.result == nlopt::MAXEVAL_REACHED) msg << ", maxeval " << maxeval;
+  const bool stalled = r.result != nlopt::MAXEVAL_REACHED && r.result != nlopt::MAXTIME_REACHED &&
+                       r.result != nlopt::INVALID_ARGS && r.result != nlopt::OUT_OF_MEMORY;
+  if (stalled && status != SolveStatus::CONVERGED)
+    msg << "; stalled: f-based methods stop near r ~ sqrt(eps_mach |f| curvature), where f no "
+           "longer resolves a decrease (raise tol, or use newton / ipopt)";
+  return status;
+}
+
 class NloptBackend final : public NlpBackend {
  public:
   NloptBackend(std::string spec, const LocalAlgorithm* local, const GlobalAlgorithm* global)
@@ -426,6 +533,10 @@ class NloptBackend final : public NlpBackend {
  private:
   Extra parse_extra(const BackendOptions& options, const LocalAlgorithm*& local) const;
   nlopt::opt make_local(const LocalAlgorithm& a, const Extra& e, unsigned n) const;
+  void check_size(Index n, const LocalAlgorithm& local, const Extra& extra) const;
+  Run local_phase(const NlpProblem& problem, const LocalAlgorithm& local, const Extra& extra,
+                  const BackendOptions& options, int maxeval, Evaluator& ev, std::vector<double>& xv,
+                  std::ostringstream& note) const;
 
   std::string m_spec;               ///< what followed "nlopt:"
   const LocalAlgorithm* m_local;    ///< the local algorithm (MLSL: from "+LOCAL", may be null)
@@ -484,20 +595,14 @@ nlopt::opt NloptBackend::make_local(const LocalAlgorithm& a, const Extra& e, uns
   return opt;
 }
 
-// The problem is checked, x is inside the bounds and n ≥ 1 (NlpBackend::minimize).
-SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) {
-  const auto t0 = clk::now();
+void NloptBackend::check_size(Index n, const LocalAlgorithm& local, const Extra& extra) const {
   const std::string who = name();
-  const Index n = problem.f->size();
-  if (!(options.tol > 0)) throw Error(who + ": tol must be > 0 (got " + std::to_string(options.tol) + ")", EXIT_INPUT);
-  const LocalAlgorithm* local = nullptr;
-  const Extra extra = parse_extra(options, local);
-  if ((local->dense || m_global != nullptr) && n > DENSE_MAX_N)
+  if ((local.dense || m_global != nullptr) && n > DENSE_MAX_N)
     throw Error(who + ": refused for n = " + std::to_string(n) + " unknowns (limit " + std::to_string(DENSE_MAX_N) +
                     ": " + (m_global ? "a global search" : "SLSQP's dense O(n^2) memory, O(n^3) time") +
                     "); use solver.formulation = condensed, or another backend",
                 EXIT_INPUT);
-  if (local->luksan && double(n) * extra.vector_storage > MAX_STORED_PAIRS) {
+  if (local.luksan && double(n) * extra.vector_storage > MAX_STORED_PAIRS) {
     std::ostringstream m;
     m << who << ": vector_storage = " << extra.vector_storage << " with n = " << n
       << " unknowns stores n*vector_storage = " << double(n) * extra.vector_storage << " numbers twice (limit "
@@ -505,6 +610,42 @@ SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
       << std::max<long>(1, long(MAX_STORED_PAIRS / double(n)));
     throw Error(m.str(), EXIT_INPUT);
   }
+}
+
+Run NloptBackend::local_phase(const NlpProblem& problem, const LocalAlgorithm& local, const Extra& extra,
+                              const BackendOptions& options, int maxeval, Evaluator& ev, std::vector<double>& xv,
+                              std::ostringstream& note) const {
+  const Index n = problem.f->size();
+  const auto to_std = [](const Vec& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  const int before_local = ev.evaluations;
+  Run r;
+  for (int pass = 0;; ++pass) {
+    nlopt::opt opt = make_local(local, extra, unsigned(n));
+    opt.set_lower_bounds(to_std(problem.lower));
+    opt.set_upper_bounds(to_std(problem.upper));
+    opt.set_maxeval(std::max(1, maxeval - (ev.evaluations - before_local)));
+    for (Index i = 0; i < n; ++i)  // NLopt rejects a start outside the bounds
+      xv[size_t(i)] = std::min(std::max(xv[size_t(i)], problem.lower[i]), problem.upper[i]);
+    r = run(opt, ev, xv);
+    // Luksan's own gradient test ended the run above tol: once more from there, scaled.
+    if (ev.stopped || !local.luksan || pass > 0 || r.result != nlopt::SUCCESS || options.tol >= LUKSAN_TOLG ||
+        ev.evaluations - before_local >= maxeval)
+      break;
+    ev.sigma = LUKSAN_TOLG / options.tol;
+    note << "; restarted with f scaled by " << ev.sigma << " past Luksan's |g| <= 1e-8 test";
+  }
+  return r;
+}
+
+// The problem is checked, x is inside the bounds and n ≥ 1 (NlpBackend::minimize, which also sets
+// the result's kkt_norm and seconds).
+SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) {
+  const std::string who = name();
+  const Index n = problem.f->size();
+  if (!(options.tol > 0)) throw Error(who + ": tol must be > 0 (got " + std::to_string(options.tol) + ")", EXIT_INPUT);
+  const LocalAlgorithm* local = nullptr;
+  const Extra extra = parse_extra(options, local);
+  check_size(n, *local, extra);
 
   SolveResult result;
   const int maxeval = extra.maxeval > 0 ? extra.maxeval
@@ -519,118 +660,19 @@ SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
   std::ostringstream note;  // extra facts for the message
 
   std::vector<double> xv(x.data(), x.data() + n);
-  const auto to_std = [](const Vec& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
-  if (m_global != nullptr) {
-    // Global phase on a finite box, no first-order stop (it would end the search at the first
-    // local minimum), then the local refinement below from the best point.
-    Vec lo = problem.lower, hi = problem.upper;
-    int replaced = 0;
-    for (Index i = 0; i < n; ++i) {
-      if (!std::isfinite(lo[i])) lo[i] = x[i] - extra.box_radius, ++replaced;
-      if (!std::isfinite(hi[i])) hi[i] = x[i] + extra.box_radius, ++replaced;
-    }
-    if (replaced > 0)
-      note << "; MLSL box: " << replaced << " infinite bounds replaced by the warm start +- " << extra.box_radius;
-    nlopt::srand(MLSL_SEED);
-    nlopt::opt global(m_global->id, unsigned(n));
-    nlopt::opt loc = make_local(*local, extra, unsigned(n));
-    loc.set_xtol_rel(MLSL_LOCAL_XTOL_REL);
-    loc.set_ftol_rel(MLSL_LOCAL_FTOL_REL);
-    global.set_local_optimizer(loc);
-    global.set_lower_bounds(to_std(lo));
-    global.set_upper_bounds(to_std(hi));
-    global.set_maxeval(maxeval);
-    if (extra.population > 0) global.set_population(unsigned(extra.population));
-    ev.stop_on_tol = false;
-    const Run global_run = run(global, ev, xv);
-    const int global_evaluations = ev.evaluations;
-    // NLopt returns the best point it found; the refinement starts there, and "no worse than
-    // the start" is measured from it.
-    ev.f_start = problem.f->value(Eigen::Map<const Vec>(xv.data(), n));
-    ++ev.evaluations;
-    ev.stop_on_tol = true;
-    note << "; global phase " << result_name(global_run.result) << " after " << global_evaluations
-         << " evaluations, best f = " << ev.f_start;
-  }
-
+  if (m_global != nullptr)
+    global_phase(problem, x, *m_global, make_local(*local, extra, unsigned(n)), extra, maxeval, ev, xv, note);
   const int before_local = ev.evaluations;
-  Run r;
-  for (int pass = 0;; ++pass) {
-    nlopt::opt opt = make_local(*local, extra, unsigned(n));
-    opt.set_lower_bounds(to_std(problem.lower));
-    opt.set_upper_bounds(to_std(problem.upper));
-    opt.set_maxeval(std::max(1, maxeval - (ev.evaluations - before_local)));
-    for (Index i = 0; i < n; ++i)  // NLopt rejects a start outside the bounds
-      xv[size_t(i)] = std::min(std::max(xv[size_t(i)], problem.lower[i]), problem.upper[i]);
-    r = run(opt, ev, xv);
-    // Luksan's own gradient test ended the run above tol: once more from there, scaled.
-    if (ev.stopped || !local->luksan || pass > 0 || r.result != nlopt::SUCCESS || options.tol >= LUKSAN_TOLG ||
-        ev.evaluations - before_local >= maxeval)
-      break;
-    ev.sigma = LUKSAN_TOLG / options.tol;
-    note << "; restarted with f scaled by " << ev.sigma << " past Luksan's |g| <= 1e-8 test";
-  }
+  const Run r = local_phase(problem, *local, extra, options, maxeval, ev, xv, note);
+  const FinalPoint fin = final_point(problem, xv, ev, x);
 
-  // The answer and its residual: the forced-stop point, else NLopt's x (normally the best point
-  // it evaluated; otherwise one more evaluation gives its residual).
-  double f_final = 0.0, r_final = 0.0;
-  if (ev.stopped) {
-    x = ev.x_stop;
-    f_final = ev.f_stop;
-    r_final = ev.r_stop;
-  } else {
-    x = Eigen::Map<const Vec>(xv.data(), n);
-    x = x.cwiseMax(problem.lower).cwiseMin(problem.upper);
-    if (ev.x_best.size() == n && x == ev.x_best) {
-      f_final = ev.f_best;
-      r_final = ev.r_best;
-    } else {
-      Vec g;
-      f_final = problem.f->value(x);
-      problem.f->gradient(x, g);
-      ++ev.evaluations;
-      ++ev.gradients;
-      r_final = first_order_residual(x.data(), g.data(), problem.lower, problem.upper);
-    }
-  }
-
-  const double acceptable = ACCEPTABLE_FACTOR * options.tol;
-  const auto by_residual = [&]() {
-    return r_final <= options.tol  ? SolveStatus::CONVERGED
-           : r_final <= acceptable ? SolveStatus::ACCEPTABLE
-                                   : SolveStatus::FAILED;
-  };
   std::ostringstream msg;
   msg << who << ": ";
   if (ev.stopped) {
     result.status = SolveStatus::CONVERGED;
-    msg << "first-order residual " << r_final << " <= tol " << options.tol << " (forced stop)";
+    msg << "first-order residual " << fin.r << " <= tol " << options.tol << " (forced stop)";
   } else {
-    switch (r.result) {
-      case nlopt::SUCCESS:
-      case nlopt::STOPVAL_REACHED:
-      case nlopt::FTOL_REACHED:
-      case nlopt::XTOL_REACHED:
-      case nlopt::ROUNDOFF_LIMITED:
-      case nlopt::FORCED_STOP: result.status = by_residual(); break;
-      case nlopt::MAXEVAL_REACHED:
-      case nlopt::MAXTIME_REACHED:
-        result.status = r_final <= options.tol ? SolveStatus::CONVERGED : SolveStatus::MAX_ITERATIONS;
-        break;
-      case nlopt::FAILURE:  // Luksan: a line search that found no decrease (see top of file)
-        result.status = local->luksan ? by_residual() : SolveStatus::FAILED;
-        break;
-      default: result.status = SolveStatus::FAILED;
-    }
-    msg << result_name(r.result);
-    if (!r.what.empty()) msg << " (" << r.what << ")";
-    msg << ", first-order residual " << r_final << " (tol " << options.tol << ")";
-    if (r.result == nlopt::MAXEVAL_REACHED) msg << ", maxeval " << maxeval;
-    const bool stalled = r.result != nlopt::MAXEVAL_REACHED && r.result != nlopt::MAXTIME_REACHED &&
-                         r.result != nlopt::INVALID_ARGS && r.result != nlopt::OUT_OF_MEMORY;
-    if (stalled && result.status != SolveStatus::CONVERGED)
-      msg << "; stalled: f-based methods stop near r ~ sqrt(eps_mach |f| curvature), where f no "
-             "longer resolves a decrease (raise tol, or use newton / ipopt)";
+    result.status = local_verdict(r, fin.r, *local, options, maxeval, msg);
   }
   msg << "; " << ev.evaluations << " evaluations (" << ev.gradients << " with gradient";
   if (m_global) msg << ", " << ev.evaluations - before_local << " in the local refinement";
@@ -638,9 +680,7 @@ SolveResult NloptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
   result.message = msg.str();
   result.evaluations = ev.evaluations;
   result.iterations = ev.evaluations;
-  result.f = f_final;
-  result.kkt_norm = r_final;
-  result.seconds = std::chrono::duration<double>(clk::now() - t0).count();
+  result.f = fin.f;
   if (options.print_level >= 1)
     log_info() << result.message;
   else

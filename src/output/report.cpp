@@ -132,6 +132,127 @@ std::string wrap(const std::vector<std::string>& words, size_t indent, size_t wi
   return out + line;
 }
 
+// One entry per Γ3 node: position, weight, gap, the contact state and the node's status.
+json nodes_json(const Model& md, const Solution& sol) {
+  const ContactNodes& cn = md.contact;
+  const ContactState& s = sol.state;
+  const Index nc = cn.size();
+  const int d = md.dim();
+  json nodes = json::array();
+  static const char* axes[] = {"x", "y", "z"};
+  for (Index k = 0; k < nc; ++k) {
+    json n;
+    n["node"] = cn.node[k];
+    for (int c = 0; c < d; ++c) n[axes[c]] = md.mesh.points(cn.node[k], c);
+    n["w"] = cn.w[k];
+    n["g"] = cn.g[k];
+    n["u_nu"] = s.u_nu[k];
+    n["u_tau"] = s.u_tau[k];
+    n["sigma_nu"] = s.sigma_nu[k];
+    n["sigma_tau"] = s.sigma_tau[k];
+    n["xi"] = s.xi[k];
+    n["lambda"] = s.lambda[k];
+    n["status"] = sol.status[k].str();
+    if (d == 3) {
+      // 3D: the slip direction replaces 2D's ±; null on sticking nodes (it has no direction).
+      if (sol.status[k].tangential == TangentialStatus::SLIP) {
+        n["slip_dir"] = {s.slip_dir(k, 0), s.slip_dir(k, 1), s.slip_dir(k, 2)};
+        n["slip_angle_deg"] = s.slip_angle_deg[k];
+      } else {
+        n["slip_dir"] = nullptr;
+        n["slip_angle_deg"] = nullptr;
+      }
+    }
+    nodes.push_back(std::move(n));
+  }
+  return nodes;
+}
+
+json certificate_json(const CertificateReport& c) {
+  json residuals = json::object();
+  for (const auto& e : c.residuals) residuals[e.name] = {{"value", e.value}, {"worst", e.worst}};
+  return {{"passed", c.passed},
+          {"tol", c.tol},
+          {"max_residual", c.max_residual},
+          {"length_scale", c.length_scale},
+          {"force_scale", c.force_scale},
+          {"traction_scale", c.traction_scale},
+          {"residuals", std::move(residuals)}};
+}
+
+json fixed_point_json(const Solution& sol, const SolveOptions& opt) {
+  json history = json::array();
+  for (const auto& h : sol.history)
+    history.push_back({{"k", h.k},
+                       {"stage", h.stage},
+                       {"eps_tau", h.eps_tau},
+                       {"eps_nu", h.eps_nu},
+                       {"change_u", h.change_u},
+                       {"change_lambda", h.change_lambda},
+                       {"grad_norm", h.grad_norm},
+                       {"delta_lambda", h.delta_lambda},
+                       {"contraction", finite_or_null(h.contraction)},
+                       {"backend_status", to_string(h.backend.status)},
+                       {"backend_iterations", h.backend.iterations},
+                       {"backend_evaluations", h.backend.evaluations},
+                       {"backend_seconds", h.backend.seconds},
+                       {"backend_message", h.backend.message},
+                       {"solver", h.solver}});
+  // contraction: ρ_k per outer iteration (null where undefined, see OuterIteration::contraction);
+  // contraction_estimate: their geometric mean, the observed factor of the relaxed map.
+  json contraction = json::array();
+  for (const auto& h : sol.history) contraction.push_back(finite_or_null(h.contraction));
+  return {{"converged", sol.fixed_point_converged},
+          {"iterations", sol.history.size()},
+          {"relaxation", opt.relaxation},
+          {"contraction", std::move(contraction)},
+          {"contraction_estimate", finite_or_null(sol.contraction_estimate)},
+          {"history", std::move(history)}};
+}
+
+json options_json(const SolveOptions& opt) {
+  return {{"backend", opt.backend},
+          {"tol", opt.backend_options.tol},
+          {"max_iter", opt.backend_options.max_iter},
+          {"backend_options", opt.backend_options.extra},
+          {"eps_tau", opt.eps_tau},
+          {"eps_nu", opt.eps_nu},
+          {"eps_start", opt.eps_start},
+          {"eps_factor", opt.eps_factor},
+          {"tol_u", opt.tol_u},
+          {"max_outer", opt.max_outer},
+          {"relaxation", opt.relaxation},
+          {"allow_not_converged", opt.allow_not_converged},
+          {"certificate_tol", opt.certificate_tol},
+          {"status_tol", opt.status_tol}};
+}
+
+// The exact solver's part.
+json inner_json(const HandoverReport& h) {
+  return {{"handover",
+           {{"used", h.used},
+            {"after_stage", h.after_stage},
+            {"reason", h.reason},
+            {"outer_iterations", h.outer_iterations},
+            {"inner_rounds", h.inner_rounds},
+            {"newton_steps", h.newton_steps},
+            {"factorizations", h.factorizations},
+            {"inner_converged", h.inner_converged},
+            {"fixed_point_converged", h.fixed_point_converged},
+            {"coupled_residual", h.residual},
+            {"seconds", h.seconds},
+            {"note", h.note}}}};
+}
+
+// Whether the inner problem (λ frozen) is strongly convex.
+json inner_convexity_json(const InnerConvexity& c) {
+  return {{"checked", c.checked},
+          {"strongly_convex", c.checked && c.strongly_convex},
+          {"softening", finite_or_null(c.softening)},
+          {"min_eigenvalue", finite_or_null(c.min_eigenvalue)},
+          {"note", c.note}};
+}
+
 }  // namespace
 
 json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) {
@@ -177,88 +298,10 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
   r["max_u_nu"] = sol.max_u_nu;
   r["status_counts"] = sol.status_counts();
 
-  json nodes = json::array();
-  static const char* axes[] = {"x", "y", "z"};
-  for (Index k = 0; k < nc; ++k) {
-    json n;
-    n["node"] = cn.node[k];
-    for (int c = 0; c < d; ++c) n[axes[c]] = md.mesh.points(cn.node[k], c);
-    n["w"] = cn.w[k];
-    n["g"] = cn.g[k];
-    n["u_nu"] = s.u_nu[k];
-    n["u_tau"] = s.u_tau[k];
-    n["sigma_nu"] = s.sigma_nu[k];
-    n["sigma_tau"] = s.sigma_tau[k];
-    n["xi"] = s.xi[k];
-    n["lambda"] = s.lambda[k];
-    n["status"] = sol.status[k].str();
-    if (d == 3) {
-      // 3D: the slip direction replaces 2D's ±; null on sticking nodes (it has no direction).
-      if (sol.status[k].tangential == TangentialStatus::SLIP) {
-        n["slip_dir"] = {s.slip_dir(k, 0), s.slip_dir(k, 1), s.slip_dir(k, 2)};
-        n["slip_angle_deg"] = s.slip_angle_deg[k];
-      } else {
-        n["slip_dir"] = nullptr;
-        n["slip_angle_deg"] = nullptr;
-      }
-    }
-    nodes.push_back(std::move(n));
-  }
-  r["nodes"] = std::move(nodes);
-
-  const CertificateReport& c = sol.certificate;
-  json residuals = json::object();
-  for (const auto& e : c.residuals) residuals[e.name] = {{"value", e.value}, {"worst", e.worst}};
-  r["certificate"] = {{"passed", c.passed},
-                      {"tol", c.tol},
-                      {"max_residual", c.max_residual},
-                      {"length_scale", c.length_scale},
-                      {"force_scale", c.force_scale},
-                      {"traction_scale", c.traction_scale},
-                      {"residuals", std::move(residuals)}};
-
-  json history = json::array();
-  for (const auto& h : sol.history)
-    history.push_back({{"k", h.k},
-                       {"stage", h.stage},
-                       {"eps_tau", h.eps_tau},
-                       {"eps_nu", h.eps_nu},
-                       {"change_u", h.change_u},
-                       {"change_lambda", h.change_lambda},
-                       {"grad_norm", h.grad_norm},
-                       {"delta_lambda", h.delta_lambda},
-                       {"contraction", finite_or_null(h.contraction)},
-                       {"backend_status", to_string(h.backend.status)},
-                       {"backend_iterations", h.backend.iterations},
-                       {"backend_evaluations", h.backend.evaluations},
-                       {"backend_seconds", h.backend.seconds},
-                       {"backend_message", h.backend.message},
-                       {"solver", h.solver}});
-  // contraction: ρ_k per outer iteration (null where undefined, see OuterIteration::contraction);
-  // contraction_estimate: their geometric mean, the observed factor of the relaxed map.
-  json contraction = json::array();
-  for (const auto& h : sol.history) contraction.push_back(finite_or_null(h.contraction));
-  r["fixed_point"] = {{"converged", sol.fixed_point_converged},
-                      {"iterations", sol.history.size()},
-                      {"relaxation", opt.relaxation},
-                      {"contraction", std::move(contraction)},
-                      {"contraction_estimate", finite_or_null(sol.contraction_estimate)},
-                      {"history", std::move(history)}};
-
-  r["options"] = {{"backend", opt.backend},
-                  {"tol", opt.backend_options.tol},
-                  {"max_iter", opt.backend_options.max_iter},
-                  {"backend_options", opt.backend_options.extra},
-                  {"eps_tau", opt.eps_tau},
-                  {"eps_nu", opt.eps_nu},
-                  {"eps_start", opt.eps_start},
-                  {"eps_factor", opt.eps_factor},
-                  {"tol_u", opt.tol_u},
-                  {"max_outer", opt.max_outer},
-                  {"relaxation", opt.relaxation},
-                  {"allow_not_converged", opt.allow_not_converged},
-                  {"certificate_tol", opt.certificate_tol},
-                  {"status_tol", opt.status_tol}};
+  r["nodes"] = nodes_json(md, sol);
+  r["certificate"] = certificate_json(sol.certificate);
+  r["fixed_point"] = fixed_point_json(sol, opt);
+  r["options"] = options_json(opt);
   r["skipped"] = sol.skipped;
   r["formulation"] = sol.formulation;
   {
@@ -273,29 +316,8 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
   r["polish"] = {{"attempted", sol.polish.attempted},     {"accepted", sol.polish.accepted},
                  {"iterations", sol.polish.iterations},   {"certificate_before", sol.polish.before},
                  {"certificate_after", sol.polish.after}, {"note", sol.polish.note}};
-  {
-    // The exact solver's part, and whether the inner problem (λ frozen) is strongly convex.
-    const HandoverReport& h = sol.handover;
-    r["inner"] = {{"handover",
-                   {{"used", h.used},
-                    {"after_stage", h.after_stage},
-                    {"reason", h.reason},
-                    {"outer_iterations", h.outer_iterations},
-                    {"inner_rounds", h.inner_rounds},
-                    {"newton_steps", h.newton_steps},
-                    {"factorizations", h.factorizations},
-                    {"inner_converged", h.inner_converged},
-                    {"fixed_point_converged", h.fixed_point_converged},
-                    {"coupled_residual", h.residual},
-                    {"seconds", h.seconds},
-                    {"note", h.note}}}};
-    const InnerConvexity& c = sol.inner_convexity;
-    r["inner_convexity"] = {{"checked", c.checked},
-                            {"strongly_convex", c.checked && c.strongly_convex},
-                            {"softening", finite_or_null(c.softening)},
-                            {"min_eigenvalue", finite_or_null(c.min_eigenvalue)},
-                            {"note", c.note}};
-  }
+  r["inner"] = inner_json(sol.handover);
+  r["inner_convexity"] = inner_convexity_json(sol.inner_convexity);
   r["scales"] = {{"x_scale", sol.x_scale}, {"f_scale", sol.f_scale}};
   r["timings"] = merged_timings(md, sol);
   r["message"] = sol.message;

@@ -207,51 +207,10 @@ int status_code(TangentialStatus s) {
   return -1;
 }
 
-void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format,
-               const Vec* error_indicator) {
-  check_sizes(md, sol);
-  if (error_indicator && error_indicator->size() > 0 && error_indicator->size() != md.mesh.num_cells())
-    throw Error("write_vtu: " + std::to_string(error_indicator->size()) + " error indicators for " +
-                    std::to_string(md.mesh.num_cells()) + " cells",
-                EXIT_INTERNAL);
-  const Mesh& mesh = md.mesh;
-  const int d = mesh.dim, nv = voigt_size(d);
-  const Index N = mesh.num_nodes(), M = mesh.num_cells(), nc = md.contact.size();
-  const ContactState& s = sol.state;
+namespace {
 
-  // Γ3 quantities scattered to mesh nodes (k_of[a] = contact index or −1).
-  std::vector<Index> k_of(N, -1);
-  for (Index k = 0; k < nc; ++k) k_of[md.contact.node[k]] = k;
-  const auto on_gamma3 = [&](const Vec& v) {
-    return [&, v_ptr = &v](Index a, int) { return k_of[a] < 0 ? 0.0 : (*v_ptr)[k_of[a]]; };
-  };
-  const auto tangential = [&](const RowMat& m) {
-    return [&, m_ptr = &m](Index a, int c) { return (k_of[a] < 0 || c >= m_ptr->cols()) ? 0.0 : (*m_ptr)(k_of[a], c); };
-  };
-
-  const RowMat strain = cell_strains(mesh, sol.u);
-  RowMat stress(M, nv);
-  Vec vm(M);
-  for (Index c = 0; c < M; ++c) {
-    stress.row(c) = md.material->stress(strain.row(c).transpose()).transpose();
-    vm[c] = von_mises(stress.row(c), d);
-  }
-
-  // Every status as its own 0/1 field (ParaView colours by name), beside the integer codes whose
-  // legend is in the file's FieldData (status_legend) and in vtk_writer.hpp.
-  const std::vector<std::pair<std::string, std::function<bool(const NodeStatus&)>>> by_name = {
-      {"separated", [](const NodeStatus& t) { return t.normal == NormalStatus::SEPARATED; }},
-      {"compliance", [](const NodeStatus& t) { return t.normal == NormalStatus::COMPLIANCE; }},
-      {"contact", [](const NodeStatus& t) { return t.normal == NormalStatus::CONTACT; }},
-      {"stick", [](const NodeStatus& t) { return t.tangential == TangentialStatus::STICK; }},
-      {"slip_plus", [](const NodeStatus& t) { return t.tangential == TangentialStatus::SLIP_PLUS; }},
-      {"slip_minus", [](const NodeStatus& t) { return t.tangential == TangentialStatus::SLIP_MINUS; }},
-      {"slip", [](const NodeStatus& t) { return t.tangential == TangentialStatus::SLIP; }}};
-
-  VtuLayout L(format == VtuFormat::BINARY);
-  std::string xml;
-  xml += "  <UnstructuredGrid>\n";
-  // The legend of the integer status codes, readable in ParaView's information panel.
+// The legend of the integer status codes, readable in ParaView's information panel.
+void write_field_data(VtuLayout& L, std::string& xml) {
   xml += "    <FieldData>\n";
   const std::string legend =
       "status_normal: -1 not on Gamma3, 0 separated, 1 compliance, 2 contact; status_tangential: -1 not on "
@@ -262,16 +221,54 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol, Vt
   xml += "      <!-- " + legend + " -->\n";
   L.array(xml, leg);
   xml += "    </FieldData>\n";
-  xml += "    <Piece NumberOfPoints=\"" + std::to_string(N) + "\" NumberOfCells=\"" + std::to_string(M) + "\">\n";
+}
 
-  xml += "      <PointData Scalars=\"status_normal\" Vectors=\"displacement\">\n";
-  L.array(xml, float_array("displacement", N, 3, [&](Index a, int c) { return c < d ? sol.u[d * a + c] : 0.0; }));
-  std::vector<long long> mask(N), sn(N, -1), st(N, -1);
-  for (Index a = 0; a < N; ++a) mask[a] = k_of[a] >= 0;
+// The statuses: integer codes (legend in write_field_data), and every status as its own 0/1 field
+// (ParaView colours by name).
+void write_status_fields(VtuLayout& L, std::string& xml, const Model& md, const Solution& sol) {
+  const int d = md.mesh.dim;
+  const Index N = md.mesh.num_nodes(), nc = md.contact.size();
+  std::vector<long long> sn(N, -1), st(N, -1);
   for (Index k = 0; k < nc; ++k) {
     sn[md.contact.node[k]] = status_code(sol.status[k].normal);
     st[md.contact.node[k]] = status_code(sol.status[k].tangential);
   }
+  L.array(xml, int_array("Int32", "status_normal", sn));
+  L.array(xml, int_array("Int32", "status_tangential", st));
+  const std::vector<std::pair<std::string, std::function<bool(const NodeStatus&)>>> by_name = {
+      {"separated", [](const NodeStatus& t) { return t.normal == NormalStatus::SEPARATED; }},
+      {"compliance", [](const NodeStatus& t) { return t.normal == NormalStatus::COMPLIANCE; }},
+      {"contact", [](const NodeStatus& t) { return t.normal == NormalStatus::CONTACT; }},
+      {"stick", [](const NodeStatus& t) { return t.tangential == TangentialStatus::STICK; }},
+      {"slip_plus", [](const NodeStatus& t) { return t.tangential == TangentialStatus::SLIP_PLUS; }},
+      {"slip_minus", [](const NodeStatus& t) { return t.tangential == TangentialStatus::SLIP_MINUS; }},
+      {"slip", [](const NodeStatus& t) { return t.tangential == TangentialStatus::SLIP; }}};
+  for (const auto& [name, is] : by_name) {
+    if ((name == "slip") != (d == 3) && (name == "slip" || name == "slip_plus" || name == "slip_minus")) continue;
+    std::vector<long long> v(N, 0);
+    for (Index k = 0; k < nc; ++k) v[md.contact.node[k]] = is(sol.status[k]) ? 1 : 0;
+    L.array(xml, int_array("UInt8", name, v));
+  }
+}
+
+// Nodal fields: the displacement, and the Γ3 quantities scattered to mesh nodes (zero elsewhere).
+void write_point_data(VtuLayout& L, std::string& xml, const Model& md, const Solution& sol) {
+  const int d = md.mesh.dim;
+  const Index N = md.mesh.num_nodes(), nc = md.contact.size();
+  const ContactState& s = sol.state;
+  // k_of[a] = contact index or −1.
+  std::vector<Index> k_of(N, -1);
+  for (Index k = 0; k < nc; ++k) k_of[md.contact.node[k]] = k;
+  const auto on_gamma3 = [&](const Vec& v) {
+    return [&, v_ptr = &v](Index a, int) { return k_of[a] < 0 ? 0.0 : (*v_ptr)[k_of[a]]; };
+  };
+  const auto tangential = [&](const RowMat& m) {
+    return [&, m_ptr = &m](Index a, int c) { return (k_of[a] < 0 || c >= m_ptr->cols()) ? 0.0 : (*m_ptr)(k_of[a], c); };
+  };
+  xml += "      <PointData Scalars=\"status_normal\" Vectors=\"displacement\">\n";
+  L.array(xml, float_array("displacement", N, 3, [&](Index a, int c) { return c < d ? sol.u[d * a + c] : 0.0; }));
+  std::vector<long long> mask(N);
+  for (Index a = 0; a < N; ++a) mask[a] = k_of[a] >= 0;
   L.array(xml, int_array("Int32", "gamma3", mask));
   L.array(xml, float_array("u_nu", N, 1, on_gamma3(s.u_nu)));
   L.array(xml, float_array("u_tau", N, 1, on_gamma3(s.u_tau)));
@@ -293,16 +290,23 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol, Vt
     L.array(xml, float_array("slip_dir", N, 3, [&](Index a, int c) { return k_of[a] < 0 ? 0.0 : dir(k_of[a], c); }));
     L.array(xml, float_array("slip_angle_deg", N, 1, [&](Index a, int) { return k_of[a] < 0 ? 0.0 : angle[k_of[a]]; }));
   }
-  L.array(xml, int_array("Int32", "status_normal", sn));
-  L.array(xml, int_array("Int32", "status_tangential", st));
-  for (const auto& [name, is] : by_name) {
-    if ((name == "slip") != (d == 3) && (name == "slip" || name == "slip_plus" || name == "slip_minus")) continue;
-    std::vector<long long> v(N, 0);
-    for (Index k = 0; k < nc; ++k) v[md.contact.node[k]] = is(sol.status[k]) ? 1 : 0;
-    L.array(xml, int_array("UInt8", name, v));
-  }
+  write_status_fields(L, xml, md, sol);
   xml += "      </PointData>\n";
+}
 
+// Cell fields: strain, stress (the material's), von Mises, and the error indicator when given.
+void write_cell_data(VtuLayout& L, std::string& xml, const Model& md, const Solution& sol,
+                     const Vec* error_indicator) {
+  const Mesh& mesh = md.mesh;
+  const int d = mesh.dim, nv = voigt_size(d);
+  const Index M = mesh.num_cells();
+  const RowMat strain = cell_strains(mesh, sol.u);
+  RowMat stress(M, nv);
+  Vec vm(M);
+  for (Index c = 0; c < M; ++c) {
+    stress.row(c) = md.material->stress(strain.row(c).transpose()).transpose();
+    vm[c] = von_mises(stress.row(c), d);
+  }
   xml += "      <CellData Scalars=\"von_mises\">\n";
   L.array(xml, float_array("strain", M, nv, [&](Index c, int i) { return strain(c, i); }));
   L.array(xml, float_array("stress", M, nv, [&](Index c, int i) { return stress(c, i); }));
@@ -310,7 +314,11 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol, Vt
   if (error_indicator && error_indicator->size() > 0)
     L.array(xml, float_array("error_indicator", M, 1, [&](Index c, int) { return (*error_indicator)[c]; }));
   xml += "      </CellData>\n";
+}
 
+void write_points_and_cells(VtuLayout& L, std::string& xml, const Mesh& mesh) {
+  const int d = mesh.dim;
+  const Index N = mesh.num_nodes(), M = mesh.num_cells();
   xml += "      <Points>\n";
   L.array(xml, float_array("Points", N, 3, [&](Index a, int c) { return c < d ? mesh.points(a, c) : 0.0; }));
   xml += "      </Points>\n";
@@ -326,6 +334,27 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol, Vt
   L.array(xml, int_array("Int64", "offsets", offsets));
   L.array(xml, int_array("UInt8", "types", types));
   xml += "      </Cells>\n";
+}
+
+}  // namespace
+
+void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format,
+               const Vec* error_indicator) {
+  check_sizes(md, sol);
+  if (error_indicator && error_indicator->size() > 0 && error_indicator->size() != md.mesh.num_cells())
+    throw Error("write_vtu: " + std::to_string(error_indicator->size()) + " error indicators for " +
+                    std::to_string(md.mesh.num_cells()) + " cells",
+                EXIT_INTERNAL);
+  const Mesh& mesh = md.mesh;
+  const Index N = mesh.num_nodes(), M = mesh.num_cells();
+  VtuLayout L(format == VtuFormat::BINARY);
+  std::string xml;
+  xml += "  <UnstructuredGrid>\n";
+  write_field_data(L, xml);
+  xml += "    <Piece NumberOfPoints=\"" + std::to_string(N) + "\" NumberOfCells=\"" + std::to_string(M) + "\">\n";
+  write_point_data(L, xml, md, sol);
+  write_cell_data(L, xml, md, sol, error_indicator);
+  write_points_and_cells(L, xml, mesh);
   xml += "    </Piece>\n  </UnstructuredGrid>\n";
   const std::string out = L.finish(xml);
 

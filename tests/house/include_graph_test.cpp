@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -215,4 +216,116 @@ TEST(House, SourceBasenamesAreUnique) {
       for (const std::string& p : paths) all += "\n  " + p;
       ADD_FAILURE() << name << " is the basename of " << paths.size() << " files:" << all;
     }
+}
+
+namespace {
+
+/// One function definition found by long_function_scan: where it starts, its name and its length.
+struct FunctionDefinition {
+  std::string file;  ///< relative to the repository
+  int line = 0;      ///< the first line of its signature
+  int length = 0;    ///< lines from the signature's first line to the closing brace
+  std::string name;  ///< as written before the parameter list, qualified ("Engine::polish")
+};
+
+/// A line's text without a trailing `// comment` (one after a blank), and without trailing blanks.
+std::string function_scan_code(const std::string& line) {
+  std::string s = line;
+  const size_t c = s.find(" //");
+  if (c != std::string::npos) s.erase(c);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  return s;
+}
+
+/// The definitions at namespace scope in one file, by the layout every file here has (clang-format,
+/// namespaces not indented): a signature starts at column 0 (not a comment, preprocessor line or
+/// closing brace, not a namespace, class, struct, enum or union) and runs to the first line that
+/// ends with `{` (within 12 lines; one that ends with `;` first is a declaration); it has a
+/// parameter list and no `=` before it (a variable initialized by a lambda or a braced list is not a
+/// function); the body ends at the next `}` in column 0. Member functions defined inside a class
+/// body are not seen (none here is long).
+std::vector<FunctionDefinition> function_definitions(const fs::path& path, const std::string& rel) {
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(path);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+  }
+  const std::regex not_a_function(R"(^(template\s*<.*?>\s*)?(namespace|struct|class|enum|union|extern)\b)");
+  const std::regex name_before_paren(R"(([A-Za-z_~][A-Za-z0-9_:~]*(operator\S*)?)\s*$)");
+  std::vector<FunctionDefinition> found;
+  const size_t n = lines.size();
+  for (size_t i = 0; i < n; ++i) {
+    const std::string first = function_scan_code(lines[i]);
+    if (first.empty() || std::isspace(static_cast<unsigned char>(first[0])) || first[0] == '#' || first[0] == '/' ||
+        first[0] == '*' || first[0] == '}' || first.back() == ';' || first.back() == '}')
+      continue;
+    size_t j = i;
+    while (j < n && j < i + 12) {
+      const std::string code = function_scan_code(lines[j]);
+      if (!code.empty() && (code.back() == '{' || code.back() == ';')) break;
+      ++j;
+    }
+    if (j >= n || j == i + 12 || function_scan_code(lines[j]).back() == ';') continue;
+    std::string signature;
+    for (size_t k = i; k <= j; ++k) signature += function_scan_code(lines[k]) + " ";
+    const size_t paren = signature.find('(');
+    if (std::regex_search(signature, not_a_function) || paren == std::string::npos ||
+        signature.substr(0, paren).find('=') != std::string::npos) {
+      i = j;
+      continue;
+    }
+    size_t end = j + 1;
+    while (end < n && (lines[end].empty() || lines[end][0] != '}')) ++end;
+    std::smatch m;
+    const std::string before = signature.substr(0, paren);
+    const std::string name = std::regex_search(before, m, name_before_paren) ? m[1].str() : before;
+    found.push_back({rel, static_cast<int>(i + 1), static_cast<int>(end - i + 1), name});
+    i = end;
+  }
+  return found;
+}
+
+/// Every function definition in src/, include/ and bench/.
+std::vector<FunctionDefinition> all_function_definitions() {
+  const fs::path root(HEMICONTACT_SOURCE_DIR);
+  std::vector<FunctionDefinition> all;
+  for (const char* dir : {"src", "include", "bench"})
+    for (const auto& e : fs::recursive_directory_iterator(root / dir)) {
+      const std::string ext = e.path().extension().string();
+      if (!e.is_regular_file() || (ext != ".cpp" && ext != ".hpp")) continue;
+      const std::vector<FunctionDefinition> f = function_definitions(e.path(), fs::relative(e.path(), root).string());
+      all.insert(all.end(), f.begin(), f.end());
+    }
+  return all;
+}
+
+}  // namespace
+
+// No function is longer than 100 lines (signature to closing brace): a long one is split into
+// named steps. The exceptions are listed by file and name.
+TEST(House, NoFunctionOver100Lines) {
+  constexpr int MAX_LINES = 100;
+  const std::set<std::pair<std::string, std::string>> allowed = {
+      // A data table: one entry per scene key, nothing to split.
+      {"src/scene/scene_schema.cpp", "build_scene_schema"},
+      // Split by the PETSc engine refactor.
+      {"src/petsc/petsc_engine.cpp", "Engine::run_ssn"},
+      {"src/petsc/petsc_engine.cpp", "Engine::polish"},
+  };
+  const std::vector<FunctionDefinition> all = all_function_definitions();
+  ASSERT_GT(all.size(), 500u) << "the scan found too few function definitions";
+  std::set<std::pair<std::string, std::string>> still_long;
+  for (const FunctionDefinition& f : all) {
+    if (f.length <= MAX_LINES) continue;
+    if (allowed.count({f.file, f.name})) {
+      still_long.insert({f.file, f.name});
+      continue;
+    }
+    ADD_FAILURE() << f.file << ":" << f.line << ": " << f.name << " is " << f.length << " lines (at most "
+                  << MAX_LINES << "): split it into named steps";
+  }
+  for (const auto& [file, name] : allowed)
+    if (!still_long.count({file, name}))
+      ADD_FAILURE() << file << ": " << name << " is allowed over " << MAX_LINES
+                    << " lines but is no longer (or is gone): remove it from the list";
 }
