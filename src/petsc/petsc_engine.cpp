@@ -7,6 +7,8 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/fem/assembly.hpp>
+#include <hemicontact/nlp/backend.hpp>
+#include <hemicontact/problem/node_rules.hpp>
 
 #include <petscksp.h>
 #include <petscmat.h>
@@ -112,17 +114,6 @@ double allreduce_sum(double x, MPI_Comm comm) {
   double y = x;
   MPI_Allreduce(&x, &y, 1, MPI_DOUBLE, MPI_SUM, comm);
   return y;
-}
-
-// True when F_b vanishes on u_ν's whole branch (driver/polish.cpp's rule): the node's tangential
-// equation is σ_τ = 0 whatever u_τ, and its slip±/stick carries no information.
-bool frictionless_at(const Model& md, double u_nu, double delta) {
-  if (!md.friction) return true;
-  return md.friction->F(u_nu) == 0 && md.friction->F(u_nu - delta) == 0 && md.friction->F(u_nu + delta) == 0;
-}
-
-bool roller_fixed(const Model& md, Index k, int c) {
-  return !md.contact.fixed_local.empty() && (md.contact.fixed_local[static_cast<size_t>(k)] & (1u << c));
 }
 
 // A PETSc option's default: set only where the user set nothing (solver.petsc.options,
@@ -331,7 +322,7 @@ class Engine {
   // ---- helpers
   Eigen::VectorXd gather(::Vec v) const;  // the whole vector on every rank
   Eigen::VectorXd local_gamma3(::Vec zs) const;
-  double first_order_residual(::Vec zs, ::Vec g) const;
+  double first_order_residual(::Vec zs, ::Vec g, ::Vec lo_s, ::Vec up_s) const;
   void scaled_bound(::Vec b, ::Vec out) const;  // b / U_s, ±PETSC_INFINITY kept (no overflow)
   void ksp_check(KSP ksp, const std::string& what) const;
   void set_pc(KSP ksp, const std::string& type) const;
@@ -828,24 +819,22 @@ PetscErrorCode Engine::tao_hessian(Tao, ::Vec x, ::Mat H, ::Mat, void* ctx) {
   }
 }
 
-// The backends' first-order residual (nlp/backend.hpp), max over ranks: max_i min(|g_i|, room
-// towards the bound that −g_i points to), in scaled units.
-double Engine::first_order_residual(::Vec z, ::Vec g) const {
+// The backends' first-order residual (nlp/backend.hpp's, on this rank's rows), max over ranks:
+// max_i min(|g_i|, room towards the bound that −g_i points to), in scaled units; @p lo_s, @p up_s
+// are the scaled bounds (scaled_bound), ±PETSC_INFINITY where there is none.
+double Engine::first_order_residual(::Vec z, ::Vec g, ::Vec lo_s, ::Vec up_s) const {
   const PetscScalar *pz, *pg, *pl, *pu;
-  VecGetArrayRead(z, &pz);
-  VecGetArrayRead(g, &pg);
-  VecGetArrayRead(lower.v, &pl);
-  VecGetArrayRead(upper.v, &pu);
-  double r = 0;
-  for (PetscInt i = 0; i < hi - lo; ++i) {
-    const double room = pg[i] > 0 ? (pl[i] <= PETSC_NINFINITY ? INF : pz[i] - pl[i] / U_s)
-                                  : (pu[i] >= PETSC_INFINITY ? INF : pu[i] / U_s - pz[i]);
-    r = std::max(r, std::min(std::abs(pg[i]), room));
-  }
-  VecRestoreArrayRead(z, &pz);
-  VecRestoreArrayRead(g, &pg);
-  VecRestoreArrayRead(lower.v, &pl);
-  VecRestoreArrayRead(upper.v, &pu);
+  HC_PETSC(VecGetArrayRead(z, &pz));
+  HC_PETSC(VecGetArrayRead(g, &pg));
+  HC_PETSC(VecGetArrayRead(lo_s, &pl));
+  HC_PETSC(VecGetArrayRead(up_s, &pu));
+  const Index nloc = hi - lo;
+  const double r = hemicontact::first_order_residual(Eigen::Map<const Vec>(pz, nloc), Eigen::Map<const Vec>(pg, nloc),
+                                                     Eigen::Map<const Vec>(pl, nloc), Eigen::Map<const Vec>(pu, nloc));
+  HC_PETSC(VecRestoreArrayRead(z, &pz));
+  HC_PETSC(VecRestoreArrayRead(g, &pg));
+  HC_PETSC(VecRestoreArrayRead(lo_s, &pl));
+  HC_PETSC(VecRestoreArrayRead(up_s, &pu));
   return allreduce_max(r, comm);
 }
 
@@ -938,7 +927,7 @@ OuterIteration Engine::minimize(size_t stage) {
   krylov_total += lits;
   // The same first-order residual every backend reports, at the returned point.
   const double fval = energy(zs.v, grad.v);
-  const double kkt = first_order_residual(zs.v, grad.v);
+  const double kkt = first_order_residual(zs.v, grad.v, lo_s.v, up_s.v);
   rec.backend.iterations = static_cast<int>(its);
   rec.backend.evaluations = static_cast<int>(nfev);
   rec.backend.f = fval;
