@@ -12,7 +12,7 @@
 
 #include "petsc_engine.hpp"
 
-#include <hemicontact/contact/mollified_law.hpp>
+#include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/format.hpp>
@@ -146,6 +146,8 @@ class Engine {
   // ---- the smoothed energy in scaled unknowns (callbacks of TAO)
   double energy(::Vec zs, ::Vec g);  // value, and the gradient into g (scaled)
   void hessian(::Vec zs, ::Mat H);   // K + nodal blocks, scaled; normal term clamped ≥ 0
+  std::shared_ptr<const NodalLayout> owned_layout() const;
+  Vec owned_lambda() const;
   static PetscErrorCode tao_objgrad(Tao, ::Vec x, PetscReal* f, ::Vec g, void* ctx);
   static PetscErrorCode tao_hessian(Tao, ::Vec x, ::Mat H, ::Mat Hpre, void* ctx);
   // ---- the algorithm
@@ -195,7 +197,11 @@ class Engine {
   double U_s = 1, F_s = 1;
   std::vector<std::pair<double, double>> schedule;
   double eps_tau = 0, eps_nu = 0;                // absolute widths of the current stage
-  std::unique_ptr<MollifiedLaw> law;             // the mollified p_ν of the current stage
+  // energy/'s nodal terms on the owned Γ3 nodes (owned_layout): j_ε of the current stage's
+  // mollified p_ν, and friction with the current ε_τ and frozen λ (lambda, copied at each change).
+  std::shared_ptr<const NodalLayout> nodal;
+  std::unique_ptr<NormalComplianceEnergy> normal_term;
+  std::unique_ptr<FrictionEnergy> friction_term;
   std::vector<double> lambda;                    // frozen F_b per owned Γ3 node (my_nodes order)
   Eigen::VectorXd prev_c;                        // owned Γ3 unknowns after the previous minimization
   bool lagged = false;

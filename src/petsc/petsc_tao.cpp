@@ -1,17 +1,18 @@
 #include "engine_impl.hpp"
 
-#include <hemicontact/contact/smooth_norm.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/nlp/backend.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <string>
 
 namespace hemicontact::petsc_engine::detail {
 
-// Π_λ,ε at x = U_s zs, in the cholmod engine's units: value / (F_s U_s), gradient / F_s.
+// Π_λ,ε at x = U_s zs, in the cholmod engine's units: value / (F_s U_s), gradient / F_s. The Γ3
+// terms are energy/'s per-node kernels (contact_energy.hpp) on this rank's nodes.
 double Engine::energy(::Vec z, ::Vec g) {
   HC_PETSC(VecCopy(z, work.v));
   HC_PETSC(VecScale(work.v, U_s));
@@ -25,21 +26,19 @@ double Engine::energy(::Vec z, ::Vec g) {
   PetscScalar* pg;
   HC_PETSC(VecGetArrayRead(work.v, &px));
   HC_PETSC(VecGetArray(g, &pg));
+  NodalVector xk(d);
   for (size_t q = 0; q < my_nodes.size(); ++q) {
-    const Index k = my_nodes[q];
-    const Index i = cdof(k) - lo;
-    const double w = md.contact.w[k];
-    if (law) {
-      local += w * law->j(px[i]);
-      pg[i] += w * law->p(px[i]);
+    const Index i = cdof(my_nodes[q]) - lo;
+    const auto node = static_cast<Index>(q);  // the node's index in the owned layout
+    for (int a = 0; a < d; ++a) xk[a] = px[i + a];
+    if (normal_term) {
+      local += normal_term->node_value(node, xk);
+      pg[i] += normal_term->node_gradient(node, xk)[0];
     }
-    if (md.friction && lambda[q] > 0) {
-      Eigen::Vector2d t = Eigen::Vector2d::Zero();
-      for (int c = 1; c < d; ++c) t[c - 1] = px[i + c];
-      const double y = t.norm();
-      local += w * lambda[q] * f0(y, eps_tau);
-      const double s = w * lambda[q] * f1_over_y(y, eps_tau);
-      for (int c = 1; c < d; ++c) pg[i + c] += s * t[c - 1];
+    if (friction_term && lambda[q] > 0) {
+      local += friction_term->node_value(node, xk);
+      const NodalVector gk = friction_term->node_gradient(node, xk);
+      for (int c = 1; c < d; ++c) pg[i + c] += gk[c];
     }
   }
   HC_PETSC(VecRestoreArrayRead(work.v, &px));
@@ -49,29 +48,25 @@ double Engine::energy(::Vec z, ::Vec g) {
   return value / (F_s * U_s);
 }
 
-// H = (K + Σ nodal blocks) U_s / F_s. The normal block is w max(p_ε′, 0): the softening branch
-// (c2 < 0) is clamped as the newton backend's Psd::CLAMP does, so that CG sees a positive
-// semidefinite Hessian; friction's block w λ ∇²f0 is positive semidefinite as it is (smooth_norm.hpp).
+// H = (K + Σ nodal blocks) U_s / F_s, the blocks energy/'s kernels. The normal block is
+// w max(p_ε′, 0): the softening branch (c2 < 0) is clamped (Psd::CLAMP, as the newton backend
+// does), so that CG sees a positive semidefinite Hessian; friction's block w λ ∇²f0 is positive
+// semidefinite as it is (smooth_norm.hpp).
 void Engine::hessian(::Vec z, ::Mat H) {
   HC_PETSC(MatCopy(K.m, H, SAME_NONZERO_PATTERN));
   const PetscScalar* pz;
   HC_PETSC(VecGetArrayRead(z, &pz));
+  NodalVector xk(d);
   for (size_t q = 0; q < my_nodes.size(); ++q) {
-    const Index k = my_nodes[q];
-    const PetscInt i0 = cdof(k);
-    const double w = md.contact.w[k];
-    double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    if (law) B[0] = w * std::max(0.0, law->dp(U_s * pz[i0 - lo]));
-    if (md.friction && lambda[q] > 0) {
-      if (d == 2) {
-        const double y = std::abs(U_s * pz[i0 - lo + 1]);
-        B[3] = w * lambda[q] * df1(y, eps_tau);
-      } else {
-        const Eigen::Vector2d t(U_s * pz[i0 - lo + 1], U_s * pz[i0 - lo + 2]);
-        const Eigen::Matrix2d Ht = w * lambda[q] * smooth_norm_hessian(t, eps_tau);
-        B[4] = Ht(0, 0), B[5] = Ht(0, 1), B[7] = Ht(1, 0), B[8] = Ht(1, 1);
-      }
-    }
+    const PetscInt i0 = cdof(my_nodes[q]);
+    const auto node = static_cast<Index>(q);
+    for (int a = 0; a < d; ++a) xk[a] = U_s * pz[i0 - lo + a];
+    NodalMatrix Hk = NodalMatrix::Zero(d, d);
+    if (normal_term) Hk += normal_term->node_hessian(node, xk, Psd::CLAMP);
+    if (friction_term && lambda[q] > 0) Hk += friction_term->node_hessian(node, xk, Psd::CLAMP);
+    double B[9];
+    for (int a = 0; a < d; ++a)
+      for (int b = 0; b < d; ++b) B[a * d + b] = Hk(a, b);
     PetscInt idx[3] = {i0, i0 + 1, i0 + 2};
     HC_PETSC(MatSetValues(H, d, idx, d, idx, B, ADD_VALUES));
   }
@@ -80,6 +75,25 @@ void Engine::hessian(::Vec z, ::Mat H) {
   HC_PETSC(MatAssemblyEnd(H, MAT_FINAL_ASSEMBLY));
   HC_PETSC(MatScale(H, U_s / F_s));
 }
+
+// The owned Γ3 nodes as energy/'s nodal terms see them: node q of my_nodes with its weight, its
+// unknowns at q d .. q d + d − 1 of a local vector. The blocks go into PETSc's H here (hessian),
+// not into an Eigen pattern, so the layout's pattern is empty and its positions unused.
+std::shared_ptr<const NodalLayout> Engine::owned_layout() const {
+  NodalDofs nd;
+  nd.dim = d;
+  nd.w.resize(static_cast<Index>(my_nodes.size()));
+  for (size_t q = 0; q < my_nodes.size(); ++q) {
+    nd.first.push_back(static_cast<Index>(q) * d);
+    nd.w[static_cast<Index>(q)] = md.contact.w[my_nodes[q]];
+  }
+  SpMat none(static_cast<Index>(my_nodes.size()) * d, static_cast<Index>(my_nodes.size()) * d);
+  none.makeCompressed();
+  return std::make_shared<const NodalLayout>(std::move(nd), none);
+}
+
+// The frozen bounds λ of the owned nodes, as the friction term holds them.
+Vec Engine::owned_lambda() const { return Eigen::Map<const Vec>(lambda.data(), static_cast<Index>(lambda.size())); }
 
 PetscErrorCode Engine::tao_objgrad(Tao, ::Vec x, PetscReal* fval, ::Vec g, void* ctx) {
   try {
@@ -214,6 +228,7 @@ void Engine::relax_lambda(OuterIteration& rec, bool measure_contraction, double&
     lmax = std::max({lmax, std::abs(l), std::abs(lambda[q])});
     lambda[q] = l;
   }
+  friction_term->set_lambda(owned_lambda());
   VecRestoreArrayRead(zs.v, &p);
   dmax = allreduce_max(dmax, comm);
   lmax = allreduce_max(lmax, comm);
@@ -229,7 +244,11 @@ void Engine::relax_lambda(OuterIteration& rec, bool measure_contraction, double&
 bool Engine::run_stage(size_t stage) {
   eps_tau = schedule[stage].first * U_s;
   eps_nu = schedule[stage].second * U_s;
-  if (md.normal_law) law = std::make_unique<MollifiedLaw>(md.normal_law, eps_nu, "solver.eps_nu");
+  if (!nodal) nodal = owned_layout();
+  if (md.normal_law)
+    normal_term = std::make_unique<NormalComplianceEnergy>(
+        nodal, std::make_shared<const MollifiedLaw>(md.normal_law, eps_nu, "solver.eps_nu"));
+  if (md.friction) friction_term = std::make_unique<FrictionEnergy>(nodal, eps_tau, owned_lambda());
   const bool final_stage = stage + 1 == schedule.size();
   double prev_change = INF, prev_delta = INF;
   int slow = 0;
