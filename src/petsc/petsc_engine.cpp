@@ -2,6 +2,7 @@
 
 #include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/run_messages.hpp>
 
 #include <string>
 #include <utility>
@@ -113,13 +114,7 @@ void Engine::finish(Solution& s, Eigen::VectorXd x, clk::time_point t0) {
   timings["backend"] = nlp;
   timings["solve_total"] = since(t0);
   for (const auto& [key, v] : timings) s.timings[key] = v;
-  if (!s.backend_ok && s.certificate.passed)
-    s.message += "; the certificate passed all the same (max residual " + short_number(s.certificate.max_residual) +
-                 "), so the answer is accepted";
-  if (s.message.empty())
-    s.message = s.certificate.passed ? "converged; certificate passed"
-                                     : "converged, but the certificate failed (max residual " +
-                                           short_number(s.certificate.max_residual) + ")";
+  state_verdict(s);
   // The report's record of the engine.
   const long rss = peak_rss_kb();
   long rss_sum = 0, rss_max = 0;

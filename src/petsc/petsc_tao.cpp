@@ -1,6 +1,7 @@
 #include "engine_impl.hpp"
 
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/driver/run_messages.hpp>
 #include <hemicontact/nlp/backend.hpp>
 
 #include <algorithm>
@@ -264,8 +265,7 @@ bool Engine::run_stage(size_t stage) {
                << short_number(rec.grad_norm);
     if (!rec.backend.ok()) {
       sol.backend_ok = false;
-      sol.message = "backend tao:" + tao_type(opt.backend) + " failed at outer iteration " + std::to_string(rec.k) +
-                    ": " + to_string(rec.backend.status) + " (" + rec.backend.message + ")";
+      sol.message = backend_failure("tao:" + tao_type(opt.backend), rec);
       return false;
     }
     if (!lagged || !final_stage) return true;
