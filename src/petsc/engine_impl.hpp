@@ -4,7 +4,8 @@
 ///   petsc_solvers.cpp       option defaults, the preconditioners (GAMG made anew for TAO), CG set-up
 ///   petsc_distribution.cpp  the engine's construction, the row distribution, the partition, gathers
 ///   petsc_assembly.cpp      K, f, the bounds, the near-null space, the elastic solve, K's saved band
-///   petsc_tao.cpp           the smoothed energy and its Hessian, TAO's minimizations, the stages
+///   petsc_tao.cpp           the smoothed energy and its Hessian (energy/'s nodal kernels), TAO's
+///                           minimizations, λ's relaxation, the continuation stages
 ///   petsc_ssn.cpp           backend ssn (semismooth Newton on the unsmoothed statuses)
 ///   petsc_polish.cpp        the exact polish with fixed statuses
 ///   petsc_engine.cpp        the run (continuation, early stop, polish), the report, solve()
@@ -12,10 +13,10 @@
 
 #include "petsc_engine.hpp"
 
-#include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/format.hpp>
+#include <hemicontact/energy/contact_energy.hpp>
 
 #include <petscksp.h>
 #include <petscmat.h>
