@@ -1,6 +1,7 @@
 #include <hemicontact/driver/polish.hpp>
 
 #include <hemicontact/check/evaluate.hpp>
+#include <hemicontact/problem/node_rules.hpp>
 
 #include <Eigen/LU>
 
@@ -20,19 +21,6 @@ Solution evaluate_condensed(const Model& md, const Condensation& cond, const Sol
   s.u = md.dofs.to_full(s.x);
   evaluate_solution(md, opt, s);
   return s;
-}
-
-// True when the friction bound vanishes on u_ν's whole branch (no friction, or F_b = 0 around u_ν,
-// e.g. a separated node, (15c)): then σ_τ = 0 is the node's tangential equation whatever u_τ is,
-// and the sign or size of u_τ (slip±/stick) carries no information.
-bool frictionless_at(const Model& md, double u_nu, double delta) {
-  if (!md.friction) return true;
-  return md.friction->F(u_nu) == 0 && md.friction->F(u_nu - delta) == 0 && md.friction->F(u_nu + delta) == 0;
-}
-
-// Is local component @p c (1 = τ1, 2 = τ2) of contact node @p k held at zero by a roller?
-bool roller_fixed(const Model& md, Index k, int c) {
-  return !md.contact.fixed_local.empty() && (md.contact.fixed_local[static_cast<size_t>(k)] & (1u << c));
 }
 
 // Keep the polished x_C only if the statuses stay and the certificate does not get worse.

@@ -9,6 +9,7 @@
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/driver/exact_inner.hpp>
 #include <hemicontact/driver/polish.hpp>
+#include <hemicontact/driver/run_messages.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/energy/elastic_energy.hpp>
 #include <hemicontact/energy/nonlinear_elastic_energy.hpp>
@@ -67,11 +68,6 @@ std::string outer_line(const OuterIteration& rec, int stage, const std::string& 
      << rec.change_u << ", |dlambda|/|lambda| = " << rec.change_lambda << ", first-order residual " << rec.grad_norm;
   if (std::isfinite(rec.contraction)) os << ", contraction rho = " << rec.contraction;
   return os.str();
-}
-
-std::string backend_failure(const std::string& backend, const OuterIteration& rec) {
-  return "backend " + backend + " failed at outer iteration " + std::to_string(rec.k) + ": " +
-         to_string(rec.backend.status) + " (" + rec.backend.message + ")";
 }
 
 std::string theta_text(const SolveOptions& opt) { return "relaxation theta = " + short_number(opt.relaxation); }
@@ -746,13 +742,7 @@ void ContactSolver::Impl::certify(Run& run, clk::time_point t_start) const {
   // The backend's own minimizations (the exact solver's inner solves are under "exact").
   sol.timings["backend"] = sol.work_of(backend->name()).seconds;
   sol.timings["solve_total"] = since(t_start) + setup_timings.at("setup_total");
-  if (!sol.backend_ok && sol.certificate.passed)
-    sol.message += "; the certificate passed all the same (max residual " +
-                   short_number(sol.certificate.max_residual) + "), so the answer is accepted";
-  if (sol.message.empty())
-    sol.message = sol.certificate.passed ? "converged; certificate passed"
-                                         : "converged, but the certificate failed (max residual " +
-                                               short_number(sol.certificate.max_residual) + ")";
+  state_verdict(sol);
   if (!sol.fixed_point_converged) log_warn() << sol.message;
 }
 

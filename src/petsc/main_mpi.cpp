@@ -100,7 +100,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   share(code, message, comm);
   if (code != 0) throw Error(message, static_cast<ExitCode>(code));
 
-  // No K_x in the model: each rank assembles its own rows into PETSc (petsc_engine.cpp).
+  // No K_x in the model: each rank assembles its own rows into PETSc (petsc_assembly.cpp).
   Model md = build_model(scene, scene_directory(a.scene), /*stiffness=*/false);
   // The mesh checks and the boundary extraction free ~0.5 KB per unknown of small blocks that glibc
   // keeps in the heap: returned to the system here, since every rank holds the model (measured:

@@ -35,7 +35,7 @@ struct Rule {
   std::vector<const char*> choices;  // CHOICE
 };
 
-// The options prefixes of the engine's solvers (petsc_engine.cpp: create_cg's "elastic_",
+// The options prefixes of the engine's solvers (src/petsc/petsc_solvers.cpp: create_cg's "elastic_",
 // "polish_", "ssn_"; TAO's own options and its KSP's, "tao_" and "tao_bnk_"); "" for options
 // that apply to every solver.
 const std::vector<std::string>& prefixes() {

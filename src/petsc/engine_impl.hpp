@@ -1,0 +1,217 @@
+#pragma once
+/// @file engine_impl.hpp  The petsc engine's inside, shared by its source files (src/petsc/):
+///   petsc_handles.cpp       PETSc's error handler, HC_PETSC's failure, memory readings, tao_type
+///   petsc_solvers.cpp       option defaults, the preconditioners (GAMG made anew for TAO), CG set-up
+///   petsc_distribution.cpp  the engine's construction, the row distribution, the partition, gathers
+///   petsc_assembly.cpp      K, f, the bounds, the near-null space, the elastic solve, K's saved band
+///   petsc_tao.cpp           the smoothed energy and its Hessian (energy/'s nodal kernels), TAO's
+///                           minimizations, λ's relaxation, the continuation stages
+///   petsc_ssn.cpp           backend ssn (semismooth Newton on the unsmoothed statuses)
+///   petsc_polish.cpp        the exact polish with fixed statuses
+///   petsc_engine.cpp        the run (continuation, early stop, polish), the report, solve()
+/// Not installed and not part of the library: only hemicontact-mpi's sources include it.
+
+#include "petsc_engine.hpp"
+
+#include <hemicontact/core/clock.hpp>
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
+#include <hemicontact/energy/contact_energy.hpp>
+
+#include <petscksp.h>
+#include <petscmat.h>
+#include <petsctao.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+// PETSc's Vec and Mat are global typedefs; inside namespace hemicontact the names are Eigen's, so
+// PETSc objects are written ::Vec and ::Mat throughout.
+
+namespace hemicontact::petsc_engine::detail {
+
+// A PETSc call that fails is a bug or a resource problem (EXIT_INTERNAL), or, with options of the
+// user's set (solver.petsc.options), most likely one of them: EXIT_INPUT naming them.
+[[noreturn]] void petsc_failure(PetscErrorCode ierr, const char* call);
+#define HC_PETSC(call)                                                                         \
+  do {                                                                                         \
+    const PetscErrorCode hc_ierr_ = (call);                                                    \
+    if (hc_ierr_) ::hemicontact::petsc_engine::detail::petsc_failure(hc_ierr_, #call);         \
+  } while (0)
+
+// Owners of PETSc objects: destroyed on every rank in the same order (collective).
+struct PVec {
+  ::Vec v = nullptr;
+  PVec() = default;
+  PVec(const PVec&) = delete;
+  PVec& operator=(const PVec&) = delete;
+  ~PVec() {
+    if (v) VecDestroy(&v);
+  }
+};
+struct PMat {
+  ::Mat m = nullptr;
+  PMat() = default;
+  PMat(const PMat&) = delete;
+  PMat& operator=(const PMat&) = delete;
+  ~PMat() {
+    if (m) MatDestroy(&m);
+  }
+};
+struct PKsp {
+  KSP k = nullptr;
+  PKsp() = default;
+  PKsp(const PKsp&) = delete;
+  PKsp& operator=(const PKsp&) = delete;
+  ~PKsp() {
+    if (k) KSPDestroy(&k);
+  }
+};
+struct PTao {
+  Tao t = nullptr;
+  PTao() = default;
+  PTao(const PTao&) = delete;
+  PTao& operator=(const PTao&) = delete;
+  ~PTao() {
+    if (t) TaoDestroy(&t);
+  }
+};
+
+// A number in a log line or a message: 3 significant digits.
+inline std::string short_number(double x) { return fmt(x, 3); }
+
+double allreduce_max(double x, MPI_Comm comm);
+double allreduce_sum(double x, MPI_Comm comm);
+/// @return this process's peak resident memory (kB).
+long peak_rss_kb();
+
+// A PETSc option's default: set only where the user set nothing (solver.petsc.options,
+// PETSC_OPTIONS), so that theirs still wins.
+void option_default(const std::string& name, const char* value);
+// BoomerAMG's defaults for elasticity in 3D, where the KSP's preconditioner is hypre's.
+void hypre_defaults(KSP ksp);
+// GAMG's defaults (its own eigenvalue estimate for the smoothers), where the KSP's is GAMG.
+void gamg_defaults(KSP ksp);
+// TAO's Newton KSP with GAMG: a shell that makes a fresh GAMG at every set-up.
+void fresh_gamg(KSP ksp);
+
+// The distributed problem: K, f and the bounds in PETSc, the Γ3 nodes this rank owns, the smoothing
+// and frozen friction bounds, and the counters for the report.
+class Engine {
+ public:
+  Engine(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep);
+  ~Engine() {
+    if (rigid) MatNullSpaceDestroy(&rigid);
+    // K lives no longer than the engine: after the solve, nothing may apply it.
+    if (owns_apply)
+      md.Kx_apply = [](const Vec&) -> Vec {
+        throw Error("K_x is not kept after the petsc engine's solve (its rows lived on the ranks)", EXIT_INTERNAL);
+      };
+  }
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+  Solution run();
+
+ private:
+  // ---- backend ssn (petsc_ssn.cpp)
+  struct Ssn;        // the iterate, work vectors and what one step passes to the next
+  struct SsnArrays;  // the local arrays one linearization reads and writes
+  Solution run_ssn(clk::time_point t0);
+  void ssn_describe();
+  void ssn_setup(Ssn& s);
+  long ssn_linearize(Ssn& s, int k);
+  int ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B);
+  int ssn_tangential(Ssn& s, size_t q, const SsnArrays& a, double* B);
+  double ssn_right_hand_side(Ssn& s);
+  bool ssn_step(Ssn& s, int k, long changed_all, double res);
+  bool ssn_judge_hierarchy(Ssn& s, PetscInt its);
+  long ssn_stop_reversals(Ssn& s);
+  Solution ssn_finish(Ssn& s, int k, bool converged, clk::time_point t0, clk::time_point t_loop);
+  // The rows of K that ssn's J changes (those with a column on a Γ3 unknown), saved so that K can
+  // be changed in place and put back exactly.
+  struct BandRows {
+    std::vector<PetscInt> rows, start, cols;  // row r's entries: cols[start[r] .. start[r + 1])
+    std::vector<PetscScalar> vals;
+  };
+  BandRows save_band() const;
+  void restore_band(const BandRows& b) const;
+  // ---- set-up
+  void distribute();
+  void assemble();
+  void tao_vectors();  // the bounds and TAO's work vectors (not made for ssn)
+  void near_null_space();
+  void elastic_solve();
+  // ---- the smoothed energy in scaled unknowns (callbacks of TAO)
+  double energy(::Vec zs, ::Vec g);  // value, and the gradient into g (scaled)
+  void hessian(::Vec zs, ::Mat H);   // K + nodal blocks, scaled; normal term clamped ≥ 0
+  std::shared_ptr<const NodalLayout> owned_layout() const;
+  Vec owned_lambda() const;
+  static PetscErrorCode tao_objgrad(Tao, ::Vec x, PetscReal* f, ::Vec g, void* ctx);
+  static PetscErrorCode tao_hessian(Tao, ::Vec x, ::Mat H, ::Mat Hpre, void* ctx);
+  // ---- the algorithm
+  OuterIteration minimize(size_t stage);
+  void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta);
+  bool run_stage(size_t stage);
+  bool settled() const;
+  PolishResult polish(Eigen::VectorXd& x, const SolveOptions& read_opt, const Solution& s0);
+  std::vector<PetscInt> polish_start(::Vec x, const Eigen::VectorXd& x_io, const Solution& s0, double delta) const;
+  bool polish_linearize(::Vec x, ::Vec R, ::Mat J, const Solution& s0, double delta,
+                        const std::vector<PetscInt>& fixed);
+  void polish_accept(::Vec x, const Solution& s0, double delta, PolishResult& r, Eigen::VectorXd& x_io) const;
+  PolishResult polish_with_readings(Eigen::VectorXd& x, size_t stage);
+  void finish(Solution& sol, Eigen::VectorXd x, clk::time_point t0);
+  // ---- helpers
+  Eigen::VectorXd gather(::Vec v) const;  // the whole vector on every rank
+  Eigen::VectorXd local_gamma3(::Vec zs) const;
+  double first_order_residual(::Vec zs, ::Vec g, ::Vec lo_s, ::Vec up_s) const;
+  void scaled_bound(::Vec b, ::Vec out) const;  // b / U_s, ±PETSC_INFINITY kept (no overflow)
+  void ksp_check(KSP ksp, const std::string& what) const;
+  void set_pc(KSP ksp, const std::string& type) const;
+  void create_cg(PKsp& ksp, const char* prefix, KSPNormType norm = KSP_NORM_DEFAULT) const;
+  Solution evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const;
+
+  Model& md;  // not changed
+  SolveOptions opt;
+  MPI_Comm comm;
+  EngineReport& rep;
+  int rank = 0, size = 1, d = 2, bs = 1;
+  PetscInt n = 0, lo = 0, hi = 0;  // global size, owned rows [lo, hi) (PETSc's numbering)
+  // PETSc's numbering of the unknowns is the model's x numbering (DofMap: interior node-major,
+  // then Γ3) with the nodes regrouped by the graph partitioner's parts (solver.petsc.partition),
+  // each node's d unknowns kept together. Both empty: the same numbering (one rank, "natural").
+  std::vector<PetscInt> perm;  // x index → PETSc index
+  std::vector<Index> mine;     // x index of owned row lo + l
+  std::vector<char> own_nodes;  // per mesh node: its rows are this rank's (kept until assembled)
+  PetscInt P(Index x) const { return perm.empty() ? static_cast<PetscInt>(x) : perm[static_cast<size_t>(x)]; }
+  Index X(PetscInt l) const { return mine.empty() ? lo + l : mine[static_cast<size_t>(l)]; }
+  // Γ3 node k's ν row in PETSc's numbering; its τ rows follow it.
+  PetscInt cdof(Index k) const { return P(md.dofs.contact_dof(k, 0)); }
+  void partition(const std::vector<Index>& block_node, const std::vector<PetscInt>& block_first,
+                 const std::vector<int>& block_size);
+  std::vector<Index> my_nodes;     // Γ3 nodes whose rows this rank owns
+  PMat K;
+  PVec f, lower, upper, zs, zfree, work, grad;
+  MatNullSpace rigid = nullptr;
+  double U_s = 1, F_s = 1;
+  std::vector<std::pair<double, double>> schedule;
+  double eps_tau = 0, eps_nu = 0;                // absolute widths of the current stage
+  // energy/'s nodal terms on the owned Γ3 nodes (owned_layout): j_ε of the current stage's
+  // mollified p_ν, and friction with the current ε_τ and frozen λ (lambda, copied at each change).
+  std::shared_ptr<const NodalLayout> nodal;
+  std::unique_ptr<NormalComplianceEnergy> normal_term;
+  std::unique_ptr<FrictionEnergy> friction_term;
+  std::vector<double> lambda;                    // frozen F_b per owned Γ3 node (my_nodes order)
+  Eigen::VectorXd prev_c;                        // owned Γ3 unknowns after the previous minimization
+  bool lagged = false;
+  Solution sol;  // the answer being built (history, verdicts)
+  int k_total = 0;
+  long newton_total = 0, krylov_total = 0, polish_krylov = 0, polish_newton = 0;
+  nlohmann::json stages = nlohmann::json::array();
+  std::map<std::string, double> timings;
+  bool owns_apply = false;  // md.Kx_apply set by assemble(), reading K and work
+};
+
+}  // namespace hemicontact::petsc_engine::detail

@@ -1,0 +1,194 @@
+#include "engine_impl.hpp"
+
+#include <hemicontact/check/evaluate.hpp>
+#include <hemicontact/problem/node_rules.hpp>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+namespace hemicontact::petsc_engine::detail {
+
+Solution Engine::evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const {
+  Solution s;
+  s.x = x;
+  s.u = md.dofs.to_full(x);
+  evaluate_solution(md, o, s);
+  return s;
+}
+
+// The exact polish in the full space (driver/polish.hpp's status system, without condensation):
+// with the statuses of @p s0 fixed, Newton's method on
+//   interior rows:     (K x − f)_i = 0
+//   contact:           x_ν = g                              (eq. (5): the rigid part takes the rest)
+//   compliance/sep.:   (K x − f)_ν + w p(x_ν) = 0           (p affine on the node's branch, eq. (32))
+//   stick:             x_τ = 0;   frictionless:  (K x − f)_τ = 0
+//   slip:              (K x − f)_τ + w λ t = 0,  t = x_τ/|x_τ|,  λ = F_b(x_ν)   (eq. (6))
+// λ is evaluated at the current iterate and held in the Jacobian (K + w p′ + w λ (I − t tᵀ)/|x_τ|,
+// symmetric, so CG + GAMG apply); the iteration then converges linearly in λ with the fixed point's
+// contraction, and stops when the step reaches round-off (1e-14 relative) or stops decreasing.
+// Fixed unknowns (contact ν, stick τ, rollers) are eliminated with MatZeroRowsColumns.
+PolishResult Engine::polish(Eigen::VectorXd& x_io, const SolveOptions& read_opt, const Solution& s0_user) {
+  PolishResult r;
+  r.attempted = true;
+  r.before = s0_user.certificate.max_residual;
+  const Solution s0 = read_opt.status_tol == opt.status_tol ? s0_user : evaluate(x_io, read_opt);
+  const double delta = 1e-7 * s0.certificate.length_scale;
+  PVec x, R, dx;
+  PMat J;
+  PKsp ksp;
+  HC_PETSC(VecDuplicate(f.v, &x.v));
+  HC_PETSC(VecDuplicate(f.v, &R.v));
+  HC_PETSC(VecDuplicate(f.v, &dx.v));
+  HC_PETSC(MatDuplicate(K.m, MAT_DO_NOT_COPY_VALUES, &J.m));
+  HC_PETSC(MatSetNearNullSpace(J.m, rigid));
+  create_cg(ksp, "polish_");
+  const std::vector<PetscInt> fixed = polish_start(x.v, x_io, s0, delta);
+  double prev = INF;
+  for (r.iterations = 1; r.iterations <= opt.petsc.polish_max_iters; ++r.iterations) {
+    if (!polish_linearize(x.v, R.v, J.m, s0, delta, fixed)) {
+      r.note = "a slipping node reached u_tau = 0";
+      return r;
+    }
+    HC_PETSC(MatZeroRowsColumns(J.m, static_cast<PetscInt>(fixed.size()), fixed.data(), 1.0, nullptr, nullptr));
+    HC_PETSC(VecScale(R.v, -1.0));
+    HC_PETSC(KSPSetOperators(ksp.k, J.m, J.m));
+    HC_PETSC(KSPSolve(ksp.k, R.v, dx.v));
+    KSPConvergedReason reason;
+    PetscInt its;
+    HC_PETSC(KSPGetConvergedReason(ksp.k, &reason));
+    HC_PETSC(KSPGetIterationNumber(ksp.k, &its));
+    polish_krylov += its;
+    ++polish_newton;
+    if (reason < 0) {
+      r.note = std::string("CG on the status system: ") + KSPConvergedReasons[reason];
+      return r;
+    }
+    HC_PETSC(VecAXPY(x.v, 1.0, dx.v));
+    PetscReal change, scale;
+    HC_PETSC(VecNorm(dx.v, NORM_INFINITY, &change));
+    HC_PETSC(VecNorm(x.v, NORM_INFINITY, &scale));
+    if (!(change > 1e-14 * scale) || (r.iterations > 2 && change >= prev)) break;
+    prev = change;
+  }
+  polish_accept(x.v, s0, delta, r, x_io);
+  return r;
+}
+
+// The polish's start: the smoothed answer @p x_io with the fixed unknowns set to their values.
+// @return the fixed unknowns (PETSc's numbering, this rank's rows).
+std::vector<PetscInt> Engine::polish_start(::Vec x, const Eigen::VectorXd& x_io, const Solution& s0,
+                                           double delta) const {
+  std::vector<PetscInt> fixed;
+  PetscScalar* px;
+  HC_PETSC(VecGetArray(x, &px));
+  for (PetscInt l = 0; l < hi - lo; ++l) px[l] = x_io[X(l)];
+  for (Index k : my_nodes) {
+    const PetscInt iv = cdof(k);
+    const NodeStatus st = s0.status[k];
+    if (st.normal == NormalStatus::CONTACT) px[iv - lo] = md.contact.g[k], fixed.push_back(iv);
+    const bool frictionless = frictionless_at(md, s0.state.u_nu[k], delta);
+    for (int c = 1; c < d; ++c)
+      if (roller_fixed(md, k, c) || (!frictionless && st.tangential == TangentialStatus::STICK))
+        px[iv + c - lo] = 0, fixed.push_back(iv + c);
+  }
+  HC_PETSC(VecRestoreArray(x, &px));
+  return fixed;
+}
+
+// The status system at @p x: its residual into @p R (0 on the fixed unknowns) and its Jacobian
+// into @p J (K plus the Γ3 nodes' blocks, before the fixed rows and columns are removed).
+// @return false, on every rank, when a slipping node reached u_τ = 0 (its status is wrong).
+bool Engine::polish_linearize(::Vec x, ::Vec R, ::Mat J, const Solution& s0, double delta,
+                              const std::vector<PetscInt>& fixed) {
+  HC_PETSC(MatMult(K.m, x, R));
+  HC_PETSC(VecAXPY(R, -1.0, f.v));
+  HC_PETSC(MatCopy(K.m, J, SAME_NONZERO_PATTERN));
+  const PetscScalar* px;
+  PetscScalar* pr;
+  HC_PETSC(VecGetArrayRead(x, &px));
+  HC_PETSC(VecGetArray(R, &pr));
+  int local_bad = 0;
+  for (Index k : my_nodes) {
+    const PetscInt iv = cdof(k);
+    const double w = md.contact.w[k], xn = px[iv - lo];
+    const NodeStatus st = s0.status[k];
+    double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    if (st.normal != NormalStatus::CONTACT && md.normal_law) {
+      pr[iv - lo] += w * md.normal_law->p(xn);
+      B[0] = w * md.normal_law->dp(xn);
+    }
+    const bool frictionless = frictionless_at(md, s0.state.u_nu[k], delta);
+    if (!frictionless && st.tangential != TangentialStatus::STICK) {
+      Eigen::Vector2d t = Eigen::Vector2d::Zero();
+      for (int c = 1; c < d; ++c) t[c - 1] = px[iv + c - lo];
+      const double y = t.norm();
+      if (!(y > 0)) {
+        local_bad = 1;  // a slipping node reached u_τ = 0: its status is wrong
+        continue;
+      }
+      t /= y;
+      const double lam = md.friction->F(xn);
+      for (int c = 1; c < d; ++c) pr[iv + c - lo] += w * lam * t[c - 1];
+      if (d == 3) {
+        const Eigen::Matrix2d Jt = w * lam / y * (Eigen::Matrix2d::Identity() - t * t.transpose());
+        B[4] = Jt(0, 0), B[5] = Jt(0, 1), B[7] = Jt(1, 0), B[8] = Jt(1, 1);
+      }
+    }
+    PetscInt idx[3] = {iv, iv + 1, iv + 2};
+    HC_PETSC(MatSetValues(J, d, idx, d, idx, B, ADD_VALUES));
+  }
+  for (PetscInt i : fixed) pr[i - lo] = 0;  // fixed unknowns keep their value: δ = 0 there
+  HC_PETSC(VecRestoreArrayRead(x, &px));
+  HC_PETSC(VecRestoreArray(R, &pr));
+  HC_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  HC_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  return allreduce_max(local_bad, comm) == 0;
+}
+
+// Keep the candidate @p x only if the statuses stay and the certificate does not get worse
+// (driver/polish.cpp's accept_if_better, the same rule): then @p x_io takes it.
+void Engine::polish_accept(::Vec x, const Solution& s0, double delta, PolishResult& r, Eigen::VectorXd& x_io) const {
+  const Eigen::VectorXd xc = gather(x);
+  if (!xc.allFinite()) {
+    r.note = "singular status system";
+    return;
+  }
+  const Solution s1 = evaluate(xc, opt);
+  r.after = s1.certificate.max_residual;
+  for (Index k = 0; k < md.contact.size(); ++k)
+    if (s1.status[k].normal != s0.status[k].normal ||
+        (s1.status[k].tangential != s0.status[k].tangential && !frictionless_at(md, s0.state.u_nu[k], delta))) {
+      r.note = "statuses changed at node " + std::to_string(k) + " (" + s0.status[k].str() + " -> " +
+               s1.status[k].str() + ")";
+      return;
+    }
+  if (!(r.after <= std::max(r.before, 1e-12))) {
+    r.note = "the certificate did not improve";
+    return;
+  }
+  r.accepted = true;
+  x_io = xc;
+}
+
+// The statuses read at check.status_tol and, when the stage's ε is larger, at 10 ε (a sticking
+// node shows |u_τ| ~ ε U): driver/polish.cpp's first two readings.
+PolishResult Engine::polish_with_readings(Eigen::VectorXd& x, size_t stage) {
+  const auto t0 = clk::now();
+  const Solution s0 = evaluate(x, opt);
+  PolishResult r = polish(x, opt, s0);
+  const double coarse = 10 * std::max(schedule[stage].first, schedule[stage].second);
+  if (!r.accepted && coarse > opt.status_tol) {
+    SolveOptions o = opt;
+    o.status_tol = coarse;
+    PolishResult r2 = polish(x, o, s0);
+    r2.iterations += r.iterations;
+    if (r2.accepted) r2.note = "statuses read at 10 eps";
+    else r2.note = r.note + "; at 10 eps: " + r2.note;
+    r = r2;
+  }
+  timings["polish"] += since(t0);
+  return r;
+}
+
+}  // namespace hemicontact::petsc_engine::detail

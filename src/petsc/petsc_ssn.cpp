@@ -1,0 +1,380 @@
+#include "engine_impl.hpp"
+
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/problem/node_rules.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hemicontact::petsc_engine::detail {
+
+// ssn's iterate, its work vectors and what one step passes to the next.
+struct Engine::Ssn {
+  PVec x, R, dx, rhs, fixv, diagK;
+  PKsp ksp;
+  BandRows band;    // K's rows that J changes, to put K back
+  double diag_scale = 1;  // the fixed unknowns' diagonal in J (the mean K_ii)
+  // Status per owned Γ3 node (ssn_node's code); the previous step's, to count changes.
+  std::vector<int> status, prev_status;
+  // The slip direction t each sliding node was given this step (0: not sliding).
+  std::vector<Eigen::Vector2d> slip_dir;
+  // A node whose slip reversed in the last step: held at stick for one step (ssn_stop_reversals).
+  std::vector<char> hold_stick;
+  std::vector<PetscInt> fixed;
+  nlohmann::json steps = nlohmann::json::array();
+  // CG iterations per decade that the hierarchy is judged against: the larger of the step that
+  // built it and the first step that reused it. The build step alone is no fair reference: the
+  // first one has every Γ3 node fixed, an easier matrix than any later step's (70³: 4 per decade
+  // against 7 at the next step, whatever the hierarchy), so it called for rebuilds that did not
+  // lower the counts (70³, 2 ranks: 2 builds 169 CG iterations, 1 build 155).
+  double built_per_decade = 0;
+  bool reference_pending = false;
+  bool rebuild = true;  // the AMG hierarchy is (re)built at the next step
+  int unchanged = 0;    // steps in a row without a status change
+  double prev_step = INF;
+};
+
+// This rank's arrays of the iterate, K's diagonal, the residual and the fixed unknowns' steps,
+// while ssn_linearize holds them.
+struct Engine::SsnArrays {
+  const PetscScalar* x = nullptr;
+  const PetscScalar* diag = nullptr;
+  PetscScalar* r = nullptr;
+  PetscScalar* fix = nullptr;
+};
+
+// Backend "ssn": a semismooth (active-set) Newton method on the unsmoothed conditions of (22) in
+// the full space, every status read again at every step from the current iterate x and the
+// residual R = K x − f (the complementarity functions of the primal-dual active-set method, with
+// c_n, c_t = the node's diagonal of K so that forces and displacements compare in one unit):
+//   normal:  contact  iff  −(R_ν + w p(x_ν)) + c_n (x_ν − g) > 0          (eq. (5): u_ν ≤ g)
+//            then x_ν = g; else R_ν + w p(x_ν) = 0 on x_ν's branch of p      (eq. (32))
+//   tangent: stick    iff  |y| ≤ w λ,  y = −R_τ + c_t x_τ,  λ = F_b(x_ν)     (eq. (6))
+//            then x_τ = 0; else R_τ + w λ t = 0 with t = y/|y|
+// Each step solves the linearization with the fixed unknowns eliminated (MatZeroRowsColumns, so
+// the matrix stays symmetric positive definite and CG + GAMG (solver.petsc.near_null_space) apply):
+// J = K + w p′ (branch slope) + w λ (I − t tᵀ)/ρ on sliding nodes, ρ = max(|x_τ|, (|y| − wλ)/c_t)
+// (= |x_τ| at a solution; positive where x_τ is still 0). λ is held in J: the coupling through
+// F_b(u_ν) converges linearly, as the outer fixed point does, without an outer loop. No smoothing
+// and no continuation: the answer is judged by the same certificate. The nonlinearity lives on Γ3
+// only, so the AMG hierarchy built for the first step serves later ones (solver.petsc.pc_rebuild).
+Solution Engine::run_ssn(clk::time_point t0) {
+  ssn_describe();
+  Ssn s;
+  ssn_setup(s);
+  bool converged = false;
+  const auto t_loop = clk::now();
+  int k = 0;
+  for (k = 1; k <= opt.petsc.ssn_max_iters; ++k) {
+    const long changed = ssn_linearize(s, k);
+    const double res = ssn_right_hand_side(s);
+    // Converged at this iterate: the statuses it gives are those of the last step, and the residual
+    // of the semismooth system (equilibrium on the free rows, the fixed unknowns' misfit times the
+    // diagonal) is at most ssn_tol of the load scale. No step is taken: at 10⁷ unknowns the steps
+    // that only confirmed round-off cost 50 s each.
+    if (k > 1 && changed == 0 && res / F_s <= opt.petsc.ssn_tol) {
+      converged = true;
+      log_info() << "ssn " << k << ": statuses held, residual " << short_number(res / F_s)
+                 << " <= solver.petsc.ssn_tol: converged";
+      --k;  // the steps taken
+      break;
+    }
+    if (ssn_step(s, k, changed, res)) {
+      converged = true;
+      break;
+    }
+  }
+  return ssn_finish(s, k, converged, t0, t_loop);
+}
+
+// What ssn does and does not do, for the report.
+void Engine::ssn_describe() {
+  sol.backend = std::string("ssn (semismooth Newton, CG + ") + opt.petsc.pc + ", PETSc, " + std::to_string(size) +
+                " rank" + (size > 1 ? "s" : "") + ")";
+  sol.formulation = "full";
+  sol.fixed_point_converged = true;
+  sol.skipped.push_back("continuation: ssn solves the unsmoothed problem (no eps stages)");
+  if (opt.smallness)
+    sol.skipped.push_back("smallness: (21) is evaluated by the cholmod engine only (it needs a factorization)");
+  if (!md.normal_law) sol.skipped.push_back("normal_compliance: no soft layer (contact.normal_law.type = none)");
+  if (!md.friction) sol.skipped.push_back("friction: frictionless (contact.friction.type = none)");
+  if (md.friction && md.friction->depends_on_u_nu())
+    sol.skipped.push_back("fixed_point: lambda = F_b(u_nu) is read at every Newton step (no outer loop)");
+  if (md.gap.is_infinite()) sol.skipped.push_back("bounds: no rigid obstacle (g = inf)");
+  sol.skipped.push_back("polish: ssn's steps are the polish's, with statuses updated");
+}
+
+void Engine::ssn_setup(Ssn& s) {
+  for (PVec* v : {&s.x, &s.R, &s.dx, &s.rhs, &s.fixv, &s.diagK}) HC_PETSC(VecDuplicate(f.v, &v->v));
+  HC_PETSC(MatGetDiagonal(K.m, s.diagK.v));
+  // No second matrix: each step's J is K itself, changed in place (Γ3 blocks added, fixed rows and
+  // columns zeroed) and put back from the saved rows before K is read again. A copy of K would cost
+  // ~0.5 KB per unknown (44 nonzeros per row in 3D), a quarter of the engine's memory target (2 KB
+  // per unknown).
+  s.band = save_band();
+  HC_PETSC(MatSetOption(K.m, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+  HC_PETSC(MatSetOption(K.m, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
+  // rtol on the true residual: the inexact-Newton forcing terms and the hierarchy's quality
+  // (iterations per decade) then mean what they say.
+  create_cg(s.ksp, "ssn_", KSP_NORM_UNPRECONDITIONED);
+  HC_PETSC(VecSet(s.x.v, 0.0));
+  // A fixed unknown's row keeps a diagonal of K's own size (the mean K_ii), not 1 against
+  // K_ii ~ E h: its eigenvalue then lies inside K's spectrum, where the Chebyshev smoothers' bounds
+  // and CG's convergence do not see it as an outlier.
+  PetscReal diag_sum;
+  HC_PETSC(VecNorm(s.diagK.v, NORM_1, &diag_sum));
+  s.diag_scale = n > 0 && diag_sum > 0 ? diag_sum / static_cast<double>(n) : 1.0;
+  PetscReal fmax;
+  HC_PETSC(VecNorm(f.v, NORM_INFINITY, &fmax));
+  F_s = fmax > 0 ? fmax : 1.0;
+  s.status.assign(my_nodes.size(), -1);
+  s.prev_status.assign(my_nodes.size(), -2);
+  s.slip_dir.assign(my_nodes.size(), Eigen::Vector2d::Zero());
+  s.hold_stick.assign(my_nodes.size(), 0);
+}
+
+// Step k's statuses and linearization at the iterate: R = K x − f plus the Γ3 forces, J = K plus
+// the Γ3 blocks (in place in K), the fixed unknowns and their prescribed steps (fixv).
+// @return the number of status changes over all ranks.
+long Engine::ssn_linearize(Ssn& s, int k) {
+  if (k > 1) restore_band(s.band);  // K again: the last step's J changed it
+  ::Mat J = K.m;
+  HC_PETSC(MatMult(K.m, s.x.v, s.R.v));
+  HC_PETSC(VecAXPY(s.R.v, -1.0, f.v));
+  HC_PETSC(VecSet(s.fixv.v, 0.0));
+  s.fixed.clear();
+  SsnArrays a;
+  HC_PETSC(VecGetArrayRead(s.x.v, &a.x));
+  HC_PETSC(VecGetArrayRead(s.diagK.v, &a.diag));
+  HC_PETSC(VecGetArray(s.R.v, &a.r));
+  HC_PETSC(VecGetArray(s.fixv.v, &a.fix));
+  long changed = 0;
+  for (size_t q = 0; q < my_nodes.size(); ++q) {
+    double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    s.status[q] = ssn_node(s, q, k, a, B);
+    if (s.status[q] != s.prev_status[q]) ++changed;
+    const PetscInt iv = cdof(my_nodes[q]);
+    PetscInt idx[3] = {iv, iv + 1, iv + 2};
+    HC_PETSC(MatSetValues(J, d, idx, d, idx, B, ADD_VALUES));
+  }
+  HC_PETSC(VecRestoreArrayRead(s.x.v, &a.x));
+  HC_PETSC(VecRestoreArrayRead(s.diagK.v, &a.diag));
+  HC_PETSC(VecRestoreArray(s.R.v, &a.r));
+  HC_PETSC(VecRestoreArray(s.fixv.v, &a.fix));
+  HC_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  HC_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  long changed_all = 0;
+  MPI_Allreduce(&changed, &changed_all, 1, MPI_LONG, MPI_SUM, comm);
+  s.prev_status = s.status;
+  s.unchanged = changed_all == 0 ? s.unchanged + 1 : 0;
+  return changed_all;
+}
+
+// Owned Γ3 node q at step k: its normal and tangential statuses read from the iterate, its forces
+// added to the residual, its block of J into @p B (row-major d×d), its fixed unknowns recorded.
+// @return its status code (bit 0 contact, bit 1 stick, 8/16 the 2D slip direction, 32·(branch of p)).
+int Engine::ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B) {
+  const Index kk = my_nodes[q];
+  const PetscInt iv = cdof(kk);
+  const PetscInt l = iv - lo;
+  const double w = md.contact.w[kk], xn = a.x[l], g = md.contact.g[kk];
+  s.slip_dir[q].setZero();  // set below if the node slides this step
+  int st = 0;
+  const double p = md.normal_law ? md.normal_law->p(xn) : 0.0;
+  // The first step starts from every node in contact (x = 0 has no reaction to read): the free
+  // elastic solve it would otherwise make pushes Γ3 far through g and every status changes
+  // twice. 3D scene, 2 ranks: 70³ 13 → 11 steps, 178 → 115 CG iterations, 62.9 → 55.9 s.
+  const bool contact = std::isfinite(g) && (k == 1 || -(a.r[l] + w * p) + a.diag[l] * (xn - g) > 0);
+  if (contact) {
+    st |= 1;
+    s.fixed.push_back(iv);
+    a.fix[l] = g - xn;
+  } else {
+    a.r[l] += w * p;
+    if (md.normal_law) B[0] = w * md.normal_law->dp(xn);
+  }
+  st |= ssn_tangential(s, q, a, B);
+  if (md.normal_law && !contact) {
+    // The branch of p: the index of the breakpoint interval x_ν lies in (eq. (32)'s pieces).
+    const auto& r = md.normal_law->breakpoints();
+    st |= 32 * static_cast<int>(1 + (std::upper_bound(r.begin(), r.end(), xn) - r.begin()));
+  }
+  return st;
+}
+
+// The tangential part of ssn_node: a roller's fixed components, or stick (x_τ = 0) or slip
+// (R_τ + w λ t = 0) by the complementarity function. @return the status bits it sets.
+int Engine::ssn_tangential(Ssn& s, size_t q, const SsnArrays& a, double* B) {
+  const Index kk = my_nodes[q];
+  const PetscInt iv = cdof(kk);
+  const PetscInt l = iv - lo;
+  const double w = md.contact.w[kk], xn = a.x[l];
+  int st = 0;
+  const double lam = md.friction ? md.friction->F(xn) : 0.0;
+  Eigen::Vector2d xt = Eigen::Vector2d::Zero(), rt = Eigen::Vector2d::Zero();
+  for (int c = 1; c < d; ++c) xt[c - 1] = a.x[l + c], rt[c - 1] = a.r[l + c];
+  const double ct = d == 2 ? a.diag[l + 1] : std::max(a.diag[l + 1], a.diag[l + 2]);
+  bool roller = false;
+  for (int c = 1; c < d; ++c) roller = roller || roller_fixed(md, kk, c);
+  if (roller) {
+    for (int c = 1; c < d; ++c)
+      if (roller_fixed(md, kk, c)) s.fixed.push_back(iv + c), a.fix[l + c] = -a.x[l + c];
+  } else if (w * lam > 0) {
+    const Eigen::Vector2d y = -rt + ct * xt;
+    const double ny = y.norm();
+    if (ny <= w * lam || s.hold_stick[q]) {
+      st |= 2;
+      for (int c = 1; c < d; ++c) s.fixed.push_back(iv + c), a.fix[l + c] = -a.x[l + c];
+    } else {
+      const Eigen::Vector2d t = y / ny;
+      s.slip_dir[q] = t;
+      // ρ: the slip now, or the slip this step will reach ((|y| − wλ)/c_t) where that is
+      // larger (a node that just left stick has x_τ = 0). A smaller ρ (stiffer) than the true
+      // curvature would let x_τ overshoot through 0 and the direction t flip every step.
+      const double rho = std::max(xt.norm(), (ny - w * lam) / ct);
+      for (int c = 1; c < d; ++c) a.r[l + c] += w * lam * t[c - 1];
+      if (d == 2) {
+        // One tangent direction: I − t tᵀ = 0, the slip force is constant on the branch.
+      } else {
+        const Eigen::Matrix2d Jt = w * lam / rho * (Eigen::Matrix2d::Identity() - t * t.transpose());
+        B[4] = Jt(0, 0), B[5] = Jt(0, 1), B[7] = Jt(1, 0), B[8] = Jt(1, 1);
+      }
+      if (d == 2) st |= (t[0] >= 0 ? 8 : 16);  // a reversal of the slip direction is a change
+    }
+  }
+  return st;
+}
+
+// rhs = −R on free rows; the fixed rows carry their prescribed step (fixv), and the columns
+// MatZeroRowsColumns removes move their contribution to the right-hand side.
+// @return the semismooth residual ‖rhs‖∞ (unscaled).
+double Engine::ssn_right_hand_side(Ssn& s) {
+  HC_PETSC(VecCopy(s.R.v, s.rhs.v));
+  HC_PETSC(VecScale(s.rhs.v, -1.0));
+  HC_PETSC(MatZeroRowsColumns(K.m, static_cast<PetscInt>(s.fixed.size()), s.fixed.data(), s.diag_scale, s.fixv.v,
+                              s.rhs.v));
+  PetscReal res;
+  HC_PETSC(VecNorm(s.rhs.v, NORM_INFINITY, &res));
+  return res;
+}
+
+// Step k: the CG solve of J dx = rhs, the update, the slip reversals, the log and the record.
+// @return true when ssn has converged (the step reached round-off with the statuses held).
+bool Engine::ssn_step(Ssn& s, int k, long changed_all, double res) {
+  // Inexact Newton: a step that may still change statuses needs only ssn_rtol; once they hold,
+  // ssn_rtol² per step (the λ coupling contracts by about that much anyway), never below ksp_rtol.
+  const double rtol = std::max(opt.petsc.ksp_rtol, changed_all > 0 ? opt.petsc.ssn_rtol
+                                                                   : opt.petsc.ssn_rtol * opt.petsc.ssn_rtol);
+  PC pc;
+  HC_PETSC(KSPGetPC(s.ksp.k, &pc));
+  HC_PETSC(KSPSetOperators(s.ksp.k, K.m, K.m));
+  HC_PETSC(PCSetReusePreconditioner(pc, s.rebuild ? PETSC_FALSE : PETSC_TRUE));
+  HC_PETSC(KSPSetTolerances(s.ksp.k, rtol, PETSC_DEFAULT, PETSC_DEFAULT, opt.petsc.ksp_max_it));
+  const auto t_ksp = clk::now();
+  HC_PETSC(VecSet(s.dx.v, 0.0));
+  HC_PETSC(KSPSolve(s.ksp.k, s.rhs.v, s.dx.v));
+  PetscInt its;
+  HC_PETSC(KSPGetIterationNumber(s.ksp.k, &its));
+  krylov_total += its;
+  ++newton_total;
+  const bool built = ssn_judge_hierarchy(s, its);
+  ksp_check(s.ksp.k, "ssn Newton step " + std::to_string(k));  // exit 3 naming PETSc's reason
+  HC_PETSC(VecAXPY(s.x.v, 1.0, s.dx.v));
+  const long projected = ssn_stop_reversals(s);
+  PetscReal step, scale;
+  HC_PETSC(VecNorm(s.dx.v, NORM_INFINITY, &step));
+  HC_PETSC(VecNorm(s.x.v, NORM_INFINITY, &scale));
+  const double rel = scale > 0 ? step / scale : 0.0;
+  s.steps.push_back({{"step", k}, {"status_changes", changed_all}, {"slip_reversals", projected}, {"krylov", its},
+                     {"rtol", rtol}, {"pc_built", built}, {"residual", res / F_s}, {"dx_rel", rel},
+                     {"seconds", since(t_ksp)}});
+  log_info() << "ssn " << k << ": " << changed_all << " status changes, residual " << short_number(res / F_s)
+             << ", CG " << its << " it (rtol " << short_number(rtol) << (built ? ", AMG built" : "")
+             << "), |dx|/|x| " << short_number(rel)
+             << (projected > 0 ? ", " + std::to_string(projected) + " slip reversals set to 0" : "") << ", memory "
+             << short_number(double(current_rss_kb()) / 1024.0) << " MB (rank 0)";
+  // Done when the statuses have held for two steps and the step reached round-off or stopped
+  // decreasing there (the λ coupling contracts linearly; round-off ends it).
+  if (s.unchanged >= 2 && (rel <= 1e-14 || (rel <= 1e-10 && step >= s.prev_step))) return true;
+  s.prev_step = s.unchanged >= 1 ? step : INF;
+  return false;
+}
+
+// The hierarchy's quality: CG iterations per decade of residual reduction. Rebuilt when a step
+// with the reused hierarchy needs pc_rebuild times the reference (built_per_decade).
+// @return whether this step built the hierarchy.
+bool Engine::ssn_judge_hierarchy(Ssn& s, PetscInt its) {
+  PetscReal rnorm;
+  HC_PETSC(KSPGetResidualNorm(s.ksp.k, &rnorm));
+  PetscReal bnorm;
+  HC_PETSC(VecNorm(s.rhs.v, NORM_2, &bnorm));
+  const double decades = (rnorm > 0 && bnorm > 0) ? std::max(0.5, std::log10(bnorm / rnorm)) : 1.0;
+  const double per_decade = static_cast<double>(its) / decades;
+  const bool built = s.rebuild;
+  if (s.rebuild) {
+    s.built_per_decade = per_decade, s.rebuild = false, s.reference_pending = true;
+  } else if (s.reference_pending) {
+    s.built_per_decade = std::max(s.built_per_decade, per_decade), s.reference_pending = false;
+  } else if (per_decade > opt.petsc.pc_rebuild * std::max(s.built_per_decade, 1.0)) {
+    s.rebuild = true;
+  }
+  return built;
+}
+
+// A sliding node whose step carried x_τ through 0 (x_τ · t < 0: the friction force it was
+// given is more than equilibrium needs, so it should stick) is put at x_τ = 0 and held at stick
+// for the next step; the step after that reads stick or slip from the relaxed neighbours.
+// Without this, nodes at the stick limit chattered (slip, reversal, slip...) and the iteration
+// stalled at a residual ~1e-4 (3D scene, n = 48 and 70). @return the count over all ranks.
+long Engine::ssn_stop_reversals(Ssn& s) {
+  long projected = 0;
+  PetscScalar* px;
+  HC_PETSC(VecGetArray(s.x.v, &px));
+  for (size_t q = 0; q < my_nodes.size(); ++q) {
+    s.hold_stick[q] = 0;  // one step only
+    if (s.slip_dir[q].squaredNorm() == 0) continue;
+    const PetscInt l = cdof(my_nodes[q]) - lo;
+    double dot = 0;
+    for (int c = 1; c < d; ++c) dot += px[l + c] * s.slip_dir[q][c - 1];
+    s.hold_stick[q] = dot < 0;
+    if (dot < 0) {
+      for (int c = 1; c < d; ++c) px[l + c] = 0;
+      ++projected;
+    }
+  }
+  HC_PETSC(VecRestoreArray(s.x.v, &px));
+  long all = 0;
+  MPI_Allreduce(&projected, &all, 1, MPI_LONG, MPI_SUM, comm);
+  return all;
+}
+
+// K put back, the record of the run, and the certified answer.
+Solution Engine::ssn_finish(Ssn& s, int k, bool converged, clk::time_point t0, clk::time_point t_loop) {
+  restore_band(s.band);  // K as assembled, for the certificate (md.Kx_apply) and the energies
+  timings["backend"] = since(t_loop);
+  U_s = 1;
+  sol.x_scale = 1;
+  sol.f_scale = F_s;
+  OuterIteration rec;
+  rec.backend.iterations = static_cast<int>(std::min(k, opt.petsc.ssn_max_iters));
+  rec.backend.seconds = timings["backend"];
+  rec.backend.message = converged ? "ssn converged in " + std::to_string(k) + " Newton steps, " +
+                                        std::to_string(krylov_total) + " CG iterations"
+                                  : "ssn: no convergence in " + std::to_string(opt.petsc.ssn_max_iters) +
+                                        " Newton steps (solver.petsc.ssn_max_iters; the statuses still changed or "
+                                        "the step did not reach round-off)";
+  rec.backend.status = converged ? SolveStatus::CONVERGED : SolveStatus::MAX_ITERATIONS;
+  sol.history.push_back(rec);
+  sol.backend_ok = converged;
+  if (!converged) sol.message = rec.backend.message;
+  stages = s.steps;
+  Eigen::VectorXd xg = gather(s.x.v);
+  finish(sol, std::move(xg), t0);
+  timings.erase("backend");
+  return std::move(sol);
+}
+
+}  // namespace hemicontact::petsc_engine::detail
