@@ -308,9 +308,6 @@ TEST(House, NoFunctionOver100Lines) {
   const std::set<std::pair<std::string, std::string>> allowed = {
       // A data table: one entry per scene key, nothing to split.
       {"src/scene/scene_schema.cpp", "build_scene_schema"},
-      // Split by the PETSc engine refactor.
-      {"src/petsc/petsc_engine.cpp", "Engine::run_ssn"},
-      {"src/petsc/petsc_engine.cpp", "Engine::polish"},
   };
   const std::vector<FunctionDefinition> all = all_function_definitions();
   ASSERT_GT(all.size(), 500u) << "the scan found too few function definitions";
