@@ -149,7 +149,17 @@ TEST(Smallness, BracketFromTheCondensedStiffnessContainsTheExactValue) {
 TEST(Smallness, LanczosSmallestEigenvalueAgreesWithTheDenseSolver) {
   std::mt19937 rng(7);
   std::normal_distribution<double> normal;
-  for (const int n : {450, 800}) {
+#ifdef HEMICONTACT_SANITIZED
+  // Under ASan with Eigen's index checks the dense reference work (QR, products and eigen solves of
+  // 800 rows) took 250 s: the sanitized suite checks the Lanczos path's memory use on one size
+  // beyond its 400-row threshold and leaves the dense solver's agreement to the regular build.
+  const std::vector<int> sizes{450};
+  constexpr bool with_dense = false;
+#else
+  const std::vector<int> sizes{450, 800};
+  constexpr bool with_dense = true;
+#endif
+  for (const int n : sizes) {
     Mat G(n, n);
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) G(i, j) = normal(rng);
@@ -164,14 +174,15 @@ TEST(Smallness, LanczosSmallestEigenvalueAgreesWithTheDenseSolver) {
       for (int i = 0; i < n; ++i) lambda[i] = 3.5 * spectra[s](i);
       const Mat B = Q.transpose() * lambda.asDiagonal() * Q;
       const Mat Bs = 0.5 * (B + B.transpose());
-      Eigen::SelfAdjointEigenSolver<Mat> es(Bs, Eigen::EigenvaluesOnly);
-      const double dense = es.eigenvalues().minCoeff();
       // Both against the constructed value 3.5. A backward-stable method is exact for a matrix
       // within ~ε‖B‖ of B: an error of ~ε·λ_max, i.e. ~ε·cond relative to λ_min — 1e-8 with the
       // 1e8 spread (where the dense solver itself is off by 2e-10), round-off otherwise.
       const double tol = 3.5 * 1e-11 * std::max(1.0, lambda.maxCoeff() / lambda.minCoeff() / 1e3);
       EXPECT_NEAR(smallest_eigenvalue_spd(Bs), 3.5, tol) << "n = " << n << ", spectrum " << s;
-      EXPECT_NEAR(dense, 3.5, tol) << "n = " << n << ", spectrum " << s;
+      if (with_dense) {
+        Eigen::SelfAdjointEigenSolver<Mat> es(Bs, Eigen::EigenvaluesOnly);
+        EXPECT_NEAR(es.eigenvalues().minCoeff(), 3.5, tol) << "n = " << n << ", spectrum " << s;
+      }
     }
   }
 }
