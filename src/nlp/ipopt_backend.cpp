@@ -38,6 +38,7 @@
 #include "nlp/ipopt_tnlp.hpp"
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/core/log.hpp>
 
 #include <IpIpoptApplication.hpp>
@@ -266,6 +267,7 @@ SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
   log_debug() << "ipopt: n = " << n << ", " << (warm ? "warm" : "cold") << " start, tol " << options.tol
               << " relative to G = " << scale << ", max_iter " << options.max_iter;
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
+  check_interrupt();  // the intermediate callback stopped Ipopt for the host's interrupt
   // Ipopt catches std::bad_alloc (its own and MUMPS's allocations) and returns this status: the
   // memory message and code of every other allocation failure, not "not converged".
   if (status == Ipopt::Insufficient_Memory)
