@@ -19,7 +19,7 @@ by side) and stops at Ctrl-C with ``KeyboardInterrupt``. Progress lines go to
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from collections import namedtuple
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
 from . import _hemicontact as _core
@@ -100,15 +100,15 @@ class Scene:
         return f"Scene({where}, overrides={self.overrides!r})"
 
 
-@dataclass(frozen=True)
-class Certificate:
+class Certificate(namedtuple("Certificate", "passed max_residual tol residuals")):
     """The a-posteriori certificate of a solution (MODEL.md §4): it passes when every normalized
-    residual is at most ``tol`` (check.certificate_tol)."""
+    residual (``residuals``, by name) is at most ``tol`` (check.certificate_tol).
 
-    passed: bool
-    max_residual: float
-    tol: float
-    residuals: Dict[str, float]
+    Fields: passed (bool), max_residual (float), tol (float), residuals (dict name -> float).
+    (A named tuple rather than a dataclass: importing dataclasses costs ~25 ms of every import.)
+    """
+
+    __slots__ = ()
 
 
 class Result:
@@ -270,13 +270,16 @@ def adapt(scene: Union[Scene, Mapping[str, Any], str, os.PathLike], target_error
     return Result(_core.solve(_scene(scene)._s, extra))
 
 
-@dataclass
 class MinimaResult:
     """`hemicontact minima`'s answer: ``report`` is the dict of minima.json, ``solutions`` a
     :class:`Result` per distinct solution, lowest energy first (as solution_<k>.vtu)."""
 
-    report: Dict[str, Any]
-    solutions: List[Result]
+    def __init__(self, report: Dict[str, Any], solutions: List[Result]):
+        self.report = report
+        self.solutions = solutions
+
+    def __repr__(self) -> str:
+        return f"MinimaResult({len(self.solutions)} distinct solutions, {len(self.report.get('runs', []))} runs)"
 
 
 def minima(scene: Union[Scene, Mapping[str, Any], str, os.PathLike], starts: int = 8, seed: int = 1,

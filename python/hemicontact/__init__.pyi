@@ -1,7 +1,6 @@
 # Type stubs of the package hemicontact (python/hemicontact/__init__.py documents each name).
 import os
-from dataclasses import dataclass
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Iterable, List, Mapping, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -29,8 +28,7 @@ class Scene:
     @property
     def overrides(self) -> List[str]: ...
 
-@dataclass(frozen=True)
-class Certificate:
+class Certificate(NamedTuple):
     passed: bool
     max_residual: float
     tol: float
@@ -73,10 +71,10 @@ class Result:
     def to_meshio(self) -> Any: ...
     def export(self, path: Union[str, os.PathLike[str]], **kwargs: Any) -> None: ...
 
-@dataclass
 class MinimaResult:
     report: Dict[str, Any]
     solutions: List[Result]
+    def __init__(self, report: Dict[str, Any], solutions: List[Result]) -> None: ...
 
 def solve(scene: _SceneLike, backend: Optional[str] = ..., **options: Any) -> Result: ...
 def adapt(scene: _SceneLike, target_error: float = ..., backend: Optional[str] = ..., **options: Any) -> Result: ...
