@@ -101,7 +101,7 @@ class Scene:
 
 
 class Certificate(namedtuple("Certificate", "passed max_residual tol residuals")):
-    """The a-posteriori certificate of a solution (MODEL.md §4): it passes when every normalized
+    """The a-posteriori certificate of a solution (docs/model.md §4): it passes when every normalized
     residual (``residuals``, by name) is at most ``tol`` (check.certificate_tol).
 
     Fields: passed (bool), max_residual (float), tol (float), residuals (dict name -> float).
