@@ -68,7 +68,9 @@ def threads(n_min, n_max, repeat):
         with ThreadPoolExecutor(2) as pool:
             pooled_e = [r.energy for r in pool.map(hc.solve, scenes)]
         t_pool.append(time.perf_counter() - t0)
-        assert pooled_e == serial_e, "threads changed an answer"
+        # Round-off apart: concurrent solves run the BLAS on one thread each, which sums in
+        # another order than a single solve's BLAS threads.
+        assert all(abs(a - b) <= 1e-10 * abs(a) for a, b in zip(serial_e, pooled_e)), "threads changed an answer"
     return {"scenes": 8, "n_min": n_min, "n_max": n_max, "serial_s": statistics.median(t_serial),
             "pool2_s": statistics.median(t_pool), "ratio": statistics.median(t_pool) / statistics.median(t_serial),
             "serial_all": t_serial, "pool2_all": t_pool}

@@ -38,7 +38,10 @@
 #include <pybind11/stl.h>
 #include <pythread.h>
 
+#include <dlfcn.h>
+
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -112,11 +115,69 @@ class SignalRelay {
 };
 
 // Python's logging level of the "hemicontact" logger decides which lines the library formats at
-// all: below the logger's level they cost nothing (and take no GIL).
+// all: below the logger's level they cost nothing (and take no GIL). A program that never imported
+// logging has configured nothing: WARNING, Python's default, without importing logging (~10 ms of
+// a short script's run; the sink imports it for the first warning).
 void sync_log_level() {
-  const int level = py::module_::import("logging").attr("getLogger")("hemicontact").attr("getEffectiveLevel")().cast<int>();
+  int level = 30;
+  if (py::module_::import("sys").attr("modules").contains("logging"))
+    level = py::module_::import("logging").attr("getLogger")("hemicontact").attr("getEffectiveLevel")().cast<int>();
   set_log_level(level <= 10 ? LogLevel::DEBUG : level <= 20 ? LogLevel::INFO : level <= 30 ? LogLevel::WARN : LogLevel::QUIET);
 }
+
+// While more than one solve runs in this process, OpenBLAS runs each call on the calling thread.
+// Each solve's factorizations call the BLAS, and OpenBLAS's own threads (2 by default on 2 cores)
+// from two solves at once spin against each other: fig2 n = 128 in ThreadPoolExecutor(2) took
+// 0.5 s of CPU per solve instead of 0.15 s, slower than one after the other; with one BLAS thread
+// per call, eight random scenes took 0.68x their serial time (docs/python.md). A single solve keeps
+// the BLAS as configured (the CLI's settings); the count is restored once no solve runs, and an
+// OPENBLAS_NUM_THREADS in the environment is left alone. Looked up at run time, as the adaptive
+// loop does: a build against another BLAS has no such function.
+class ConcurrentSolves {
+ public:
+  ConcurrentSolves() {
+    const std::lock_guard<std::mutex> lock(mutex());
+    State& st = state();
+    if (++st.active == 2 && st.set != nullptr && st.get != nullptr) {
+      const int n = st.get();
+      if (n > 1) {
+        st.saved = n;
+        st.set(1);
+      }
+    }
+  }
+  ~ConcurrentSolves() {
+    const std::lock_guard<std::mutex> lock(mutex());
+    State& st = state();
+    if (--st.active == 0 && st.saved > 1) {
+      st.set(st.saved);
+      st.saved = 0;
+    }
+  }
+  ConcurrentSolves(const ConcurrentSolves&) = delete;
+  ConcurrentSolves& operator=(const ConcurrentSolves&) = delete;
+
+ private:
+  struct State {
+    int active = 0;
+    int saved = 0;  // the thread count to restore (0: nothing changed)
+    int (*get)() = nullptr;
+    void (*set)(int) = nullptr;
+    State() {
+      if (std::getenv("OPENBLAS_NUM_THREADS")) return;
+      get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+      set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    }
+  };
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  static State& state() {
+    static State s;
+    return s;
+  }
+};
 
 // Run @p f without the GIL, interruptible by Ctrl-C when called on the main thread.
 template <class F>
@@ -128,6 +189,7 @@ auto run_released(F&& f) -> decltype(f()) {
   if (PyThread_get_thread_ident() == g_main_thread) check.emplace([&relay] { return relay.poll(); });
   try {
     py::gil_scoped_release nogil;
+    const ConcurrentSolves counted;
     return f();
   } catch (const Interrupted&) {
     relay.raise();  // the GIL is held again: nogil ended with the try block
@@ -384,11 +446,14 @@ PYBIND11_MODULE(_hemicontact, m) {
 
   // Log lines to logging.getLogger("hemicontact") (until the interpreter exits: then stderr
   // again, since no Python code can run).
-  static py::object* logger = new py::object(py::module_::import("logging").attr("getLogger")("hemicontact"));
+  // The logger is looked up at the first line (importing logging costs a short script ~10 ms);
+  // leaked on purpose: no Python object may be released after the interpreter is gone.
+  static py::object* logger = nullptr;
   set_log_sink([](LogLevel level, const std::string& line) {
     py::gil_scoped_acquire gil;
     const int pylevel = level == LogLevel::DEBUG ? 10 : level == LogLevel::INFO ? 20 : 30;
     try {
+      if (logger == nullptr) logger = new py::object(py::module_::import("logging").attr("getLogger")("hemicontact"));
       logger->attr("log")(pylevel, line);
     } catch (py::error_already_set& e) {
       e.discard_as_unraisable("hemicontact log line");
