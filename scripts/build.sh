@@ -23,8 +23,25 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DHEMICONTACT_UNITY_BUILD=ON -
   exit 1
 }
 grep "hemicontact:" "$build/configure.log" >&2 || true
+# The Python module is built with the programs too (python3 -c "import hemicontact" after either
+# README command), where this build has it (pybind11 found: HEMICONTACT_WITH_PYTHON).
+if [ "$#" -gt 0 ] && [ -d "$build/python/CMakeFiles" ]; then
+  set -- "$@" _hemicontact
+fi
 if [ "$#" -gt 0 ]; then
   cmake --build "$build" -j "$jobs" --target "$@"
 else
   cmake --build "$build" -j "$jobs"
+fi
+# `python3 -c "import hemicontact"`: a hemicontact.pth in the user's site-packages names
+# $build/python, the module this build made. A path file rather than a copy (cmake --install
+# --component python installs a copy, for packaging): no root needed, and a rebuild is what
+# python3 imports next, with no second copy to go stale. Only where the build made the module
+# (HEMICONTACT_WITH_PYTHON, pybind11 found) and Debian's python3 has a user site.
+if [[ -f "$build/python/hemicontact/__init__.py" ]] && site="$(/usr/bin/python3 -m site --user-site 2>/dev/null)" \
+   && [[ "$(/usr/bin/python3 -c 'import site; print(site.ENABLE_USER_SITE)')" == "True" ]]; then
+  module_dir="$(cd "$build/python" && pwd)"
+  mkdir -p "$site"
+  echo "$module_dir" >"$site/hemicontact.pth"
+  echo "build: python3 imports hemicontact from $module_dir ($site/hemicontact.pth)" >&2
 fi

@@ -22,6 +22,10 @@ pkgs=(
   libgtest-dev           # unit tests
   libbenchmark-dev       # micro-benchmarks in bench/
   python3-matplotlib     # pictures (work-precision, convergence, Fig. 2); Debian's /usr/bin/python3
+  python3-dev pybind11-dev  # the Python module (python/): Python's headers and pybind11
+  python3-numpy          # the module's arrays
+  python3-pytest         # the module's tests (tests/python)
+  python3-meshio         # Result.export / to_meshio (optional at run time: the module imports it on use)
 )
 # Gmsh is part of the default install: users mesh their own geometry (mesh.type = "gmsh").
 gmsh=1

@@ -204,15 +204,7 @@ int cmd_solve(const std::vector<std::string>& args) {
     // levels.
     std::vector<AdaptLevel> levels_so_far;
     const auto write_levels = [&](bool partial) {
-      AdaptResult so_far;
-      for (const AdaptLevel& k : levels_so_far)
-        if (k.ok) so_far.history.push_back(k);
-      nlohmann::json j = adapt_report(so_far, aopt);
-      j["partial"] = partial;
-      j["note"] = "the certified levels of an adaptive solve, written after each level (partial: the run had "
-                  "not finished); report.json, written last, marks a finished run";
-      j.erase("reached");
-      j.erase("stop_reason");
+      const nlohmann::json j = adapt_levels_json(levels_so_far, aopt, partial);
       write_text_file((std::filesystem::path(a.out) / ADAPT_LEVELS_FILE).string(), j.dump(2) + "\n");
     };
     const auto keep_level = [&](const AdaptLevel& L, const Model&, const Solution&, const ErrorEstimate&) {
@@ -231,25 +223,13 @@ int cmd_solve(const std::vector<std::string>& args) {
   nlohmann::json extra = nlohmann::json::object();
   std::string missed;  // why a requested target was not met (empty: met, or nothing requested)
   if (adaptive) {
-    extra["adapt"] = adapt_report(adapted, aopt);
     const AdaptLevel& last = adapted.history.back();
     std::printf("adapt: %zu levels, %lld dofs, estimate %.3g (target %.3g, %s), %.3g s\n", adapted.history.size(),
                 static_cast<long long>(last.dofs), last.estimate, aopt.target_error, adapted.stop_reason.c_str(),
                 last.cumulative_seconds);
     // A cap that stops the loop above the target is not success (it once exited 0, "ok": true).
     // An uncertified level is the verdict's own business (exit 3 or 4).
-    if (!adapted.reached && sol.ok()) {
-      char buf[320];
-      std::snprintf(buf, sizeof buf,
-                    "adapt.target_error = %.3g not met: stopped by adapt.%s at estimate %.3g (%zu levels, %lld dofs); "
-                    "raise adapt.%s, or a larger adapt.target_error",
-                    aopt.target_error, adapted.stop_reason.c_str(), last.estimate, adapted.history.size(),
-                    static_cast<long long>(last.dofs), adapted.stop_reason.c_str());
-      missed = buf;
-      extra["ok"] = false;
-      extra["adapt"]["reason"] = missed;
-      extra["message"] = missed + " (the final mesh's answer is certified: " + sol.message + ")";
-    }
+    extra = adapt_solve_extra(adapted, aopt, missed);
   }
   write_solve_results(a, plot_args, scene, md, sol, opt, extra, adaptive ? &adapted.estimate.eta : nullptr);
   const int verdict = solve_verdict(sol, opt);

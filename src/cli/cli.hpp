@@ -1,6 +1,7 @@
 #pragma once
 // Command-line front end: argument parsing and the commands (private to the program).
 
+#include <hemicontact/output/solve_files.hpp>
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
 #include <hemicontact/problem/solve_options.hpp>
@@ -49,11 +50,6 @@ int cmd_solve(const std::vector<std::string>& args);
 /// solver.engine = petsc: run hemicontact-mpi (beside this program) on the same `solve` arguments in
 /// this process's place; returns only by throwing (no PETSc in this build: EXIT_INPUT naming it).
 int exec_petsc_engine(const std::vector<std::string>& args);
-/// The files `solve` may write into its folder (solve_output.cpp).
-std::vector<std::string> solve_output_names();
-/// An adaptive solve's certified levels so far, rewritten after each level (kept when the run is
-/// interrupted or fails; report.json, written last, marks a finished run).
-inline constexpr const char* ADAPT_LEVELS_FILE = "adapt_levels.json";
 /// The plotting script's arguments of `solve` (its --magnification checked). @throws UsageError
 std::vector<std::string> solve_plot_args(const SceneArgs& a);
 /// Write solution.vtu, gamma3.csv, the summary on stdout, the picture (--plot) and report.json

@@ -5,10 +5,9 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/output/csv_writer.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/output/report.hpp>
-#include <hemicontact/output/vtk_writer.hpp>
+#include <hemicontact/output/solve_files.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -16,10 +15,6 @@
 #include <filesystem>
 
 namespace hemicontact::cli {
-
-std::vector<std::string> solve_output_names() {
-  return {"report.json", "solution.vtu", "gamma3.csv", "fig2.png", "status3d.png", ADAPT_LEVELS_FILE};
-}
 
 std::vector<std::string> solve_plot_args(const SceneArgs& a) {
   // scripts/plot_fig2.py (3D: plot_status3d.py) DIR --title NAME [--magnification M]
@@ -40,11 +35,7 @@ void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plo
   const bool plot = a.plot || scene.at("output").at("plot").get<bool>();
   // report.json comes last: it lists every file of the set ("files") and marks it complete.
   const std::filesystem::path out(a.out);
-  const VtuFormat vtu_format =
-      scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
-  if (scene.at("output").at("vtu").get<bool>())
-    write_vtu((out / "solution.vtu").string(), md, sol, vtu_format, cell_indicators);
-  if (scene.at("output").at("csv").get<bool>()) write_gamma3_csv((out / "gamma3.csv").string(), md, sol);
+  write_solution_files(a.out, scene, md, sol, cell_indicators);
   std::fputs(summary_table(md, sol).c_str(), stdout);
   // 3D: the Γ3 status map with slip directions (scripts/plot_status3d.py, same arguments).
   const bool d3 = md.dim() == 3;
@@ -52,11 +43,7 @@ void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plo
   if (plot && run_plot_script(d3 ? "plot_status3d.py" : "plot_fig2.py", plot_args, (out / picture).string()) != 0)
     log_warn() << "--plot: " << (out / picture).string() << " was not written (the solve's results are)";
   if (plot && std::filesystem::exists(out / picture)) record_output_file((out / picture).string());
-  nlohmann::json report = make_report(md, sol, opt);
-  for (const auto& [key, value] : extra.items()) report[key] = value;
-  report["files"] = output_files(a.out);
-  report["files"].push_back("report.json");
-  write_report((out / "report.json").string(), report);
+  write_final_report(a.out, solve_report(md, sol, opt, extra));
   std::printf("results in %s\n", a.out.c_str());
 }
 

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <cmath>
 #include <optional>
@@ -236,6 +237,41 @@ nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt) {
                  {"landed", L.landed}});
   j["history"] = h;
   return j;
+}
+
+nlohmann::json adapt_levels_json(const std::vector<AdaptLevel>& levels, const AdaptOptions& aopt, bool partial) {
+  AdaptResult so_far;
+  for (const AdaptLevel& k : levels)
+    if (k.ok) so_far.history.push_back(k);
+  nlohmann::json j = adapt_report(so_far, aopt);
+  j["partial"] = partial;
+  j["note"] = "the certified levels of an adaptive solve, written after each level (partial: the run had "
+              "not finished); report.json, written last, marks a finished run";
+  j.erase("reached");
+  j.erase("stop_reason");
+  return j;
+}
+
+nlohmann::json adapt_solve_extra(const AdaptResult& adapted, const AdaptOptions& aopt, std::string& missed) {
+  nlohmann::json extra = nlohmann::json::object();
+  missed.clear();
+  extra["adapt"] = adapt_report(adapted, aopt);
+  const AdaptLevel& last = adapted.history.back();
+  // A cap that stops the loop above the target is not success. An uncertified level is the
+  // verdict's own business (not converged, or the certificate failed).
+  if (!adapted.reached && adapted.solution.ok()) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "adapt.target_error = %.3g not met: stopped by adapt.%s at estimate %.3g (%zu levels, %lld dofs); "
+                  "raise adapt.%s, or a larger adapt.target_error",
+                  aopt.target_error, adapted.stop_reason.c_str(), last.estimate, adapted.history.size(),
+                  static_cast<long long>(last.dofs), adapted.stop_reason.c_str());
+    missed = buf;
+    extra["ok"] = false;
+    extra["adapt"]["reason"] = missed;
+    extra["message"] = missed + " (the final mesh's answer is certified: " + adapted.solution.message + ")";
+  }
+  return extra;
 }
 
 }  // namespace hemicontact

@@ -1,3 +1,4 @@
+#include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/driver/exact_inner.hpp>
 
 #include <Eigen/Cholesky>
@@ -344,6 +345,7 @@ ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const Exa
   solver.start();
   double& E = solver.energy();
   for (R.rounds = 1; R.rounds <= opt.max_rounds; ++R.rounds) {
+    check_interrupt();
     const double E0 = E;
     if (!solver.sweep()) {
       R.note = "Phi_lambda is unbounded below along a normal unknown (an outer slope of p_nu below -S_ii/w)";

@@ -1,3 +1,4 @@
+#include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/driver/solve.hpp>
 
 #include <hemicontact/check/certificate.hpp>
@@ -608,6 +609,7 @@ bool ContactSolver::Impl::run_stage(Run& run, size_t stage) {
   int slow = 0;
   double prev_delta = INF;  // ‖Δλ‖∞ of the previous update in this stage
   for (int it = 0;; ++it) {
+    check_interrupt();
     OuterIteration rec = minimize(run, stage);
     if (lagged) relax_lambda(run, rec, final_stage && it > 0, prev_delta);
     run.sol.history.push_back(rec);
@@ -947,6 +949,7 @@ void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& re
   Anderson aa(opt.anderson_memory);
   double best = INF, floor_ref = INF;
   for (int it = 0; it < opt.max_outer; ++it) {
+    check_interrupt();
     P.traction_scale = coupling.scale(x, P.lambda);
     const auto ti = clk::now();
     const ExactInnerResult R = exact_inner_solve(P, x, opt.exact_inner);

@@ -2,6 +2,7 @@
 
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/interrupt.hpp>
 
 #include <cholmod.h>
 
@@ -212,6 +213,9 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m, const std::str
     throw Error("condensation: the stiffness is not positive definite (is the body clamped on Γ1?)",
                 EXIT_NOT_CONVERGED);
   m_t_factor = since(t0);
+  // CHOLMOD's factorization cannot be stopped from outside (no callback): a host's interrupt
+  // (core/interrupt.hpp) takes effect as soon as it returns, before the Schur complement.
+  check_interrupt();
 
   // 3. S = L_CC L_CCᵀ from the trailing block of the supernodal factor. Supernode s holds columns
   //    super[s]..super[s+1]−1 as a dense column-major block with rows s[pi[s]..pi[s+1]) stored at x[px[s]].

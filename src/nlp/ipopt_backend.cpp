@@ -38,6 +38,7 @@
 #include "nlp/ipopt_tnlp.hpp"
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/core/log.hpp>
 
 #include <IpIpoptApplication.hpp>
@@ -50,6 +51,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <mutex>
 #include <sstream>
 #include <string>
 
@@ -201,6 +203,14 @@ class IpoptBackend final : public NlpBackend {
 
 // The problem is checked, x is inside the bounds and n ≥ 1 (NlpBackend::minimize).
 SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) {
+  // One Ipopt solve at a time in the process: Debian's MUMPS (libdmumps_seq, Ipopt's linear
+  // solver) keeps its load-balancing state in Fortran module variables, and two solves in two
+  // threads (the Python module's thread pools) abort in DMUMPS_LOAD_INIT ("PB allocation"),
+  // measured with 60 random scenes in 4 threads. Held until the application, and with it MUMPS's
+  // instance, is gone (declared before app: destroyed after it). The rest of a solve (CHOLMOD,
+  // the exact solver, the certificate) runs in parallel.
+  static std::mutex mumps_mutex;
+  const std::lock_guard<std::mutex> one_at_a_time(mumps_mutex);
   const Index n = problem.f->size();
   SolveResult result;
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
@@ -266,6 +276,7 @@ SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
   log_debug() << "ipopt: n = " << n << ", " << (warm ? "warm" : "cold") << " start, tol " << options.tol
               << " relative to G = " << scale << ", max_iter " << options.max_iter;
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
+  check_interrupt();  // the intermediate callback stopped Ipopt for the host's interrupt
   // Ipopt catches std::bad_alloc (its own and MUMPS's allocations) and returns this status: the
   // memory message and code of every other allocation failure, not "not converged".
   if (status == Ipopt::Insufficient_Memory)

@@ -1,6 +1,7 @@
 #include "nlp/ipopt_tnlp.hpp"
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/core/log.hpp>
 
 #include <cmath>
@@ -184,7 +185,9 @@ bool IpoptTnlp::intermediate_callback(Ipopt::AlgorithmMode mode, Ipopt::Index it
                 << " inf_du=" << inf_du << " mu=" << mu << " reg=" << regularization_size << " alpha_du=" << alpha_du
                 << " alpha_pr=" << alpha_pr << " ls=" << ls_trials;
   }
-  return true;  // never request a stop: max_iter is Ipopt's business
+  // Stop only for the host's interrupt (core/interrupt.hpp; the backend then throws Interrupted):
+  // max_iter is Ipopt's business.
+  return !interrupt_requested();
 }
 
 }  // namespace hemicontact

@@ -66,6 +66,7 @@
 
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/core/log.hpp>
 
 #include <Eigen/CholmodSupport>
@@ -484,6 +485,7 @@ SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const 
   double shift_last = 0;  // δ of the previous iteration (0: none needed)
 
   for (int k = 0;; ++k) {
+    check_interrupt();
     const double r = first_order_residual(x, g, lo, up);
     stats.r = r;
     if (!std::isfinite(r)) return finish(result, stats, SolveStatus::FAILED, "the gradient is not finite");

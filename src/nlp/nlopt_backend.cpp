@@ -85,6 +85,7 @@
 
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/core/log.hpp>
 
 #include <nlopt.hpp>
@@ -331,6 +332,7 @@ struct Evaluator {
   static double call(unsigned n, const double* xp, double* grad, void* data) {
     auto& e = *static_cast<Evaluator*>(data);
     try {
+      check_interrupt();  // Interrupted is kept in e.error and rethrown once NLopt has returned
       e.x = Eigen::Map<const Vec>(xp, Index(n));
       ++e.evaluations;
       const double f = e.problem->f->value(e.x);

@@ -91,7 +91,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   std::string message;
   if (rank == 0) {
     try {
-      lock.emplace(prepare_output_dir(a.out, a.force, cli::solve_output_names()));
+      lock.emplace(prepare_output_dir(a.out, a.force, solve_output_names()));
     } catch (const Error& e) {
       code = e.code();
       message = e.what();

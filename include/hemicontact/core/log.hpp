@@ -1,6 +1,7 @@
 #pragma once
 /// @file log.hpp  Minimal progress logger: everything goes to stderr, results go to files.
 
+#include <functional>
 #include <sstream>
 #include <string>
 
@@ -13,8 +14,15 @@ enum class LogLevel : int { QUIET = 0, WARN = 1, INFO = 2, DEBUG = 3 };
 void set_log_level(LogLevel level);
 /// @return the global verbosity.
 LogLevel log_level();
-/// Write one line to stderr if @p level is enabled; prefixed with the elapsed wall time.
+/// Write one line to stderr if @p level is enabled; prefixed with the elapsed wall time. With a
+/// sink set (set_log_sink), the enabled line goes to the sink instead, without the prefix.
 void log_line(LogLevel level, const std::string& line);
+/// Receives each enabled line (without "warning: " or the time: the host adds its own), on the
+/// thread that logged it.
+using LogSink = std::function<void(LogLevel level, const std::string& line)>;
+/// Send the log lines to @p sink instead of stderr (an empty sink: stderr again). For a host
+/// that has its own logging (the Python module forwards to Python's `logging`).
+void set_log_sink(LogSink sink);
 
 /// Stream-style helpers: `log_info() << "outer " << k;` writes on destruction.
 class LogStream {

@@ -79,4 +79,14 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh initial, const AdaptO
 /// @return the report.json "adapt" object: options, history, final estimate, stop reason.
 nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt);
 
+/// @return the content of adapt_levels.json: the certified levels of @p levels (adapt_report's
+/// keys without reached and stop_reason), with "partial" and a note on what the file is.
+nlohmann::json adapt_levels_json(const std::vector<AdaptLevel>& levels, const AdaptOptions& aopt, bool partial);
+
+/// @brief The report.json keys of an adaptive solve beside make_report's: "adapt" (adapt_report),
+/// and, when the loop stopped above the target on a certified answer, "ok": false and a
+/// "message" saying which cap stopped it.
+/// @param missed set to that reason ("" when the target was met or the answer is not certified)
+nlohmann::json adapt_solve_extra(const AdaptResult& adapted, const AdaptOptions& aopt, std::string& missed);
+
 }  // namespace hemicontact

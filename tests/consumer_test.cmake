@@ -1,0 +1,40 @@
+# ctest's hemicontact.consumer: install the build into BUILD/install-test, build
+# examples/consumer against it with find_package(hemicontact) (in a fresh folder, so that nothing
+# of the build tree is used), run it on fig2 at n = 8 and compare its energy with the CLI's.
+# Run with -DBUILD=<build folder> -DSOURCE=<source folder> -DCLI=<hemicontact program>.
+set(prefix ${BUILD}/install-test)
+set(work ${BUILD}/consumer-test)
+file(REMOVE_RECURSE ${prefix} ${work})
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
+  endif()
+  set(out "${out}" PARENT_SCOPE)
+endfunction()
+run(${CMAKE_COMMAND} --install ${BUILD} --prefix ${prefix})
+foreach(f include/hemicontact/driver/solve.hpp include/hemicontact/config.hpp lib/libhemicontact.a
+          lib/cmake/hemicontact/hemicontactConfig.cmake lib/cmake/hemicontact/hemicontactTargets.cmake)
+  if(NOT EXISTS ${prefix}/${f})
+    message(FATAL_ERROR "cmake --install did not put ${f} in place")
+  endif()
+endforeach()
+run(${CMAKE_COMMAND} -S ${SOURCE}/examples/consumer -B ${work} -DCMAKE_BUILD_TYPE=Release
+    -DCMAKE_PREFIX_PATH=${prefix})
+run(${CMAKE_COMMAND} --build ${work})
+run(${work}/consumer ${SOURCE}/problems/sofonea2017-fig2.json 8)
+string(REGEX MATCH "energy ([-+0-9.eE]+)" _ "${out}")
+set(consumer_energy ${CMAKE_MATCH_1})
+if(NOT out MATCHES "certificate passed")
+  message(FATAL_ERROR "the consumer's solve was not certified:\n${out}")
+endif()
+run(${CLI} solve ${SOURCE}/problems/sofonea2017-fig2.json --set mesh.n=8 --out ${work}/cli --force --quiet)
+file(READ ${work}/cli/report.json report)
+string(JSON cli_energy GET "${report}" energy)
+# Same library, same scene: the same energy to round-off (compared as text to 12 digits).
+string(SUBSTRING "${consumer_energy}" 0 12 a)
+string(SUBSTRING "${cli_energy}" 0 12 b)
+if(NOT a STREQUAL b)
+  message(FATAL_ERROR "consumer energy ${consumer_energy} != CLI's ${cli_energy}")
+endif()
+message(STATUS "consumer: energy ${consumer_energy} (CLI ${cli_energy})")
