@@ -201,6 +201,30 @@ class IpoptBackend final : public NlpBackend {
   double m_scale = 1.0;  ///< gradient scale G of the last successful solve (see top of file)
 };
 
+// The options of one solve: the scaled tolerances (G = scale, see top of file), the interior
+// point's push off the bounds, and the warm start's from the last multipliers.
+void set_ipopt_options(Ipopt::OptionsList& o, const BackendOptions& options, int print_level, double scale, bool warm) {
+  set_option(o, "print_level", print_level);
+  if (print_level == 0) set_option(o, "sb", std::string("yes"));
+  set_option(o, "tol", options.tol);
+  set_option(o, "max_iter", options.max_iter);
+  set_option(o, "hessian_approximation", std::string("exact"));
+  set_option(o, "mu_strategy", std::string("adaptive"));
+  set_option(o, "nlp_scaling_method", std::string("user-scaling"));
+  set_option(o, "dual_inf_tol", scale);
+  set_option(o, "compl_inf_tol", 1e-4 * scale);
+  set_option(o, "bound_relax_factor", 0.0);
+  set_option(o, "bound_push", 1e-4);
+  set_option(o, "bound_frac", 1e-4);
+  if (warm) {
+    set_option(o, "warm_start_init_point", std::string("yes"));
+    set_option(o, "warm_start_bound_push", 1e-9);
+    set_option(o, "warm_start_bound_frac", 1e-9);
+    set_option(o, "warm_start_mult_bound_push", 1e-9);
+    set_option(o, "mu_init", 1e-9);
+  }
+}
+
 // The problem is checked, x is inside the bounds and n ≥ 1 (NlpBackend::minimize).
 SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const BackendOptions& options) {
   // One Ipopt solve at a time in the process: Debian's MUMPS (libdmumps_seq, Ipopt's linear
@@ -233,25 +257,7 @@ SolveResult IpoptBackend::do_minimize(const NlpProblem& problem, Vec& x, const B
   if (warm) scale = std::max(scale, m_scale);
 
   Ipopt::OptionsList& o = *app->Options();
-  set_option(o, "print_level", print_level);
-  if (print_level == 0) set_option(o, "sb", std::string("yes"));
-  set_option(o, "tol", options.tol);
-  set_option(o, "max_iter", options.max_iter);
-  set_option(o, "hessian_approximation", std::string("exact"));
-  set_option(o, "mu_strategy", std::string("adaptive"));
-  set_option(o, "nlp_scaling_method", std::string("user-scaling"));
-  set_option(o, "dual_inf_tol", scale);
-  set_option(o, "compl_inf_tol", 1e-4 * scale);
-  set_option(o, "bound_relax_factor", 0.0);
-  set_option(o, "bound_push", 1e-4);
-  set_option(o, "bound_frac", 1e-4);
-  if (warm) {
-    set_option(o, "warm_start_init_point", std::string("yes"));
-    set_option(o, "warm_start_bound_push", 1e-9);
-    set_option(o, "warm_start_bound_frac", 1e-9);
-    set_option(o, "warm_start_mult_bound_push", 1e-9);
-    set_option(o, "mu_init", 1e-9);
-  }
+  set_ipopt_options(o, options, print_level, scale, warm);
   // Pass-through options last, so they override any default above. They are set before
   // Initialize() so that file options such as "output_file" take effect.
   for (const auto& [key, value] : options.extra) set_passthrough(*app, key, value);
