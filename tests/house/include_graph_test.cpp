@@ -326,3 +326,14 @@ TEST(House, NoFunctionOver100Lines) {
       ADD_FAILURE() << file << ": " << name << " is allowed over " << MAX_LINES
                     << " lines but is no longer (or is gone): remove it from the list";
 }
+
+// README.md is the manual (what it is, the two commands, using it, where the rest is), not a lab
+// notebook: measurements and their history live in bench/README.md and docs/, one file a subject.
+TEST(House, ReadmeIsAManualOfAtMost300Lines) {
+  std::ifstream in(fs::path(HEMICONTACT_SOURCE_DIR) / "README.md");
+  ASSERT_TRUE(in) << "README.md not found in " << HEMICONTACT_SOURCE_DIR;
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  EXPECT_GT(lines, 50) << "README.md lost its content";
+  EXPECT_LE(lines, 300) << "README.md has " << lines << " lines: move measurements and history to docs/";
+}
