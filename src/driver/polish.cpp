@@ -32,20 +32,8 @@ void accept_if_better(const Model& md, const Condensation& cond, const SolveOpti
   }
   const Solution s1 = evaluate_condensed(md, cond, opt, x, load_scale);
   r.after = s1.certificate.max_residual;
-  const double delta = 1e-7 * s0.certificate.length_scale;
-  for (Index k = 0; k < md.contact.size(); ++k)
-    if (s1.status[k].normal != s0.status[k].normal ||
-        (s1.status[k].tangential != s0.status[k].tangential && !frictionless_at(md, s0.state.u_nu[k], delta))) {
-      r.note = "statuses changed at node " + std::to_string(k) + " (" + s0.status[k].str() + " -> " +
-               s1.status[k].str() + ")";
-      return;
-    }
-  // Both at round-off (the smoothed answer can already be exact, e.g. when no node is near a kink
-  // or stick) is a tie that the polish wins: it carries no smoothing error by construction.
-  if (!(r.after <= std::max(r.before, 1e-12))) {
-    r.note = "the certificate did not improve";
-    return;
-  }
+  r.note = polish_rejection(md, s0, s1, 1e-7 * s0.certificate.length_scale, r.before);
+  if (!r.note.empty()) return;
   r.accepted = true;
   x_C = x;
 }

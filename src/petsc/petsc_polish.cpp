@@ -156,17 +156,8 @@ void Engine::polish_accept(::Vec x, const Solution& s0, double delta, PolishResu
   }
   const Solution s1 = evaluate(xc, opt);
   r.after = s1.certificate.max_residual;
-  for (Index k = 0; k < md.contact.size(); ++k)
-    if (s1.status[k].normal != s0.status[k].normal ||
-        (s1.status[k].tangential != s0.status[k].tangential && !frictionless_at(md, s0.state.u_nu[k], delta))) {
-      r.note = "statuses changed at node " + std::to_string(k) + " (" + s0.status[k].str() + " -> " +
-               s1.status[k].str() + ")";
-      return;
-    }
-  if (!(r.after <= std::max(r.before, 1e-12))) {
-    r.note = "the certificate did not improve";
-    return;
-  }
+  r.note = polish_rejection(md, s0, s1, delta, r.before);
+  if (!r.note.empty()) return;
   r.accepted = true;
   x_io = xc;
 }

@@ -12,7 +12,9 @@
 /// (written "inf" when there is no rigid obstacle), status e.g. "compliance/slip-". Numbers are
 /// written in the shortest form that reads back to the same double (full precision).
 
-#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/problem/model.hpp>
+#include <hemicontact/problem/solution.hpp>
+#include <hemicontact/problem/solve_options.hpp>
 
 #include <string>
 

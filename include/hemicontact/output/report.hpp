@@ -29,7 +29,9 @@
 /// residual or scale is inf/nan. The file is always valid JSON. Finite doubles are written in
 /// the shortest form that reads back exactly.
 
-#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/problem/model.hpp>
+#include <hemicontact/problem/solution.hpp>
+#include <hemicontact/problem/solve_options.hpp>
 
 #include <nlohmann/json.hpp>
 

@@ -29,7 +29,9 @@
 ///  - "stress" (Voigt, md.material->stress(strain)), "von_mises"
 ///  - "error_indicator" (adaptive solves only: η_T of check/estimator.hpp, energy-norm units)
 
-#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/problem/model.hpp>
+#include <hemicontact/problem/solution.hpp>
+#include <hemicontact/problem/solve_options.hpp>
 
 #include <string>
 #include <utility>
