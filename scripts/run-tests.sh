@@ -4,5 +4,6 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
 bash scripts/build.sh
+echo "run-tests: set-up and build took $SECONDS s" >&2
 build="${BUILD_DIR:-build}"
 ctest --test-dir "$build" --output-on-failure -j "${JOBS:-$(nproc)}"

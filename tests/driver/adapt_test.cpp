@@ -39,6 +39,12 @@ struct Kept {
 }  // namespace
 
 TEST(Adapt, CornerProblemRestoresTheOptimalRate) {
+#if defined(HEMICONTACT_SANITIZED)
+  // The rate needs levels up to 60 000 unknowns (17 s under the sanitizers); the adaptive loop's
+  // memory use is watched there by the smaller cases below, and the rate is asserted in the
+  // regular build.
+  GTEST_SKIP() << "the observed rate needs 60 000 unknowns: asserted in the regular build";
+#endif
   const json scene = load_scene(PROBLEMS + "/elasticity-square.json",
                                 {"mesh.n=4", "mesh.diagonal=\"symmetric\"", "check.smallness=false"});
   AdaptOptions a;

@@ -121,7 +121,13 @@ TEST(RandomScenesPolish, StatusesReadAtTheSmoothingScale) {
 // on the count: CERTIFIED_MEASURED when it was set, less a margin of 1 for a machine whose rounding
 // tips a borderline draw. The 1000-seed study is bench/random_study.cpp.
 TEST(RandomScenesDefault, CertifiedWithDefaultSettingsWithAFloor) {
+#if defined(HEMICONTACT_SANITIZED)
+  // Under the sanitizers the first 16 seeds (all 16 certified when measured): the same solver paths
+  // for their memory use, at a third of the time (16 s for 48 seeds there).
+  constexpr int SEEDS = 16, CERTIFIED_MEASURED = 16, MARGIN = 1;
+#else
   constexpr int SEEDS = 48, CERTIFIED_MEASURED = 48, MARGIN = 1;
+#endif
   int certified = 0, solved = 0;
   std::string failed;
   for (unsigned seed = 1; seed <= SEEDS; ++seed) {
