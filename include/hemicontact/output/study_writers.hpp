@@ -1,10 +1,10 @@
 #pragma once
 /// @file study_writers.hpp  Tables, JSON and CSV of the studies: the mesh-convergence study
-/// (`hemicontact converge`, driver/convergence.hpp) and the search for distinct solutions
-/// (`hemicontact minima`, driver/minima.hpp).
+/// (`hemicontact converge`, studies/convergence.hpp) and the search for distinct solutions
+/// (`hemicontact minima`, studies/minima.hpp).
 
-#include <hemicontact/driver/convergence.hpp>
-#include <hemicontact/driver/minima.hpp>
+#include <hemicontact/studies/convergence.hpp>
+#include <hemicontact/studies/minima.hpp>
 
 #include <nlohmann/json.hpp>
 

@@ -4,7 +4,7 @@
 // method, so which solution a solve returns depends on where it starts. Nothing below changes the
 // solver: it only chooses starts, and checks and sorts what comes back.
 
-#include <hemicontact/driver/minima.hpp>
+#include <hemicontact/studies/minima.hpp>
 
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>

@@ -1,7 +1,7 @@
 #pragma once
 /// @file solve.hpp  The design's solve: min Π_λ subject to u_ν ≤ g, smoothed, handed to an NLP
 /// backend, inside the outer fixed point λ_i = F_b(u_ν,i) (docs/model.md §2), then the exact solver.
-/// ContactSolver::solve() is this, one named step per line (src/driver/solve.cpp):
+/// ContactSolver::solve() is this, one named step per line (src/solver/solve.cpp):
 ///
 ///   exact_first: solver.backend = auto and Φ_λ strongly convex (unique minimizer), or
 ///                solver.exact.start = always → the exact solver from the start; certified → done,
@@ -63,7 +63,7 @@ class ContactSolver {
   Vec to_unknowns(const Vec& x) const;
   /// @return where each Γ3 node's (ν, τ) unknowns are in the solver unknowns.
   const NodalDofs& contact_dofs() const;
-  /// The lagged problem's energy at a solution, for second-order checks (driver/minima.hpp).
+  /// The lagged problem's energy at a solution, for second-order checks (studies/minima.hpp).
   struct LaggedEnergy {
     const NlpObjective& f;  ///< Π_λ,ε in solver unknowns (unscaled), final widths, λ frozen at z
     Vec z;                  ///< the solution in solver unknowns

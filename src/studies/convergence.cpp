@@ -1,12 +1,12 @@
-#include <hemicontact/driver/convergence.hpp>
+#include <hemicontact/studies/convergence.hpp>
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <algorithm>
 #include <memory>

@@ -33,7 +33,7 @@
 /// the factor). That is exact — u = 0 on Γ1, so f enters the discrete problem only through f and
 /// f_x — and needs neither the scene's directory nor a new mesh or stiffness.
 
-#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <nlohmann/json.hpp>
 
