@@ -70,16 +70,6 @@ struct Candidate {
 
 }  // namespace
 
-int MinimaReport::local_minima() const {
-  return static_cast<int>(std::count_if(solutions.begin(), solutions.end(), [](const DistinctSolution& d) {
-    return d.second_order.verdict == "local minimum";
-  }));
-}
-
-int MinimaReport::certified_runs() const {
-  return static_cast<int>(std::count_if(runs.begin(), runs.end(), [](const MinimaRun& r) { return r.certified; }));
-}
-
 SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, const SolveOptions& opt,
                                     const Solution& sol, const MinimaOptions& mopt) {
   SecondOrderCheck c;

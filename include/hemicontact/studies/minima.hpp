@@ -32,115 +32,19 @@
 /// Load path: the loads are scaled on a copy of the model (f and its reduced f_x multiplied by
 /// the factor). That is exact — u = 0 on Γ1, so f enters the discrete problem only through f and
 /// f_x — and needs neither the scene's directory nor a new mesh or stiffness.
+///
+/// What the search asks and what it found (MinimaOptions, MinimaRun, DistinctSolution, MinimaReport)
+/// are plain records in problem/minima_report.hpp, which the writers (output/study_writers.hpp) read.
 
+#include <hemicontact/problem/minima_report.hpp>
 #include <hemicontact/solver/solve.hpp>
 
 #include <nlohmann/json.hpp>
 
-#include <functional>
-#include <map>
 #include <string>
 #include <vector>
 
 namespace hemicontact {
-
-/// What find_minima() does; defaults are the ones `hemicontact minima` documents.
-struct MinimaRun;
-
-struct MinimaOptions {
-  int starts = 8;                     ///< random starts per backend (≥ 0)
-  unsigned seed = 1;                  ///< seed of the random starts (std::mt19937)
-  std::vector<std::string> backends;  ///< backends to use; empty: the scene's (SolveOptions::backend)
-  double group_tol = 1e-6;            ///< relative energy-norm distance under which two results are one solution
-  double box = 1.0;                   ///< random box half-width B in units of U_s
-  int load_path_steps = 10;           ///< N: load-path step 1/N; 0: no load path
-  /// Caller's starts. Each is a full displacement u (size N·d, i.e. md.dofs.n_full()), or the
-  /// Γ3 unknowns (u_ν, u_τ[, u_τ2]) node after node (size d·n_Γ3, ContactNodes order), or
-  /// the solver unknowns (size ContactSolver::size(), full formulation). Checked in that order.
-  std::vector<Vec> user_starts;
-  /// Second-order check: λ_min ≥ −second_order_tol · scale counts as a local minimum (see
-  /// SecondOrderCheck::scale).
-  double second_order_tol = 1e-8;
-  /// Largest number of kept unknowns for which the dense Hessian is formed (full formulation);
-  /// beyond it the check is skipped ("unchecked"). The condensed Hessian is dense anyway.
-  Index max_dense = 4000;
-  /// Called as each run ends, with the runs so far (the last one just finished): the caller keeps
-  /// them as they come (the CLI: minima-runs.csv), so that an interrupted search loses only the
-  /// run it was in. The driver knows no files.
-  std::function<void(const std::vector<MinimaRun>& runs_so_far)> on_run;
-};
-
-/// Second-order check of a certified solution.
-///
-/// At the solution's solver unknowns z: the final smoothing widths are set and the friction
-/// bounds are frozen at z (ContactSolver::lagged_energy: λ_i = F_b(u_ν,i)), and the
-/// true Hessian H = ∇²Π_λ,ε(z) (Psd::NONE) is formed densely. Removed from it are
-///  - ν unknowns at the bound u_ν = g (contact): with a positive rigid reaction the critical cone
-///    has d_ν = 0 there; at a degenerate contact (zero reaction) removing them makes the test a
-///    necessary condition only (counted in `degenerate`);
-///  - τ unknowns of stick nodes with λ_i > 0: the exact |u_τ| has a kink there, and the smoothed
-///    curvature 2w_iλ_i/ε_τ (smooth_norm.hpp) is an artefact of ε — huge and positive, it would
-///    only inflate the scale. Strictly inside the cone (|σ_τ| < λ) the kink makes the energy grow
-///    at first order in d_τ, so d_τ = 0 in the critical cone.
-/// The smallest eigenvalue of what remains decides: λ_min ≥ −tol·scale → "local minimum", else
-/// "saddle". Off the law's ε-windows the smoothed Hessian is the exact one (MollifiedLaw is exact
-/// there); a node sitting on a downward jump of p_ν sees the mollified slope ≈ 3J/(4ε) < 0 — a
-/// saddle, as it should be (j_ν has a concave kink there). With the full formulation the
-/// interior unknowns are kept: by Sylvester's law the inertia is that of the condensed Hessian,
-/// so the verdict is the same (the value of λ_min is not).
-struct SecondOrderCheck {
-  std::string verdict = "unchecked";  ///< "local minimum", "saddle" or "unchecked"
-  double lambda_min = 0;              ///< smallest eigenvalue of the reduced Hessian (energy/length²)
-  double scale = 0;                   ///< max_i (K_x)_ii: the largest diagonal stiffness
-  Index kept = 0;                     ///< unknowns in the free subspace
-  Index removed_contact = 0;          ///< ν unknowns removed at u_ν = g
-  Index removed_stick = 0;            ///< τ unknowns removed at stick nodes (λ > 0)
-  Index degenerate = 0;               ///< of removed_contact: zero rigid reaction (weakly active)
-  std::string note;                   ///< why "unchecked", or other remarks
-};
-
-/// One run: a start, a backend, and what it gave.
-struct MinimaRun {
-  std::string start;       ///< "zero", "at-gap", "separated", "random-3", "load-up", "load-down", "user-1"
-  std::string backend;     ///< the backend requested for this run
-  std::string solved_by;   ///< what produced the answer (Solution::solved_by: "ipopt+exact", "exact", ...)
-  bool converged = false;  ///< backend_ok && fixed_point_converged
-  bool certified = false;  ///< certificate passed (whatever the backend said: the certificate is the judge)
-  double energy = 0;       ///< Π (unsmoothed) of the result
-  double certificate = 0;  ///< certificate max residual
-  double seconds = 0;      ///< wall time of this run (including its load path)
-  int group = -1;          ///< index into MinimaReport::solutions, −1 if not certified
-  std::string message;     ///< the solve's verdict
-};
-
-/// One distinct solution.
-struct DistinctSolution {
-  Solution solution;                    ///< representative: the member with the smallest certificate residual
-  SecondOrderCheck second_order;        ///< local minimum or saddle
-  std::vector<int> runs;                ///< indices into MinimaReport::runs that reached it
-  std::vector<std::string> starts;      ///< their start labels (in run order)
-  std::map<std::string, int> backends;  ///< what solved them (MinimaRun::solved_by) → how many runs reached it
-  double spread = 0;                    ///< max relative energy-norm distance of a member to the representative
-  /// The index of this solution's mirror image (2D: Γ3 reflected about the midpoint of its x-range,
-  /// u_ν kept and u_τ reversed, the same energy), −1 if none: the two are one solution of a
-  /// mirror-symmetric scene, found once per side.
-  int mirror_of = -1;
-};
-
-/// Everything find_minima() found.
-struct MinimaReport {
-  std::vector<DistinctSolution> solutions;  ///< sorted by energy, lowest first
-  std::vector<MinimaRun> runs;              ///< every start, in the order run
-  SmallnessReport smallness;                ///< (21) of the scene (at load factor 1)
-  double x_scale = 1;                       ///< U_s
-  double norm_scale = 0;                    ///< max ‖u‖_E over certified results (group_tol is relative to it)
-  MinimaOptions options;                    ///< what was asked (backends filled in)
-  double seconds = 0;                       ///< total wall time
-  /// @return the number of distinct solutions judged local minima.
-  int local_minima() const;
-  /// @return the number of runs whose result was certified.
-  int certified_runs() const;
-};
 
 /// Pair the solutions of @p R that are mirror images of each other (DistinctSolution::mirror_of):
 /// 2D, Γ3 symmetric about the midpoint of its x-range, equal energies and reflected Γ3 values within
