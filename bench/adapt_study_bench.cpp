@@ -1,5 +1,5 @@
 // hemicontact_adapt_study — the numbers of docs/adaptivity.md: the work-precision study (uniform,
-// graded, adaptive against one reference; driver/adapt_study.hpp) and the whole-process time to a
+// graded, adaptive against one reference; studies/adapt_study.hpp) and the whole-process time to a
 // target.
 //
 //   hemicontact_adapt_study [--scene problems/sofonea2017-fig2.json] [--reference adaptive:0.002]
@@ -19,10 +19,10 @@
 //    adaptive point with the same number of unknowns (the same deterministic sequence); a final
 //    step cut by adapt.landing is not in the study's sequence, and its true error is then reported
 //    as unknown (null).
-#include <hemicontact/driver/adapt_study.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/studies/adapt_study.hpp>
 
 #include <nlohmann/json.hpp>
 

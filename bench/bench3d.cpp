@@ -14,10 +14,10 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <nlohmann/json.hpp>
 

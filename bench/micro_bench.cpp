@@ -53,7 +53,7 @@ const Model& model_at(int n) {
   return *cached;
 }
 
-// Π_λ exactly as solve() assembles it (src/driver/solve.cpp, make_formulation), smoothed at
+// Π_λ exactly as solve() assembles it (src/solver/solve.cpp, make_formulation), smoothed at
 // ε = 1e-6 U_s, evaluated at a realistic point: the unconstrained elastic solution clipped at the
 // obstacle (so the normal law sees every branch along Γ3), with λ_i = F_b(x_ν,i) frozen there.
 struct EnergySetup {

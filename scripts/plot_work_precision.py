@@ -6,7 +6,7 @@ Usage:
 
 Two log-log panels side by side: the relative energy-norm error against the number of unknowns N,
 and against the whole-process time in seconds (the error_corrected column when present: the
-measured error combined with the reference's own estimate, driver/adapt_study.hpp), one line per family (uniform, graded, adaptive;
+measured error combined with the reference's own estimate, studies/adapt_study.hpp), one line per family (uniform, graded, adaptive;
 hollow markers: a solve that was not certified), with an N^(-1/2) guide (the optimal P1 rate in
 2D) through the finest adaptive point and the 1 % level dashed.
 --out defaults to work_precision.png next to the CSV.

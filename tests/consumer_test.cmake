@@ -13,7 +13,7 @@ function(run)
   set(out "${out}" PARENT_SCOPE)
 endfunction()
 run(${CMAKE_COMMAND} --install ${BUILD} --prefix ${prefix})
-foreach(f include/hemicontact/driver/solve.hpp include/hemicontact/config.hpp lib/libhemicontact.a
+foreach(f include/hemicontact/solver/solve.hpp include/hemicontact/config.hpp lib/libhemicontact.a
           lib/cmake/hemicontact/hemicontactConfig.cmake lib/cmake/hemicontact/hemicontactTargets.cmake)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "cmake --install did not put ${f} in place")

@@ -1,10 +1,10 @@
 // Solve a scene file with the installed library: what `hemicontact solve` does without the files.
 // Usage: consumer SCENE.json [N]   (N: mesh.n). Prints the energy and the certificate; exits 0 when
 // the answer is certified.
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <cstdio>
 #include <string>

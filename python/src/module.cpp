@@ -16,10 +16,6 @@
 #include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/core/process.hpp>
-#include <hemicontact/driver/adapt.hpp>
-#include <hemicontact/driver/convergence.hpp>
-#include <hemicontact/driver/minima.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/nlp/backend.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/output/report.hpp>
@@ -27,6 +23,10 @@
 #include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/adapt.hpp>
+#include <hemicontact/solver/solve.hpp>
+#include <hemicontact/studies/convergence.hpp>
+#include <hemicontact/studies/minima.hpp>
 
 // The random scenes of the stress and default-settings studies (seeds -> --set assignments), so
 // that the Python benchmarks and tests draw exactly the scenes the C++ studies do.

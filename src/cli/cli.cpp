@@ -1,13 +1,9 @@
 #include "cli.hpp"
 
-#include <hemicontact/driver/adapt.hpp>
-#include <hemicontact/driver/adapt_study.hpp>
-#include <hemicontact/driver/minima.hpp>
-#include <hemicontact/core/format.hpp>
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/nlp/backend.hpp>
 #include <hemicontact/output/csv_writer.hpp>
 #include <hemicontact/output/output_dir.hpp>
@@ -15,6 +11,10 @@
 #include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/adapt.hpp>
+#include <hemicontact/solver/solve.hpp>
+#include <hemicontact/studies/adapt_study.hpp>
+#include <hemicontact/studies/minima.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -192,7 +192,7 @@ int cmd_solve(const std::vector<std::string>& args) {
   // Held until the program ends: no other run writes into this folder meanwhile.
   const OutputLock lock = prepare_output_dir(a.out, a.force, solve_output_names());
   const SolveOptions opt = solve_options_from_scene(scene);
-  // adapt.target_error set: the adaptive loop (driver/adapt.hpp) from the scene's mesh; the final
+  // adapt.target_error set: the adaptive loop (solver/adapt.hpp) from the scene's mesh; the final
   // mesh's model and solution are written as a plain solve's, with the indicators in the VTU.
   const bool adaptive = adapt_requested(scene);
   AdaptResult adapted;

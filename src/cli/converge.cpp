@@ -13,14 +13,14 @@
 // (scripts/plot_convergence.py). Exit code 3 (4) when a solve did not converge (certify).
 #include "cli.hpp"
 
-#include <hemicontact/driver/adapt_study.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/convergence.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/studies/adapt_study.hpp>
+#include <hemicontact/studies/convergence.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -35,7 +35,7 @@ namespace hemicontact::cli {
 
 namespace {
 
-// `converge --adaptive`: the work-precision study of driver/adapt_study.hpp (uniform, graded, adaptive
+// `converge --adaptive`: the work-precision study of studies/adapt_study.hpp (uniform, graded, adaptive
 // against one reference), written to DIR/work_precision.{csv,json} and drawn to work_precision.png.
 int converge_adaptive(const std::vector<std::string>& args) {
   SceneArgs a = parse_scene_args(args, {"--levels", "--reference", "--graded-levels", "--graded-power"});

@@ -11,7 +11,7 @@
 // at g, all separated, random in a box, a load path up and down, the user's), keeps the results
 // that pass the certificate (docs/model.md §4), groups them by energy-norm distance, and classifies
 // each distinct solution as a local minimum or a saddle by a second-order check on the free
-// subspace (driver/minima.hpp). Output: a table on stdout, DIR/minima.csv, DIR/minima.json,
+// subspace (studies/minima.hpp). Output: a table on stdout, DIR/minima.csv, DIR/minima.json,
 // DIR/solution_<k>.vtu per distinct solution (k as in the table, lowest energy first), and
 // DIR/minima.png (Γ3 profiles of u_ν and σ_ν per solution, scripts/plot_minima.py; without
 // matplotlib a warning, not a failure). Exit code 0 when at least one certified solution was
@@ -21,12 +21,12 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/core/text.hpp>
-#include <hemicontact/driver/minima.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/studies/minima.hpp>
 
 #include <algorithm>
 #include <cerrno>

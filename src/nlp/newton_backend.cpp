@@ -53,7 +53,7 @@
 //     No acceptable α (or x(α) = x bitwise): FAILED, x left at the last accepted iterate.
 // Stopping (checked before each iteration, so a warm start at the answer takes 0 iterations):
 //  - CONVERGED when r = max_i min(|g_i|, distance to the bound that −g_i points to) <= tol,
-//    the driver's first-order residual (src/driver/solve.cpp) in the O(1)-scaled unknowns.
+//    the driver's first-order residual (src/solver/solve.cpp) in the O(1)-scaled unknowns.
 //  - CONVERGED ("round-off floor") when the Newton correction on the free set is tiny,
 //    ‖d_F‖∞ <= tol·max(1, ‖x‖∞), no binding unknown is off its bound, and r <= 10·tol: another
 //    step cannot change x, so r is then limited by the accuracy of the gradient itself

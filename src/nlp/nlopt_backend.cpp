@@ -25,7 +25,7 @@
 // ignored):
 //  - tol: NLopt has no first-order test, so every evaluation with a gradient computes the driver's
 //    first-order residual r = max_i min(|g_i|, distance to the bound that −g_i points to)
-//    (src/driver/solve.cpp), in the O(1)-scaled unknowns the driver hands over, and stops NLopt
+//    (src/solver/solve.cpp), in the O(1)-scaled unknowns the driver hands over, and stops NLopt
 //    (nlopt::forced_stop) as soon as r <= tol at a point no worse than the start (f <= f(x0); a
 //    trial point of a line search can be stationary without being a minimizer, e.g. a saddle).
 //  - ftol_rel = ftol_abs = 0: an f-based test would stop too early. Near a stiff direction

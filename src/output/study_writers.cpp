@@ -1,6 +1,6 @@
-// The study writers: the tables, JSON and CSV of `hemicontact converge` (driver/convergence.hpp)
-// and `hemicontact minima` (driver/minima.hpp), beside the other writers (report.json, VTU, CSV)
-// so that driver/ computes and output/ formats.
+// The study writers: the tables, JSON and CSV of `hemicontact converge` (studies/convergence.hpp)
+// and `hemicontact minima` (studies/minima.hpp), beside the other writers (report.json, VTU, CSV)
+// so that studies/ computes and output/ formats; they read the records in problem/ only.
 #include <hemicontact/output/study_writers.hpp>
 
 #include <hemicontact/check/contact_status.hpp>

@@ -2,7 +2,7 @@
 
 #include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/run_messages.hpp>
+#include <hemicontact/solver/run_messages.hpp>
 
 #include <string>
 #include <utility>

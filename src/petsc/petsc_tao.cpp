@@ -1,7 +1,7 @@
 #include "engine_impl.hpp"
 
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/run_messages.hpp>
+#include <hemicontact/solver/run_messages.hpp>
 #include <hemicontact/nlp/backend.hpp>
 
 #include <algorithm>

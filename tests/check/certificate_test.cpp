@@ -6,9 +6,9 @@
 // equilibrium residual must not read (Γ3 and clamped nodes).
 #include <hemicontact/check/certificate.hpp>
 #include <hemicontact/check/contact_status.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

@@ -12,11 +12,11 @@
 // refinement (the two levels' indices within 10 % of each other).
 #include <hemicontact/check/estimator.hpp>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
 #include <hemicontact/mesh/bisection.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 // statuses) on every case, TAO's bounded Newton (smoothing continuation, then the polish) on two.
 //
 // Agreement tolerances: both engines end on the unsmoothed conditions of (22), solved on the same
-// statuses to round-off (driver/polish.hpp, the ssn steps and the polish in src/petsc/), so the
+// statuses to round-off (solver/polish.hpp, the ssn steps and the polish in src/petsc/), so the
 // answers differ by the conditioning of the status system times machine precision: κ ~ 1e4 for
 // these meshes (h = 1/16, 3D 1/4) gives ~1e-12; 1e-8 is the bound asserted, and the certificate of
 // each answer must pass at 1e-8 (check.certificate_tol).

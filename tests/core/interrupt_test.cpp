@@ -2,9 +2,9 @@
 // solve's loops poll (core/interrupt.hpp) and the log sink (core/log.hpp).
 #include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

@@ -6,10 +6,10 @@
 //   m_F‖ε(u − u_h)‖² ≤ (F(ε u) − F(ε u_h), ε(u − v_h)) ≤ L_F‖ε(u − u_h)‖ ‖ε(u − v_h)‖,
 // i.e. Céa's lemma with constant L_F/m_F, and the interpolation error of u* ∈ H² is O(h).
 
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/material/hencky.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include "support/fem_problem.hpp"
 #include "support/manufactured.hpp"

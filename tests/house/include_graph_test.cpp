@@ -9,10 +9,15 @@
 //   problem                                        5  Model, Solution and the result records every stage passes on
 //   check                                          6  contact state, statuses, certificate, (21)
 //   scene                                          7  scene input: schema, validation, building the Model
-//   driver                                         8  solve (continuation, fixed point, polish), minima, convergence
-//   output                                         9  writers: report.json, VTU, CSV, study tables
+//   output                                         7  writers: report.json, VTU, CSV, study tables (read problem/'s records)
+//   solver                                         8  ContactSolver (backend stages, fixed point, exact solver, polish), adaptive solve
+//   studies                                        9  what solves a scene many times: convergence, minima, work-precision
 //   cli                                            10 the program
 //   petsc                                          11 the petsc engine's program (hemicontact-mpi; reads cli)
+//
+// output/ sits beside scene/, below the solver: a writer formats the records problem/ holds (the
+// studies' results included) and never includes the code that computes them. The adaptive solve is
+// in solver/, below studies/, because the adaptive work-precision study runs it.
 //
 // The test reads the sources, so it fails the moment an include climbs a layer.
 //
@@ -40,8 +45,8 @@ namespace {
 
 const std::map<std::string, int> LAYER = {{"core", 0},    {"config", 0}, {"mesh", 1},   {"material", 1}, {"nlp", 1},
                                           {"contact", 2}, {"fem", 3},    {"energy", 4}, {"problem", 5},  {"check", 6},
-                                          {"scene", 7},   {"driver", 8}, {"output", 9}, {"cli", 10},
-                                          {"petsc", 11}};
+                                          {"scene", 7},   {"output", 7}, {"solver", 8}, {"studies", 9},
+                                          {"cli", 10},    {"petsc", 11}};
 
 struct Edge {
   std::string from, to, file;

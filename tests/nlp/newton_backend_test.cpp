@@ -5,10 +5,10 @@
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/nlp/backend.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include "nlp/test_problems.hpp"
 

@@ -7,10 +7,10 @@
 
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/nlp/backend.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include "nlp/test_problems.hpp"
 #include "support/polish_check.hpp"
@@ -481,7 +481,7 @@ void PrintTo(const SceneCase& c, std::ostream* os) { *os << c.scene << " n=" << 
 
 class NloptScenes : public ::testing::TestWithParam<SceneCase> {};
 
-// Every backend hands the polish (driver/polish.hpp) the same statuses, which then solves the
+// Every backend hands the polish (solver/polish.hpp) the same statuses, which then solves the
 // unsmoothed conditions exactly, so u agrees with the reference to the round-off of that linear
 // solve (certificates ~1e-14; 1e-8 relative leaves a wide margin) and the certificate passes.
 TEST_P(NloptScenes, SameStatusesAndSolutionAsReference) {

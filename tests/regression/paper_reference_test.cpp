@@ -4,9 +4,9 @@
 // exact backends (ipopt, newton) and both paths: the default (the exact inner solver takes over
 // from the continuation) and the continuation alone (solver.exact.enabled = false):
 // the default certifies what the continuation certified, with the same answer.
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

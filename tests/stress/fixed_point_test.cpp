@@ -8,10 +8,10 @@
 // the contraction factor is proportional to μ. Measured: ρ ≈ 0.13 μ (0.39 at μ = 3, 0.66 at μ = 5);
 // at μ = 8 the iterates oscillate with ρ ≈ 1, and θ = 0.5 brings ρ to ≈ 0.48 (bench/stress_report
 // sweeps θ × μ).
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 
@@ -40,7 +40,7 @@ Solved solve_sliding(double mu, double theta) {
                                    "solver.fixed_point.relaxation=" + std::to_string(theta),
                                    // The continuation's own fixed point is what is measured here; the
                                    // exact solver (on by default) would take over after stage 0.
-                                   // Its Anderson-accelerated fixed point: tests/driver/exact_inner_test.cpp.
+                                   // Its Anderson-accelerated fixed point: tests/solver/exact_inner_test.cpp.
                                    "solver.exact.enabled=false"};
   const nlohmann::json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o);
   Solved r;

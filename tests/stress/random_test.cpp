@@ -6,9 +6,9 @@
 #include "stress/random_scenes.hpp"
 
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,9 +2,9 @@
 // reports non-convergence — never NaN, never a crash, never an uncertified answer presented as
 // converged.
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 #pragma once
-/// @file adapt_options.hpp  The options of the adaptive loop (driver/adapt.hpp), in one home: the
+/// @file adapt_options.hpp  The options of the adaptive loop (solver/adapt.hpp), in one home: the
 /// scene schema (scene/scene_schema.cpp) reads its defaults from this struct, so that a default is
-/// written once. It lives beside the estimator it configures, below scene/ and driver/ (both read it).
+/// written once. It lives beside the estimator it configures, below scene/ and solver/ (both read it).
 
 #include <hemicontact/check/estimator.hpp>
 #include <hemicontact/core/types.hpp>

@@ -2,7 +2,7 @@
 /// @file solve_files.hpp  The result files of one solve, as `hemicontact solve` writes them into its
 /// output folder (output_dir.hpp), for the CLI and for hosts that write the same set (the Python
 /// module's Result.write): solution.vtu and gamma3.csv as the scene's output block asks,
-/// adapt_levels.json for an adaptive solve (driver/adapt.hpp: adapt_levels_json), and report.json last, listing every file of the set.
+/// adapt_levels.json for an adaptive solve (solver/adapt.hpp: adapt_levels_json), and report.json last, listing every file of the set.
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
 #include <hemicontact/problem/solve_options.hpp>

@@ -1,10 +1,12 @@
 #pragma once
 /// @file study_writers.hpp  Tables, JSON and CSV of the studies: the mesh-convergence study
-/// (`hemicontact converge`, driver/convergence.hpp) and the search for distinct solutions
-/// (`hemicontact minima`, driver/minima.hpp).
+/// (`hemicontact converge`, studies/convergence.hpp) and the search for distinct solutions
+/// (`hemicontact minima`, studies/minima.hpp). They read the studies' records in problem/
+/// (convergence_study.hpp, minima_report.hpp), not the studies' code.
 
-#include <hemicontact/driver/convergence.hpp>
-#include <hemicontact/driver/minima.hpp>
+#include <hemicontact/problem/convergence_study.hpp>
+#include <hemicontact/problem/minima_report.hpp>
+#include <hemicontact/problem/model.hpp>
 
 #include <nlohmann/json.hpp>
 

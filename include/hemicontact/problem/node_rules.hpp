@@ -1,5 +1,5 @@
 #pragma once
-/// @file node_rules.hpp  Readings of Γ3 nodes that every polish (driver/polish.cpp, the petsc
+/// @file node_rules.hpp  Readings of Γ3 nodes that every polish (solver/polish.cpp, the petsc
 /// engine's) makes the same way: is a node's friction bound zero on its whole branch, is one of its
 /// tangential components held by a roller, and may a polished answer replace the one it started from.
 

@@ -1,7 +1,7 @@
 #pragma once
 /// @file reports.hpp  The records the checks and the polish leave on a solution: the certificate
 /// (docs/model.md §4, check/certificate.hpp), the smallness condition (21) (check/smallness.hpp) and
-/// the exact polish (driver/polish.hpp). Plain data; the writers read them.
+/// the exact polish (solver/polish.hpp). Plain data; the writers read them.
 
 #include <hemicontact/core/types.hpp>
 
@@ -47,7 +47,7 @@ struct SmallnessReport {
   double lhs_upper = 0;  ///< (see lhs_lower)
 };
 
-/// What the exact polish (driver/polish.hpp) did.
+/// What the exact polish (solver/polish.hpp) did.
 struct PolishResult {
   bool attempted = false;  ///< false without a condensation or with nothing to polish
   bool accepted = false;   ///< statuses kept and certificate not worse
@@ -56,7 +56,7 @@ struct PolishResult {
   double after = 0;        ///< after (of the candidate)
   std::string note;        ///< why not accepted, if not
 };
-/// Whether the inner problem Φ_λ (driver/exact_inner.hpp) is strongly convex: the smallest
+/// Whether the inner problem Φ_λ (solver/exact_inner.hpp) is strongly convex: the smallest
 /// eigenvalue of S − α W_ν, the condensed Hessian of the convex part minus the softening of j_ν
 /// (α = the one-sided Lipschitz constant of ∂j_ν, (13)(d), W_ν = the weights on the normal rows),
 /// is positive. The friction term and the bound are convex and do not enter.
@@ -68,7 +68,7 @@ struct InnerConvexity {
   std::string note;             ///< how it was decided
 };
 
-/// The hand-over from the smoothed continuation to the exact inner solver (driver/exact_inner.hpp).
+/// The hand-over from the smoothed continuation to the exact inner solver (solver/exact_inner.hpp).
 struct HandoverReport {
   bool used = false;           ///< the exact solver produced the answer
   int after_stage = -1;        ///< continuation stage after which it took over

@@ -34,7 +34,7 @@ struct OuterIteration {
   std::string solver;
 };
 
-/// OuterIteration::solver of the exact solver's inner solves (driver/exact_inner.hpp).
+/// OuterIteration::solver of the exact solver's inner solves (solver/exact_inner.hpp).
 inline constexpr const char* EXACT_SOLVER = "exact";
 
 /// Whether the NLP backend ran, and why not when it did not: what a report says of it.

@@ -85,7 +85,7 @@ struct ExactInnerOptions {
   /// Backtracking halvings of a Newton step before it is dropped for this round (2^-30 ≈ 1e-9: a
   /// shorter step would not change x above round-off relative to the step).
   int max_halvings = 30;
-  /// The polish after the exact solver (driver/polish.hpp) runs only when its coupled residual is
+  /// The polish after the exact solver (solver/polish.hpp) runs only when its coupled residual is
   /// above this (same units as tol). Its job is to take an answer stopped at tol to round-off; an
   /// answer already below is there (the active-set Newton steps end at 1e-16..1e-15), and the
   /// polish could only confirm it or, where its own status rounds do not settle, be rejected after
@@ -137,7 +137,7 @@ struct SolveOptions {
   /// (one more sparse factorization) only when the bracket cannot decide; "exact" always does.
   std::string smallness_method = "auto";
 
-  // The exact inner solver (driver/exact_inner.hpp) and the hand-over to it.
+  // The exact inner solver (solver/exact_inner.hpp) and the hand-over to it.
   /// Hand the condensed problem to the exact solver after the continuation stage whose statuses
   /// (read at 10 ε) equal the previous stage's, after a backend failure or stall, and after the
   /// last stage when the polished answer is not certified. false: the continuation alone (the
@@ -154,7 +154,7 @@ struct SolveOptions {
   /// smoothed ε-stages inside the fixed point, then the hand-over to the exact solver):
   /// "auto" (the default) — when solver.backend = auto and the inner problem Φ_λ is strongly convex
   /// (inner_convexity, decided at set-up): its minimizer is unique and the exact solver's monotone
-  /// sweeps reach it from any start (driver/exact_inner.hpp), so the backend's stage could not
+  /// sweeps reach it from any start (solver/exact_inner.hpp), so the backend's stage could not
   /// change the answer and is skipped; a backend the user named always runs its first stage;
   /// "convex" — as auto, also for a named backend; "always" — on every condensed problem (a not
   /// strongly convex Φ_λ may then end in another of its stationary points than the design's path);

@@ -1,5 +1,5 @@
 #pragma once
-/// @file run_messages.hpp  The messages both engines (driver/solve.cpp, the petsc engine) end a run
+/// @file run_messages.hpp  The messages both engines (solver/solve.cpp, the petsc engine) end a run
 /// with, written once so that their reports say the same thing in the same words.
 
 #include <hemicontact/core/format.hpp>

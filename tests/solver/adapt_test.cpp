@@ -1,4 +1,4 @@
-// The adaptive loop (driver/adapt.hpp).
+// The adaptive loop (solver/adapt.hpp).
 //
 // Corner problem: the paper's body without contact (problems/elasticity-square.json): clamped top,
 // loaded sides; at the clamped–free corners u ~ r^0.72 (scripts/corner_exponent.py), so uniform
@@ -10,12 +10,12 @@
 //
 // Contact problem: the Fig. 2 scene adapts from n = 8 with every level certified, Γ3 weights
 // summing to |Γ3| = 1 on every mesh, and the estimate going down.
-#include <hemicontact/driver/adapt.hpp>
 #include <hemicontact/check/smallness.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/fem/prolongation.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/adapt.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
-#include <hemicontact/driver/convergence.hpp>
+#include <hemicontact/studies/convergence.hpp>
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <algorithm>
 #include <memory>
@@ -101,16 +101,6 @@ ConvergenceLevel solve_level(const Model& md, const SolveOptions& opt, const nlo
 }
 
 }  // namespace
-
-bool ConvergenceStudy::ok() const { return failed().empty(); }
-
-std::vector<int> ConvergenceStudy::failed() const {
-  std::vector<int> f;
-  for (const auto& l : levels)
-    if (!l.ok) f.push_back(l.n);
-  if (!reference.ok && std::find(f.begin(), f.end(), reference.n) == f.end()) f.push_back(reference.n);
-  return f;
-}
 
 std::vector<int> parse_levels(const std::string& text) {
   std::vector<std::string> tok;
@@ -211,59 +201,6 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
     if (st.backend.find(l->solved_by) == std::string::npos || st.backend.empty())
       st.backend += (st.backend.empty() ? "" : ", ") + l->solved_by;
   return st;
-}
-
-RateFit fit_rate(const ConvergenceStudy& study, int max_levels) {
-  const double hR = study.reference.h;
-  std::vector<double> h, e;
-  for (const auto& l : study.levels)
-    if (l.error > 0 && l.h > hR) {
-      h.push_back(l.h);
-      e.push_back(l.error);
-    }
-  const size_t m = std::min(h.size(), static_cast<size_t>(std::max(max_levels, 2)));
-  RateFit fit;
-  if (m < 2) return fit;
-  h.erase(h.begin(), h.end() - static_cast<std::ptrdiff_t>(m));
-  e.erase(e.begin(), e.end() - static_cast<std::ptrdiff_t>(m));
-  // For fixed α the optimal log C is the mean log residual; the remaining 1-D least-squares
-  // problem in α is scanned on a grid, then refined by golden-section search in the best cell.
-  const auto log_c = [&](double a) {
-    double s = 0;
-    for (size_t i = 0; i < m; ++i) s += std::log(e[i]) - 0.5 * std::log(std::pow(h[i], 2 * a) - std::pow(hR, 2 * a));
-    return s / m;
-  };
-  const auto sse = [&](double a) {
-    const double lc = log_c(a);
-    double s = 0;
-    for (size_t i = 0; i < m; ++i) {
-      const double r = std::log(e[i]) - lc - 0.5 * std::log(std::pow(h[i], 2 * a) - std::pow(hR, 2 * a));
-      s += r * r;
-    }
-    return s;
-  };
-  const double lo = 0.05, hi = 4.0, step = 0.01;
-  double best = lo;
-  for (double a = lo; a <= hi; a += step)
-    if (sse(a) < sse(best)) best = a;
-  double a = std::max(lo, best - step), b = std::min(hi, best + step);
-  const double phi = 0.5 * (std::sqrt(5.0) - 1);
-  for (int it = 0; it < 60; ++it) {
-    const double x1 = b - phi * (b - a), x2 = a + phi * (b - a);
-    if (sse(x1) < sse(x2))
-      b = x2;
-    else
-      a = x1;
-  }
-  fit.alpha = 0.5 * (a + b);
-  fit.C = std::exp(log_c(fit.alpha));
-  fit.levels_used = static_cast<int>(m);
-  for (size_t i = 0; i < m; ++i) {
-    const double model = fit.C * std::sqrt(std::pow(h[i], 2 * fit.alpha) - std::pow(hR, 2 * fit.alpha));
-    fit.max_rel_residual = std::max(fit.max_rel_residual, std::abs(model / e[i] - 1));
-  }
-  fit.valid = true;
-  return fit;
 }
 
 }  // namespace hemicontact

@@ -10,9 +10,9 @@
 // that the gap is small on a coarse mesh and shrinks when h is halved.
 #include <hemicontact/check/contact_status.hpp>
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

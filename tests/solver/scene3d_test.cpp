@@ -3,12 +3,12 @@
 // agreeing, the 3D output columns, and the 3D scene checks (plane, n → nz).
 #include <hemicontact/check/certificate.hpp>
 #include <hemicontact/check/contact_status.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/output/csv_writer.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include "../support/cli_runner.hpp"
 #include "../support/expect_error.hpp"

@@ -4,7 +4,7 @@
 // method, so which solution a solve returns depends on where it starts. Nothing below changes the
 // solver: it only chooses starts, and checks and sorts what comes back.
 
-#include <hemicontact/driver/minima.hpp>
+#include <hemicontact/studies/minima.hpp>
 
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
@@ -69,16 +69,6 @@ struct Candidate {
 };
 
 }  // namespace
-
-int MinimaReport::local_minima() const {
-  return static_cast<int>(std::count_if(solutions.begin(), solutions.end(), [](const DistinctSolution& d) {
-    return d.second_order.verdict == "local minimum";
-  }));
-}
-
-int MinimaReport::certified_runs() const {
-  return static_cast<int>(std::count_if(runs.begin(), runs.end(), [](const MinimaRun& r) { return r.certified; }));
-}
 
 SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, const SolveOptions& opt,
                                     const Solution& sol, const MinimaOptions& mopt) {

@@ -1,14 +1,14 @@
-// The exact polish on its own (driver/polish.hpp): handed a smoothed answer whose statuses are
+// The exact polish on its own (solver/polish.hpp): handed a smoothed answer whose statuses are
 // right but whose values carry the smoothing error, it solves the unsmoothed status system and
 // returns the exact discrete solution (certificate at round-off, the answer of the full pipeline);
 // handed a candidate it cannot improve, it leaves x_C untouched and says why. 2D (λ iteration on
 // the linear status system) and 3D (Newton on the nonlinear slip condition).
 #include <hemicontact/check/evaluate.hpp>
-#include <hemicontact/driver/polish.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/condensation.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/polish.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// find_minima (driver/minima.hpp) on the nonconvex scenes of problems/ and on the paper's scene.
+// find_minima (studies/minima.hpp) on the nonconvex scenes of problems/ and on the paper's scene.
 //
 // ---------------------------------------------------------------- the closed form of (c)
 // problems/minima-one-node.json is one square cell with its top clamped: the free unknowns are
@@ -17,9 +17,9 @@
 // and 5 saddles (see the scene's description).
 
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/driver/minima.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/studies/minima.hpp>
 
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
@@ -361,9 +361,6 @@ TEST(Minima, PaperSceneWhereSmallnessHoldsHasOneSolution) {
   EXPECT_GT(r.solutions[0].second_order.removed_contact, 0);
 }
 
-}  // namespace
-}  // namespace hemicontact
-
 // minima finds what a solve finds: the default solve's answer and the exact solver's own path from
 // zero (solver.exact.start = always) are both among its runs, on every nonconvex scene shipped
 // (minima-laminate: the exact path's −0.0758 was missed before it was a start).
@@ -418,3 +415,6 @@ TEST(Minima, MirrorImagesArePaired) {
       EXPECT_EQ(r.solutions[static_cast<size_t>(m.group)].mirror_of, -1);
     }
 }
+
+}  // namespace
+}  // namespace hemicontact

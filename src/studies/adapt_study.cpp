@@ -1,13 +1,13 @@
-#include <hemicontact/driver/adapt_study.hpp>
+#include <hemicontact/studies/adapt_study.hpp>
 
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/convergence.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/fem/prolongation.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
+#include <hemicontact/studies/convergence.hpp>
 
 #include <chrono>
 #include <cmath>

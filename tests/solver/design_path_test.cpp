@@ -3,11 +3,11 @@
 // where the inner problem is strongly convex (unique minimizer), and then said so with the
 // eigenvalue; a named backend always runs; reports count a backend's own work, not the exact
 // solver's.
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/nlp/backend.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,9 +2,9 @@
 // the Fig. 2 status pattern, the printed scene's all-compliance answer, the certificate, mirror
 // symmetry, skipping of the outer loop without friction, and the certificate catching violations.
 #include <hemicontact/check/certificate.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

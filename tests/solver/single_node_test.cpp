@@ -33,10 +33,10 @@
 // backend tolerance (solver.tol, on the scaled problem) separates the numerical from the hand
 // solution. Each case runs through three pipelines (SingleNode param, see solver_block).
 
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/mesh/mesh.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 #include <Eigen/LU>
@@ -121,7 +121,7 @@ json solver_block(const std::string& pipeline) {
 json make_scene(const NodeCase& c, const std::string& pipeline = "default") {
   // F = f0/6 with F_ν = −F_y, F_τ = F_x  ⇒  f0 = 6 (F_τ, −F_ν).
   const json scene = {
-      {"description", "one free node (tests/driver/single_node_test.cpp)"},
+      {"description", "one free node (tests/solver/single_node_test.cpp)"},
       {"material", {{"model", "linear_elastic"}, {"E", E}, {"nu", POISSON}, {"plane", "stress"}}},
       {"boundary",
        {{"gamma1", json::array({{{"physical", "clamp"}}})}, {"gamma3", json::array({{{"physical", "contact"}}})}}},

@@ -1,10 +1,10 @@
-// The mesh-convergence study (driver/convergence.hpp) on the paper's two scenes: errors against a
+// The mesh-convergence study (studies/convergence.hpp) on the paper's two scenes: errors against a
 // finer reference decrease at a positive observed order (the paper reports ≈ 1, Fig. 3); the request is
 // checked before any solve; the reference measured against itself has no error.
 #include <hemicontact/core/error.hpp>
-#include <hemicontact/driver/convergence.hpp>
 #include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/studies/convergence.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,10 +2,10 @@
 // and certified in the full space by both backends, condensation refused, and — with a constant
 // shear modulus (μ_∞ = μ_0) — the same solution as the linear plane-strain law.
 
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/mesh/mesh.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include "support/expect_error.hpp"
 

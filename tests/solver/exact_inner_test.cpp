@@ -1,13 +1,13 @@
-// The exact inner solver (driver/exact_inner.hpp): exactness on small condensed problems
+// The exact inner solver (solver/exact_inner.hpp): exactness on small condensed problems
 // (its stationarity residual, and no feasible perturbation lowers the exact energy), the convexity
 // check and Anderson acceleration against closed forms, and through the solver: the hand-over
 // agrees with the polished continuation on the paper's scenes in 2D and 3D, and certifies a scene
 // whose plain fixed point does not converge.
-#include <hemicontact/driver/exact_inner.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/exact_inner.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 #include <hemicontact/core/interrupt.hpp>
-#include <hemicontact/driver/solve.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <hemicontact/check/certificate.hpp>
 #include <hemicontact/check/contact_status.hpp>
@@ -8,15 +8,15 @@
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/exact_inner.hpp>
-#include <hemicontact/driver/polish.hpp>
-#include <hemicontact/driver/run_messages.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/energy/elastic_energy.hpp>
 #include <hemicontact/energy/nonlinear_elastic_energy.hpp>
 #include <hemicontact/energy/total_energy.hpp>
 #include <hemicontact/fem/condensation.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
+#include <hemicontact/solver/exact_inner.hpp>
+#include <hemicontact/solver/polish.hpp>
+#include <hemicontact/solver/run_messages.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -695,7 +695,7 @@ void ContactSolver::Impl::relax_lambda(Run& run, OuterIteration& rec, bool measu
   F.friction->set_lambda(lam);
 }
 
-// The exact polish on the identified statuses (driver/polish.hpp), then x and u. Polished even
+// The exact polish on the identified statuses (solver/polish.hpp), then x and u. Polished even
 // after a backend failure: the certificate, not the backend's word, decides.
 void ContactSolver::Impl::polish(Run& run, bool attempt) {
   Solution& sol = run.sol;
@@ -834,7 +834,7 @@ struct ExactCoupling {
   }
 };
 
-// The inner problem with λ frozen (driver/exact_inner.hpp), λ and the traction scale still unset.
+// The inner problem with λ frozen (solver/exact_inner.hpp), λ and the traction scale still unset.
 ExactInnerProblem exact_inner_problem(const Model& md, const Formulation& F) {
   ExactInnerProblem P;
   P.S = &F.cond->S();
@@ -928,7 +928,7 @@ void exact_verdict(Solution& sol, const std::string& when) {
 }  // namespace
 
 // The exact solver from the current iterate: the inner problem with λ frozen solved exactly
-// (driver/exact_inner.hpp), λ = F_b(u_ν) by Anderson acceleration, until the coupled stationarity
+// (solver/exact_inner.hpp), λ = F_b(u_ν) by Anderson acceleration, until the coupled stationarity
 // residual (the certificate's terms with λ = F_b(u_ν), λ not frozen) is at most solver.exact.tol;
 // then the exact polish. Only the condensed formulation has it.
 void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& reason) {

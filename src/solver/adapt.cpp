@@ -1,10 +1,10 @@
-#include <hemicontact/driver/adapt.hpp>
+#include <hemicontact/solver/adapt.hpp>
 
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <dlfcn.h>
 

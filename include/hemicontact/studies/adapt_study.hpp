@@ -22,7 +22,7 @@
 /// cumulative time of all levels up to it; uniform/graded: mesh, assembly and solve), the estimate
 /// η/‖u_h‖_E (the scene's estimator), the efficiency index η/‖u_ref − I u_h‖_E, and the certificate.
 
-#include <hemicontact/driver/adapt.hpp>
+#include <hemicontact/solver/adapt.hpp>
 
 #include <nlohmann/json.hpp>
 

@@ -1,4 +1,4 @@
-#include <hemicontact/driver/polish.hpp>
+#include <hemicontact/solver/polish.hpp>
 
 #include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/problem/node_rules.hpp>

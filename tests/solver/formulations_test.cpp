@@ -1,8 +1,8 @@
 // Fast path (static condensation onto Γ3 + exact polish) against the full-space formulation, and
 // skipping of what a scene does not need.
-#include <hemicontact/driver/solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
 #include "support/polish_check.hpp"
 
 #include <gtest/gtest.h>

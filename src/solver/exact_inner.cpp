@@ -1,5 +1,5 @@
 #include <hemicontact/core/interrupt.hpp>
-#include <hemicontact/driver/exact_inner.hpp>
+#include <hemicontact/solver/exact_inner.hpp>
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>

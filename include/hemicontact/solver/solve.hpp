@@ -1,24 +1,43 @@
 #pragma once
 /// @file solve.hpp  The design's solve: min Π_λ subject to u_ν ≤ g, smoothed, handed to an NLP
 /// backend, inside the outer fixed point λ_i = F_b(u_ν,i) (docs/model.md §2), then the exact solver.
-/// ContactSolver::solve() is this, one named step per line (src/driver/solve.cpp):
+/// ContactSolver::solve() is this, one named step per line (src/solver/solve.cpp). The default path
+/// (solver.backend = auto, solver.exact.enabled, the condensed formulation of a linear material):
 ///
-///   exact_first: solver.backend = auto and Φ_λ strongly convex (unique minimizer), or
-///                solver.exact.start = always → the exact solver from the start; certified → done,
-///                and the report says why the backend did not run
+///   set-up (constructor): condense onto Γ3 (one CHOLMOD factorization), the smallness condition
+///                (21), whether Φ_λ is strongly convex (λ_min(S − αW_ν) > 0), the ε schedule
+///   exact_first: Φ_λ strongly convex → no backend stage: the exact solver from the start (below;
+///                solver.exact.start = always does this on any condensed problem);
+///                certified → done, and the report says why the backend did not run; not certified
+///                → that answer and its reason stand (solver.exact.fallback = false)
 ///   start:       z ← z0 projected onto the bounds; λ ← F_b(u_ν(z))
-///   for each stage ε of the continuation schedule (large → small, warm-started):   run_stage
+///   stage 0 (ε = solver.continuation.eps_start · U_s):                               run_stage
 ///     set_smoothing(ε)
-///     repeat:    z ← argmin Π_λ,ε (backend, warm start; to solver.exact.stage_tol)  minimize
-///                λ ← (1−θ)λ + θ F_b(u_ν(z))                                      relax_lambda
-///     — once per coarse ε; at the final ε until ‖Δz_Γ3‖/‖z_Γ3‖ ≤ tol_u and ‖Δλ‖/‖λ‖ ≤ tol_u, or
-///       the cap / the non-contraction test stops it with a message naming the remedy
-///     hand over (after stage 0 by default, solver.exact.after_stage; earlier on a stall):
-///                the polish on the stage's statuses if that is certified, else   exact_solve
-///                the exact solver (unsmoothed Φ_λ, Anderson on λ = F_b(u_ν)) from z
-///   polish:      solve the unsmoothed conditions of (22) on the identified statuses (polish.hpp)
+///     z ← argmin Π_λ,ε by the backend (Ipopt; to solver.exact.stage_tol,
+///         at most solver.exact.stage_max_iter iterations), warm-started             minimize
+///     λ ← (1−θ)λ + θ F_b(u_ν(z))   (one lagged update on a coarse stage; θ =
+///                                  solver.fixed_point.relaxation, 1)                relax_lambda
+///   hand over (after stage 0, solver.exact.after_stage; also when the backend stalls): exact_due
+///     the polish on the stage's statuses, if that is certified → done ("ipopt+polish"); else
+///     exact_solve ("ipopt+exact"), from z, no smoothing:
+///       repeat: inner solve   x ← argmin Φ_λ exactly (sweeps + active-set Newton)  exact_inner_solve
+///               stop test     coupled residual (λ = F_b(u_ν)) ≤ solver.exact.tol, or at its
+///                             round-off floor below check.certificate_tol          exact_converged
+///               Anderson      λ ← Anderson mixing of λ and F_b(u_ν(x))             anderson_relax
+///   polish:      the unsmoothed conditions of (22) on the identified statuses (polish.hpp), kept
+///                only if the statuses hold and the certificate is not worse; skipped where the
+///                coupled residual is at round-off already (solver.exact.polish_above)
 ///   certify:     the certificate of u (docs/model.md §4) decides; timings and the verdict
-///   last resort: not certified → the exact solver from the start; kept only if certified
+///   last resort: not certified after a hand-over → the exact solver from the start; kept only
+///                if certified
+///
+/// Off the default path: solver.exact.enabled = false runs every stage of the continuation (ε large
+/// → small, warm-started; at the final ε the fixed point until ‖Δz_Γ3‖/‖z_Γ3‖ ≤ tol_u and
+/// ‖Δλ‖/‖λ‖ ≤ tol_u, or the cap / the non-contraction test stops it with a message naming the
+/// remedy), then the polish and the certificate; a stage that barely moved the answer
+/// (solver.continuation.certify_below) tries the polish and ends there when it is certified. The
+/// full formulation (a nonlinear material) has no exact solver and no polish: the continuation, then
+/// the certificate. A named backend (--backend) always runs its first stage.
 ///
 /// Every minimization is recorded with its solver (OuterIteration::solver): reports count the
 /// backend's own work apart from the exact solver's (Solution::work_of, solved_by).
@@ -63,7 +82,7 @@ class ContactSolver {
   Vec to_unknowns(const Vec& x) const;
   /// @return where each Γ3 node's (ν, τ) unknowns are in the solver unknowns.
   const NodalDofs& contact_dofs() const;
-  /// The lagged problem's energy at a solution, for second-order checks (driver/minima.hpp).
+  /// The lagged problem's energy at a solution, for second-order checks (studies/minima.hpp).
   struct LaggedEnergy {
     const NlpObjective& f;  ///< Π_λ,ε in solver unknowns (unscaled), final widths, λ frozen at z
     Vec z;                  ///< the solution in solver unknowns
