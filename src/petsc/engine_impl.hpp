@@ -9,6 +9,9 @@
 ///   petsc_ssn.cpp           backend ssn (semismooth Newton on the unsmoothed statuses)
 ///   petsc_polish.cpp        the exact polish with fixed statuses
 ///   petsc_engine.cpp        the run (continuation, early stop, polish), the report, solve()
+///   petsc_slab_distribution.cpp  the distributed path's slabs (make_slab), its numbering, the ghost rows
+///   petsc_slab_finish.cpp   its certificate, energies and status counts by reductions, its piece
+///   petsc_slab_output.cpp   its files: a piece per rank, the .pvtu, report.json (not the engine's)
 /// Not installed and not part of the library: only hemicontact-mpi's sources include it.
 
 #include "petsc_engine.hpp"

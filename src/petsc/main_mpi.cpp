@@ -100,6 +100,10 @@ int run_slabs(const cli::SceneArgs& a, const nlohmann::json& scene, const SolveO
   int size = 1;
   MPI_Comm_size(comm, &size);
   log_info() << "petsc: the mesh made per rank (slabs of cell layers), " << size << " rank(s)";
+  // The pictures read every Γ3 node from one report: the slabs have no such list (their pieces do).
+  if (a.plot || scene.at("output").at("plot").get<bool>())
+    log_warn() << "--plot / output.plot: no picture on the per-rank slabs (the Γ3 nodes are in the pieces "
+                  "gamma3_rank<r>.csv); solver.petsc.mesh = \"replicated\" draws it";
   Mesh mesh;
   petsc_engine::Slab slab;
   Model md;

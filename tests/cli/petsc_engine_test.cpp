@@ -482,7 +482,9 @@ INSTANTIATE_TEST_SUITE_P(PaperScenes, PetscSlabs,
                          ::testing::Values(Case{"sofonea2017-fig2", "--set mesh.n=16", 1},
                                            Case{"sofonea2017-fig2", "--set mesh.n=16", 2},
                                            Case{"sofonea2017-3d", "--set mesh.n=8", 1},
-                                           Case{"sofonea2017-3d", "--set mesh.n=8", 2}));
+                                           Case{"sofonea2017-3d", "--set mesh.n=8", 2},
+                                           // rollers: blocks of one unknown on the slabs too
+                                           Case{"sofonea2017-fig2-half", "--set mesh.n=16", 2}));
 
 // What the slabs do not cover runs on the replicated mesh, and the report says so and why.
 TEST(PetscEngine, TaoRunsOnTheReplicatedMesh) {
