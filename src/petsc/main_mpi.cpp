@@ -20,6 +20,7 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/mesh/boundary.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
@@ -28,6 +29,7 @@
 #include <malloc.h>
 #include <petscsys.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -95,8 +97,19 @@ void on_every_rank(MPI_Comm comm, const F& fn) {
 
 // The distributed path: each rank makes its slab of the generated mesh and its model, solves with
 // ssn, and writes its piece; report.json (rank 0) holds reductions only.
+// The free (not clamped) nodes on Γ3 facets of a mesh.
+long free_gamma3_nodes(const Mesh& mesh) {
+  const std::vector<bool> clamped = clamped_nodes(mesh);
+  std::vector<char> on(static_cast<size_t>(mesh.num_nodes()), 0);
+  for (Index f = 0; f < mesh.num_facets(); ++f)
+    if (mesh.facet_part[static_cast<size_t>(f)] == Part::GAMMA3)
+      for (int a = 0; a < mesh.dim; ++a) on[static_cast<size_t>(mesh.facets(f, a))] = !clamped[static_cast<size_t>(mesh.facets(f, a))];
+  return static_cast<long>(std::count(on.begin(), on.end(), 1));
+}
+
+// @p fallback: set (and nothing solved) when the slabs do not suit the scene after all.
 int run_slabs(const cli::SceneArgs& a, const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm,
-              std::chrono::steady_clock::time_point t0) {
+              std::chrono::steady_clock::time_point t0, std::string& fallback) {
   int size = 1;
   MPI_Comm_size(comm, &size);
   log_info() << "petsc: the mesh made per rank (slabs of cell layers), " << size << " rank(s)";
@@ -107,10 +120,19 @@ int run_slabs(const cli::SceneArgs& a, const nlohmann::json& scene, const SolveO
   Mesh mesh;
   petsc_engine::Slab slab;
   Model md;
+  const auto tm = std::chrono::steady_clock::now();
+  on_every_rank(comm, [&] { slab = petsc_engine::make_slab(scene, comm, mesh); });
+  const double t_mesh = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
+  // A slab without a free Γ3 node, where others have some (Γ3 on part of the cut axis), would
+  // fail the model's check that a contact law has Γ3 nodes, which holds for the whole mesh.
+  long g3 = free_gamma3_nodes(mesh), g3_min = 0, g3_max = 0;
+  MPI_Allreduce(&g3, &g3_min, 1, MPI_LONG, MPI_MIN, comm);
+  MPI_Allreduce(&g3, &g3_max, 1, MPI_LONG, MPI_MAX, comm);
+  if (g3_min == 0 && g3_max > 0) {
+    fallback = "a slab without a free Γ3 node (Γ3 covers part of the cut along " + std::string(1, "xyz"[slab.axis]) + ")";
+    return 0;
+  }
   on_every_rank(comm, [&] {
-    const auto tm = std::chrono::steady_clock::now();
-    slab = petsc_engine::make_slab(scene, comm, mesh);
-    const double t_mesh = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
     md = build_model(scene, std::move(mesh), /*stiffness=*/false);
     md.timings["mesh"] = t_mesh;
   });
@@ -176,8 +198,11 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   }
   share(code, message, comm);
   if (code != 0) throw Error(message, static_cast<ExitCode>(code));
-  const std::string replicated = replicated_reason(scene, opt, comm);
-  if (replicated.empty()) return run_slabs(a, scene, opt, comm, t0);
+  std::string replicated = replicated_reason(scene, opt, comm);
+  if (replicated.empty()) {
+    const int verdict = run_slabs(a, scene, opt, comm, t0, replicated);
+    if (replicated.empty()) return verdict;
+  }
   log_info() << "petsc: the whole mesh on every rank (" << replicated << ")";
 
   // No K_x in the model: each rank assembles its own rows into PETSc (petsc_assembly.cpp).

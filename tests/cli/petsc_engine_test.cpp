@@ -493,6 +493,14 @@ TEST(PetscEngine, TaoRunsOnTheReplicatedMesh) {
   ASSERT_TRUE(r.contains("petsc"));
   EXPECT_EQ(r.at("petsc").at("mesh"), "replicated");
   EXPECT_NE(r.at("petsc").at("mesh_reason").get<std::string>().find("tao:bnls"), std::string::npos);
+  // Γ3 on the left quarter of the bottom: the second slab (x >= 1/2) has none of it.
+  const json q = solved(dir, 2, "solve " + problem("sofonea2017-fig2") +
+                                    " --set mesh.n=16 --quiet --set output.vtu=false --set "
+                                    "'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'",
+                        "quarter");
+  ASSERT_TRUE(q.contains("petsc"));
+  EXPECT_EQ(q.at("petsc").at("mesh"), "replicated");
+  EXPECT_NE(q.at("petsc").at("mesh_reason").get<std::string>().find("a slab without a free"), std::string::npos);
   fs::remove_all(dir);
 }
 
