@@ -3,7 +3,9 @@
 scene (problems/sofonea2017-3d.json) on n^3 boxes, run as `mpirun -np P hemicontact solve ... --set
 solver.engine="petsc"` for each n and P, one run at a time. Reads each run's report.json and prints
 one row per run: unknowns, ranks, wall time (the whole process, measured here), the solve's own
-time, peak memory summed over the ranks (getrusage, from report.json "petsc"), bytes per unknown,
+time, peak memory summed over the ranks and the largest rank's (getrusage, from report.json
+"petsc"), bytes per unknown, which mesh layout ran (per-rank slabs or replicated) and the most
+nodes one rank held,
 the method (ssn by default; --backend tao:bnls for TAO), Newton and Krylov counts, Krylov per Newton
 step (mean and largest), how many times the AMG hierarchy was built, the certificate, the share of
 K's entries that couple two ranks (report.json petsc.partition), and the speedup against P = 1 of
@@ -67,6 +69,11 @@ def main() -> int:
                 "n": n, "ranks": p, "unknowns": pe["unknowns"], "wall_s": round(wall, 2),
                 "solve_s": round(rep["timings"]["solve_total"], 2),
                 "peak_mb_sum": round(pe["peak_rss_mb_sum"], 1), "bytes_per_dof": round(pe["bytes_per_dof"]),
+                # the largest rank's peak, and what each rank holds of the mesh (the per-rank slabs
+                # hold about nodes/P plus two ghost layers; the replicated mesh all of it)
+                "peak_mb_max_rank": round(pe["peak_rss_mb_max"], 1),
+                "mesh": "slabs" if pe.get("mesh", "").startswith("distributed") else "replicated",
+                "local_nodes_max": pe.get("local_nodes", rep["mesh"]["nodes"]),
                 "newton": pe["newton_iterations"], "krylov": pe["krylov_iterations"],
                 "krylov_per_newton": round(pe["krylov_per_newton"], 1),
                 "method": pe.get("method", ""),

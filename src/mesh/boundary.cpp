@@ -1,6 +1,7 @@
 #include <hemicontact/mesh/boundary.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/mesh/slabs.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -47,9 +48,17 @@ bool selects(const Mesh& m, Index f, const BoundarySelector& s, const SideAxes& 
   return mid >= s.from && mid < s.to;
 }
 
-// The boundary facets selector @p s matches (never empty: that is an error naming it).
-std::vector<Index> select_facets(const Mesh& m, const BoundarySelector& s) {
-  const RowMat lo = m.points.colwise().minCoeff(), hi = m.points.colwise().maxCoeff();
+// The bounding box the sides refer to: the mesh's own, or the whole mesh's for a piece of it
+// (assign_boundary_in_box); then an empty selection is allowed (the caller counts over the pieces).
+struct SideBox {
+  const RowMat* lo = nullptr;
+  const RowMat* hi = nullptr;
+};
+
+// The boundary facets selector @p s matches (never empty on a whole mesh: that is an error naming it).
+std::vector<Index> select_facets(const Mesh& m, const BoundarySelector& s, const SideBox& box = {}) {
+  const RowMat lo = box.lo ? *box.lo : RowMat(m.points.colwise().minCoeff());
+  const RowMat hi = box.hi ? *box.hi : RowMat(m.points.colwise().maxCoeff());
   const double tol = 1e-9 * (hi - lo).maxCoeff();
   if (s.side.empty() == s.physical.empty()) input_error(s.context + ": give exactly one of 'side' and 'physical'");
   if (s.from >= s.to) input_error(s.context + ": empty interval [from, to)");
@@ -68,13 +77,15 @@ std::vector<Index> select_facets(const Mesh& m, const BoundarySelector& s) {
     }
     chosen = it->second;
   }
-  if (chosen.empty()) input_error(s.context + " selects no boundary facet");
+  if (chosen.empty() && !box.lo) input_error(s.context + " selects no boundary facet");
   return chosen;
 }
 
-void assign(Mesh& m, const std::vector<BoundarySelector>& sel, Part part, std::vector<std::string>& owner) {
+void assign(Mesh& m, const std::vector<BoundarySelector>& sel, Part part, std::vector<std::string>& owner,
+            const SideBox& box = {}, std::vector<long>* counts = nullptr) {
   for (const auto& s : sel) {
-    const std::vector<Index> chosen = select_facets(m, s);
+    const std::vector<Index> chosen = select_facets(m, s, box);
+    if (counts) counts->push_back(static_cast<long>(chosen.size()));
     int load = -1;
     if (part == Part::GAMMA2) {
       if (s.traction.size() != m.dim)
@@ -99,12 +110,16 @@ void assign(Mesh& m, const std::vector<BoundarySelector>& sel, Part part, std::v
 
 }  // namespace
 
-void assign_boundary(Mesh& mesh, const BoundarySpec& spec) {
+namespace {
+
+// The parts and rollers of assign_boundary, with the sides of @p box; @p counts (when given) gets
+// each selector's number of facets.
+void assign_parts(Mesh& mesh, const BoundarySpec& spec, const SideBox& box, std::vector<long>* counts) {
   std::vector<std::string> owner(mesh.num_facets());
   mesh.tractions.clear();
-  assign(mesh, spec.gamma1, Part::GAMMA1, owner);
-  assign(mesh, spec.gamma2, Part::GAMMA2, owner);
-  assign(mesh, spec.gamma3, Part::GAMMA3, owner);
+  assign(mesh, spec.gamma1, Part::GAMMA1, owner, box, counts);
+  assign(mesh, spec.gamma2, Part::GAMMA2, owner, box, counts);
+  assign(mesh, spec.gamma3, Part::GAMMA3, owner, box, counts);
   mesh.node_fixed.clear();
   for (const auto& s : spec.rollers) {
     if (s.components.empty()) input_error(s.context + ".components: name at least one component to hold at zero");
@@ -116,9 +131,23 @@ void assign_boundary(Mesh& mesh, const BoundarySpec& spec) {
       mask |= static_cast<unsigned char>(1u << c);
     }
     if (mesh.node_fixed.empty()) mesh.node_fixed.assign(mesh.num_nodes(), 0);
-    for (Index f : select_facets(mesh, s))
+    const std::vector<Index> chosen = select_facets(mesh, s, box);
+    if (counts) counts->push_back(static_cast<long>(chosen.size()));
+    for (Index f : chosen)
       for (int a = 0; a < mesh.dim; ++a) mesh.node_fixed[mesh.facets(f, a)] |= mask;
   }
+}
+
+}  // namespace
+
+std::vector<long> assign_boundary_in_box(Mesh& mesh, const BoundarySpec& spec, const RowMat& lo, const RowMat& hi) {
+  std::vector<long> counts;
+  assign_parts(mesh, spec, SideBox{&lo, &hi}, &counts);
+  return counts;
+}
+
+void assign_boundary(Mesh& mesh, const BoundarySpec& spec) {
+  assign_parts(mesh, spec, SideBox{}, nullptr);
   bool any_gamma1 = false;
   for (Part p : mesh.facet_part) any_gamma1 |= (p == Part::GAMMA1);
   if (!any_gamma1)

@@ -1,6 +1,7 @@
 #include <hemicontact/mesh/generators.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/mesh/slabs.hpp>
 
 #include <algorithm>
 #include <array>
@@ -111,38 +112,29 @@ void perturb_interior(const RectangleSpec& s, double hx, double hy, Mesh& m) {
     }
 }
 
-}  // namespace
-
-Mesh make_rectangle(const RectangleSpec& s) {
-  if (s.nx < 1 || s.ny < 1) input_error("mesh: nx and ny must be >= 1");
-  if (!(s.x1 > s.x0) || !(s.y1 > s.y0)) input_error("mesh: empty rectangle (need x0 < x1 and y0 < y1)");
-  if (!(s.perturb >= 0 && s.perturb < 0.5)) input_error("mesh.perturb must lie in [0, 0.5)");
-  const int nx = s.nx, ny = s.ny;
-  const double hx = (s.x1 - s.x0) / nx, hy = (s.y1 - s.y0) / ny;
-  if (!(s.grading_power >= 1)) input_error("mesh.grading.power must be >= 1");
-  const bool graded = s.grading_power != 1 && (s.grade_x != GradeTowards::NONE || s.grade_y != GradeTowards::NONE);
-  // A perturbation is sized by the uniform h: on a graded mesh it would invert the small cells.
-  if (graded && s.perturb > 0) input_error("mesh.grading and mesh.perturb cannot be combined");
+// The nodes and cells of the rectangle's cell columns i0 <= i < i1 (the whole rectangle: 0, nx);
+// grid node (i, j) gets the index j·(i1 − i0 + 1) + i − i0 and the centre nodes of crossed cells
+// follow, so the whole rectangle keeps the numbering make_rectangle documents. Not perturbed.
+Mesh rectangle_cells(const RectangleSpec& s, int i0, int i1) {
+  const int nxl = i1 - i0, ny = s.ny;
   const auto gx = [&](int i) { return rect_grade_x(s, i); };
   const auto gy = [&](int j) { return rect_grade_y(s, j); };
-  const auto grid = [nx](int i, int j) { return j * (nx + 1) + i; };
-  if (graded) check_graded_cells(s);
-
+  const auto grid = [nxl, i0](int i, int j) { return j * (nxl + 1) + i - i0; };
   const std::vector<Diagonal> column = column_splits(s);
   int n_crossed = 0;
-  for (int i = 0; i < nx; ++i) n_crossed += (column[i] == Diagonal::CROSSED) ? ny : 0;
+  for (int i = i0; i < i1; ++i) n_crossed += (column[i] == Diagonal::CROSSED) ? ny : 0;
 
   Mesh m;
   m.dim = 2;
-  const Index n_grid = Index(nx + 1) * (ny + 1);
+  const Index n_grid = Index(nxl + 1) * (ny + 1);
   m.points.resize(n_grid + n_crossed, 2);
   for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) {
+    for (int i = i0; i <= i1; ++i) {
       // Exact end points (x1 rather than x0 + nx·hx) so that side selection sees exact coordinates.
-      m.points(grid(i, j), 0) = (i == nx) ? s.x1 : s.x0 + (s.x1 - s.x0) * gx(i);
+      m.points(grid(i, j), 0) = (i == s.nx) ? s.x1 : s.x0 + (s.x1 - s.x0) * gx(i);
       m.points(grid(i, j), 1) = (j == ny) ? s.y1 : s.y0 + (s.y1 - s.y0) * gy(j);
     }
-  const Index n_cells = 2 * (Index(nx) * ny - n_crossed) + 4 * Index(n_crossed);
+  const Index n_cells = 2 * (Index(nxl) * ny - n_crossed) + 4 * Index(n_crossed);
   m.cells.resize(n_cells, 3);
   Index c = 0, centre = n_grid;
   const auto tri = [&](int a, int b, int d) {
@@ -152,7 +144,7 @@ Mesh make_rectangle(const RectangleSpec& s) {
     ++c;
   };
   for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
+    for (int i = i0; i < i1; ++i) {
       const int a = grid(i, j), b = grid(i + 1, j), cc = grid(i + 1, j + 1), d = grid(i, j + 1);
       switch (column[i]) {
         case Diagonal::RIGHT:
@@ -174,13 +166,51 @@ Mesh make_rectangle(const RectangleSpec& s) {
         }
       }
     }
-  if (s.perturb > 0) perturb_interior(s, hx, hy, m);
+  return m;
+}
+
+std::string rectangle_origin(const RectangleSpec& s, bool graded) {
   std::ostringstream os;
-  os << "rectangle [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "] " << nx << "x" << ny << " "
+  os << "rectangle [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "] " << s.nx << "x" << s.ny << " "
      << to_string(s.diagonal);
   if (s.perturb > 0) os << " perturbed " << s.perturb;
   if (graded) os << " graded " << s.grading_power;
-  m.origin = os.str();
+  return os.str();
+}
+
+bool check_rectangle(const RectangleSpec& s) {
+  if (s.nx < 1 || s.ny < 1) input_error("mesh: nx and ny must be >= 1");
+  if (!(s.x1 > s.x0) || !(s.y1 > s.y0)) input_error("mesh: empty rectangle (need x0 < x1 and y0 < y1)");
+  if (!(s.perturb >= 0 && s.perturb < 0.5)) input_error("mesh.perturb must lie in [0, 0.5)");
+  if (!(s.grading_power >= 1)) input_error("mesh.grading.power must be >= 1");
+  const bool graded = s.grading_power != 1 && (s.grade_x != GradeTowards::NONE || s.grade_y != GradeTowards::NONE);
+  // A perturbation is sized by the uniform h: on a graded mesh it would invert the small cells.
+  if (graded && s.perturb > 0) input_error("mesh.grading and mesh.perturb cannot be combined");
+  if (graded) check_graded_cells(s);
+  return graded;
+}
+
+}  // namespace
+
+Mesh make_rectangle(const RectangleSpec& s) {
+  const bool graded = check_rectangle(s);
+  Mesh m = rectangle_cells(s, 0, s.nx);
+  const double hx = (s.x1 - s.x0) / s.nx, hy = (s.y1 - s.y0) / s.ny;
+  if (s.perturb > 0) perturb_interior(s, hx, hy, m);
+  m.origin = rectangle_origin(s, graded);
+  extract_boundary_facets(m);
+  return m;
+}
+
+Mesh make_rectangle_slab(const RectangleSpec& s, int i0, int i1) {
+  const bool graded = check_rectangle(s);
+  if (s.perturb > 0) input_error("mesh.perturb: a rectangle made in slabs is not perturbed (its draws run over the whole mesh)");
+  if (!(0 <= i0 && i0 < i1 && i1 <= s.nx)) throw Error("make_rectangle_slab: cell columns out of range", EXIT_INTERNAL);
+  for (Diagonal c : column_splits(s))
+    if (c == Diagonal::CROSSED)
+      input_error("mesh.diagonal: a rectangle made in slabs has no crossed cells (their centre nodes are not shared)");
+  Mesh m = rectangle_cells(s, i0, i1);
+  m.origin = rectangle_origin(s, graded);
   extract_boundary_facets(m);
   return m;
 }
@@ -193,7 +223,9 @@ BoxPattern parse_box_pattern(const std::string& name) {
 
 const char* to_string(BoxPattern p) { return p == BoxPattern::KUHN ? "kuhn" : "symmetric"; }
 
-Mesh make_box(const BoxSpec& s) {
+namespace {
+
+void check_box(const BoxSpec& s) {
   if (s.nx < 1 || s.ny < 1 || s.nz < 1) input_error("mesh: nx, ny and nz must be >= 1");
   if (!(s.x1 > s.x0) || !(s.y1 > s.y0) || !(s.z1 > s.z0))
     input_error("mesh: empty box (need x0 < x1, y0 < y1 and z0 < z1)");
@@ -201,15 +233,21 @@ Mesh make_box(const BoxSpec& s) {
   if (s.pattern == BoxPattern::SYMMETRIC && (s.nx % 2 || s.ny % 2))
     input_error("mesh.pattern: 'symmetric' needs even nx and ny (got nx = " + std::to_string(s.nx) +
                 ", ny = " + std::to_string(s.ny) + "); an odd middle column has no mirror-symmetric split");
-  const int nx = s.nx, ny = s.ny, nz = s.nz;
+}
+
+// The nodes and cells of the box's cell layers j0 <= j < j1 along y (the whole box: 0, ny); node
+// (i, j, k) gets the index (k·(j1 − j0 + 1) + j − j0)·(nx + 1) + i, so the whole box keeps the
+// numbering make_box documents. Cells are split by their global (i, j), as in the whole box.
+Mesh box_cells(const BoxSpec& s, int j0, int j1) {
+  const int nx = s.nx, ny = s.ny, nz = s.nz, nyl = j1 - j0;
   const double hx = (s.x1 - s.x0) / nx, hy = (s.y1 - s.y0) / ny, hz = (s.z1 - s.z0) / nz;
-  const auto grid = [nx, ny](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };
+  const auto grid = [nx, nyl, j0](int i, int j, int k) { return (k * (nyl + 1) + j - j0) * (nx + 1) + i; };
 
   Mesh m;
   m.dim = 3;
-  m.points.resize(Index(nx + 1) * (ny + 1) * (nz + 1), 3);
+  m.points.resize(Index(nx + 1) * (nyl + 1) * (nz + 1), 3);
   for (int k = 0; k <= nz; ++k)
-    for (int j = 0; j <= ny; ++j)
+    for (int j = j0; j <= j1; ++j)
       for (int i = 0; i <= nx; ++i) {
         const int v = grid(i, j, k);
         // Exact end points so that side selection sees exact coordinates.
@@ -228,10 +266,10 @@ Mesh make_box(const BoxSpec& s) {
     kuhn[t] = t < 3 ? std::array<int, 4>{0, a, b, 7} : std::array<int, 4>{0, b, a, 7};
   }
 
-  m.cells.resize(Index(nx) * ny * nz * 6, 4);
+  m.cells.resize(Index(nx) * nyl * nz * 6, 4);
   Index c = 0;
   for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
+    for (int j = j0; j < j1; ++j)
       for (int i = 0; i < nx; ++i) {
         // SYMMETRIC: the mirror image of the Kuhn split in the upper halves. Reflecting x maps local
         // bit x to 1 − x (flip = 1), and likewise y. Conformity: faces inside one half see the same
@@ -253,6 +291,25 @@ Mesh make_box(const BoxSpec& s) {
           ++c;
         }
       }
+  return m;
+}
+
+std::string box_origin(const BoxSpec& s) {
+  std::ostringstream os;
+  os << "box [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "]x[" << s.z0 << "," << s.z1 << "] " << s.nx
+     << "x" << s.ny << "x" << s.nz << " " << to_string(s.pattern);
+  if (s.perturb > 0) os << " perturbed " << s.perturb;
+  return os.str();
+}
+
+}  // namespace
+
+Mesh make_box(const BoxSpec& s) {
+  check_box(s);
+  Mesh m = box_cells(s, 0, s.ny);
+  const int nx = s.nx, ny = s.ny, nz = s.nz;
+  const double hx = (s.x1 - s.x0) / nx, hy = (s.y1 - s.y0) / ny, hz = (s.z1 - s.z0) / nz;
+  const auto grid = [nx, ny](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };
   if (s.perturb > 0) {
     // Interior nodes only, so the boundary (and the parts on it) stay exactly where they are.
     // At most perturb·h (Euclidean, in cell-side units; uniform in the ball, by rejection).
@@ -273,11 +330,17 @@ Mesh make_box(const BoxSpec& s) {
           m.points(v, 2) += s.perturb * hz * c;
         }
   }
-  std::ostringstream os;
-  os << "box [" << s.x0 << "," << s.x1 << "]x[" << s.y0 << "," << s.y1 << "]x[" << s.z0 << "," << s.z1 << "] " << nx
-     << "x" << ny << "x" << nz << " " << to_string(s.pattern);
-  if (s.perturb > 0) os << " perturbed " << s.perturb;
-  m.origin = os.str();
+  m.origin = box_origin(s);
+  extract_boundary_facets(m);
+  return m;
+}
+
+Mesh make_box_slab(const BoxSpec& s, int j0, int j1) {
+  check_box(s);
+  if (s.perturb > 0) input_error("mesh.perturb: a box made in slabs is not perturbed (its draws run over the whole box)");
+  if (!(0 <= j0 && j0 < j1 && j1 <= s.ny)) throw Error("make_box_slab: cell layers out of range", EXIT_INTERNAL);
+  Mesh m = box_cells(s, j0, j1);
+  m.origin = box_origin(s);
   extract_boundary_facets(m);
   return m;
 }

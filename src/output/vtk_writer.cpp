@@ -1,4 +1,5 @@
 #include <hemicontact/output/vtk_writer.hpp>
+#include <hemicontact/output/pvtu_writer.hpp>
 
 #include <hemicontact/config.hpp>
 
@@ -12,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <tuple>
 #include <cstring>
 #include <system_error>
 #include <thread>
@@ -358,6 +360,43 @@ void write_vtu(const std::string& path, const Model& md, const Solution& sol, Vt
   xml += "    </Piece>\n  </UnstructuredGrid>\n";
   const std::string out = L.finish(xml);
 
+  write_text_file(path, out);
+}
+
+void write_pvtu(const std::string& path, int dim, const std::vector<std::string>& pieces) {
+  // The arrays of write_point_data, write_status_fields and write_cell_data, in their order
+  // (name, type, components); a test compares them with a piece's.
+  const int nv = voigt_size(dim);
+  std::vector<std::tuple<std::string, std::string, int>> point = {
+      {"displacement", "Float64", 3}, {"gamma3", "Int32", 1},        {"u_nu", "Float64", 1},
+      {"u_tau", "Float64", 1},        {"sigma_nu", "Float64", 1},    {"sigma_tau", "Float64", 1},
+      {"xi", "Float64", 1},           {"lambda", "Float64", 1},      {"u_tau_vec", "Float64", 3},
+      {"sigma_tau_vec", "Float64", 3}};
+  if (dim == 3) point.insert(point.end(), {{"slip_dir", "Float64", 3}, {"slip_angle_deg", "Float64", 1}});
+  point.insert(point.end(), {{"status_normal", "Int32", 1}, {"status_tangential", "Int32", 1}, {"separated", "UInt8", 1},
+                             {"compliance", "UInt8", 1}, {"contact", "UInt8", 1}, {"stick", "UInt8", 1}});
+  if (dim == 3)
+    point.emplace_back("slip", "UInt8", 1);
+  else
+    point.insert(point.end(), {{"slip_plus", "UInt8", 1}, {"slip_minus", "UInt8", 1}});
+  const std::vector<std::tuple<std::string, std::string, int>> cell = {
+      {"strain", "Float64", nv}, {"stress", "Float64", nv}, {"von_mises", "Float64", 1}};
+  const auto arrays = [](std::string& out, const std::vector<std::tuple<std::string, std::string, int>>& list) {
+    for (const auto& [name, type, comps] : list)
+      out += "      <PDataArray type=\"" + type + "\" Name=\"" + name + "\" NumberOfComponents=\"" +
+             std::to_string(comps) + "\"/>\n";
+  };
+  std::string out =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n"
+      "    <PPointData Scalars=\"status_normal\" Vectors=\"displacement\">\n";
+  arrays(out, point);
+  out += "    </PPointData>\n    <PCellData Scalars=\"von_mises\">\n";
+  arrays(out, cell);
+  out += "    </PCellData>\n    <PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
+         "    </PPoints>\n";
+  for (const std::string& p : pieces) out += "    <Piece Source=\"" + p + "\"/>\n";
+  out += "  </PUnstructuredGrid>\n</VTKFile>\n";
   write_text_file(path, out);
 }
 

@@ -9,6 +9,9 @@
 ///   petsc_ssn.cpp           backend ssn (semismooth Newton on the unsmoothed statuses)
 ///   petsc_polish.cpp        the exact polish with fixed statuses
 ///   petsc_engine.cpp        the run (continuation, early stop, polish), the report, solve()
+///   petsc_slab_distribution.cpp  the distributed path's slabs (make_slab), its numbering, the ghost rows
+///   petsc_slab_finish.cpp   its certificate, energies and status counts by reductions, its piece
+///   petsc_slab_output.cpp   its files: a piece per rank, the .pvtu, report.json (not the engine's)
 /// Not installed and not part of the library: only hemicontact-mpi's sources include it.
 
 #include "petsc_engine.hpp"
@@ -103,6 +106,8 @@ void fresh_gamg(KSP ksp);
 class Engine {
  public:
   Engine(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep);
+  // The distributed path: md is this rank's slab; the answer's vectors stay on the ranks (out).
+  Engine(Model& md, const Slab& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep, SlabResult& out);
   ~Engine() {
     if (rigid) MatNullSpaceDestroy(&rigid);
     // K lives no longer than the engine: after the solve, nothing may apply it.
@@ -138,6 +143,16 @@ class Engine {
   };
   BandRows save_band() const;
   void restore_band(const BandRows& b) const;
+  // ---- the distributed path (petsc_slab_distribution.cpp, petsc_slab_finish.cpp)
+  void distribute_slabs();
+  void exchange_ghosts(const std::vector<Index>& send, const std::vector<Index>& recv, int peer,
+                       const std::vector<Index>& sel, const std::vector<Index>& k_of);
+  void finish_slabs(Solution& s, ::Vec x, clk::time_point t0);
+  void slab_piece(::Vec x, ::Vec R);
+  void slab_certificate(Solution& s) const;
+  void slab_energies(Solution& s, ::Vec x, ::Vec R) const;
+  void slab_report(Solution& s);
+  void record();  // the engine's record for report.json ("petsc"): counts, memory, partition
   // ---- set-up
   void distribute();
   void assemble();
@@ -212,6 +227,8 @@ class Engine {
   nlohmann::json stages = nlohmann::json::array();
   std::map<std::string, double> timings;
   bool owns_apply = false;  // md.Kx_apply set by assemble(), reading K and work
+  const Slab* slab = nullptr;       // the distributed path: md is this rank's slab
+  SlabResult* slab_out = nullptr;   // and its piece goes here
 };
 
 }  // namespace hemicontact::petsc_engine::detail

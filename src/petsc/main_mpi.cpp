@@ -9,21 +9,27 @@
 // this one links MPI and PETSc and never Ipopt. Same scene keys, same report.json (written once,
 // by rank 0, with a "petsc" record added), same exit codes.
 //
-// Every rank parses the scene and builds the model (deterministic: the same input errors on every
-// rank); rank 0 alone locks and writes the output folder and broadcasts how that went, so that the
-// ranks always leave together with one exit code.
+// Every rank parses the scene. A generated box or rectangle solved by ssn is made per rank, in slabs
+// of cell layers (solver.petsc.mesh = "auto"): no rank holds the whole mesh, and each writes its
+// own piece of the results. Otherwise every rank builds the whole model (deterministic: the same
+// input errors on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
+// so that the ranks always leave together with one exit code.
 #include "../cli/cli.hpp"
 #include "petsc_engine.hpp"
+#include "petsc_slab_output.hpp"
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/mesh/boundary.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/scene/slab_mesh.hpp>
 
 #include <malloc.h>
 #include <petscsys.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -52,6 +58,97 @@ void share(int& code, std::string& message, MPI_Comm comm) {
   MPI_Bcast(&len, 1, MPI_INT, 0, comm);
   message.resize(static_cast<size_t>(len));
   if (len > 0) MPI_Bcast(message.data(), len, MPI_CHAR, 0, comm);
+}
+
+// Why the scene runs on the replicated mesh ("" : on the per-rank slabs). solver.petsc.mesh:
+// "auto" (the default) takes the slabs wherever they cover the scene, "replicated" never.
+std::string replicated_reason(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm) {
+  const std::string mode = scene.at("solver").at("petsc").at("mesh").get<std::string>();
+  if (mode == "replicated") return "solver.petsc.mesh = replicated";
+  if (petsc_engine::tao_type(opt.backend) != "ssn") return "backend " + opt.backend + " (the slabs run ssn only)";
+  const std::string why = slab_refusal(scene);
+  if (!why.empty()) return why;
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  const SlabCut cut = slab_cut(scene);
+  if (cut.layers < size)
+    return std::to_string(size) + " ranks for " + std::to_string(cut.layers) + " cell layers along " + "xyz"[cut.axis];
+  return "";
+}
+
+// A step that may fail on some ranks only (their slab's input checks): the ranks agree on the
+// worst code, a failing rank other than 0 prints its own message, and all leave together.
+template <class F>
+void on_every_rank(MPI_Comm comm, const F& fn) {
+  int code = 0, worst = 0, rank = 0;
+  std::string message;
+  try {
+    fn();
+  } catch (const Error& e) {
+    code = e.code();
+    message = e.what();
+  }
+  MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, comm);
+  if (worst == 0) return;
+  MPI_Comm_rank(comm, &rank);
+  if (code != 0 && rank != 0) std::fprintf(stderr, "hemicontact: error (rank %d): %s\n", rank, message.c_str());
+  throw Error(code != 0 ? message : "another rank stopped (its message is above)", static_cast<ExitCode>(worst));
+}
+
+// The distributed path: each rank makes its slab of the generated mesh and its model, solves with
+// ssn, and writes its piece; report.json (rank 0) holds reductions only.
+// The free (not clamped) nodes on Γ3 facets of a mesh.
+long free_gamma3_nodes(const Mesh& mesh) {
+  const std::vector<bool> clamped = clamped_nodes(mesh);
+  std::vector<char> on(static_cast<size_t>(mesh.num_nodes()), 0);
+  for (Index f = 0; f < mesh.num_facets(); ++f)
+    if (mesh.facet_part[static_cast<size_t>(f)] == Part::GAMMA3)
+      for (int a = 0; a < mesh.dim; ++a) on[static_cast<size_t>(mesh.facets(f, a))] = !clamped[static_cast<size_t>(mesh.facets(f, a))];
+  return static_cast<long>(std::count(on.begin(), on.end(), 1));
+}
+
+// @p fallback: set (and nothing solved) when the slabs do not suit the scene after all.
+int run_slabs(const cli::SceneArgs& a, const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm,
+              std::chrono::steady_clock::time_point t0, std::string& fallback) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  log_info() << "petsc: the mesh made per rank (slabs of cell layers), " << size << " rank(s)";
+  // The pictures read every Γ3 node from one report: the slabs have no such list (their pieces do).
+  if (a.plot || scene.at("output").at("plot").get<bool>())
+    log_warn() << "--plot / output.plot: no picture on the per-rank slabs (the Γ3 nodes are in the pieces "
+                  "gamma3_rank<r>.csv); solver.petsc.mesh = \"replicated\" draws it";
+  Mesh mesh;
+  petsc_engine::Slab slab;
+  Model md;
+  const auto tm = std::chrono::steady_clock::now();
+  on_every_rank(comm, [&] { slab = petsc_engine::make_slab(scene, comm, mesh); });
+  const double t_mesh = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
+  // A slab without a free Γ3 node, where others have some (Γ3 on part of the cut axis), would
+  // fail the model's check that a contact law has Γ3 nodes, which holds for the whole mesh.
+  long g3 = free_gamma3_nodes(mesh), g3_min = 0, g3_max = 0;
+  MPI_Allreduce(&g3, &g3_min, 1, MPI_LONG, MPI_MIN, comm);
+  MPI_Allreduce(&g3, &g3_max, 1, MPI_LONG, MPI_MAX, comm);
+  if (g3_min == 0 && g3_max > 0) {
+    fallback = "a slab without a free Γ3 node (Γ3 covers part of the cut along " + std::string(1, "xyz"[slab.axis]) + ")";
+    return 0;
+  }
+  on_every_rank(comm, [&] {
+    md = build_model(scene, std::move(mesh), /*stiffness=*/false);
+    md.timings["mesh"] = t_mesh;
+  });
+  malloc_trim(0);
+  log_info() << "slab built: " << md.mesh.num_nodes() << " nodes, memory " << petsc_engine::current_rss_kb() / 1024
+             << " MB (rank 0)";
+  petsc_engine::EngineReport er;
+  petsc_engine::SlabResult out;
+  Solution sol = petsc_engine::solve_slabs(md, slab, opt, comm, er, out);
+  sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  petsc_engine::write_slab_results(a.out, scene, md, slab, sol, out, opt, er, comm);
+  log_info() << "petsc: " << size << " rank(s), " << er.json.value("newton_iterations", 0L) << " Newton and "
+             << er.json.value("krylov_iterations", 0L) << " Krylov iterations, peak memory "
+             << er.json.value("peak_rss_mb_sum", 0.0) << " MB over the ranks, certificate "
+             << sol.certificate.max_residual;
+  return cli::solve_verdict(sol, opt);
 }
 
 int run(const std::vector<std::string>& args, MPI_Comm comm) {
@@ -91,7 +188,9 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   std::string message;
   if (rank == 0) {
     try {
-      lock.emplace(prepare_output_dir(a.out, a.force, solve_output_names()));
+      std::vector<std::string> names = solve_output_names();
+      names.push_back("solution.pvtu");
+      lock.emplace(prepare_output_dir(a.out, a.force, names, petsc_engine::slab_output_patterns()));
     } catch (const Error& e) {
       code = e.code();
       message = e.what();
@@ -99,6 +198,12 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   }
   share(code, message, comm);
   if (code != 0) throw Error(message, static_cast<ExitCode>(code));
+  std::string replicated = replicated_reason(scene, opt, comm);
+  if (replicated.empty()) {
+    const int verdict = run_slabs(a, scene, opt, comm, t0, replicated);
+    if (replicated.empty()) return verdict;
+  }
+  log_info() << "petsc: the whole mesh on every rank (" << replicated << ")";
 
   // No K_x in the model: each rank assembles its own rows into PETSc (petsc_assembly.cpp).
   Model md = build_model(scene, scene_directory(a.scene), /*stiffness=*/false);
@@ -110,6 +215,8 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   petsc_engine::EngineReport er;
   Solution sol = petsc_engine::solve(md, opt, comm, er);
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  er.json["mesh"] = "replicated";
+  er.json["mesh_reason"] = replicated;
 
   if (rank == 0) {
     try {

@@ -189,9 +189,14 @@ void Engine::scaled_bound(::Vec b, ::Vec out) const {
 }
 
 Engine::BandRows Engine::save_band() const {
-  std::vector<char> on_gamma3(static_cast<size_t>(n), 0);
+  // The Γ3 rows this rank's model knows, sorted: every column of an owned row is a node of the
+  // model (the whole mesh, or a slab with its ghosts), and no array of the global size is needed.
+  std::vector<PetscInt> gamma3_rows;
+  gamma3_rows.reserve(static_cast<size_t>(md.contact.size()) * static_cast<size_t>(d));
   for (Index k = 0; k < md.contact.size(); ++k)
-    for (int c = 0; c < d; ++c) on_gamma3[static_cast<size_t>(cdof(k) + c)] = 1;
+    for (int c = 0; c < d; ++c) gamma3_rows.push_back(cdof(k) + c);
+  std::sort(gamma3_rows.begin(), gamma3_rows.end());
+  const auto on_gamma3 = [&](PetscInt j) { return std::binary_search(gamma3_rows.begin(), gamma3_rows.end(), j); };
   BandRows b;
   b.start.push_back(0);
   for (PetscInt i = lo; i < hi; ++i) {
@@ -199,7 +204,7 @@ Engine::BandRows Engine::save_band() const {
     const PetscInt* cols;
     const PetscScalar* vals;
     HC_PETSC(MatGetRow(K.m, i, &nc, &cols, &vals));
-    if (std::any_of(cols, cols + nc, [&](PetscInt j) { return on_gamma3[static_cast<size_t>(j)] != 0; })) {
+    if (std::any_of(cols, cols + nc, on_gamma3)) {
       b.rows.push_back(i);
       b.cols.insert(b.cols.end(), cols, cols + nc);
       b.vals.insert(b.vals.end(), vals, vals + nc);

@@ -21,7 +21,10 @@ Solution Engine::run() {
   // by the user (solver.petsc.options, PETSC_OPTIONS) wins.
   if (size > 1) option_default("-matptap_via", "hypre");
 #endif
-  distribute();
+  if (slab)
+    distribute_slabs();
+  else
+    distribute();
   assemble();
   near_null_space();
   if (tao_type(opt.backend) == "ssn") return run_ssn(t0);
@@ -115,7 +118,11 @@ void Engine::finish(Solution& s, Eigen::VectorXd x, clk::time_point t0) {
   timings["solve_total"] = since(t0);
   for (const auto& [key, v] : timings) s.timings[key] = v;
   state_verdict(s);
-  // The report's record of the engine.
+  record();
+}
+
+// The report's record of the engine.
+void Engine::record() {
   const long rss = peak_rss_kb();
   long rss_sum = 0, rss_max = 0;
   MPI_Allreduce(&rss, &rss_sum, 1, MPI_LONG, MPI_SUM, comm);
@@ -144,6 +151,12 @@ void Engine::finish(Solution& s, Eigen::VectorXd x, clk::time_point t0) {
 
 Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report) {
   detail::Engine e(md, opt, comm, report);
+  return e.run();
+}
+
+Solution solve_slabs(Model& md, const Slab& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
+                     SlabResult& out) {
+  detail::Engine e(md, slab, opt, comm, report, out);
   return e.run();
 }
 

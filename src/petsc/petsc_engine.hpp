@@ -14,12 +14,15 @@
 ///   continuation and outer fixed point λ = F_b(u_ν): the schedule and stopping rules of driver/solve.cpp
 ///   polish:     Newton on the unsmoothed conditions of (22) with the statuses fixed (full space:
 ///               contact x_ν = g, stick x_τ = 0, compliance w p(x_ν) on its branch, slip w λ t), CG + GAMG
-///   certify:    the certificate of check/certificate.hpp on the gathered u (every rank holds the model)
+///   certify:    the certificate of check/certificate.hpp on the gathered u (replicated model), or its
+///               formulas node by node on each slab's owned nodes with the maxima reduced (slabs)
 ///
-/// The model (mesh, K, f) is built on every rank by the same code as the cholmod engine, and each
-/// rank copies its own rows of K into PETSc (per-rank mesh generation and assembly are not done yet:
-/// the model is replicated, see docs/petsc-engine.md): the certificate, the report and the writers then read
-/// the same Model, and the answers are comparable to round-off.
+/// Two layouts (docs/petsc-engine.md, "Distributed mesh"). A generated box or rectangle solved by
+/// ssn is made per rank in slabs of cell layers (make_slab, solve_slabs): each rank builds only its
+/// slab's model, PETSc's rows are its owned nodes', the certificate and the energies are reductions
+/// over the owned nodes, and no rank holds the whole mesh or solution. Anything else (Gmsh files,
+/// perturbed meshes, TAO) builds the whole model on every rank (solve): each rank copies its own
+/// rows of K into PETSc, and the certificate, the report and the writers read the gathered answer.
 
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
@@ -29,6 +32,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 namespace hemicontact::petsc_engine {
 
@@ -47,6 +51,43 @@ struct EngineReport {
 ///         outside TAO fails (the message names PETSc's reason, e.g. KSP_DIVERGED_ITS). Collective:
 ///         every rank throws the same error.
 Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report);
+
+/// A rank's slab of a generated mesh (the distributed path: solver.petsc.mesh, docs/petsc-engine.md
+/// "Distributed mesh"): the rank owns the node layers [c0, c1) along the cut (the last rank also
+/// layer c1 = layers) and holds the cell layers [max(c0 − 1, 0), c1), every cell that touches an
+/// owned node; the nodes of layer c0 − 1 and of layer c1 are ghosts, owned by the ranks below and
+/// above. Local node and cell indices are those of the rank's own mesh (build_slab_mesh).
+struct Slab {
+  int axis = 0, layers = 0;  ///< the cut (SlabCut)
+  int c0 = 0, c1 = 0;        ///< owned cell layers [c0, c1)
+  std::vector<char> owned_node;  ///< per local node: owned by this rank
+  std::vector<char> owned_cell;  ///< per local cell: in layers [c0, c1) (the ghost layer is not)
+  /// Ghost nodes of layer c0 − 1 (owned by rank − 1) and of layer c1 (rank + 1), and the owned nodes
+  /// that are ghosts there (layers c0 and c1 − 1), each in local index order: the same order on
+  /// both sides (the generators number a layer's nodes in the same relative order on every rank).
+  std::vector<Index> recv_below, recv_above, send_below, send_above;
+  long global_nodes = 0, global_cells = 0;  ///< the whole mesh's counts (sums over the ranks)
+};
+
+/// @brief This rank's slab of the scene's generated mesh (collective): the cell layers split evenly
+/// over the ranks, the mesh of its layers with the boundary parts of the whole mesh. Refuses a
+/// selector that selects nothing on every rank, and more ranks than cell layers (EXIT_INPUT).
+Slab make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh);
+
+/// What the distributed path leaves for the writers: this rank's piece (the local nodes' u, the
+/// local Γ3 nodes' state and statuses, read with the global scales), and the report's reductions.
+struct SlabResult {
+  Solution piece;                                            ///< u, state and status of the local model
+  nlohmann::json status_counts = nlohmann::json::object();   ///< over all ranks
+  long gamma3_nodes = 0;                                     ///< over all ranks
+  long local_nodes_max = 0;                                  ///< the most nodes a rank holds (ghosts included)
+};
+
+/// @brief Solve on the slabs (collective, backend ssn only): as solve(), but @p md is this rank's
+/// slab (make_slab, build_model(scene, mesh, false)) and nothing global is gathered. @return the
+/// scalars of the answer (energies, certificate, verdict; its vectors empty); @p out the piece.
+Solution solve_slabs(Model& md, const Slab& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
+                     SlabResult& out);
 
 /// Replace PETSc's error handler (traceback on every rank) by one that keeps the failure's first
 /// message for the engine's Error, which then names @p user_options (solver.petsc.options) when

@@ -371,6 +371,11 @@ Solution Engine::ssn_finish(Ssn& s, int k, bool converged, clk::time_point t0, c
   sol.backend_ok = converged;
   if (!converged) sol.message = rec.backend.message;
   stages = s.steps;
+  if (slab) {  // the distributed path: nothing global is gathered
+    finish_slabs(sol, s.x.v, t0);
+    timings.erase("backend");
+    return std::move(sol);
+  }
   Eigen::VectorXd xg = gather(s.x.v);
   finish(sol, std::move(xg), t0);
   timings.erase("backend");

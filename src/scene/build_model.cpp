@@ -10,6 +10,8 @@
 #include <hemicontact/mesh/generators.hpp>
 #include <hemicontact/mesh/gmsh_import.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/scene/slab_mesh.hpp>
+#include <hemicontact/mesh/slabs.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -275,6 +277,52 @@ void check_memory(double nodes, int dim, const std::string& size_keys, bool pets
                       : "lower " + size_keys.substr(0, size_keys.find(" ="))));
 }
 
+namespace {
+
+// The generator's parameters of a scene's mesh block (type box, rectangle).
+BoxSpec box_spec(const json& m) {
+  BoxSpec s;
+  const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>(),
+             z = m.at("z").get<std::vector<double>>();
+  if (x.size() != 2 || y.size() != 2 || z.size() != 2)
+    input_error("mesh.x, mesh.y, mesh.z: each is an interval [a, b]");
+  s.x0 = x[0];
+  s.x1 = x[1];
+  s.y0 = y[0];
+  s.y1 = y[1];
+  s.z0 = z[0];
+  s.z1 = z[1];
+  // validate_scene copies n into nx, ny and nz.
+  s.nx = m.at("nx").get<int>();
+  s.ny = m.at("ny").get<int>();
+  s.nz = m.at("nz").get<int>();
+  s.pattern = parse_box_pattern(m.at("pattern").get<std::string>());
+  s.perturb = m.at("perturb").get<double>();
+  s.seed = m.at("seed").get<unsigned>();
+  return s;
+}
+
+RectangleSpec rectangle_spec(const json& m) {
+  RectangleSpec s;
+  const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>();
+  if (x.size() != 2 || y.size() != 2) input_error("mesh.x, mesh.y: each is an interval [a, b]");
+  s.x0 = x[0];
+  s.x1 = x[1];
+  s.y0 = y[0];
+  s.y1 = y[1];
+  s.nx = m.at("n").is_null() ? m.at("nx").get<int>() : m.at("n").get<int>();
+  s.ny = m.at("n").is_null() ? m.at("ny").get<int>() : m.at("n").get<int>();
+  s.diagonal = parse_diagonal(m.at("diagonal").get<std::string>());
+  s.grade_x = parse_grade_towards(m.at("grading").at("x").get<std::string>(), "mesh.grading.x");
+  s.grade_y = parse_grade_towards(m.at("grading").at("y").get<std::string>(), "mesh.grading.y");
+  s.grading_power = m.at("grading").at("power").get<double>();
+  s.perturb = m.at("perturb").get<double>();
+  s.seed = m.at("seed").get<unsigned>();
+  return s;
+}
+
+}  // namespace
+
 Mesh build_mesh(const json& scene, const std::string& scene_dir) {
   const json& m = scene.at("mesh");
   const bool petsc = scene.at("solver").at("engine") == "petsc";
@@ -290,47 +338,79 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
     // Before the mesh is generated: 1e6 cells a side must be refused, not allocated.
     check_memory((m.at("nx").get<double>() + 1) * (m.at("ny").get<double>() + 1) * (m.at("nz").get<double>() + 1), 3,
                  m.at("n").is_null() ? "mesh.nx, mesh.ny, mesh.nz" : "mesh.n = " + m.at("n").dump(), petsc);
-    BoxSpec s;
-    const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>(),
-               z = m.at("z").get<std::vector<double>>();
-    if (x.size() != 2 || y.size() != 2 || z.size() != 2)
-      input_error("mesh.x, mesh.y, mesh.z: each is an interval [a, b]");
-    s.x0 = x[0];
-    s.x1 = x[1];
-    s.y0 = y[0];
-    s.y1 = y[1];
-    s.z0 = z[0];
-    s.z1 = z[1];
-    // validate_scene copies n into nx, ny and nz.
-    s.nx = m.at("nx").get<int>();
-    s.ny = m.at("ny").get<int>();
-    s.nz = m.at("nz").get<int>();
-    s.pattern = parse_box_pattern(m.at("pattern").get<std::string>());
-    s.perturb = m.at("perturb").get<double>();
-    s.seed = m.at("seed").get<unsigned>();
-    mesh = make_box(s);
+    mesh = make_box(box_spec(m));
   } else {
-    RectangleSpec s;
     check_memory((m.at("nx").get<double>() + 1) * (m.at("ny").get<double>() + 1), 2,
                  m.at("n").is_null() ? "mesh.nx, mesh.ny" : "mesh.n = " + m.at("n").dump(), petsc);
-    const auto x = m.at("x").get<std::vector<double>>(), y = m.at("y").get<std::vector<double>>();
-    if (x.size() != 2 || y.size() != 2) input_error("mesh.x, mesh.y: each is an interval [a, b]");
-    s.x0 = x[0];
-    s.x1 = x[1];
-    s.y0 = y[0];
-    s.y1 = y[1];
-    s.nx = m.at("n").is_null() ? m.at("nx").get<int>() : m.at("n").get<int>();
-    s.ny = m.at("n").is_null() ? m.at("ny").get<int>() : m.at("n").get<int>();
-    s.diagonal = parse_diagonal(m.at("diagonal").get<std::string>());
-    s.grade_x = parse_grade_towards(m.at("grading").at("x").get<std::string>(), "mesh.grading.x");
-    s.grade_y = parse_grade_towards(m.at("grading").at("y").get<std::string>(), "mesh.grading.y");
-    s.grading_power = m.at("grading").at("power").get<double>();
-    s.perturb = m.at("perturb").get<double>();
-    s.seed = m.at("seed").get<unsigned>();
-    mesh = make_rectangle(s);
+    mesh = make_rectangle(rectangle_spec(m));
   }
   log_debug() << "mesh: " << mesh.origin << " (" << since(t0) << " s)";
   assign_scene_boundary(mesh, scene);
+  return mesh;
+}
+
+std::string slab_refusal(const json& scene) {
+  const json& m = scene.at("mesh");
+  const std::string type = m.at("type").get<std::string>();
+  if (type != "box" && type != "rectangle") return "mesh.type = " + type + " (only generated boxes and rectangles)";
+  if (m.at("perturb").get<double>() > 0) return "mesh.perturb > 0 (its draws run over the whole mesh)";
+  if (type == "rectangle") {
+    const RectangleSpec s = rectangle_spec(m);
+    if (s.diagonal == Diagonal::CROSSED || (s.diagonal == Diagonal::SYMMETRIC && s.nx % 2 == 1))
+      return "crossed cells (mesh.diagonal; their centre nodes are not on the grid)";
+  }
+  return "";
+}
+
+SlabCut slab_cut(const json& scene) {
+  const json& m = scene.at("mesh");
+  if (m.at("type") == "box") return {1, box_spec(m).ny};
+  return {0, rectangle_spec(m).nx};
+}
+
+namespace {
+
+BoundarySpec scene_boundary_spec(const json& scene) {
+  const double scale = scene.at("loads").at("scale").get<double>();
+  BoundarySpec spec;
+  spec.gamma1 = selectors(scene.at("boundary").at("gamma1"), "gamma1", scale);
+  spec.gamma2 = selectors(scene.at("boundary").at("gamma2"), "gamma2", scale);
+  spec.gamma3 = selectors(scene.at("boundary").at("gamma3"), "gamma3", scale);
+  spec.rollers = selectors(scene.at("boundary").at("rollers"), "rollers", scale);
+  return spec;
+}
+
+}  // namespace
+
+std::vector<std::string> boundary_selector_names(const json& scene) {
+  std::vector<std::string> out;
+  const BoundarySpec spec = scene_boundary_spec(scene);
+  for (const auto* list : {&spec.gamma1, &spec.gamma2, &spec.gamma3, &spec.rollers})
+    for (const auto& b : *list) out.push_back(b.context);
+  return out;
+}
+
+Mesh build_slab_mesh(const json& scene, int c0, int c1, std::vector<long>& counts) {
+  const json& m = scene.at("mesh");
+  Mesh mesh;
+  RowMat lo, hi;
+  if (m.at("type") == "box") {
+    const BoxSpec s = box_spec(m);
+    mesh = make_box_slab(s, c0, c1);
+    lo.resize(1, 3);
+    hi.resize(1, 3);
+    lo << s.x0, s.y0, s.z0;
+    hi << s.x1, s.y1, s.z1;
+  } else {
+    const RectangleSpec s = rectangle_spec(m);
+    mesh = make_rectangle_slab(s, c0, c1);
+    lo.resize(1, 2);
+    hi.resize(1, 2);
+    lo << s.x0, s.y0;
+    hi << s.x1, s.y1;
+  }
+  check_cells(mesh);
+  counts = assign_boundary_in_box(mesh, scene_boundary_spec(scene), lo, hi);
   return mesh;
 }
 

@@ -24,6 +24,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
+#include <vector>
 #include <string>
 #include <utility>
 
@@ -104,13 +107,16 @@ TEST_P(PetscAgreement, SameAnswerAsCholmod) {
   const CliOutcome ref = run_cli(dir, "solve " + common + " --out " + (dir / "cholmod").string());
   ASSERT_EQ(ref.code, 0) << ref.err;
   const std::string backend = c.backend.empty() ? "" : " --backend " + c.backend;
-  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + backend + " --out " + (dir / "petsc").string());
+  // The replicated mesh (its report lists every Γ3 node); PetscSlabs checks the per-rank slabs.
+  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + backend + " --set solver.petsc.mesh='\"replicated\"' --out " +
+                                                (dir / "petsc").string());
   ASSERT_EQ(got.code, 0) << got.err << got.out;
   const json a = json::parse(slurp(dir / "cholmod" / "report.json"));
   const json b = json::parse(slurp(dir / "petsc" / "report.json"));
 
   // The engine's record: ranks and method as asked, Newton and Krylov counts present and positive.
   ASSERT_EQ(b.at("engine"), "petsc");
+  EXPECT_EQ(b.at("petsc").at("mesh"), "replicated");
   EXPECT_EQ(b.at("petsc").at("ranks").get<int>(), c.np);
   EXPECT_EQ(b.at("petsc").at("method"), c.backend.empty() ? "ssn" : c.backend);
   EXPECT_GT(b.at("petsc").at("newton_iterations").get<long>(), 0);
@@ -220,7 +226,8 @@ TEST(PetscEngine, SsnStopsAtSsnTolOrWhereTheStepReachesRoundOff) {
 // gets the same parts.
 TEST(PetscEngine, GraphPartitionerCouplesFewerEntriesThanNaturalRuns) {
   const fs::path dir = scratch("partition");
-  const std::string common = "solve " + problem("sofonea2017-fig2") + " --set mesh.n=16 --quiet --set output.vtu=false";
+  const std::string common = "solve " + problem("sofonea2017-fig2") +
+                             " --set mesh.n=16 --quiet --set output.vtu=false --set solver.petsc.mesh='\"replicated\"'";
   const auto [ra, rb] = same_answer_twice(dir, 3, common, "--set solver.petsc.partition='\"natural\"'");
   if (HasFatalFailure()) return;
   const json& pa = ra.at("petsc").at("partition");
@@ -341,6 +348,159 @@ TEST(PetscEngine, PetscErrorFromAnOptionNamesTheOptions) {
   EXPECT_NE(r.err.find("solver.petsc.options = '-ssn_pc_type ilu' is set"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("[0]PETSC ERROR"), std::string::npos) << r.err;  // no traceback
   EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
+  fs::remove_all(dir);
+}
+
+
+// ---------------------------------------------------------------- the mesh made per rank (slabs)
+
+// The rows of a Γ3 CSV (csv_writer.hpp) by column name.
+std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::vector<std::string> head;
+  std::vector<std::map<std::string, std::string>> rows;
+  const auto split = [](const std::string& l) {
+    std::vector<std::string> out;
+    std::stringstream ss(l);
+    for (std::string cell; std::getline(ss, cell, ',');) out.push_back(cell);
+    return out;
+  };
+  if (std::getline(in, line)) head = split(line);
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = split(line);
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < head.size() && i < cells.size(); ++i) row[head[i]] = cells[i];
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+// A Γ3 node's place, rounded to the mesh's grid (a key both engines' CSVs share).
+std::string place(const std::map<std::string, std::string>& row) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.9f %.9f %.9f", std::stod(row.at("x")), std::stod(row.at("y")),
+                row.count("z") ? std::stod(row.at("z")) : 0.0);
+  return buf;
+}
+
+// The Γ3 rows of every piece the report lists, by place (a ghost node's row, repeated in its
+// neighbour's piece, must carry the same values).
+std::map<std::string, std::map<std::string, std::string>> piece_rows(const fs::path& out, const json& report) {
+  std::map<std::string, std::map<std::string, std::string>> all;
+  for (const auto& f : report.at("pieces").at("gamma3_csv"))
+    for (auto& row : csv_rows(out / f.get<std::string>())) {
+      const std::string key = place(row);
+      if (all.count(key)) {
+        EXPECT_EQ(all[key].at("u_nu"), row.at("u_nu")) << key;
+        EXPECT_EQ(all[key].at("status"), row.at("status")) << key;
+      }
+      all[key] = row;
+    }
+  return all;
+}
+
+class PetscSlabs : public ::testing::TestWithParam<Case> {};
+
+// The slabs against the cholmod engine: same statuses node by node, Γ3 displacements and energies
+// within check.certificate_tol (both answers pass the certificate at that tolerance, and the
+// status system's conditioning on these meshes, ~1e4, times ssn's stop at ssn_tol = 1e-12 of
+// max|f| stays below it, as in PetscAgreement); every rank holds about 1/P of the nodes.
+TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
+  const Case& c = GetParam();
+  const fs::path dir = scratch("slabs-" + c.scene + "-" + std::to_string(c.np));
+  const std::string common = problem(c.scene) + " " + c.sets + " --quiet";
+  const CliOutcome ref = run_cli(dir, "solve " + common + " --set output.vtu=false --out " + (dir / "cholmod").string());
+  ASSERT_EQ(ref.code, 0) << ref.err;
+  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + " --out " + (dir / "petsc").string());
+  ASSERT_EQ(got.code, 0) << got.err << got.out;
+  const json a = json::parse(slurp(dir / "cholmod" / "report.json"));
+  const json b = json::parse(slurp(dir / "petsc" / "report.json"));
+  ASSERT_EQ(b.at("petsc").at("mesh"), "distributed (per-rank slabs)");
+  const double tol = b.at("options").at("certificate_tol").get<double>();
+  EXPECT_TRUE(b.at("certificate").at("passed").get<bool>());
+  EXPECT_LE(b.at("certificate").at("max_residual").get<double>(), tol);
+  EXPECT_EQ(a.at("status_counts"), b.at("status_counts"));
+  EXPECT_EQ(a.at("mesh").at("nodes"), b.at("mesh").at("nodes"));
+  EXPECT_EQ(a.at("mesh").at("gamma3_nodes"), b.at("mesh").at("gamma3_nodes"));
+  EXPECT_EQ(a.at("dofs"), b.at("dofs"));
+  for (const char* key : {"energy", "energy_norm", "a_uu", "f_u", "j_term", "friction_term"}) {
+    const double ea = a.at(key).get<double>(), eb = b.at(key).get<double>();
+    EXPECT_LE(std::abs(ea - eb), tol * std::max(std::abs(a.at("energy").get<double>()), std::abs(ea))) << key;
+  }
+  // Γ3, node by node, from the pieces against the cholmod engine's gamma3.csv.
+  const auto ref_rows = csv_rows(dir / "cholmod" / "gamma3.csv");
+  const auto got_rows = piece_rows(dir / "petsc", b);
+  ASSERT_EQ(ref_rows.size(), got_rows.size());
+  double scale = 0, diff = 0;
+  for (const auto& r : ref_rows) {
+    ASSERT_TRUE(got_rows.count(place(r))) << place(r);
+    const auto& g = got_rows.at(place(r));
+    EXPECT_EQ(r.at("status"), g.at("status")) << place(r);
+    for (const char* key : {"u_nu", "u_tau"}) {
+      scale = std::max(scale, std::abs(std::stod(r.at(key))));
+      diff = std::max(diff, std::abs(std::stod(r.at(key)) - std::stod(g.at(key))));
+    }
+  }
+  ASSERT_GT(scale, 0);
+  EXPECT_LE(diff / scale, tol) << "max |u_slabs - u_cholmod| / max |u| on Gamma3";
+  // No rank holds the whole mesh: at most its share of the layers plus two layers of ghosts.
+  const json& m = b.at("scene").at("mesh");
+  const bool box = m.at("type") == "box";
+  const long layers = m.at(box ? "ny" : "nx").get<long>();
+  const long layer_nodes = box ? (m.at("nx").get<long>() + 1) * (m.at("nz").get<long>() + 1) : m.at("ny").get<long>() + 1;
+  const long local = b.at("petsc").at("local_nodes").get<long>();
+  EXPECT_LE(local, ((layers + c.np - 1) / c.np + 2) * layer_nodes);
+  if (c.np > 1) {
+    EXPECT_LT(local, b.at("mesh").at("nodes").get<long>());
+  }
+  // The parallel VTU: one piece per rank, each there and listed in the folder's files.
+  const std::string pvtu = slurp(dir / "petsc" / "solution.pvtu");
+  std::vector<std::string> files = b.at("files").get<std::vector<std::string>>();
+  int pieces = 0;
+  for (size_t at = pvtu.find("<Piece Source=\""); at != std::string::npos; at = pvtu.find("<Piece Source=\"", at + 1)) {
+    const size_t q = at + 15;
+    const std::string f = pvtu.substr(q, pvtu.find('"', q) - q);
+    EXPECT_TRUE(fs::is_regular_file(dir / "petsc" / f)) << f;
+    EXPECT_NE(std::find(files.begin(), files.end(), f), files.end()) << f;
+    // Every array the .pvtu names is in the piece.
+    const std::string piece = slurp(dir / "petsc" / f);
+    for (size_t p = pvtu.find("<PDataArray"); p != std::string::npos; p = pvtu.find("<PDataArray", p + 1)) {
+      const size_t n0 = pvtu.find("Name=\"", p) + 6;
+      EXPECT_NE(piece.find("Name=\"" + pvtu.substr(n0, pvtu.find('"', n0) - n0) + "\""), std::string::npos);
+    }
+    ++pieces;
+  }
+  EXPECT_EQ(pieces, c.np);
+  std::printf("[slabs] %s np=%d: max|du|/max|u| on Gamma3 = %.2e, certificate %.2e, local nodes %ld of %ld\n",
+              c.scene.c_str(), c.np, diff / scale, b.at("certificate").at("max_residual").get<double>(), local,
+              b.at("mesh").at("nodes").get<long>());
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(PaperScenes, PetscSlabs,
+                         ::testing::Values(Case{"sofonea2017-fig2", "--set mesh.n=16", 1},
+                                           Case{"sofonea2017-fig2", "--set mesh.n=16", 2},
+                                           Case{"sofonea2017-3d", "--set mesh.n=8", 1},
+                                           Case{"sofonea2017-3d", "--set mesh.n=8", 2},
+                                           // rollers: blocks of one unknown on the slabs too
+                                           Case{"sofonea2017-fig2-half", "--set mesh.n=16", 2}));
+
+// What the slabs do not cover runs on the replicated mesh, and the report says so and why.
+TEST(PetscEngine, TaoRunsOnTheReplicatedMesh) {
+  const fs::path dir = scratch("replicated");
+  const json r = solved(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --quiet --set output.vtu=false --backend tao:bnls", "tao");
+  ASSERT_TRUE(r.contains("petsc"));
+  EXPECT_EQ(r.at("petsc").at("mesh"), "replicated");
+  EXPECT_NE(r.at("petsc").at("mesh_reason").get<std::string>().find("tao:bnls"), std::string::npos);
+  // Γ3 on the left quarter of the bottom: the second slab (x >= 1/2) has none of it.
+  const json q = solved(dir, 2, "solve " + problem("sofonea2017-fig2") +
+                                    " --set mesh.n=16 --quiet --set output.vtu=false --set "
+                                    "'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'",
+                        "quarter");
+  ASSERT_TRUE(q.contains("petsc"));
+  EXPECT_EQ(q.at("petsc").at("mesh"), "replicated");
+  EXPECT_NE(q.at("petsc").at("mesh_reason").get<std::string>().find("a slab without a free"), std::string::npos);
   fs::remove_all(dir);
 }
 

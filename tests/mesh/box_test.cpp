@@ -1,5 +1,6 @@
 // The structured box generator (make_box): tiling, conformity, orientation and mirror symmetry.
 #include <hemicontact/mesh/generators.hpp>
+#include <hemicontact/mesh/slabs.hpp>
 
 #include "../support/expect_error.hpp"
 
@@ -10,6 +11,8 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <utility>
+#include <vector>
 
 using namespace hemicontact;
 using hemicontact::test::expect_input_error;
@@ -176,4 +179,79 @@ TEST(Box, BadSpecsAreInputErrors) {
   f.z1 = f.z0;
   expect_input_error([&] { make_box(f); }, {"empty box"});
   expect_input_error([] { parse_box_pattern("freudenthal"); }, {"mesh.pattern"});
+}
+
+// ---------------------------------------------------------------- slabs (mesh/slabs.hpp)
+
+namespace {
+
+// Each cell as the sorted coordinates of its vertices (a key independent of the node numbering).
+std::multiset<std::vector<double>> cell_places(const Mesh& m) {
+  std::multiset<std::vector<double>> out;
+  for (Index c = 0; c < m.num_cells(); ++c) {
+    std::vector<std::vector<double>> v;
+    for (int a = 0; a < m.cells.cols(); ++a)
+      v.push_back(std::vector<double>(m.points.row(m.cells(c, a)).data(), m.points.row(m.cells(c, a)).data() + m.dim));
+    std::sort(v.begin(), v.end());
+    std::vector<double> key;
+    for (const auto& p : v) key.insert(key.end(), p.begin(), p.end());
+    out.insert(key);
+  }
+  return out;
+}
+
+// The facets each selector picks, counted on the whole mesh and summed over slabs that tile it.
+std::vector<long> whole_counts(Mesh m, const BoundarySpec& spec) {
+  const RowMat lo = m.points.colwise().minCoeff(), hi = m.points.colwise().maxCoeff();
+  return assign_boundary_in_box(m, spec, lo, hi);
+}
+
+}  // namespace
+
+// The per-rank pieces of the petsc engine's distributed path: slabs that tile the mesh hold its
+// cells, each once with the same vertices and split, and their boundary parts (taken with the
+// whole box's sides) add up to the whole mesh's.
+TEST(Box, SlabsTileTheBoxWithTheSameCellsAndParts) {
+  for (BoxPattern pattern : {BoxPattern::KUHN, BoxPattern::SYMMETRIC}) {
+    BoxSpec s;
+    s.nx = 4, s.ny = 6, s.nz = 3, s.pattern = pattern;
+    const Mesh whole = make_box(s);
+    BoundarySpec spec;
+    BoundarySelector left, bottom;
+    left.side = "left", left.context = "left", left.from = 0.5;
+    bottom.side = "bottom", bottom.context = "bottom";
+    spec.gamma1 = {left};
+    spec.gamma3 = {bottom};
+    const std::vector<long> expect = whole_counts(whole, spec);
+    RowMat lo(1, 3), hi(1, 3);
+    lo << s.x0, s.y0, s.z0;
+    hi << s.x1, s.y1, s.z1;
+    std::multiset<std::vector<double>> cells;
+    std::vector<long> sum(expect.size(), 0);
+    for (auto [j0, j1] : {std::pair{0, 2}, std::pair{2, 3}, std::pair{3, 6}}) {
+      Mesh slab = make_box_slab(s, j0, j1);
+      EXPECT_EQ(slab.num_nodes(), Index(s.nx + 1) * (j1 - j0 + 1) * (s.nz + 1));
+      const std::vector<long> c = assign_boundary_in_box(slab, spec, lo, hi);
+      for (size_t i = 0; i < c.size(); ++i) sum[i] += c[i];
+      const auto p = cell_places(slab);
+      cells.insert(p.begin(), p.end());
+    }
+    EXPECT_EQ(cells, cell_places(whole)) << to_string(pattern);
+    EXPECT_EQ(sum, expect) << to_string(pattern);
+  }
+  // The rectangle, cut along x, graded along the cut as well.
+  RectangleSpec r;
+  r.nx = 6, r.ny = 4, r.diagonal = Diagonal::SYMMETRIC, r.grade_x = GradeTowards::BOTH, r.grading_power = 2;
+  std::multiset<std::vector<double>> cells;
+  for (auto [i0, i1] : {std::pair{0, 1}, std::pair{1, 4}, std::pair{4, 6}}) {
+    const auto p = cell_places(make_rectangle_slab(r, i0, i1));
+    cells.insert(p.begin(), p.end());
+  }
+  EXPECT_EQ(cells, cell_places(make_rectangle(r)));
+
+  BoxSpec q;
+  q.perturb = 0.1;
+  expect_input_error([&] { (void)make_box_slab(q, 0, 2); }, {"mesh.perturb"});
+  r.diagonal = Diagonal::CROSSED;
+  expect_input_error([&] { (void)make_rectangle_slab(r, 0, 2); }, {"crossed"});
 }
