@@ -34,6 +34,8 @@ def main() -> int:
     ap.add_argument("--levels", default="8,16,24,32", help="box cells per side, comma-separated")
     ap.add_argument("--ranks", default="1,2", help="MPI ranks, comma-separated")
     ap.add_argument("--set", action="append", default=[], help="extra --set path=value for every run")
+    ap.add_argument("--mesh", default="auto", choices=["auto", "replicated"],
+                    help="solver.petsc.mesh: auto (per-rank slabs where they cover the scene) or replicated")
     ap.add_argument("--backend", default="", help="ssn (the engine's default) or tao:bnls, tao:bntr, tao:bntl")
     ap.add_argument("--out", required=True, help="folder for the runs and scaling.csv")
     a = ap.parse_args()
@@ -51,7 +53,8 @@ def main() -> int:
         for p in [int(x) for x in a.ranks.split(",")]:
             run = out / f"n{n}-np{p}"
             cmd = ["mpirun", "-np", str(p), str(exe), "solve", a.scene, "--set", f"mesh.n={n}",
-                   "--set", 'solver.engine="petsc"', "--set", "output.vtu=false", "--set", "output.csv=false",
+                   "--set", 'solver.engine="petsc"', "--set", f'solver.petsc.mesh="{a.mesh}"',
+                   "--set", "output.vtu=false", "--set", "output.csv=false",
                    "--quiet", "--force", "--out", str(run)]
             for s in a.set:
                 cmd += ["--set", s]

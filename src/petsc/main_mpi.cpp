@@ -10,7 +10,7 @@
 // by rank 0, with a "petsc" record added), same exit codes.
 //
 // Every rank parses the scene. A generated box or rectangle solved by ssn is made per rank, in slabs
-// of cell layers (solver.petsc.mesh = "auto"): no rank holds the whole mesh, and each writes its
+// of cell layers where solver.petsc.mesh = "auto" (the default is "replicated"): no rank holds the whole mesh, and each writes its
 // own piece of the results. Otherwise every rank builds the whole model (deterministic: the same
 // input errors on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
 // so that the ranks always leave together with one exit code.
@@ -61,10 +61,9 @@ void share(int& code, std::string& message, MPI_Comm comm) {
 }
 
 // Why the scene runs on the replicated mesh ("" : on the per-rank slabs). solver.petsc.mesh:
-// "auto" (the default) takes the slabs wherever they cover the scene, "replicated" never.
+// "auto" takes the slabs wherever they cover the scene, "replicated" (the default) never.
 std::string replicated_reason(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm) {
-  const std::string mode = scene.at("solver").at("petsc").at("mesh").get<std::string>();
-  if (mode == "replicated") return "solver.petsc.mesh = replicated";
+  if (opt.petsc.mesh == "replicated") return "solver.petsc.mesh = replicated";
   if (petsc_engine::tao_type(opt.backend) != "ssn") return "backend " + opt.backend + " (the slabs run ssn only)";
   const std::string why = slab_refusal(scene);
   if (!why.empty()) return why;

@@ -106,7 +106,7 @@ void Engine::tao_vectors() {
   for (Index k : my_nodes) {
     const Index i = cdof(k) - lo;
     if (std::isfinite(md.contact.g[k])) pu[i] = md.contact.g[k];
-    // A roller on a Γ3 node: 0 ≤ x_τ ≤ 0 keeps d unknowns per node (driver/solve.cpp does the same).
+    // A roller on a Γ3 node: 0 ≤ x_τ ≤ 0 keeps d unknowns per node (solver/solve.cpp does the same).
     for (int c = 1; c < d; ++c)
       if (roller_fixed(md, k, c)) pl[i + c] = pu[i + c] = 0;
   }

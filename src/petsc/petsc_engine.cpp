@@ -49,7 +49,7 @@ Solution Engine::run() {
     finish(sol, gather(zfree.v), t0);
     return std::move(sol);
   }
-  // Continuation schedule: driver/solve.cpp's, ε_s = max(ε_final, ε_start·factor^s).
+  // Continuation schedule: solver/solve.cpp's, ε_s = max(ε_final, ε_start·factor^s).
   if (md.normal_law || md.friction) {
     const auto at_final = [](double e, double fin) { return e <= fin * (1 + 1e-9); };
     for (double e = opt.eps_start;; e *= opt.eps_factor) {
@@ -69,7 +69,7 @@ Solution Engine::run() {
   prev_c = local_gamma3(zs.v);
   for (size_t stage = 0; stage < schedule.size(); ++stage) {
     if (!run_stage(stage)) break;
-    // driver/solve.cpp's early stop: once a stage barely moved the answer, polish a copy; if the
+    // solver/solve.cpp's early stop: once a stage barely moved the answer, polish a copy; if the
     // certificate passes, the remaining stages are not needed.
     if (stage + 1 < schedule.size() && settled()) {
       Eigen::VectorXd x = U_s * gather(zs.v);

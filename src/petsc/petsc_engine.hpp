@@ -1,6 +1,6 @@
 #pragma once
 /// @file petsc_engine.hpp  The distributed engine (solver.engine = "petsc"): the same problem,
-/// algorithm and certificate as ContactSolver (driver/solve.hpp), with the unknowns spread over the
+/// algorithm and certificate as ContactSolver (solver/solve.hpp), with the unknowns spread over the
 /// MPI ranks and every linear solve by CG with algebraic multigrid instead of CHOLMOD.
 ///
 ///   unknowns:   the reduced x of DofMap (Γ3 nodes in their local (ν, τ) frames, so u_ν ≤ g is the
@@ -11,7 +11,7 @@
 ///               nondimensionalized as the cholmod engine does, by TAO's bounded Newton (tao:bnls,
 ///               tao:bntr, tao:bntl); its Newton steps are CG + BoomerAMG on the Hessian restricted to
 ///               the inactive set
-///   continuation and outer fixed point λ = F_b(u_ν): the schedule and stopping rules of driver/solve.cpp
+///   continuation and outer fixed point λ = F_b(u_ν): the schedule and stopping rules of solver/solve.cpp
 ///   polish:     Newton on the unsmoothed conditions of (22) with the statuses fixed (full space:
 ///               contact x_ν = g, stick x_τ = 0, compliance w p(x_ν) on its branch, slip w λ t), CG + GAMG
 ///   certify:    the certificate of check/certificate.hpp on the gathered u (replicated model), or its

@@ -17,7 +17,7 @@ Solution Engine::evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const
   return s;
 }
 
-// The exact polish in the full space (driver/polish.hpp's status system, without condensation):
+// The exact polish in the full space (solver/polish.hpp's status system, without condensation):
 // with the statuses of @p s0 fixed, Newton's method on
 //   interior rows:     (K x − f)_i = 0
 //   contact:           x_ν = g                              (eq. (5): the rigid part takes the rest)
@@ -147,7 +147,7 @@ bool Engine::polish_linearize(::Vec x, ::Vec R, ::Mat J, const Solution& s0, dou
 }
 
 // Keep the candidate @p x only if the statuses stay and the certificate does not get worse
-// (driver/polish.cpp's accept_if_better, the same rule): then @p x_io takes it.
+// (solver/polish.cpp's accept_if_better, the same rule): then @p x_io takes it.
 void Engine::polish_accept(::Vec x, const Solution& s0, double delta, PolishResult& r, Eigen::VectorXd& x_io) const {
   const Eigen::VectorXd xc = gather(x);
   if (!xc.allFinite()) {
@@ -163,7 +163,7 @@ void Engine::polish_accept(::Vec x, const Solution& s0, double delta, PolishResu
 }
 
 // The statuses read at check.status_tol and, when the stage's ε is larger, at 10 ε (a sticking
-// node shows |u_τ| ~ ε U): driver/polish.cpp's first two readings.
+// node shows |u_τ| ~ ε U): solver/polish.cpp's first two readings.
 PolishResult Engine::polish_with_readings(Eigen::VectorXd& x, size_t stage) {
   const auto t0 = clk::now();
   const Solution s0 = evaluate(x, opt);

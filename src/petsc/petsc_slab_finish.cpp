@@ -2,7 +2,7 @@
 
 #include <hemicontact/check/certificate.hpp>
 #include <hemicontact/check/contact_status.hpp>
-#include <hemicontact/driver/run_messages.hpp>
+#include <hemicontact/solver/run_messages.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -217,7 +217,7 @@ OuterIteration Engine::minimize(size_t stage) {
   return rec;
 }
 
-// λ ← (1−θ)λ + θ F_b(u_ν) on the owned Γ3 nodes (driver/solve.cpp's relax_lambda).
+// λ ← (1−θ)λ + θ F_b(u_ν) on the owned Γ3 nodes (solver/solve.cpp's relax_lambda).
 void Engine::relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) {
   const PetscScalar* p;
   VecGetArrayRead(zs.v, &p);
@@ -240,7 +240,7 @@ void Engine::relax_lambda(OuterIteration& rec, bool measure_contraction, double&
   prev_delta = dmax;
 }
 
-// One continuation stage, as driver/solve.cpp's run_stage: one lagged update on a coarse stage,
+// One continuation stage, as solver/solve.cpp's run_stage: one lagged update on a coarse stage,
 // the fixed point λ = F_b(u_ν) at the final one. @return false when TAO failed.
 bool Engine::run_stage(size_t stage) {
   eps_tau = schedule[stage].first * U_s;

@@ -316,10 +316,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "How the nodes go to the ranks: ptscotch (graph partitioner; few couplings across "
                   "ranks for any mesh) or natural (contiguous runs of the node numbering).",
                   {"ptscotch", "natural"}));
-  t.push_back(key("/solver/petsc/mesh", "string", std::string("auto"),
-                  "Where the mesh lives: auto (a generated box or rectangle, not perturbed, solved by ssn, is "
-                  "made per rank in slabs of cell layers and no rank holds the whole mesh; anything else as "
-                  "replicated) or replicated (every rank builds the whole mesh; report.json petsc.mesh says which ran).",
+  t.push_back(key("/solver/petsc/mesh", "string", D.petsc.mesh,
+                  "Where the mesh lives: replicated (every rank builds the whole mesh; report.json as the "
+                  "cholmod engine's) or auto (a generated box or rectangle, not perturbed, solved by ssn, is "
+                  "made per rank in slabs of cell layers and no rank holds the whole mesh; report.json from "
+                  "reductions, without the per-node list; anything else as replicated; petsc.mesh says which ran).",
                   {"auto", "replicated"}));
   t.push_back(key("/solver/petsc/newton_pc", "string", D.petsc.newton_pc,
                   "Preconditioner of TAO's Newton steps (the Hessian on the inactive set): hypre "

@@ -412,7 +412,7 @@ TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
   const std::string common = problem(c.scene) + " " + c.sets + " --quiet";
   const CliOutcome ref = run_cli(dir, "solve " + common + " --set output.vtu=false --out " + (dir / "cholmod").string());
   ASSERT_EQ(ref.code, 0) << ref.err;
-  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + " --out " + (dir / "petsc").string());
+  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + " --set solver.petsc.mesh='\"auto\"' --out " + (dir / "petsc").string());
   ASSERT_EQ(got.code, 0) << got.err << got.out;
   const json a = json::parse(slurp(dir / "cholmod" / "report.json"));
   const json b = json::parse(slurp(dir / "petsc" / "report.json"));
@@ -489,13 +489,13 @@ INSTANTIATE_TEST_SUITE_P(PaperScenes, PetscSlabs,
 // What the slabs do not cover runs on the replicated mesh, and the report says so and why.
 TEST(PetscEngine, TaoRunsOnTheReplicatedMesh) {
   const fs::path dir = scratch("replicated");
-  const json r = solved(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --quiet --set output.vtu=false --backend tao:bnls", "tao");
+  const json r = solved(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --quiet --set output.vtu=false --set solver.petsc.mesh='\"auto\"' --backend tao:bnls", "tao");
   ASSERT_TRUE(r.contains("petsc"));
   EXPECT_EQ(r.at("petsc").at("mesh"), "replicated");
   EXPECT_NE(r.at("petsc").at("mesh_reason").get<std::string>().find("tao:bnls"), std::string::npos);
   // Γ3 on the left quarter of the bottom: the second slab (x >= 1/2) has none of it.
   const json q = solved(dir, 2, "solve " + problem("sofonea2017-fig2") +
-                                    " --set mesh.n=16 --quiet --set output.vtu=false --set "
+                                    " --set mesh.n=16 --quiet --set output.vtu=false --set solver.petsc.mesh='\"auto\"' --set "
                                     "'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'",
                         "quarter");
   ASSERT_TRUE(q.contains("petsc"));
