@@ -153,6 +153,7 @@ class Engine {
   void slab_energies(Solution& s, ::Vec x, ::Vec R) const;
   void slab_report(Solution& s);
   void record();  // the engine's record for report.json ("petsc"): counts, memory, partition
+  void close_record(Solution& s, clk::time_point t0, clk::time_point t1);
   // ---- set-up
   void distribute();
   void assemble();

@@ -111,14 +111,7 @@ void Engine::finish(Solution& s, Eigen::VectorXd x, clk::time_point t0) {
   s.backend_use.ran = !s.history.empty();
   if (!s.backend_use.ran) s.backend_use.not_run = "linear elasticity without contact: one CG solve is the answer";
   evaluate_solution(md, opt, s);
-  timings["certificate"] = since(t1);
-  double nlp = 0;
-  for (const auto& h : s.history) nlp += h.backend.seconds;
-  timings["backend"] = nlp;
-  timings["solve_total"] = since(t0);
-  for (const auto& [key, v] : timings) s.timings[key] = v;
-  state_verdict(s);
-  record();
+  close_record(s, t0, t1);
 }
 
 // The report's record of the engine.
@@ -145,6 +138,20 @@ void Engine::record() {
   rep.json["peak_rss_mb_sum"] = double(rss_sum) / 1024.0;
   rep.json["peak_rss_mb_max"] = double(rss_max) / 1024.0;
   rep.json["bytes_per_dof"] = n > 0 ? double(rss_sum) * 1024.0 / double(n) : 0.0;
+}
+
+// What both finishes (the replicated and the slabs') record once the certificate is in: its time
+// (since @p t1), the backend's minimizations, the whole solve (since @p t0), the verdict and the
+// report's engine record.
+void Engine::close_record(Solution& s, clk::time_point t0, clk::time_point t1) {
+  timings["certificate"] = since(t1);
+  double nlp = 0;
+  for (const auto& h : s.history) nlp += h.backend.seconds;
+  timings["backend"] = nlp;
+  timings["solve_total"] = since(t0);
+  for (const auto& [key, v] : timings) s.timings[key] = v;
+  state_verdict(s);
+  record();
 }
 
 }  // namespace detail

@@ -40,14 +40,7 @@ void Engine::finish_slabs(Solution& s, ::Vec x, clk::time_point t0) {
   slab_piece(x, R.v);
   slab_certificate(s);
   slab_energies(s, x, R.v);
-  timings["certificate"] = since(t1);
-  double nlp = 0;
-  for (const auto& h : s.history) nlp += h.backend.seconds;
-  timings["backend"] = nlp;
-  timings["solve_total"] = since(t0);
-  for (const auto& [key, v] : timings) s.timings[key] = v;
-  state_verdict(s);
-  record();
+  close_record(s, t0, t1);
   slab_report(s);
 }
 

@@ -416,13 +416,7 @@ Mesh build_slab_mesh(const json& scene, int c0, int c1, std::vector<long>& count
 
 void assign_scene_boundary(Mesh& mesh, const json& scene) {
   check_cells(mesh);
-  const double scale = scene.at("loads").at("scale").get<double>();
-  BoundarySpec spec;
-  spec.gamma1 = selectors(scene.at("boundary").at("gamma1"), "gamma1", scale);
-  spec.gamma2 = selectors(scene.at("boundary").at("gamma2"), "gamma2", scale);
-  spec.gamma3 = selectors(scene.at("boundary").at("gamma3"), "gamma3", scale);
-  spec.rollers = selectors(scene.at("boundary").at("rollers"), "rollers", scale);
-  assign_boundary(mesh, spec);
+  assign_boundary(mesh, scene_boundary_spec(scene));
 }
 
 Model build_model(const json& scene, const std::string& scene_dir, bool stiffness) {
