@@ -154,6 +154,7 @@ class Engine {
   void slab_report(Solution& s);
   void record();  // the engine's record for report.json ("petsc"): counts, memory, partition
   void close_record(Solution& s, clk::time_point t0, clk::time_point t1);
+  void init();  // rank, size, d, lagged; refuses a nonlinear material
   // ---- set-up
   void distribute();
   void assemble();

@@ -15,17 +15,22 @@
 namespace hemicontact::petsc_engine::detail {
 
 Engine::Engine(Model& m, const SolveOptions& o, MPI_Comm c, EngineReport& r) : md(m), opt(o), comm(c), rep(r) {
+  init();
+  (void)tao_type(opt.backend);  // refuse a non-TAO backend before any work
+  // A rank without a cell of its own has no rows to assemble: refused, naming both counts.
+  if (size > md.mesh.num_cells())
+    input_error("solver.engine = petsc: " + std::to_string(size) + " MPI ranks for a mesh of " +
+                std::to_string(md.mesh.num_cells()) + " cells; use at most as many ranks as cells (mpirun -np)");
+}
+
+// What both constructors (the replicated mesh's, the slabs') set and refuse alike.
+void Engine::init() {
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   d = md.dim();
   if (!md.material->is_linear())
     input_error("solver.engine = petsc: linear materials only (" + md.material->describe() +
                 "); a nonlinear material needs solver.engine = cholmod");
-  (void)tao_type(opt.backend);  // refuse a non-TAO backend before any work
-  // A rank without a cell of its own has no rows to assemble: refused, naming both counts.
-  if (size > md.mesh.num_cells())
-    input_error("solver.engine = petsc: " + std::to_string(size) + " MPI ranks for a mesh of " +
-                std::to_string(md.mesh.num_cells()) + " cells; use at most as many ranks as cells (mpirun -np)");
   lagged = md.friction && md.friction->depends_on_u_nu();
 }
 

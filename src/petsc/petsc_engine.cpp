@@ -49,15 +49,9 @@ Solution Engine::run() {
     finish(sol, gather(zfree.v), t0);
     return std::move(sol);
   }
-  // Continuation schedule: solver/solve.cpp's, ε_s = max(ε_final, ε_start·factor^s).
+  // The continuation schedule of solver/solve.cpp (problem/solve_options.hpp).
   if (md.normal_law || md.friction) {
-    const auto at_final = [](double e, double fin) { return e <= fin * (1 + 1e-9); };
-    for (double e = opt.eps_start;; e *= opt.eps_factor) {
-      const double et = at_final(e, opt.eps_tau) ? opt.eps_tau : e;
-      const double en = at_final(e, opt.eps_nu) ? opt.eps_nu : e;
-      schedule.emplace_back(et, en);
-      if (et == opt.eps_tau && en == opt.eps_nu) break;
-    }
+    schedule = smoothing_schedule(opt);
   } else {
     schedule.emplace_back(opt.eps_tau, opt.eps_nu);  // only the bounds: no width is used
     sol.skipped.push_back("continuation: nothing is smoothed");

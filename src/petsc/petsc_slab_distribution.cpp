@@ -68,15 +68,9 @@ namespace detail {
 
 Engine::Engine(Model& m, const Slab& sl, const SolveOptions& o, MPI_Comm c, EngineReport& r, SlabResult& out)
     : md(m), opt(o), comm(c), rep(r), slab(&sl), slab_out(&out) {
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  d = md.dim();
-  if (!md.material->is_linear())
-    input_error("solver.engine = petsc: linear materials only (" + md.material->describe() +
-                "); a nonlinear material needs solver.engine = cholmod");
+  init();
   if (tao_type(opt.backend) != "ssn")
     throw Error("petsc engine: the distributed mesh runs backend ssn only", EXIT_INTERNAL);
-  lagged = md.friction && md.friction->depends_on_u_nu();
 }
 
 // PETSc's numbering on the slabs: each rank's owned unknowns, in its local x order (interior

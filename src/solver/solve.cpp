@@ -362,15 +362,7 @@ void ContactSolver::Impl::check_inner_convexity() {
 void ContactSolver::Impl::make_schedule() {
   const Model& md = *model;
   if (md.normal_law || md.friction) {
-    // A width within 1e-9 (relative) of the final one counts as final: 1e-2·(1e-2)⁴ is not 1e-10
-    // in floating point, and a stage that repeats the final width would only cost time.
-    const auto at_final = [](double e, double fin) { return e <= fin * (1 + 1e-9); };
-    for (double e = opt.eps_start;; e *= opt.eps_factor) {
-      const double et = at_final(e, opt.eps_tau) ? opt.eps_tau : e;
-      const double en = at_final(e, opt.eps_nu) ? opt.eps_nu : e;
-      schedule.emplace_back(et, en);
-      if (et == opt.eps_tau && en == opt.eps_nu) break;
-    }
+    schedule = smoothing_schedule(opt);
   } else {
     schedule.emplace_back(0.0, 0.0);
     skipped.push_back("continuation: nothing is smoothed");

@@ -6,6 +6,8 @@
 #include <hemicontact/nlp/backend.hpp>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hemicontact {
 
@@ -199,5 +201,9 @@ struct SolveOptions {
 
 /// Does the user name the backend (anything but solver.backend = auto)?
 inline bool backend_named(const SolveOptions& o) { return o.backend != AUTO_BACKEND; }
+
+/// The continuation's smoothing widths (ε_τ, ε_ν) per stage, relative to U_s: ε_s = max(ε_final,
+/// ε_start·factor^s) for each, until both are final. Both engines run this schedule.
+std::vector<std::pair<double, double>> smoothing_schedule(const SolveOptions& o);
 
 }  // namespace hemicontact
