@@ -5,10 +5,11 @@
 ///   petsc_distribution.cpp  the engine's construction, the row distribution, the partition, gathers
 ///   petsc_assembly.cpp      K, f, the bounds, the near-null space, the elastic solve, K's saved band
 ///   petsc_tao.cpp           the smoothed energy and its Hessian (energy/'s nodal kernels), TAO's
-///                           minimizations, λ's relaxation, the continuation stages
+///                           minimizations, λ's relaxation, a stage's smoothing
 ///   petsc_ssn.cpp           backend ssn (semismooth Newton on the unsmoothed statuses)
 ///   petsc_polish.cpp        the exact polish with fixed statuses
-///   petsc_engine.cpp        the run (continuation, early stop, polish), the report, solve()
+///   petsc_engine.cpp        the run's set-up, then solver/outer_loop's algorithm over the engine's
+///                           steps (its polished copy, its finish), the report, solve()
 ///   petsc_slab_distribution.cpp  the distributed path's slabs (make_slab), its numbering, the ghost rows
 ///   petsc_slab_finish.cpp   its certificate, energies and status counts by reductions, its piece
 ///   petsc_slab_output.cpp   its files: a piece per rank, the .pvtu, report.json (not the engine's)
@@ -20,6 +21,7 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/format.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
+#include <hemicontact/solver/outer_loop.hpp>
 
 #include <petscksp.h>
 #include <petscmat.h>
@@ -102,8 +104,10 @@ void gamg_defaults(KSP ksp);
 void fresh_gamg(KSP ksp);
 
 // The distributed problem: K, f and the bounds in PETSc, the Γ3 nodes this rank owns, the smoothing
-// and frozen friction bounds, and the counters for the report.
-class Engine {
+// and frozen friction bounds, and the counters for the report. With a TAO backend it supplies the
+// steps of the outer algorithm (solver/outer_loop.hpp), which decides between them as it does for
+// the CHOLMOD engine; backend ssn is its own Newton on the unsmoothed statuses.
+class Engine : private OuterStepper {
  public:
   Engine(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep);
   // The distributed path: md is this rank's slab; the answer's vectors stay on the ranks (out).
@@ -168,11 +172,17 @@ class Engine {
   Vec owned_lambda() const;
   static PetscErrorCode tao_objgrad(Tao, ::Vec x, PetscReal* f, ::Vec g, void* ctx);
   static PetscErrorCode tao_hessian(Tao, ::Vec x, ::Mat H, ::Mat Hpre, void* ctx);
-  // ---- the algorithm
-  OuterIteration minimize(size_t stage);
-  void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta);
-  bool run_stage(size_t stage);
-  bool settled() const;
+  // ---- the steps of the outer algorithm (OuterStepper; petsc_tao.cpp, petsc_engine.cpp)
+  Solution& solution() override { return sol; }
+  size_t stage_count() const override { return schedule.size(); }
+  bool lagged() const override { return is_lagged; }
+  std::string backend_name() const override { return "tao:" + tao_type(opt.backend); }
+  void set_smoothing(size_t stage) override;
+  OuterIteration minimize(size_t stage) override;
+  void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) override;
+  bool polish_exists() const override { return true; }
+  std::optional<Solution> certified_copy() override;
+  Solution finish() override;
   PolishResult polish(Eigen::VectorXd& x, const SolveOptions& read_opt, const Solution& s0);
   std::vector<PetscInt> polish_start(::Vec x, const Eigen::VectorXd& x_io, const Solution& s0, double delta) const;
   bool polish_linearize(::Vec x, ::Vec R, ::Mat J, const Solution& s0, double delta,
@@ -222,9 +232,10 @@ class Engine {
   std::unique_ptr<FrictionEnergy> friction_term;
   std::vector<double> lambda;                    // frozen F_b per owned Γ3 node (my_nodes order)
   Eigen::VectorXd prev_c;                        // owned Γ3 unknowns after the previous minimization
-  bool lagged = false;
+  bool is_lagged = false;  // λ = F_b(u_ν) depends on the answer: the outer fixed point runs
   Solution sol;  // the answer being built (history, verdicts)
   int k_total = 0;
+  clk::time_point t_run;  // the run's start (run())
   long newton_total = 0, krylov_total = 0, polish_krylov = 0, polish_newton = 0;
   nlohmann::json stages = nlohmann::json::array();
   std::map<std::string, double> timings;

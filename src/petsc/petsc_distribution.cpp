@@ -31,7 +31,7 @@ void Engine::init() {
   if (!md.material->is_linear())
     input_error("solver.engine = petsc: linear materials only (" + md.material->describe() +
                 "); a nonlinear material needs solver.engine = cholmod");
-  lagged = md.friction && md.friction->depends_on_u_nu();
+  is_lagged = md.friction && md.friction->depends_on_u_nu();
 }
 
 // Row blocks: one node's d unknowns per block when every free node has all d components (no roller),

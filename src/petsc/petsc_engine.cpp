@@ -61,27 +61,24 @@ Solution Engine::run() {
   if (md.friction)
     for (size_t q = 0; q < my_nodes.size(); ++q) lambda[q] = md.friction->F(0.0);
   prev_c = local_gamma3(zs.v);
-  for (size_t stage = 0; stage < schedule.size(); ++stage) {
-    if (!run_stage(stage)) break;
-    // solver/solve.cpp's early stop: once a stage barely moved the answer, polish a copy; if the
-    // certificate passes, the remaining stages are not needed.
-    if (stage + 1 < schedule.size() && settled()) {
-      Eigen::VectorXd x = U_s * gather(zs.v);
-      const PolishResult pr = polish_with_readings(x, stage);
-      if (pr.accepted) {
-        Solution trial = sol;
-        trial.polish = pr;
-        finish(trial, x, t0);
-        if (trial.certificate.passed) {
-          trial.skipped.push_back("continuation: stages " + std::to_string(stage + 1) + ".." +
-                                  std::to_string(schedule.size() - 1) + " not run: the polished answer after stage " +
-                                  std::to_string(stage) + " was certified (solver.continuation.certify_below)");
-          log_info() << "continuation: certified after stage " << stage;
-          return trial;
-        }
-      }
-    }
-  }
+  t_run = t0;
+  return run_outer(*this, opt);
+}
+
+// The polish of a copy of the current iterate, and its certificate (run_outer's early stop).
+std::optional<Solution> Engine::certified_copy() {
+  Eigen::VectorXd x = U_s * gather(zs.v);
+  const PolishResult pr = polish_with_readings(x, sol.history.empty() ? 0 : static_cast<size_t>(sol.history.back().stage));
+  if (!pr.accepted) return std::nullopt;
+  Solution trial = sol;
+  trial.polish = pr;
+  finish(trial, x, t_run);
+  if (!trial.certificate.passed) return std::nullopt;
+  return trial;
+}
+
+// The final polish (solver.polish, after a converged fixed point), then the certificate.
+Solution Engine::finish() {
   Eigen::VectorXd x = U_s * gather(zs.v);
   if (opt.polish && sol.fixed_point_converged) {
     sol.polish = polish_with_readings(x, schedule.size() - 1);
@@ -91,7 +88,7 @@ Solution Engine::run() {
   } else if (!opt.polish) {
     sol.skipped.push_back("polish: solver.polish = false");
   }
-  finish(sol, std::move(x), t0);
+  finish(sol, std::move(x), t_run);
   return std::move(sol);
 }
 

@@ -240,9 +240,9 @@ void Engine::relax_lambda(OuterIteration& rec, bool measure_contraction, double&
   prev_delta = dmax;
 }
 
-// One continuation stage, as solver/solve.cpp's run_stage: one lagged update on a coarse stage,
-// the fixed point λ = F_b(u_ν) at the final one. @return false when TAO failed.
-bool Engine::run_stage(size_t stage) {
+// The smoothing widths of a stage (absolute: relative widths × U_s), and energy/'s nodal terms
+// on the owned Γ3 nodes made for them.
+void Engine::set_smoothing(size_t stage) {
   eps_tau = schedule[stage].first * U_s;
   eps_nu = schedule[stage].second * U_s;
   if (!nodal) nodal = owned_layout();
@@ -250,51 +250,6 @@ bool Engine::run_stage(size_t stage) {
     normal_term = std::make_unique<NormalComplianceEnergy>(
         nodal, std::make_shared<const MollifiedLaw>(md.normal_law, eps_nu, "solver.eps_nu"));
   if (md.friction) friction_term = std::make_unique<FrictionEnergy>(nodal, eps_tau, owned_lambda());
-  const bool final_stage = stage + 1 == schedule.size();
-  double prev_change = INF, prev_delta = INF;
-  int slow = 0;
-  for (int it = 0;; ++it) {
-    OuterIteration rec = minimize(stage);
-    if (lagged) relax_lambda(rec, final_stage && it > 0, prev_delta);
-    sol.history.push_back(rec);
-    log_info() << "outer " << rec.k << " (stage " << stage << ", eps " << short_number(schedule[stage].first)
-               << "): " << tao_type(opt.backend) << " " << to_string(rec.backend.status) << " in "
-               << rec.backend.iterations << " Newton it (" << rec.backend.message << "), "
-               << short_number(rec.backend.seconds) << " s; |dx_G3|/|x_G3| = " << short_number(rec.change_u)
-               << ", |dlambda|/|lambda| = " << short_number(rec.change_lambda) << ", first-order residual "
-               << short_number(rec.grad_norm);
-    if (!rec.backend.ok()) {
-      sol.backend_ok = false;
-      sol.message = backend_failure("tao:" + tao_type(opt.backend), rec);
-      return false;
-    }
-    if (!lagged || !final_stage) return true;
-    const double change = std::max(rec.change_u, rec.change_lambda);
-    if (it > 0 && change <= opt.tol_u) return true;
-    if (it + 1 >= opt.max_outer) {
-      sol.fixed_point_converged = false;
-      sol.message = "fixed point lambda = F_b(u_nu) did not converge in " + std::to_string(opt.max_outer) +
-                    " outer iterations (last change " + short_number(change) +
-                    "); raise solver.fixed_point.max_iters or lower solver.fixed_point.relaxation";
-      return true;
-    }
-    slow = (change > opt.stall_ratio * prev_change) ? slow + 1 : 0;
-    prev_change = change;
-    if (slow >= opt.stall_iters) {
-      sol.fixed_point_converged = false;
-      sol.message = "fixed point lambda = F_b(u_nu) does not contract: the change (" + short_number(change) +
-                    ") has not decreased for " + std::to_string(opt.stall_iters) +
-                    " outer iterations; try a smaller solver.fixed_point.relaxation";
-      return true;
-    }
-  }
-}
-
-bool Engine::settled() const {
-  if (!(opt.certify_below > 0) || !opt.polish || !sol.fixed_point_converged || !sol.backend_ok || sol.history.empty())
-    return false;
-  const OuterIteration& last = sol.history.back();
-  return last.change_u <= opt.certify_below && (!lagged || last.change_lambda <= opt.certify_below);
 }
 
 }  // namespace hemicontact::petsc_engine::detail

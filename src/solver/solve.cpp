@@ -15,6 +15,7 @@
 #include <hemicontact/fem/condensation.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
 #include <hemicontact/solver/exact_inner.hpp>
+#include <hemicontact/solver/outer_loop.hpp>
 #include <hemicontact/solver/polish.hpp>
 #include <hemicontact/solver/run_messages.hpp>
 
@@ -39,54 +40,6 @@ std::string short_number(double x) {
   return os.str();
 }
 
-}  // namespace
-
-double contraction_estimate(const std::vector<OuterIteration>& history) {
-  double sum = 0;
-  int n = 0;
-  for (const auto& h : history)
-    if (std::isfinite(h.contraction)) sum += std::log(h.contraction), ++n;
-  return n ? std::exp(sum / n) : std::numeric_limits<double>::quiet_NaN();
-}
-
-namespace {
-// "0.83 (last 0.91)" or "not measured": the geometric mean of the defined ρ_k and the last one.
-std::string contraction_text(const std::vector<OuterIteration>& history) {
-  const double est = contraction_estimate(history);
-  if (!std::isfinite(est)) return "not measured";
-  double last = est;
-  for (const auto& h : history)
-    if (std::isfinite(h.contraction)) last = h.contraction;
-  return short_number(est) + " (last " + short_number(last) + ")";
-}
-
-// The progress line of one minimization (stderr).
-std::string outer_line(const OuterIteration& rec, int stage, const std::string& backend) {
-  std::ostringstream os;
-  os << "outer " << rec.k << " (stage " << stage << ", eps_tau " << std::setprecision(2) << rec.eps_tau << ", eps_nu "
-     << rec.eps_nu << "): " << backend << " " << to_string(rec.backend.status) << " in " << rec.backend.iterations
-     << " it, " << std::setprecision(3) << rec.backend.seconds << " s; |dx_G3|/|x_G3| = " << std::setprecision(2)
-     << rec.change_u << ", |dlambda|/|lambda| = " << rec.change_lambda << ", first-order residual " << rec.grad_norm;
-  if (std::isfinite(rec.contraction)) os << ", contraction rho = " << rec.contraction;
-  return os.str();
-}
-
-std::string theta_text(const SolveOptions& opt) { return "relaxation theta = " + short_number(opt.relaxation); }
-
-std::string fixed_point_cap(const SolveOptions& opt, double change, const std::vector<OuterIteration>& history) {
-  return "fixed point lambda = F_b(u_nu) did not converge in " + std::to_string(opt.max_outer) +
-         " outer iterations (last change " + short_number(change) + ", contraction factor " +
-         contraction_text(history) + ", " + theta_text(opt) +
-         "); raise solver.fixed_point.max_iters, or if the factor is near or above 1 try a "
-         "smaller solver.fixed_point.relaxation";
-}
-
-std::string fixed_point_stall(const SolveOptions& opt, double change, const std::vector<OuterIteration>& history) {
-  return "fixed point lambda = F_b(u_nu) does not contract: the change (" + short_number(change) +
-         ") has not decreased for " + std::to_string(opt.stall_iters) + " outer iterations (contraction factor " +
-         contraction_text(history) + ", " + theta_text(opt) + "); try a smaller solver.fixed_point.relaxation, e.g. " +
-         short_number(0.5 * opt.relaxation);
-}
 }  // namespace
 
 namespace {
@@ -227,8 +180,7 @@ struct ContactSolver::Impl {
   void check_inner_convexity();
   void make_schedule();
   Run start(const Vec* z0);
-  bool run_stage(Run& run, size_t stage);
-  bool settled(const Run& run) const;
+  struct Stepper;  // the steps of the outer algorithm (outer_loop.hpp) on a Run
   void set_smoothing(size_t stage);
   OuterIteration minimize(Run& run, size_t stage);
   void relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta);
@@ -501,53 +453,53 @@ Solution ContactSolver::solve(const Vec* z0) {
   return done(std::move(sol));
 }
 
-// The continuation (solve.hpp's pseudo-code) from @p z0, with the hand-over to the exact solver.
-Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_start) {
-  Impl& I = *this;
-  Impl::Run run = I.start(z0);
-  // A copy polished and certified; returned when it passes (then no further stage runs).
-  const auto certified_trial = [&](size_t stage, bool last) -> std::optional<Solution> {
-    Impl::Run trial = run;
+// The CHOLMOD engine's steps of the outer algorithm (outer_loop.hpp): the backend's minimizations
+// on the condensed or full problem, the exact solver behind them, the polish on a copy.
+struct ContactSolver::Impl::Stepper final : OuterStepper {
+  Impl& I;
+  Run& run;
+  clk::time_point t_start;
+  Stepper(Impl& impl, Run& r, clk::time_point t) : I(impl), run(r), t_start(t) {}
+  Solution& solution() override { return run.sol; }
+  size_t stage_count() const override { return I.schedule.size(); }
+  bool lagged() const override { return I.lagged; }
+  std::string backend_name() const override { return I.backend->name(); }
+  void set_smoothing(size_t stage) override {
+    I.set_smoothing(stage);
+    if (stage == 0) run.sol.start_energy = I.F.energy->value(I.U_s * run.zs);
+  }
+  OuterIteration minimize(size_t stage) override { return I.minimize(run, stage); }
+  void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) override {
+    I.relax_lambda(run, rec, measure_contraction, prev_delta);
+  }
+  bool polish_exists() const override { return I.F.cond != nullptr; }
+  std::optional<Solution> certified_copy() override {
+    Run trial = run;
     I.polish(trial);
     I.certify(trial, t_start);
     if (!(trial.sol.certificate.passed && trial.sol.polish.accepted)) return std::nullopt;
-    if (!last) {
-      trial.sol.skipped.push_back("continuation: stages " + std::to_string(stage + 1) + ".." +
-                                  std::to_string(I.schedule.size() - 1) + " not run: the polished answer after stage " +
-                                  std::to_string(stage) + " was certified (solver.continuation.certify_below)");
-      log_info() << "continuation: certified after stage " << stage << "; the remaining "
-                 << I.schedule.size() - 1 - stage << " stage(s) are not needed";
-    }
     return std::move(trial.sol);
-  };
-  for (size_t stage = 0; stage < I.schedule.size(); ++stage) {
-    const bool ok = I.run_stage(run, stage);  // false: the backend failed
-    const bool last = stage + 1 == I.schedule.size();
-    // Once a stage barely moved the answer, its statuses are likely final: the exact polish on
-    // a copy, and if the certificate (the unsmoothed problem, docs/model.md §4) passes, the remaining
-    // stages, which only shrink ε towards an answer already in hand, are skipped.
-    bool tried = false;
-    if (ok && !last && I.settled(run)) {
-      tried = true;
-      if (auto sol = certified_trial(stage, false)) return std::move(*sol);
-    }
-    // Once the statuses stop changing, or the backend stalls or fails, the exact solver takes over
-    // (the polish first, when it has not been tried: it is cheaper and often enough).
-    if (I.exact_available()) {
-      const std::string why = I.exact_due(run, stage, !ok);
-      if (!why.empty()) {
-        if (ok && !tried && run.sol.fixed_point_converged)
-          if (auto sol = certified_trial(stage, last)) return std::move(*sol);
-        I.exact_solve(run, static_cast<int>(stage), why);
-        I.certify(run, t_start);
-        return std::move(run.sol);
-      }
-    }
-    if (!ok) break;  // polish and judge what we have
   }
-  I.polish(run);
-  I.certify(run, t_start);
-  return std::move(run.sol);
+  Solution finish() override {
+    I.polish(run);
+    I.certify(run, t_start);
+    return std::move(run.sol);
+  }
+  void check_interrupt() override { hemicontact::check_interrupt(); }
+  bool exact_available() const override { return I.exact_available(); }
+  std::string exact_due(size_t stage, bool backend_failed) override { return I.exact_due(run, stage, backend_failed); }
+  Solution exact_finish(size_t stage, const std::string& why) override {
+    I.exact_solve(run, static_cast<int>(stage), why);
+    I.certify(run, t_start);
+    return std::move(run.sol);
+  }
+};
+
+// The continuation (solve.hpp's pseudo-code) from @p z0, with the hand-over to the exact solver.
+Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_start) {
+  Run run = start(z0);
+  Stepper steps(*this, run, t_start);
+  return run_outer(steps, opt);
 }
 
 // What every answer carries from the set-up.
@@ -588,57 +540,6 @@ ContactSolver::Impl::Run ContactSolver::Impl::start(const Vec* z0) {
   run.prev_c = gamma3(run.zs);
   run.sol.fixed_point_converged = true;
   return run;
-}
-
-// One continuation stage: minimize with λ frozen, relax λ; a coarse stage takes one lagged update,
-// the final stage iterates to the fixed point λ = F_b(u_ν) or says why it stopped.
-// @return false when the backend failed (the run stops).
-bool ContactSolver::Impl::run_stage(Run& run, size_t stage) {
-  set_smoothing(stage);
-  if (stage == 0) run.sol.start_energy = F.energy->value(U_s * run.zs);
-  const bool final_stage = stage + 1 == schedule.size();
-  double prev_change = INF;
-  int slow = 0;
-  double prev_delta = INF;  // ‖Δλ‖∞ of the previous update in this stage
-  for (int it = 0;; ++it) {
-    check_interrupt();
-    OuterIteration rec = minimize(run, stage);
-    if (lagged) relax_lambda(run, rec, final_stage && it > 0, prev_delta);
-    run.sol.history.push_back(rec);
-    log_info() << outer_line(rec, static_cast<int>(stage), backend->name());
-    if (!rec.backend.ok()) {
-      run.sol.backend_ok = false;
-      run.sol.message = backend_failure(backend->name(), rec);
-      return false;
-    }
-    if (!lagged || !final_stage) return true;  // coarse stages: one lagged update each
-    const double change = std::max(rec.change_u, rec.change_lambda);
-    if (it > 0 && change <= opt.tol_u) return true;
-    if (it + 1 >= opt.max_outer) {
-      run.sol.fixed_point_converged = false;
-      run.sol.message = fixed_point_cap(opt, change, run.sol.history);
-      return true;
-    }
-    // Non-contraction: the change has not shrunk by 1 − stall_ratio for stall_iters iterations in
-    // a row (an oscillating or diverging λ; large μ·slope of p_ν, docs/model.md §1 (21)).
-    slow = (change > opt.stall_ratio * prev_change) ? slow + 1 : 0;
-    prev_change = change;
-    if (slow >= opt.stall_iters) {
-      run.sol.fixed_point_converged = false;
-      run.sol.message = fixed_point_stall(opt, change, run.sol.history);
-      return true;
-    }
-  }
-}
-
-// Worth an early polish: the last minimization moved Γ3 (and λ) by at most certify_below, the
-// fixed point has not failed, and the exact polish exists (condensed formulation).
-bool ContactSolver::Impl::settled(const Run& run) const {
-  if (!(opt.certify_below > 0) || !F.cond || !opt.polish || !run.sol.fixed_point_converged || !run.sol.backend_ok ||
-      run.sol.history.empty())
-    return false;
-  const OuterIteration& last = run.sol.history.back();
-  return last.change_u <= opt.certify_below && (!lagged || last.change_lambda <= opt.certify_below);
 }
 
 // The smoothing widths of a stage (absolute: relative widths × U_s).

@@ -24,13 +24,13 @@ using namespace hemicontact;
 
 namespace {
 
-struct Solved {
+struct SlidingRun {
   Model md;
   SolveOptions opt;
   Solution sol;
 };
 
-Solved solve_sliding(double mu, double theta) {
+SlidingRun solve_sliding(double mu, double theta) {
   const std::vector<std::string> o{"mesh.n=16",
                                    "check.smallness=false",
                                    "contact.gap=null",
@@ -43,7 +43,7 @@ Solved solve_sliding(double mu, double theta) {
                                    // Its Anderson-accelerated fixed point: tests/solver/exact_inner_test.cpp.
                                    "solver.exact.enabled=false"};
   const nlohmann::json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o);
-  Solved r;
+  SlidingRun r;
   r.md = build_model(s, ".");
   r.opt = solve_options_from_scene(s);
   r.sol = solve(r.md, r.opt);
@@ -55,7 +55,7 @@ Solved solve_sliding(double mu, double theta) {
 // Below the threshold the loop contracts, with ρ < 1 measured on every final-stage iteration, and
 // ρ(μ = 5)/ρ(μ = 3) = 5/3 because the derivative of the map is μ·J on a fixed status set.
 TEST(FixedPointContraction, FactorBelowOneAndProportionalToMu) {
-  const Solved a = solve_sliding(3, 1);
+  const SlidingRun a = solve_sliding(3, 1);
   ASSERT_TRUE(a.sol.ok()) << a.sol.message;
   for (const auto& st : a.sol.status) ASSERT_EQ(to_string(st.tangential), std::string("slip+"));
   int measured = 0;
@@ -68,7 +68,7 @@ TEST(FixedPointContraction, FactorBelowOneAndProportionalToMu) {
   const double rho3 = a.sol.contraction_estimate;
   EXPECT_LT(rho3, 1.0);
   // (At μ = 5, ρ ≈ 0.66 needs ~60 iterations, more than the default 50: only ρ is used here.)
-  const Solved b = solve_sliding(5, 1);
+  const SlidingRun b = solve_sliding(5, 1);
   const double rho5 = b.sol.contraction_estimate;
   ASSERT_TRUE(std::isfinite(rho5));
   // 2%: the ratio of two geometric means of ρ_k, each constant to ~1e-3 over the iterations.
@@ -89,7 +89,7 @@ TEST(FixedPointContraction, FactorBelowOneAndProportionalToMu) {
 // contract and suggests relaxation, and the answer is not accepted. With θ = 0.5 it converges and
 // is certified.
 TEST(FixedPointContraction, NonContractingLoopSaysSoAndRelaxationConverges) {
-  const Solved plain = solve_sliding(8, 1);
+  const SlidingRun plain = solve_sliding(8, 1);
   EXPECT_FALSE(plain.sol.fixed_point_converged);
   EXPECT_FALSE(plain.sol.ok());
   EXPECT_NE(plain.sol.message.find("fixed point lambda = F_b(u_nu) does not contract"), std::string::npos)
@@ -97,7 +97,7 @@ TEST(FixedPointContraction, NonContractingLoopSaysSoAndRelaxationConverges) {
   EXPECT_NE(plain.sol.message.find("solver.fixed_point.relaxation"), std::string::npos) << plain.sol.message;
   EXPECT_GT(plain.sol.contraction_estimate, plain.opt.stall_ratio - 0.05);
 
-  const Solved relaxed = solve_sliding(8, 0.5);
+  const SlidingRun relaxed = solve_sliding(8, 0.5);
   EXPECT_TRUE(relaxed.sol.fixed_point_converged) << relaxed.sol.message;
   ASSERT_TRUE(relaxed.sol.ok()) << relaxed.sol.message;
   EXPECT_LE(relaxed.sol.certificate.max_residual, relaxed.sol.certificate.tol);
@@ -110,11 +110,11 @@ TEST(FixedPointContraction, NonContractingLoopSaysSoAndRelaxationConverges) {
 // so ρ(θ) = max(1 − θ, |1 − θ(1 + a)|), smallest at θ* = 2/(2 + a). At μ = 5 (a ≈ 0.66, θ* ≈ 0.75)
 // θ = 0.75 must cut ρ to ≈ 0.25 and converge well within the cap the plain loop exhausts.
 TEST(FixedPointContraction, RelaxedFactorMatchesPredictionFromPlainFactor) {
-  const Solved plain = solve_sliding(5, 1);
+  const SlidingRun plain = solve_sliding(5, 1);
   const double a = plain.sol.contraction_estimate;
   ASSERT_TRUE(std::isfinite(a));
   const double theta = 0.75;
-  const Solved relaxed = solve_sliding(5, theta);
+  const SlidingRun relaxed = solve_sliding(5, theta);
   ASSERT_TRUE(relaxed.sol.ok()) << relaxed.sol.message;
   const double predicted = std::max(1 - theta, std::abs(1 - theta * (1 + a)));
   // 15%: the geometric mean over ~15 ratios that scatter by ±20% around the asymptotic factor

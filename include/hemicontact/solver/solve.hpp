@@ -115,7 +115,4 @@ class ContactSolver {
 /// @throws Error for bad options (unknown backend, ...).
 Solution solve(const Model& model, const SolveOptions& options);
 
-/// @return the geometric mean of the defined contraction factors ρ_k of @p history (NaN if none).
-double contraction_estimate(const std::vector<OuterIteration>& history);
-
 }  // namespace hemicontact
