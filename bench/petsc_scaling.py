@@ -14,6 +14,14 @@ The CSV goes to --out.
 
   python3 bench/petsc_scaling.py --build build --levels 8,16,24,32 --ranks 1,2 --out /tmp/petsc-scaling
 
+Weak scaling (--weak-per-rank K): one run per rank count P, on the box whose 3 n^3 unknowns are
+nearest K P (n = (K P / 3)^(1/3) rounded to an even number, which the 3D scene's symmetric pattern
+needs); the rows then carry the weak efficiency (the 1-rank wall time over this one's) and the
+growth of the largest rank's peak memory against the 1-rank run (the distributed mesh's target: at
+most 1.3x from 1 to 16 ranks at K = 260 000).
+
+  python3 bench/petsc_scaling.py --weak-per-rank 260000 --ranks 1,2,4,8,16 --out /tmp/petsc-weak
+
 Runs of a million unknowns or more take the whole of a 2-core machine: run them alone.
 """
 import argparse
@@ -37,8 +45,16 @@ def main() -> int:
     ap.add_argument("--mesh", default="auto", choices=["auto", "replicated"],
                     help="solver.petsc.mesh: auto (per-rank slabs where they cover the scene) or replicated")
     ap.add_argument("--backend", default="", help="ssn (the engine's default) or tao:bnls, tao:bntr, tao:bntl")
+    ap.add_argument("--weak-per-rank", type=int, default=0,
+                    help="weak scaling: about this many unknowns per rank (--levels is then ignored)")
     ap.add_argument("--out", required=True, help="folder for the runs and scaling.csv")
     a = ap.parse_args()
+    ranks = [int(x) for x in a.ranks.split(",")]
+    if a.weak_per_rank > 0:
+        # n even: the 3D scene's symmetric pattern splits its cells in mirror pairs.
+        runs = [(2 * round((a.weak_per_rank * p / 3) ** (1 / 3) / 2), p) for p in ranks]
+    else:
+        runs = [(int(n), p) for n in a.levels.split(",") for p in ranks]
     exe = Path(a.build) / "hemicontact"
     if not exe.exists():
         print(f"petsc_scaling: {exe} not found (build first)", file=sys.stderr)
@@ -49,49 +65,56 @@ def main() -> int:
                OMPI_MCA_rmaps_base_oversubscribe="1")
     rows = []
     base = {}
-    for n in [int(x) for x in a.levels.split(",")]:
-        for p in [int(x) for x in a.ranks.split(",")]:
-            run = out / f"n{n}-np{p}"
-            cmd = ["mpirun", "-np", str(p), str(exe), "solve", a.scene, "--set", f"mesh.n={n}",
-                   "--set", 'solver.engine="petsc"', "--set", f'solver.petsc.mesh="{a.mesh}"',
-                   "--set", "output.vtu=false", "--set", "output.csv=false",
-                   "--quiet", "--force", "--out", str(run)]
-            for s in a.set:
-                cmd += ["--set", s]
-            if a.backend:
-                cmd += ["--backend", a.backend]
-            t0 = time.monotonic()
-            r = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-            wall = time.monotonic() - t0
-            if r.returncode != 0:
-                print(f"petsc_scaling: n={n} np={p} exited {r.returncode}:\n{r.stderr}", file=sys.stderr)
-                return 1
-            rep = json.loads((run / "report.json").read_text())
-            pe = rep["petsc"]
-            row = {
-                "n": n, "ranks": p, "unknowns": pe["unknowns"], "wall_s": round(wall, 2),
-                "solve_s": round(rep["timings"]["solve_total"], 2),
-                "peak_mb_sum": round(pe["peak_rss_mb_sum"], 1), "bytes_per_dof": round(pe["bytes_per_dof"]),
-                # the largest rank's peak, and what each rank holds of the mesh (the per-rank slabs
-                # hold about nodes/P plus two ghost layers; the replicated mesh all of it)
-                "peak_mb_max_rank": round(pe["peak_rss_mb_max"], 1),
-                "mesh": "slabs" if pe.get("mesh", "").startswith("distributed") else "replicated",
-                "local_nodes_max": pe.get("local_nodes", rep["mesh"]["nodes"]),
-                "newton": pe["newton_iterations"], "krylov": pe["krylov_iterations"],
-                "krylov_per_newton": round(pe["krylov_per_newton"], 1),
-                "method": pe.get("method", ""),
-                "krylov_max_step": max((m.get("krylov", 0) for m in pe["minimizations"]), default=0),
-                "pc_builds": sum(1 for m in pe["minimizations"] if m.get("pc_built")),
-                "polish_newton": pe["polish_newton_iterations"],
-                "certificate": rep["certificate"]["max_residual"], "statuses": json.dumps(rep["status_counts"]),
-                # the partition's coupled share of K's entries (0 on one rank)
-                "off_rank": round(pe.get("partition", {}).get("off_rank_entries", 0.0), 5),
-            }
+    for n, p in runs:
+        run = out / f"n{n}-np{p}"
+        cmd = ["mpirun", "-np", str(p), str(exe), "solve", a.scene, "--set", f"mesh.n={n}",
+               "--set", 'solver.engine="petsc"', "--set", f'solver.petsc.mesh="{a.mesh}"',
+               "--set", "output.vtu=false", "--set", "output.csv=false",
+               "--quiet", "--force", "--out", str(run)]
+        for s in a.set:
+            cmd += ["--set", s]
+        if a.backend:
+            cmd += ["--backend", a.backend]
+        t0 = time.monotonic()
+        r = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        wall = time.monotonic() - t0
+        if r.returncode != 0:
+            print(f"petsc_scaling: n={n} np={p} exited {r.returncode}:\n{r.stderr}", file=sys.stderr)
+            return 1
+        rep = json.loads((run / "report.json").read_text())
+        pe = rep["petsc"]
+        row = {
+            "n": n, "ranks": p, "unknowns": pe["unknowns"], "wall_s": round(wall, 2),
+            "solve_s": round(rep["timings"]["solve_total"], 2),
+            "peak_mb_sum": round(pe["peak_rss_mb_sum"], 1), "bytes_per_dof": round(pe["bytes_per_dof"]),
+            # the largest rank's peak, and what each rank holds of the mesh (the per-rank slabs
+            # hold about nodes/P plus two ghost layers; the replicated mesh all of it)
+            "peak_mb_max_rank": round(pe["peak_rss_mb_max"], 1),
+            "mesh": "slabs" if pe.get("mesh", "").startswith("distributed") else "replicated",
+            "local_nodes_max": pe.get("local_nodes", rep["mesh"]["nodes"]),
+            "newton": pe["newton_iterations"], "krylov": pe["krylov_iterations"],
+            "krylov_per_newton": round(pe["krylov_per_newton"], 1),
+            "method": pe.get("method", ""),
+            "krylov_max_step": max((m.get("krylov", 0) for m in pe["minimizations"]), default=0),
+            "pc_builds": sum(1 for m in pe["minimizations"] if m.get("pc_built")),
+            "polish_newton": pe["polish_newton_iterations"],
+            "certificate": rep["certificate"]["max_residual"], "statuses": json.dumps(rep["status_counts"]),
+            # the partition's coupled share of K's entries (0 on one rank)
+            "off_rank": round(pe.get("partition", {}).get("off_rank_entries", 0.0), 5),
+        }
+        if a.weak_per_rank > 0:
+            # Weak scaling: against the 1-rank run (the first of --ranks, which should be 1).
+            if not base:
+                base = {"wall": wall, "peak": row["peak_mb_max_rank"], "ranks": p}
+            row["unknowns_per_rank"] = round(row["unknowns"] / p)
+            row["weak_efficiency"] = round(base["wall"] / wall, 2)
+            row["peak_growth"] = round(row["peak_mb_max_rank"] / base["peak"], 2)
+        else:
             if p == 1:
                 base[n] = wall
             row["speedup"] = round(base[n] / wall, 2) if n in base else ""
-            rows.append(row)
-            print(" ".join(f"{k}={v}" for k, v in row.items() if k != "statuses"), flush=True)
+        rows.append(row)
+        print(" ".join(f"{k}={v}" for k, v in row.items() if k != "statuses"), flush=True)
     with open(out / "scaling.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         w.writeheader()
