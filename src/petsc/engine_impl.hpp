@@ -180,7 +180,8 @@ class Engine : private OuterStepper {
   void set_smoothing(size_t stage) override;
   OuterIteration minimize(size_t stage) override;
   void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) override;
-  bool polish_exists() const override { return true; }
+  // The polish linearizes at the whole vector (petsc_polish.cpp): not on the per-rank slabs.
+  bool polish_exists() const override { return slab == nullptr; }
   std::optional<Solution> certified_copy() override;
   Solution finish() override;
   PolishResult polish(Eigen::VectorXd& x, const SolveOptions& read_opt, const Solution& s0);

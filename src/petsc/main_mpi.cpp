@@ -9,7 +9,7 @@
 // this one links MPI and PETSc and never Ipopt. Same scene keys, same report.json (written once,
 // by rank 0, with a "petsc" record added), same exit codes.
 //
-// Every rank parses the scene. A generated box or rectangle solved by ssn is made per rank, in slabs
+// Every rank parses the scene. A generated box or rectangle is made per rank, in slabs
 // of cell layers where solver.petsc.mesh = "auto" (the default is "replicated"): no rank holds the whole mesh, and each writes its
 // own piece of the results. Otherwise every rank builds the whole model (deterministic: the same
 // input errors on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
@@ -64,7 +64,6 @@ void share(int& code, std::string& message, MPI_Comm comm) {
 // "auto" takes the slabs wherever they cover the scene, "replicated" (the default) never.
 std::string replicated_reason(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm) {
   if (opt.petsc.mesh == "replicated") return "solver.petsc.mesh = replicated";
-  if (petsc_engine::tao_type(opt.backend) != "ssn") return "backend " + opt.backend + " (the slabs run ssn only)";
   const std::string why = slab_refusal(scene);
   if (!why.empty()) return why;
   int size = 1;
@@ -95,7 +94,7 @@ void on_every_rank(MPI_Comm comm, const F& fn) {
 }
 
 // The distributed path: each rank makes its slab of the generated mesh and its model, solves with
-// ssn, and writes its piece; report.json (rank 0) holds reductions only.
+// ssn or TAO, and writes its piece; report.json (rank 0) holds reductions only.
 // The free (not clamped) nodes on Γ3 facets of a mesh.
 long free_gamma3_nodes(const Mesh& mesh) {
   const std::vector<bool> clamped = clamped_nodes(mesh);

@@ -46,7 +46,10 @@ Solution Engine::run() {
   if (!md.normal_law && !md.friction && md.gap.is_infinite() && md.contact.fixed_local.empty()) {
     sol.backend = "none (PETSc CG linear solve)";
     sol.skipped.push_back("backend: linear elasticity, solved by one CG solve");
-    finish(sol, gather(zfree.v), t0);
+    if (slab)
+      finish_slabs(sol, zfree.v, t0);
+    else
+      finish(sol, gather(zfree.v), t0);
     return std::move(sol);
   }
   // The continuation schedule of solver/solve.cpp (problem/solve_options.hpp).
@@ -79,6 +82,17 @@ std::optional<Solution> Engine::certified_copy() {
 
 // The final polish (solver.polish, after a converged fixed point), then the certificate.
 Solution Engine::finish() {
+  if (slab) {  // the distributed path: nothing global is gathered, and so no polish
+    if (opt.polish)
+      sol.skipped.push_back("polish: not on the per-rank slabs (it linearizes at the whole vector); the "
+                            "certificate judges the continuation's answer");
+    PVec x;
+    HC_PETSC(VecDuplicate(zs.v, &x.v));
+    HC_PETSC(VecCopy(zs.v, x.v));
+    HC_PETSC(VecScale(x.v, U_s));
+    finish_slabs(sol, x.v, t_run);
+    return std::move(sol);
+  }
   Eigen::VectorXd x = U_s * gather(zs.v);
   if (opt.polish && sol.fixed_point_converged) {
     sol.polish = polish_with_readings(x, schedule.size() - 1);

@@ -69,8 +69,6 @@ namespace detail {
 Engine::Engine(Model& m, const Slab& sl, const SolveOptions& o, MPI_Comm c, EngineReport& r, SlabResult& out)
     : md(m), opt(o), comm(c), rep(r), slab(&sl), slab_out(&out) {
   init();
-  if (tao_type(opt.backend) != "ssn")
-    throw Error("petsc engine: the distributed mesh runs backend ssn only", EXIT_INTERNAL);
 }
 
 // PETSc's numbering on the slabs: each rank's owned unknowns, in its local x order (interior
