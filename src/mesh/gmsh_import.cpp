@@ -153,8 +153,15 @@ using FacetKey = std::array<int, 3>;
 
 FacetKey sorted_key(const int* v, int n) {
   FacetKey k{-1, -1, -1};
-  std::copy(v, v + n, k.begin());
-  std::sort(k.begin(), k.begin() + n);
+  // A facet has 2 (2D) or 3 (3D) nodes: a sorting network of compare-swaps (std::sort on a range
+  // whose length the compiler cannot bound drew a false -Warray-bounds from its insertion sort).
+  const int m = n == 3 ? 3 : 2;
+  std::copy(v, v + m, k.begin());
+  const auto order = [&k](int i, int j) {
+    if (k[static_cast<size_t>(i)] > k[static_cast<size_t>(j)]) std::swap(k[static_cast<size_t>(i)], k[static_cast<size_t>(j)]);
+  };
+  order(0, 1);
+  if (m == 3) order(1, 2), order(0, 1);
   return k;
 }
 
