@@ -412,6 +412,10 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   }
-  std::ofstream(fs::path(a.out) / "whole_process.json") << json{{"scene", a.scene}, {"rows", rows}}.dump(2) << "\n";
+  // The scene as the repository names it (problems/...), not where this checkout happens to be.
+  std::string scene_name = a.scene;
+  const std::string src = HEMICONTACT_SOURCE_DIR "/";
+  if (scene_name.rfind(src, 0) == 0) scene_name = scene_name.substr(src.size());
+  std::ofstream(fs::path(a.out) / "whole_process.json") << json{{"scene", scene_name}, {"rows", rows}}.dump(2) << "\n";
   return 0;
 }
