@@ -40,6 +40,11 @@ constexpr size_t BUFFER = 8192;
 char g_partial[2][BUFFER];  // the temporary being written, relative to g_partial_fd ("" when none)
 int g_partial_fd[2] = {-1, -1};
 char g_message[2][BUFFER];  // "hemicontact: interrupted ..." for the current output folder
+// The message once the file being renamed into place is there, prepared before the rename: a
+// signal between the rename and the rebuilt g_message names that file as kept (the handler tells
+// the two moments apart by whether the temporary still exists).
+char g_message_renamed[BUFFER];
+std::atomic<bool> g_renaming{false};
 std::atomic<int> g_partial_index{0};
 std::atomic<int> g_message_index{-1};  // −1: no output folder prepared yet
 std::atomic<int> g_child{0};           // a plotting process to pass the signal on to (0: none)
@@ -63,10 +68,13 @@ extern "C" void on_interrupt(int sig) {
   const int child = g_child.load();
   if (child > 0) ::kill(child, sig);  // the plotting script ends with us, not after us
   const int i = g_partial_index.load();
+  // Renamed already: the temporary is gone (or no longer named), its file is whole and in place.
+  const bool renamed = g_renaming.load() && (g_partial[i][0] == '\0' ||
+                                             ::faccessat(g_partial_fd[i], g_partial[i], F_OK, AT_SYMLINK_NOFOLLOW) != 0);
   if (g_partial[i][0] != '\0') ::unlinkat(g_partial_fd[i], g_partial[i], 0);
   const int m = g_message_index.load();
   if (m >= 0) {
-    const char* msg = g_message[m];
+    const char* msg = renamed ? g_message_renamed : g_message[m];
     size_t n = 0;
     while (msg[n] != '\0') ++n;
     if (::write(STDERR_FILENO, msg, n) < 0) {
@@ -193,19 +201,24 @@ std::vector<std::string> listed_names(int dir_fd) {
   return m.names ? std::move(*m.names) : std::vector<std::string>{};
 }
 
-// Rebuild the interrupt message from the folder's manifest: the files listed there that exist
-// are complete (a file is renamed into place only when fully written).
-void update_interrupt_message() {
-  if (g_dir.empty() || g_dir_fd < 0) return;
+// The interrupt message from the folder's manifest: the files listed there that exist are complete
+// (a file is renamed into place only when fully written), and @p renaming, about to be.
+std::string interrupt_message(const std::string& renaming = "") {
   std::string kept;
   for (const std::string& f : listed_names(g_dir_fd))
-    if (entry_at(g_dir_fd, f) == Entry::REGULAR) kept += (kept.empty() ? "" : ", ") + f;
+    if (f == renaming || entry_at(g_dir_fd, f) == Entry::REGULAR) kept += (kept.empty() ? "" : ", ") + f;
   std::string text = "hemicontact: interrupted: the results in '" + printable(g_dir) + "' are incomplete (" +
                      (kept.empty() ? std::string("nothing was written yet") : "kept: " + kept + ", each file whole") +
                      "); rerun with --force to replace them\n";
   if (text.size() >= BUFFER) text = text.substr(0, BUFFER - 5) + "...\n";
+  return text;
+}
+
+// Rebuild the interrupt message (after each file of the output folder is in place).
+void update_interrupt_message() {
+  if (g_dir.empty() || g_dir_fd < 0) return;
   const int next = g_message_index.load() == 0 ? 1 : 0;
-  copy_to(g_message[next], text);
+  copy_to(g_message[next], interrupt_message());
   g_message_index.store(next);
 }
 
@@ -528,10 +541,19 @@ void write_text_file(const std::string& path, const std::string& text) {
   // with no content. (File systems that cannot sync, EINVAL, have nothing to sync.)
   if (::fsync(fd) != 0 && errno != EINVAL) fail(errno, fd);
   if (::close(fd) != 0) fail(errno, -1);
+  const bool in_run_folder = dfd == g_dir_fd && !g_dir.empty();
+  if (in_run_folder) {
+    copy_to(g_message_renamed, interrupt_message(file));
+    g_renaming.store(true);
+  }
   // renameat replaces the name itself: a link planted there since the check is replaced, not followed.
-  if (::renameat(dfd, partial.c_str(), dfd, file.c_str()) != 0) fail(errno, -1);
+  if (::renameat(dfd, partial.c_str(), dfd, file.c_str()) != 0) {
+    g_renaming.store(false);
+    fail(errno, -1);
+  }
+  if (in_run_folder) update_interrupt_message();
+  g_renaming.store(false);
   set_partial(-1, "");
-  if (dfd == g_dir_fd) update_interrupt_message();
 }
 
 void install_interrupt_handlers() {
