@@ -10,10 +10,10 @@
 // by rank 0, with a "petsc" record added), same exit codes.
 //
 // Every rank parses the scene. A generated box or rectangle solved by ssn is made per rank, in slabs
-// of cell layers where solver.petsc.mesh = "auto" (the default is "replicated"): no rank holds the
-// whole mesh, each writes its own piece of the results, and rank 0 gathers only the Γ3 rows for
-// report.json. Otherwise every rank builds the whole model (deterministic: the same input errors
-// on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
+// of cell layers (solver.petsc.mesh = "auto", the default): no rank holds the whole mesh, each
+// writes its own piece of the results, and rank 0 gathers only the Γ3 rows for report.json.
+// Otherwise (or with solver.petsc.mesh = "replicated") every rank builds the whole model
+// (deterministic: the same input errors on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
 // so that the ranks always leave together with one exit code.
 #include "../cli/cli.hpp"
 #include "petsc_engine.hpp"
@@ -62,7 +62,7 @@ void share(int& code, std::string& message, MPI_Comm comm) {
 }
 
 // Why the scene runs on the replicated mesh ("" : on the per-rank slabs). solver.petsc.mesh:
-// "auto" takes the slabs wherever they cover the scene, "replicated" (the default) never.
+// "auto" (the default) takes the slabs wherever they cover the scene, "replicated" never.
 std::string replicated_reason(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm) {
   if (opt.petsc.mesh == "replicated") return "solver.petsc.mesh = replicated";
   if (petsc_engine::tao_type(opt.backend) != "ssn") return "backend " + opt.backend + " (the slabs run ssn only)";

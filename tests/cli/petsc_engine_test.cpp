@@ -441,14 +441,15 @@ class PetscSlabs : public ::testing::TestWithParam<Case> {};
 // The slabs against the cholmod engine: same statuses node by node, Γ3 displacements and energies
 // within check.certificate_tol (both answers pass the certificate at that tolerance, and the
 // status system's conditioning on these meshes, ~1e4, times ssn's stop at ssn_tol = 1e-12 of
-// max|f| stays below it, as in PetscAgreement); every rank holds about 1/P of the nodes.
+// max|f| stays below it, as in PetscAgreement); every rank holds about 1/P of the nodes. The runs
+// leave solver.petsc.mesh at its default: a generated mesh solved by ssn takes the slabs.
 TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
   const Case& c = GetParam();
   const fs::path dir = scratch("slabs-" + c.scene + "-" + std::to_string(c.np));
   const std::string common = problem(c.scene) + " " + c.sets + " --quiet";
   const CliOutcome ref = run_cli(dir, "solve " + common + " --set output.vtu=false --out " + (dir / "cholmod").string());
   ASSERT_EQ(ref.code, 0) << ref.err;
-  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + " --set solver.petsc.mesh='\"auto\"' --out " + (dir / "petsc").string());
+  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + " --out " + (dir / "petsc").string());
   ASSERT_EQ(got.code, 0) << got.err << got.out;
   const json a = json::parse(slurp(dir / "cholmod" / "report.json"));
   const json b = json::parse(slurp(dir / "petsc" / "report.json"));
@@ -542,7 +543,7 @@ TEST(PetscEngine, PlotDrawsFromTheSlabPieces) {
   for (const auto& [scene, picture] : {std::pair<std::string, std::string>{"sofonea2017-fig2", "fig2.png"},
                                        std::pair<std::string, std::string>{"sofonea2017-3d", "status3d.png"}}) {
     SCOPED_TRACE(scene);
-    const json r = solved(dir, 2, "solve " + problem(scene) + " --set mesh.n=4 --quiet --plot --set solver.petsc.mesh='\"auto\"'", scene);
+    const json r = solved(dir, 2, "solve " + problem(scene) + " --set mesh.n=4 --quiet --plot", scene);
     ASSERT_TRUE(r.contains("petsc"));
     EXPECT_EQ(r.at("petsc").at("mesh"), "distributed (per-rank slabs)");
     EXPECT_FALSE(fs::exists(dir / scene / "solution.vtu"));
@@ -554,16 +555,17 @@ TEST(PetscEngine, PlotDrawsFromTheSlabPieces) {
   fs::remove_all(dir);
 }
 
-// What the slabs do not cover runs on the replicated mesh, and the report says so and why.
+// What the slabs do not cover runs on the replicated mesh with the default solver.petsc.mesh, and
+// the report says so and why.
 TEST(PetscEngine, TaoRunsOnTheReplicatedMesh) {
   const fs::path dir = scratch("replicated");
-  const json r = solved(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --quiet --set output.vtu=false --set solver.petsc.mesh='\"auto\"' --backend tao:bnls", "tao");
+  const json r = solved(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --quiet --set output.vtu=false --backend tao:bnls", "tao");
   ASSERT_TRUE(r.contains("petsc"));
   EXPECT_EQ(r.at("petsc").at("mesh"), "replicated");
   EXPECT_NE(r.at("petsc").at("mesh_reason").get<std::string>().find("tao:bnls"), std::string::npos);
   // Γ3 on the left quarter of the bottom: the second slab (x >= 1/2) has none of it.
   const json q = solved(dir, 2, "solve " + problem("sofonea2017-fig2") +
-                                    " --set mesh.n=16 --quiet --set output.vtu=false --set solver.petsc.mesh='\"auto\"' --set "
+                                    " --set mesh.n=16 --quiet --set output.vtu=false --set "
                                     "'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'",
                         "quarter");
   ASSERT_TRUE(q.contains("petsc"));
