@@ -4,10 +4,11 @@
 Usage:
     /usr/bin/python3 scripts/plot_fig2.py DIR [--magnification M] [--title NAME] [--out PNG]
 
-DIR is the output directory of `hemicontact solve`; the script reads DIR/solution.vtu (ASCII VTK
+DIR is the output directory of `hemicontact solve`; the script reads DIR/solution.vtu (the petsc
+engine's slabs: the pieces of DIR/solution.pvtu) (ASCII VTK
 XML: points, triangles, point data "displacement", "gamma3", "status_normal",
 "status_tangential", "xi", "sigma_nu", "sigma_tau", "lambda") and, when present, DIR/gamma3.csv
-(the Gamma3 nodes in order along Gamma3, with their status). It writes DIR/fig2.png (or --out):
+or the per-rank DIR/gamma3_rank<r>.csv (the Gamma3 nodes in order along Gamma3, with their status). It writes DIR/fig2.png (or --out):
 
   left:  the deformed mesh x + M u. M defaults to the 1-2-5 number nearest to the one that makes
          the largest displacement 10% of the body's size; it is printed in the title. Gamma3 nodes
@@ -22,7 +23,6 @@ Exit codes: 0 written, 1 bad input, 2 matplotlib missing.
 """
 
 import argparse
-import csv
 import math
 import os
 import struct
@@ -30,7 +30,7 @@ import sys
 import zlib
 import xml.etree.ElementTree as ET
 
-from plotutil import save_atomically  # noqa: E402  (scripts/plotutil.py)
+from plotutil import pvtu_pieces, read_gamma3_csv, save_atomically  # noqa: E402  (scripts/plotutil.py)
 
 NORMAL = ["separated", "compliance", "contact"]  # status_normal codes 0, 1, 2
 TANGENTIAL = ["stick", "slip+", "slip-", "slip"]  # status_tangential codes 0..3
@@ -117,18 +117,41 @@ def read_vtu(path):
     return points, tris, point_data
 
 
-def gamma3_rows(dir_, points, pd):
-    """Gamma3 nodes in order along Gamma3: from gamma3.csv when present, else the VTU sorted by x."""
-    path = os.path.join(dir_, "gamma3.csv")
+def read_pieces(pvtu):
+    """read_vtu over the pieces of the petsc engine's .pvtu, joined into one mesh (a node on two
+    slabs appears twice, with the same values: harmless in a picture)."""
+    try:
+        paths = pvtu_pieces(pvtu)
+    except (OSError, ET.ParseError) as e:
+        raise InputError(f"cannot read {pvtu}: {e}")
+    if not paths:
+        raise InputError(f"{pvtu}: no piece")
+    points, tris, pd = [], [], {}
+    for path in paths:
+        p, t, d = read_vtu(path)
+        tris += [[v + len(points) for v in tri] for tri in t]
+        points += p
+        for name, vals in d.items():
+            pd.setdefault(name, []).extend(vals)
+    return points, tris, pd
+
+
+def gamma3_rows(dir_, points, pd, by_place=False):
+    """Gamma3 nodes in order along Gamma3: from gamma3.csv (or its per-rank pieces) when present,
+    else the VTU sorted by x. by_place: the points are joined pieces, whose indices are not the
+    CSV's node numbers, so a row's point is found by its coordinates (the same doubles in both)."""
     rows = []
-    if os.path.exists(path):
-        with open(path, newline="") as f:
-            for r in csv.DictReader(f):
-                normal, _, tangential = r["status"].partition("/")
-                rows.append({"node": int(r["node"]), "x": float(r["x"]), "y": float(r["y"]), "g": float(r["g"]),
-                             "xi": float(r["xi"]), "sigma_nu": float(r["sigma_nu"]),
-                             "sigma_tau": float(r["sigma_tau"]), "lambda": float(r["lambda"]), "normal": normal,
-                             "tangential": tangential})
+    csv_rows = read_gamma3_csv(dir_)
+    at = {(p[0], p[1]): i for i, p in enumerate(points)} if by_place else None
+    if csv_rows:
+        for r in csv_rows:
+            if at is not None:
+                r["node"] = at[(float(r["x"]), float(r["y"]))]
+            normal, _, tangential = r["status"].partition("/")
+            rows.append({"node": int(r["node"]), "x": float(r["x"]), "y": float(r["y"]), "g": float(r["g"]),
+                         "xi": float(r["xi"]), "sigma_nu": float(r["sigma_nu"]),
+                         "sigma_tau": float(r["sigma_tau"]), "lambda": float(r["lambda"]), "normal": normal,
+                         "tangential": tangential})
         return rows
     for i, on in enumerate(pd["gamma3"]):
         if on:
@@ -136,7 +159,8 @@ def gamma3_rows(dir_, points, pd):
                          "sigma_nu": pd["sigma_nu"][i], "sigma_tau": pd["sigma_tau"][i], "lambda": pd["lambda"][i],
                          "normal": NORMAL[pd["status_normal"][i]],
                          "tangential": TANGENTIAL[pd["status_tangential"][i]]})
-    return sorted(rows, key=lambda r: (r["x"], r["y"]))
+    # Joined pieces hold a node on two slabs twice: once each.
+    return sorted({(r["x"], r["y"]): r for r in rows}.values(), key=lambda r: (r["x"], r["y"]))
 
 
 def nice(x):
@@ -163,12 +187,14 @@ def main():
         return 1
 
     vtu = os.path.join(args.dir, "solution.vtu")
-    if not os.path.exists(vtu):
+    pvtu = os.path.join(args.dir, "solution.pvtu")
+    if not os.path.exists(vtu) and not os.path.exists(pvtu):
         print(f"plot_fig2: {vtu} not found (was the solve run with output.vtu = false?)", file=sys.stderr)
         return 1
     try:
-        points, tris, pd = read_vtu(vtu)
-        g3 = gamma3_rows(args.dir, points, pd)
+        pieces = not os.path.exists(vtu)
+        points, tris, pd = read_pieces(pvtu) if pieces else read_vtu(vtu)
+        g3 = gamma3_rows(args.dir, points, pd, by_place=pieces)
     except (InputError, OSError, ValueError, KeyError, IndexError) as e:
         print(f"plot_fig2: {e}", file=sys.stderr)
         return 1

@@ -5,7 +5,7 @@ Usage:
     /usr/bin/python3 scripts/plot_status3d.py DIR [--title NAME] [--out PNG] [--magnification M]
 
 DIR is the output directory of `hemicontact solve` on a 3-D mesh; the script reads DIR/gamma3.csv
-(columns x, y, z, u_nu, u_tau, sigma_nu, sigma_tau, lambda, status and the 3-D columns
+(the petsc engine's per-rank slabs: every DIR/gamma3_rank<r>.csv) (columns x, y, z, u_nu, u_tau, sigma_nu, sigma_tau, lambda, status and the 3-D columns
 slip_dir_x, slip_dir_y, slip_dir_z, slip_angle_deg). It writes DIR/status3d.png (or --out):
 
   left:  the Gamma3 nodes seen along the face's normal axis (for a bottom face z = 0: the top
@@ -27,28 +27,29 @@ import math
 import os
 import sys
 
-from plotutil import save_atomically  # noqa: E402  (scripts/plotutil.py)
+from plotutil import gamma3_csv_paths, save_atomically  # noqa: E402  (scripts/plotutil.py)
 
 NORMAL_STYLE = {"separated": ("tab:gray", "separated"),
                 "compliance": ("tab:orange", r"normal compliance ($u_\nu < g$)"),
                 "contact": ("tab:red", r"contact ($u_\nu = g$)")}
 
 
-def read_rows(path):
+def read_rows(paths):
     rows = []
-    with open(path, newline="") as f:
-        reader = csv.DictReader(f)
-        need = {"x", "y", "z", "u_nu", "g", "status", "slip_dir_x", "slip_dir_y", "slip_dir_z"}
-        missing = need - set(reader.fieldnames or [])
-        if missing:
-            raise ValueError(f"{path}: columns {sorted(missing)} missing (not a 3-D solve?)")
-        for r in reader:
-            normal, _, tangential = r["status"].partition("/")
-            rows.append({"p": (float(r["x"]), float(r["y"]), float(r["z"])), "u_nu": float(r["u_nu"]),
-                         "g": float(r["g"]), "normal": normal, "tangential": tangential,
-                         "dir": (float(r["slip_dir_x"]), float(r["slip_dir_y"]), float(r["slip_dir_z"]))})
+    for path in paths:
+        with open(path, newline="") as f:
+            reader = csv.DictReader(f)
+            need = {"x", "y", "z", "u_nu", "g", "status", "slip_dir_x", "slip_dir_y", "slip_dir_z"}
+            missing = need - set(reader.fieldnames or [])
+            if missing:
+                raise ValueError(f"{path}: columns {sorted(missing)} missing (not a 3-D solve?)")
+            for r in reader:
+                normal, _, tangential = r["status"].partition("/")
+                rows.append({"p": (float(r["x"]), float(r["y"]), float(r["z"])), "u_nu": float(r["u_nu"]),
+                             "g": float(r["g"]), "normal": normal, "tangential": tangential,
+                             "dir": (float(r["slip_dir_x"]), float(r["slip_dir_y"]), float(r["slip_dir_z"]))})
     if not rows:
-        raise ValueError(f"{path}: no Gamma3 node")
+        raise ValueError(f"{', '.join(paths)}: no Gamma3 node")
     return rows
 
 
@@ -59,12 +60,13 @@ def main():
     ap.add_argument("--out", help="PNG to write (default: DIR/status3d.png)")
     ap.add_argument("--magnification", type=float, help="accepted, not used (see above)")
     args = ap.parse_args()
-    path = os.path.join(args.dir, "gamma3.csv")
-    if not os.path.exists(path):
-        print(f"plot_status3d: {path} not found (was the solve run with output.csv = false?)", file=sys.stderr)
+    paths = gamma3_csv_paths(args.dir)
+    if not paths:
+        print(f"plot_status3d: {os.path.join(args.dir, 'gamma3.csv')} not found (was the solve run with "
+              "output.csv = false?)", file=sys.stderr)
         return 1
     try:
-        rows = read_rows(path)
+        rows = read_rows(paths)
     except (OSError, ValueError, KeyError) as e:
         print(f"plot_status3d: {e}", file=sys.stderr)
         return 1

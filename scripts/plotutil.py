@@ -1,5 +1,8 @@
 """Helpers shared by the plotting scripts (imported from the scripts' own folder)."""
+import csv
+import glob
 import os
+import re
 
 
 def save_atomically(fig, out, **kwargs):
@@ -17,3 +20,31 @@ def save_atomically(fig, out, **kwargs):
         if os.path.lexists(tmp):
             os.remove(tmp)
         raise
+
+
+def gamma3_csv_paths(dir_):
+    """The Gamma3 CSVs of a solve: DIR/gamma3.csv, else the petsc engine's per-rank pieces
+    gamma3_rank<r>.csv (each holds its rank's owned nodes), in rank order; [] when there is none."""
+    one = os.path.join(dir_, "gamma3.csv")
+    if os.path.exists(one):
+        return [one]
+    pieces = glob.glob(os.path.join(dir_, "gamma3_rank*.csv"))
+    rank = lambda p: int(re.search(r"gamma3_rank(\d+)\.csv$", p).group(1))
+    return sorted((p for p in pieces if re.search(r"gamma3_rank\d+\.csv$", p)), key=rank)
+
+
+def read_gamma3_csv(dir_):
+    """The rows (dicts of strings) of a solve's Gamma3 CSVs (gamma3_csv_paths) in the order of the
+    whole list (their "index" column); [] when there is none."""
+    rows = []
+    for path in gamma3_csv_paths(dir_):
+        with open(path, newline="") as f:
+            rows.extend(csv.DictReader(f))
+    return sorted(rows, key=lambda r: int(r["index"]))
+
+
+def pvtu_pieces(path):
+    """The piece files (paths) a .pvtu lists."""
+    import xml.etree.ElementTree as ET
+    root = ET.parse(path).getroot()
+    return [os.path.join(os.path.dirname(path), p.get("Source")) for p in root.iter("Piece")]

@@ -58,6 +58,11 @@ std::vector<std::string> solve_plot_args(const SceneArgs& a);
 void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
                          const Model& md, const Solution& sol, const SolveOptions& opt, const nlohmann::json& extra,
                          const Vec* cell_indicators = nullptr);
+/// With --plot or output.plot: draw the solve's picture into a.out (2D fig2.png from the VTU, 3D
+/// status3d.png from the Γ3 CSV; the petsc engine's slabs: from their pieces) and list it in the
+/// folder's manifest; a picture that could not be drawn is a warning, not an error.
+void draw_solve_picture(const SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
+                        int dim);
 /// The exit code of a solve: the certificate decides (EXIT_OK, EXIT_NOT_CONVERGED, EXIT_CERTIFICATE).
 int solve_verdict(const Solution& sol, const SolveOptions& opt);
 /// The options every scene command takes (args.cpp), for the commands' help texts; the defaults

@@ -32,19 +32,24 @@ std::vector<std::string> solve_plot_args(const SceneArgs& a) {
 void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
                          const Model& md, const Solution& sol, const SolveOptions& opt, const nlohmann::json& extra,
                          const Vec* cell_indicators) {
-  const bool plot = a.plot || scene.at("output").at("plot").get<bool>();
   // report.json comes last: it lists every file of the set ("files") and marks it complete.
-  const std::filesystem::path out(a.out);
   write_solution_files(a.out, scene, md, sol, cell_indicators);
   std::fputs(summary_table(md, sol).c_str(), stdout);
-  // 3D: the Γ3 status map with slip directions (scripts/plot_status3d.py, same arguments).
-  const bool d3 = md.dim() == 3;
-  const char* picture = d3 ? "status3d.png" : "fig2.png";
-  if (plot && run_plot_script(d3 ? "plot_status3d.py" : "plot_fig2.py", plot_args, (out / picture).string()) != 0)
-    log_warn() << "--plot: " << (out / picture).string() << " was not written (the solve's results are)";
-  if (plot && std::filesystem::exists(out / picture)) record_output_file((out / picture).string());
+  draw_solve_picture(a, plot_args, scene, md.dim());
   write_final_report(a.out, solve_report(md, sol, opt, extra));
   std::printf("results in %s\n", a.out.c_str());
+}
+
+void draw_solve_picture(const SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
+                        int dim) {
+  if (!a.plot && !scene.at("output").at("plot").get<bool>()) return;
+  const std::filesystem::path out(a.out);
+  // 3D: the Γ3 status map with slip directions (scripts/plot_status3d.py, same arguments).
+  const bool d3 = dim == 3;
+  const char* picture = d3 ? "status3d.png" : "fig2.png";
+  if (run_plot_script(d3 ? "plot_status3d.py" : "plot_fig2.py", plot_args, (out / picture).string()) != 0)
+    log_warn() << "--plot: " << (out / picture).string() << " was not written (the solve's results are)";
+  if (std::filesystem::exists(out / picture)) record_output_file((out / picture).string());
 }
 
 int solve_verdict(const Solution& sol, const SolveOptions& opt) {

@@ -35,6 +35,12 @@ std::string Gap::describe() const {
   return os.str();
 }
 
+bool gamma3_precedes(const double* a, long ia, const double* b, long ib, int dim) {
+  for (int k = 0; k < dim; ++k)
+    if (a[k] != b[k]) return a[k] < b[k];
+  return ia < ib;
+}
+
 ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamped, const Gap& gap) {
   const int d = mesh.dim;
   const Index N = mesh.num_nodes();
@@ -55,9 +61,9 @@ ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamp
     if (w[v] > 0 && !clamped[v]) nodes.push_back(static_cast<int>(v));
   // Lexicographic order by coordinates: left to right along a bottom edge, as the reference data.
   std::sort(nodes.begin(), nodes.end(), [&](int a, int b) {
-    for (int k = 0; k < d; ++k)
-      if (mesh.points(a, k) != mesh.points(b, k)) return mesh.points(a, k) < mesh.points(b, k);
-    return a < b;
+    double pa[3], pb[3];
+    for (int k = 0; k < d; ++k) pa[k] = mesh.points(a, k), pb[k] = mesh.points(b, k);
+    return gamma3_precedes(pa, a, pb, b, d);
   });
   ContactNodes c;
   c.node = nodes;

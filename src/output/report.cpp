@@ -132,42 +132,6 @@ std::string wrap(const std::vector<std::string>& words, size_t indent, size_t wi
   return out + line;
 }
 
-// One entry per Γ3 node: position, weight, gap, the contact state and the node's status.
-json nodes_json(const Model& md, const Solution& sol) {
-  const ContactNodes& cn = md.contact;
-  const ContactState& s = sol.state;
-  const Index nc = cn.size();
-  const int d = md.dim();
-  json nodes = json::array();
-  static const char* axes[] = {"x", "y", "z"};
-  for (Index k = 0; k < nc; ++k) {
-    json n;
-    n["node"] = cn.node[k];
-    for (int c = 0; c < d; ++c) n[axes[c]] = md.mesh.points(cn.node[k], c);
-    n["w"] = cn.w[k];
-    n["g"] = cn.g[k];
-    n["u_nu"] = s.u_nu[k];
-    n["u_tau"] = s.u_tau[k];
-    n["sigma_nu"] = s.sigma_nu[k];
-    n["sigma_tau"] = s.sigma_tau[k];
-    n["xi"] = s.xi[k];
-    n["lambda"] = s.lambda[k];
-    n["status"] = sol.status[k].str();
-    if (d == 3) {
-      // 3D: the slip direction replaces 2D's ±; null on sticking nodes (it has no direction).
-      if (sol.status[k].tangential == TangentialStatus::SLIP) {
-        n["slip_dir"] = {s.slip_dir(k, 0), s.slip_dir(k, 1), s.slip_dir(k, 2)};
-        n["slip_angle_deg"] = s.slip_angle_deg[k];
-      } else {
-        n["slip_dir"] = nullptr;
-        n["slip_angle_deg"] = nullptr;
-      }
-    }
-    nodes.push_back(std::move(n));
-  }
-  return nodes;
-}
-
 json certificate_json(const CertificateReport& c) {
   json residuals = json::object();
   for (const auto& e : c.residuals) residuals[e.name] = {{"value", e.value}, {"worst", e.worst}};
@@ -255,27 +219,35 @@ json inner_convexity_json(const InnerConvexity& c) {
 
 }  // namespace
 
-json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) {
-  const ContactNodes& cn = md.contact;
-  const ContactState& s = sol.state;
-  const Index nc = cn.size();
-  const int d = md.dim();
-  if (s.u_nu.size() != nc || static_cast<Index>(sol.status.size()) != nc)
-    throw Error("make_report: the solution does not match the model (was evaluate_solution() called?)", EXIT_INTERNAL);
+json gamma3_row_json(const Gamma3Row& r, int dim) {
+  static const char* axes[] = {"x", "y", "z"};
+  json n;
+  n["node"] = r.node;
+  for (int c = 0; c < dim; ++c) n[axes[c]] = r.p[c];
+  n["w"] = r.w;
+  n["g"] = r.g;
+  n["u_nu"] = r.u_nu;
+  n["u_tau"] = r.u_tau;
+  n["sigma_nu"] = r.sigma_nu;
+  n["sigma_tau"] = r.sigma_tau;
+  n["xi"] = r.xi;
+  n["lambda"] = r.lambda;
+  n["status"] = r.status.str();
+  if (dim == 3) {
+    // 3D: the slip direction replaces 2D's ±; null on sticking nodes (it has no direction).
+    if (r.status.tangential == TangentialStatus::SLIP) {
+      n["slip_dir"] = {r.slip_dir[0], r.slip_dir[1], r.slip_dir[2]};
+      n["slip_angle_deg"] = r.slip_angle_deg;
+    } else {
+      n["slip_dir"] = nullptr;
+      n["slip_angle_deg"] = nullptr;
+    }
+  }
+  return n;
+}
 
+json solve_records(const Solution& sol, const SolveOptions& opt, bool lagged) {
   json r;
-  r["scene"] = md.scene;
-  r["version"] = HEMICONTACT_VERSION;
-  r["mesh"] = {{"origin", md.mesh.origin},     {"dim", d},           {"nodes", md.mesh.num_nodes()},
-               {"cells", md.mesh.num_cells()}, {"gamma3_nodes", nc}, {"h", md.mesh.max_edge_length()}};
-  r["dofs"] = md.dofs.n_free();
-  r["material"] = {{"description", md.material->describe()},
-                   {"m_F", md.material->m_F()},
-                   {"L_F", md.material->L_F()},
-                   {"is_linear", md.material->is_linear()}};
-  r["laws"] = {{"normal_law", md.normal_law ? json(md.normal_law->describe()) : json(nullptr)},
-               {"friction", md.friction ? json(md.friction->describe()) : json(nullptr)},
-               {"gap", md.gap.describe()}};
   // The backend's own work only (the exact solver's inner solves are under phases and inner).
   const SolverWork bt = sol.work_of(sol.backend);
   r["backend"] = {{"name", sol.backend},
@@ -287,7 +259,46 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
                   {"evaluations", bt.evaluations},
                   {"seconds", bt.seconds}};
   r["solved_by"] = sol.solved_by();
-  r["phases"] = phases(sol, md.friction && md.friction->depends_on_u_nu());
+  r["phases"] = phases(sol, lagged);
+  r["certificate"] = certificate_json(sol.certificate);
+  r["fixed_point"] = fixed_point_json(sol, opt);
+  r["options"] = options_json(opt);
+  r["skipped"] = sol.skipped;
+  r["formulation"] = sol.formulation;
+  const SmallnessReport& q = sol.smallness;
+  r["smallness"] = {{"computed", q.computed}, {"m_F", q.m_F},
+                    {"L_Fb", q.L_Fb},         {"alpha_j", q.alpha_j},
+                    {"lambda_1", q.lambda_1}, {"lambda_1nu", q.lambda_1nu},
+                    {"lhs", q.lhs},           {"uniqueness_guaranteed", q.computed && q.holds},
+                    {"method", q.method},     {"lhs_bracket", {q.lhs_lower, q.lhs_upper}},
+                    {"seconds", q.seconds}};
+  r["polish"] = {{"attempted", sol.polish.attempted},     {"accepted", sol.polish.accepted},
+                 {"iterations", sol.polish.iterations},   {"certificate_before", sol.polish.before},
+                 {"certificate_after", sol.polish.after}, {"note", sol.polish.note}};
+  r["inner"] = inner_json(sol.handover);
+  r["inner_convexity"] = inner_convexity_json(sol.inner_convexity);
+  r["scales"] = {{"x_scale", sol.x_scale}, {"f_scale", sol.f_scale}};
+  r["message"] = sol.message;
+  r["ok"] = report_ok(sol);
+  return r;
+}
+
+json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) {
+  const ContactNodes& cn = md.contact;
+  const ContactState& s = sol.state;
+  const Index nc = cn.size();
+  const int d = md.dim();
+  if (s.u_nu.size() != nc || static_cast<Index>(sol.status.size()) != nc)
+    throw Error("make_report: the solution does not match the model (was evaluate_solution() called?)", EXIT_INTERNAL);
+
+  json r = solve_records(sol, opt, md.friction && md.friction->depends_on_u_nu());
+  r["scene"] = md.scene;
+  r["version"] = HEMICONTACT_VERSION;
+  r["mesh"] = {{"origin", md.mesh.origin},     {"dim", d},           {"nodes", md.mesh.num_nodes()},
+               {"cells", md.mesh.num_cells()}, {"gamma3_nodes", nc}, {"h", md.mesh.max_edge_length()}};
+  r["dofs"] = md.dofs.n_free();
+  r["material"] = material_json(md);
+  r["laws"] = laws_json(md);
   r["energy"] = sol.energy;
   r["energy_norm"] = sol.energy_norm;
   r["a_uu"] = sol.a_uu;
@@ -297,32 +308,24 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
   r["friction_term"] = sol.friction_term;
   r["max_u_nu"] = sol.max_u_nu;
   r["status_counts"] = sol.status_counts();
-
-  r["nodes"] = nodes_json(md, sol);
-  r["certificate"] = certificate_json(sol.certificate);
-  r["fixed_point"] = fixed_point_json(sol, opt);
-  r["options"] = options_json(opt);
-  r["skipped"] = sol.skipped;
-  r["formulation"] = sol.formulation;
-  {
-    const SmallnessReport& q = sol.smallness;
-    r["smallness"] = {{"computed", q.computed}, {"m_F", q.m_F},
-                      {"L_Fb", q.L_Fb},         {"alpha_j", q.alpha_j},
-                      {"lambda_1", q.lambda_1}, {"lambda_1nu", q.lambda_1nu},
-                      {"lhs", q.lhs},           {"uniqueness_guaranteed", q.computed && q.holds},
-                      {"method", q.method},     {"lhs_bracket", {q.lhs_lower, q.lhs_upper}},
-                      {"seconds", q.seconds}};
-  }
-  r["polish"] = {{"attempted", sol.polish.attempted},     {"accepted", sol.polish.accepted},
-                 {"iterations", sol.polish.iterations},   {"certificate_before", sol.polish.before},
-                 {"certificate_after", sol.polish.after}, {"note", sol.polish.note}};
-  r["inner"] = inner_json(sol.handover);
-  r["inner_convexity"] = inner_convexity_json(sol.inner_convexity);
-  r["scales"] = {{"x_scale", sol.x_scale}, {"f_scale", sol.f_scale}};
+  json nodes = json::array();
+  for (Index k = 0; k < nc; ++k) nodes.push_back(gamma3_row_json(gamma3_row(md, sol, k), d));
+  r["nodes"] = std::move(nodes);
   r["timings"] = merged_timings(md, sol);
-  r["message"] = sol.message;
-  r["ok"] = report_ok(sol);
   return r;
+}
+
+json material_json(const Model& md) {
+  return {{"description", md.material->describe()},
+          {"m_F", md.material->m_F()},
+          {"L_F", md.material->L_F()},
+          {"is_linear", md.material->is_linear()}};
+}
+
+json laws_json(const Model& md) {
+  return {{"normal_law", md.normal_law ? json(md.normal_law->describe()) : json(nullptr)},
+          {"friction", md.friction ? json(md.friction->describe()) : json(nullptr)},
+          {"gap", md.gap.describe()}};
 }
 
 void write_report(const std::string& path, const json& report) {

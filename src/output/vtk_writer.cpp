@@ -211,12 +211,15 @@ int status_code(TangentialStatus s) {
 
 namespace {
 
-// The legend of the integer status codes, readable in ParaView's information panel.
+// The legend of the integer status codes (status_code above).
+const char* const STATUS_LEGEND =
+    "status_normal: -1 not on Gamma3, 0 separated, 1 compliance, 2 contact; status_tangential: -1 not on "
+    "Gamma3, 0 stick, 1 slip+, 2 slip-, 3 slip (3D)";
+
+// The legend as field data, readable in ParaView's information panel.
 void write_field_data(VtuLayout& L, std::string& xml) {
   xml += "    <FieldData>\n";
-  const std::string legend =
-      "status_normal: -1 not on Gamma3, 0 separated, 1 compliance, 2 contact; status_tangential: -1 not on "
-      "Gamma3, 0 stick, 1 slip+, 2 slip-, 3 slip (3D)";
+  const std::string legend = STATUS_LEGEND;
   std::vector<long long> chars(legend.begin(), legend.end());
   Array leg = int_array("UInt8", "status_legend", chars);
   leg.comps = static_cast<int>(chars.size());
@@ -389,6 +392,7 @@ void write_pvtu(const std::string& path, int dim, const std::vector<std::string>
   std::string out =
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
       "header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n"
+      "    <!-- " + std::string(STATUS_LEGEND) + " (each piece's field data status_legend) -->\n"
       "    <PPointData Scalars=\"status_normal\" Vectors=\"displacement\">\n";
   arrays(out, point);
   out += "    </PPointData>\n    <PCellData Scalars=\"von_mises\">\n";

@@ -9,10 +9,11 @@
 // this one links MPI and PETSc and never Ipopt. Same scene keys, same report.json (written once,
 // by rank 0, with a "petsc" record added), same exit codes.
 //
-// Every rank parses the scene. A generated box or rectangle is made per rank, in slabs
-// of cell layers where solver.petsc.mesh = "auto" (the default is "replicated"): no rank holds the whole mesh, and each writes its
-// own piece of the results. Otherwise every rank builds the whole model (deterministic: the same
-// input errors on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
+// Every rank parses the scene. A generated box or rectangle (ssn or TAO) is made per rank, in slabs
+// of cell layers (solver.petsc.mesh = "auto", the default): no rank holds the whole mesh, each
+// writes its own piece of the results, and rank 0 gathers only the Γ3 rows for report.json.
+// Otherwise (or with solver.petsc.mesh = "replicated") every rank builds the whole model
+// (deterministic: the same input errors on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
 // so that the ranks always leave together with one exit code.
 #include "../cli/cli.hpp"
 #include "petsc_engine.hpp"
@@ -61,7 +62,7 @@ void share(int& code, std::string& message, MPI_Comm comm) {
 }
 
 // Why the scene runs on the replicated mesh ("" : on the per-rank slabs). solver.petsc.mesh:
-// "auto" takes the slabs wherever they cover the scene, "replicated" (the default) never.
+// "auto" (the default) takes the slabs wherever they cover the scene, "replicated" never.
 std::string replicated_reason(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm) {
   if (opt.petsc.mesh == "replicated") return "solver.petsc.mesh = replicated";
   const std::string why = slab_refusal(scene);
@@ -93,8 +94,6 @@ void on_every_rank(MPI_Comm comm, const F& fn) {
   throw Error(code != 0 ? message : "another rank stopped (its message is above)", static_cast<ExitCode>(worst));
 }
 
-// The distributed path: each rank makes its slab of the generated mesh and its model, solves with
-// ssn or TAO, and writes its piece; report.json (rank 0) holds reductions only.
 // The free (not clamped) nodes on Γ3 facets of a mesh.
 long free_gamma3_nodes(const Mesh& mesh) {
   const std::vector<bool> clamped = clamped_nodes(mesh);
@@ -105,16 +104,14 @@ long free_gamma3_nodes(const Mesh& mesh) {
   return static_cast<long>(std::count(on.begin(), on.end(), 1));
 }
 
+// The distributed path: each rank makes its slab of the generated mesh and its model, solves with
+// ssn, and writes its piece; report.json (rank 0) holds reductions and the gathered Γ3 rows.
 // @p fallback: set (and nothing solved) when the slabs do not suit the scene after all.
-int run_slabs(const cli::SceneArgs& a, const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm,
-              std::chrono::steady_clock::time_point t0, std::string& fallback) {
+int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
+              const SolveOptions& opt, MPI_Comm comm, std::chrono::steady_clock::time_point t0, std::string& fallback) {
   int size = 1;
   MPI_Comm_size(comm, &size);
   log_info() << "petsc: the mesh made per rank (slabs of cell layers), " << size << " rank(s)";
-  // The pictures read every Γ3 node from one report: the slabs have no such list (their pieces do).
-  if (a.plot || scene.at("output").at("plot").get<bool>())
-    log_warn() << "--plot / output.plot: no picture on the per-rank slabs (the Γ3 nodes are in the pieces "
-                  "gamma3_rank<r>.csv); solver.petsc.mesh = \"replicated\" draws it";
   Mesh mesh;
   petsc_engine::Slab slab;
   Model md;
@@ -141,7 +138,9 @@ int run_slabs(const cli::SceneArgs& a, const nlohmann::json& scene, const SolveO
   petsc_engine::SlabResult out;
   Solution sol = petsc_engine::solve_slabs(md, slab, opt, comm, er, out);
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  petsc_engine::write_slab_results(a.out, scene, md, slab, sol, out, opt, er, comm);
+  // The picture reads the pieces (scripts/plot_fig2.py the .pvtu's, plot_status3d.py the CSVs).
+  petsc_engine::write_slab_results(a.out, scene, md, slab, sol, out, opt, er, comm,
+                                   [&] { cli::draw_solve_picture(a, plot_args, scene, md.dim()); });
   log_info() << "petsc: " << size << " rank(s), " << er.json.value("newton_iterations", 0L) << " Newton and "
              << er.json.value("krylov_iterations", 0L) << " Krylov iterations, peak memory "
              << er.json.value("peak_rss_mb_sum", 0.0) << " MB over the ranks, certificate "
@@ -198,7 +197,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   if (code != 0) throw Error(message, static_cast<ExitCode>(code));
   std::string replicated = replicated_reason(scene, opt, comm);
   if (replicated.empty()) {
-    const int verdict = run_slabs(a, scene, opt, comm, t0, replicated);
+    const int verdict = run_slabs(a, plot_args, scene, opt, comm, t0, replicated);
     if (replicated.empty()) return verdict;
   }
   log_info() << "petsc: the whole mesh on every rank (" << replicated << ")";

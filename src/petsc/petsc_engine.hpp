@@ -83,7 +83,7 @@ struct SlabResult {
   long local_nodes_max = 0;                                  ///< the most nodes a rank holds (ghosts included)
 };
 
-/// @brief Solve on the slabs (collective, backend ssn only): as solve(), but @p md is this rank's
+/// @brief Solve on the slabs (collective; ssn, or TAO without the polish): as solve(), but @p md is this rank's
 /// slab (make_slab, build_model(scene, mesh, false)) and nothing global is gathered. @return the
 /// scalars of the answer (energies, certificate, verdict; its vectors empty); @p out the piece.
 Solution solve_slabs(Model& md, const Slab& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,

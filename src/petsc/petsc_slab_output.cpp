@@ -1,6 +1,7 @@
 // The distributed path's results: every rank writes its own piece (solution_rank<r>.vtu of its
-// owned cells, gamma3_rank<r>.csv of its slab's Γ3 nodes), rank 0 the .pvtu that lists them and
-// report.json, whose every number is a reduction: no process gathers the solution.
+// owned cells, gamma3_rank<r>.csv of its owned Γ3 nodes), rank 0 the .pvtu that lists them and
+// report.json, whose numbers are reductions apart from the list of Γ3 nodes: a surface's worth of
+// rows gathered to rank 0, never the body's solution.
 #include "petsc_slab_output.hpp"
 
 #include <hemicontact/config.hpp>
@@ -8,12 +9,18 @@
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/output/csv_writer.hpp>
 #include <hemicontact/output/output_dir.hpp>
+#include <hemicontact/contact/contact_nodes.hpp>
 #include <hemicontact/output/pvtu_writer.hpp>
+#include <hemicontact/output/report.hpp>
 #include <hemicontact/output/solve_files.hpp>
+#include <hemicontact/scene/slab_mesh.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
 
+#include <algorithm>
 #include <cstdio>
+#include <numeric>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,10 +33,82 @@ std::string piece_name(const char* prefix, int rank, const char* suffix) {
   return prefix + std::to_string(rank) + suffix;
 }
 
+// The doubles of a Γ3 row in the gather (its node id travels in a long buffer beside them).
+constexpr int ROW_DOUBLES = 17;
+
+void pack(const Gamma3Row& r, std::vector<double>& out) {
+  out.insert(out.end(), {r.p[0], r.p[1], r.p[2], r.w, r.g, r.u_nu, r.u_tau, r.sigma_nu, r.sigma_tau, r.xi, r.lambda,
+                         double(static_cast<int>(r.status.normal)), double(static_cast<int>(r.status.tangential)),
+                         r.slip_dir[0], r.slip_dir[1], r.slip_dir[2], r.slip_angle_deg});
+}
+
+Gamma3Row unpack(const double* v, long node) {
+  Gamma3Row r;
+  r.node = node;
+  for (int c = 0; c < 3; ++c) r.p[c] = v[c], r.slip_dir[c] = v[13 + c];
+  r.w = v[3], r.g = v[4], r.u_nu = v[5], r.u_tau = v[6], r.sigma_nu = v[7], r.sigma_tau = v[8], r.xi = v[9];
+  r.lambda = v[10];
+  r.status.normal = static_cast<NormalStatus>(static_cast<int>(v[11]));
+  r.status.tangential = static_cast<TangentialStatus>(static_cast<int>(v[12]));
+  r.slip_angle_deg = v[16];
+  return r;
+}
+
+// This rank's owned Γ3 nodes (a ghost is its owner's), named in the whole mesh's numbering.
+std::vector<Gamma3Row> owned_rows(const nlohmann::json& scene, const Model& md, const Slab& slab, const Solution& piece) {
+  std::vector<Gamma3Row> rows;
+  const int first = std::max(slab.c0 - 1, 0);
+  for (Index k = 0; k < md.contact.size(); ++k)
+    if (slab.owned_node[static_cast<size_t>(md.contact.node[k])]) {
+      rows.push_back(gamma3_row(md, piece, k));
+      rows.back().node = slab_global_node(scene, first, slab.c1, md.contact.node[k]);
+    }
+  return rows;
+}
+
+// Every rank's owned rows gathered to rank 0 in ContactNodes' order (as the replicated model has
+// them); each rank gets back its rows' places in that order (@p index), the whole list's index k.
+// @return the sorted rows on rank 0, nothing elsewhere.
+std::vector<Gamma3Row> gather_rows(const std::vector<Gamma3Row>& mine, int dim, std::vector<long>& index,
+                                   MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  std::vector<double> buf;
+  std::vector<long> ids;
+  for (const Gamma3Row& r : mine) pack(r, buf), ids.push_back(r.node);
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<size_t>(size)), at(static_cast<size_t>(size), 0), dcounts, dat;
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  for (int q = 1; q < size; ++q) at[static_cast<size_t>(q)] = at[static_cast<size_t>(q - 1)] + counts[static_cast<size_t>(q - 1)];
+  const int total = rank == 0 ? at.back() + counts.back() : 0;
+  for (int q = 0; q < size; ++q)
+    dcounts.push_back(counts[static_cast<size_t>(q)] * ROW_DOUBLES), dat.push_back(at[static_cast<size_t>(q)] * ROW_DOUBLES);
+  std::vector<double> all(static_cast<size_t>(total) * ROW_DOUBLES);
+  std::vector<long> all_ids(static_cast<size_t>(total)), place(static_cast<size_t>(total));
+  MPI_Gatherv(buf.data(), count * ROW_DOUBLES, MPI_DOUBLE, all.data(), dcounts.data(), dat.data(), MPI_DOUBLE, 0, comm);
+  MPI_Gatherv(ids.data(), count, MPI_LONG, all_ids.data(), counts.data(), at.data(), MPI_LONG, 0, comm);
+  std::vector<Gamma3Row> rows;
+  if (rank == 0) {
+    std::vector<size_t> order(static_cast<size_t>(total));
+    std::iota(order.begin(), order.end(), size_t(0));
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return gamma3_precedes(&all[a * ROW_DOUBLES], all_ids[a], &all[b * ROW_DOUBLES], all_ids[b], dim);
+    });
+    for (size_t k = 0; k < order.size(); ++k) {
+      rows.push_back(unpack(&all[order[k] * ROW_DOUBLES], all_ids[order[k]]));
+      place[order[k]] = static_cast<long>(k);
+    }
+  }
+  index.assign(mine.size(), 0);
+  MPI_Scatterv(place.data(), counts.data(), at.data(), MPI_LONG, index.data(), count, MPI_LONG, 0, comm);
+  return rows;
+}
+
 // This rank's piece: the VTU of its owned cells (the ghost layer is the rank below's), and the CSV
-// of its slab's Γ3 nodes (a ghost's row repeats its owner's, computed from the same rows of x).
+// of its owned Γ3 nodes (each node in one piece only), indexed as in the whole list.
 void write_piece(const std::string& dir, const nlohmann::json& scene, Model& md, const Slab& slab,
-                 const SlabResult& out, int rank) {
+                 const SlabResult& out, const std::vector<Gamma3Row>& rows, const std::vector<long>& index, int rank) {
   const std::filesystem::path p(dir);
   if (scene.at("output").at("vtu").get<bool>()) {
     IMat owned(static_cast<Index>(std::count(slab.owned_cell.begin(), slab.owned_cell.end(), 1)), md.mesh.cells.cols());
@@ -46,7 +125,7 @@ void write_piece(const std::string& dir, const nlohmann::json& scene, Model& md,
     std::swap(owned, md.mesh.cells);
   }
   if (scene.at("output").at("csv").get<bool>())
-    write_gamma3_csv((p / piece_name("gamma3_rank", rank, ".csv")).string(), md, out.piece);
+    write_gamma3_csv((p / piece_name("gamma3_rank", rank, ".csv")).string(), md.dim(), rows, index);
 }
 
 nlohmann::json certificate_record(const CertificateReport& c) {
@@ -58,35 +137,31 @@ nlohmann::json certificate_record(const CertificateReport& c) {
           {"residuals", std::move(residuals)}};
 }
 
-// report.json of the distributed path: make_report's keys that reductions give (no "nodes": the
-// Γ3 nodes are in the pieces, "pieces" names them).
+// report.json of the distributed path: make_report's keys, its scalars from reductions and its
+// "nodes" from the Γ3 rows gathered to rank 0 (@p nodes, in ContactNodes' order); "pieces" names
+// the ranks' files. The certificate's worst places are PETSc rows (the slabs have no global x).
 nlohmann::json slab_report(const nlohmann::json& scene, const Model& md, const Solution& sol, const SlabResult& out,
-                           const Slab& slab, const SolveOptions& opt, const EngineReport& er, double h, int size) {
-  nlohmann::json r;
+                           const Slab& slab, const SolveOptions& opt, const EngineReport& er, double h, int size,
+                           const std::vector<Gamma3Row>& nodes) {
+  nlohmann::json r = solve_records(sol, opt, md.friction && md.friction->depends_on_u_nu());
   r["scene"] = scene;
   r["version"] = HEMICONTACT_VERSION;
   r["engine"] = "petsc";
   r["mesh"] = {{"origin", md.mesh.origin}, {"dim", md.dim()}, {"nodes", slab.global_nodes},
                {"cells", slab.global_cells}, {"gamma3_nodes", out.gamma3_nodes}, {"h", h}};
   r["dofs"] = er.json.value("unknowns", 0L);
-  r["material"] = {{"description", md.material->describe()}, {"is_linear", md.material->is_linear()}};
-  r["laws"] = {{"normal_law", md.normal_law ? nlohmann::json(md.normal_law->describe()) : nlohmann::json(nullptr)},
-               {"friction", md.friction ? nlohmann::json(md.friction->describe()) : nlohmann::json(nullptr)},
-               {"gap", md.gap.describe()}};
-  const SolverWork bt = sol.work_of(sol.backend);
-  r["backend"] = {{"name", sol.backend}, {"requested", sol.backend_use.requested}, {"ran", sol.backend_use.ran},
-                  {"iterations", bt.iterations}, {"seconds", bt.seconds}};
+  r["material"] = material_json(md);
+  r["laws"] = laws_json(md);
   for (const auto& [k, v] : std::vector<std::pair<const char*, double>>{
            {"energy", sol.energy}, {"energy_norm", sol.energy_norm}, {"a_uu", sol.a_uu},
            {"elastic_energy", sol.elastic_energy}, {"f_u", sol.f_u}, {"j_term", sol.j_term},
            {"friction_term", sol.friction_term}, {"max_u_nu", sol.max_u_nu}})
     r[k] = v;
   r["status_counts"] = out.status_counts;
+  nlohmann::json list = nlohmann::json::array();
+  for (const Gamma3Row& row : nodes) list.push_back(gamma3_row_json(row, md.dim()));
+  r["nodes"] = std::move(list);
   r["certificate"] = certificate_record(sol.certificate);
-  r["options"] = {{"backend", opt.backend}, {"certificate_tol", opt.certificate_tol}, {"status_tol", opt.status_tol}};
-  r["skipped"] = sol.skipped;
-  r["formulation"] = sol.formulation;
-  r["scales"] = {{"x_scale", sol.x_scale}, {"f_scale", sol.f_scale}};
   nlohmann::json t = nlohmann::json::object();
   for (const auto& [k, v] : md.timings) t[k] = v;  // rank 0's slab
   for (const auto& [k, v] : sol.timings) t[k] = v;
@@ -98,8 +173,6 @@ nlohmann::json slab_report(const nlohmann::json& scene, const Model& md, const S
     if (scene.at("output").at("csv").get<bool>()) csv.push_back(piece_name("gamma3_rank", q, ".csv"));
   }
   r["pieces"] = {{"vtu", vtu}, {"gamma3_csv", csv}};
-  r["message"] = sol.message;
-  r["ok"] = sol.ok();
   return r;
 }
 
@@ -111,7 +184,7 @@ std::vector<OutputNamePattern> slab_output_patterns() {
 
 void write_slab_results(const std::string& dir, const nlohmann::json& scene, Model& md, const Slab& slab,
                         const Solution& sol, const SlabResult& out, const SolveOptions& opt, const EngineReport& er,
-                        MPI_Comm comm) {
+                        MPI_Comm comm, const std::function<void()>& before_report) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -140,7 +213,11 @@ void write_slab_results(const std::string& dir, const nlohmann::json& scene, Mod
       }
     });
   MPI_Bcast(&code, 1, MPI_INT, 0, comm);
-  attempt([&] { write_piece(dir, scene, md, slab, out, rank); });
+  // The Γ3 rows first (collective): each piece's CSV carries the whole list's index k.
+  std::vector<long> index;
+  const std::vector<Gamma3Row> mine = owned_rows(scene, md, slab, out.piece);
+  const std::vector<Gamma3Row> nodes = gather_rows(mine, md.dim(), index, comm);
+  attempt([&] { write_piece(dir, scene, md, slab, out, mine, index, rank); });
   int worst = 0;
   MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, comm);
   if (worst != 0) {
@@ -153,7 +230,8 @@ void write_slab_results(const std::string& dir, const nlohmann::json& scene, Mod
       for (int q = 0; q < size && scene.at("output").at("vtu").get<bool>(); ++q)
         pieces.push_back(piece_name("solution_rank", q, ".vtu"));
       if (!pieces.empty()) write_pvtu((p / "solution.pvtu").string(), md.dim(), pieces);
-      write_final_report(dir, slab_report(scene, md, sol, out, slab, opt, er, h, size));
+      if (before_report) before_report();
+      write_final_report(dir, slab_report(scene, md, sol, out, slab, opt, er, h, size, nodes));
       std::printf("results in %s (%d pieces)\n", dir.c_str(), size);
     });
   MPI_Bcast(&code, 1, MPI_INT, 0, comm);

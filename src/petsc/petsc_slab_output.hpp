@@ -1,11 +1,12 @@
 #pragma once
 /// @file petsc_slab_output.hpp  The distributed path's result files (petsc_slab_output.cpp):
-/// a piece per rank, the .pvtu and report.json from reductions. Only hemicontact-mpi includes it.
+/// a piece per rank, the .pvtu and report.json from reductions and the gathered Γ3 rows. Only hemicontact-mpi includes it.
 
 #include "petsc_engine.hpp"
 
 #include <hemicontact/output/output_dir.hpp>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -15,11 +16,14 @@ namespace hemicontact::petsc_engine {
 std::vector<OutputNamePattern> slab_output_patterns();
 
 /// @brief Write the pieces (every rank), then solution.pvtu and report.json (rank 0) into the
-/// folder @p dir that rank 0 prepared (collective). @p md's cells are swapped for its owned ones
-/// while its piece is written, and put back.
+/// folder @p dir that rank 0 prepared (collective). The owned Γ3 rows are gathered to rank 0 for
+/// report.json's "nodes" (a surface's worth); each rank's CSV holds its owned rows only. @p md's
+/// cells are swapped for its owned ones while its piece is written, and put back.
+/// @param before_report run on rank 0 once the pieces and the .pvtu are written, before report.json
+///        (the picture, whose file the report then lists); may be empty
 /// @throws Error (EXIT_OUTPUT) on every rank when a rank could not write its files
 void write_slab_results(const std::string& dir, const nlohmann::json& scene, Model& md, const Slab& slab,
                         const Solution& sol, const SlabResult& out, const SolveOptions& opt, const EngineReport& er,
-                        MPI_Comm comm);
+                        MPI_Comm comm, const std::function<void()>& before_report);
 
 }  // namespace hemicontact::petsc_engine

@@ -368,6 +368,20 @@ SlabCut slab_cut(const json& scene) {
   return {0, rectangle_spec(m).nx};
 }
 
+long slab_global_node(const json& scene, int c0, int c1, Index v) {
+  const json& m = scene.at("mesh");
+  // mesh/slabs.hpp's numbering: a box slab's node (i, j, k) is (k·(c1 − c0 + 1) + j − c0)·(nx + 1) + i,
+  // a rectangle slab's grid node (i, j) is j·(c1 − c0 + 1) + i − c0.
+  const long held = c1 - c0 + 1, u = static_cast<long>(v);
+  if (m.at("type") == "box") {
+    const BoxSpec s = box_spec(m);
+    const long row = s.nx + 1, i = u % row, j = (u / row) % held + c0, k = u / row / held;
+    return (k * (s.ny + 1) + j) * row + i;
+  }
+  const RectangleSpec s = rectangle_spec(m);
+  return u / held * (s.nx + 1) + u % held + c0;
+}
+
 namespace {
 
 BoundarySpec scene_boundary_spec(const json& scene) {

@@ -317,10 +317,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "ranks for any mesh) or natural (contiguous runs of the node numbering).",
                   {"ptscotch", "natural"}));
   t.push_back(key("/solver/petsc/mesh", "string", D.petsc.mesh,
-                  "Where the mesh lives: replicated (every rank builds the whole mesh; report.json as the "
-                  "cholmod engine's) or auto (a generated box or rectangle, not perturbed, solved by ssn, is "
+                  "Where the mesh lives: auto (a generated box or rectangle, not perturbed, solved by ssn or TAO, is "
                   "made per rank in slabs of cell layers and no rank holds the whole mesh; report.json from "
-                  "reductions, without the per-node list; anything else as replicated; petsc.mesh says which ran).",
+                  "reductions, its per-node list gathered from the ranks' owned Γ3 nodes; anything else as "
+                  "replicated; petsc.mesh says which ran) or replicated (every rank builds the whole mesh; "
+                  "report.json as the cholmod engine's).",
                   {"auto", "replicated"}));
   t.push_back(key("/solver/petsc/newton_pc", "string", D.petsc.newton_pc,
                   "Preconditioner of TAO's Newton steps (the Hessian on the inactive set): hypre "

@@ -33,6 +33,7 @@
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using hemicontact::test::CliOutcome;
+using hemicontact::test::matplotlib_available;
 using hemicontact::test::run_cli;
 using hemicontact::test::slurp;
 
@@ -384,20 +385,55 @@ std::string place(const std::map<std::string, std::string>& row) {
   return buf;
 }
 
-// The Γ3 rows of every piece the report lists, by place (a ghost node's row, repeated in its
-// neighbour's piece, must carry the same values).
+// The Γ3 rows of every piece the report lists, by place: each rank writes its owned nodes only, so
+// every node must be in exactly one piece.
 std::map<std::string, std::map<std::string, std::string>> piece_rows(const fs::path& out, const json& report) {
   std::map<std::string, std::map<std::string, std::string>> all;
   for (const auto& f : report.at("pieces").at("gamma3_csv"))
     for (auto& row : csv_rows(out / f.get<std::string>())) {
       const std::string key = place(row);
-      if (all.count(key)) {
-        EXPECT_EQ(all[key].at("u_nu"), row.at("u_nu")) << key;
-        EXPECT_EQ(all[key].at("status"), row.at("status")) << key;
-      }
+      EXPECT_EQ(all.count(key), 0u) << key << " is in two pieces (" << f << ")";
       all[key] = row;
     }
   return all;
+}
+
+// report.json's "nodes" of the slabs against the cholmod engine's: the same nodes (the whole mesh's
+// numbers, the same order, the same places and weights), the same statuses; displacements within
+// check.certificate_tol of max|u| and tractions within it of the certificate's traction scale S
+// (each answer satisfies the unsmoothed conditions to tol in those units, on the same statuses).
+// @return the largest relative differences {displacement, traction}.
+std::pair<double, double> expect_same_nodes(const json& a, const json& b) {
+  const json& na = a.at("nodes");
+  const json& nb = b.at("nodes");
+  EXPECT_EQ(na.size(), nb.size());
+  if (na.size() != nb.size()) return {INFINITY, INFINITY};
+  const double tol = b.at("options").at("certificate_tol").get<double>();
+  const double S = a.at("certificate").at("traction_scale").get<double>();
+  double U = 0, du = 0, ds = 0;
+  for (size_t k = 0; k < na.size(); ++k) {
+    EXPECT_EQ(na[k].size(), nb[k].size()) << "node " << k << ": the same keys";
+    EXPECT_EQ(na[k].at("node"), nb[k].at("node")) << "node " << k;
+    EXPECT_EQ(na[k].at("status"), nb[k].at("status")) << "node " << k;
+    for (const char* key : {"x", "y", "z"})
+      if (na[k].contains(key)) EXPECT_EQ(na[k].at(key), nb[k].at(key)) << "node " << k << " " << key;
+    for (const char* key : {"w", "g"})
+      if (!na[k].at(key).is_null())
+        EXPECT_NEAR(na[k].at(key).get<double>(), nb[k].at(key).get<double>(), 1e-13 * std::abs(na[k].at(key).get<double>()))
+            << "node " << k << " " << key;
+    EXPECT_EQ(na[k].contains("slip_dir") && na[k].at("slip_dir").is_null(),
+              nb[k].contains("slip_dir") && nb[k].at("slip_dir").is_null());
+    for (const char* key : {"u_nu", "u_tau"}) {
+      U = std::max(U, std::abs(na[k].at(key).get<double>()));
+      du = std::max(du, std::abs(na[k].at(key).get<double>() - nb[k].at(key).get<double>()));
+    }
+    for (const char* key : {"sigma_nu", "sigma_tau", "xi", "lambda"})
+      ds = std::max(ds, std::abs(na[k].at(key).get<double>() - nb[k].at(key).get<double>()));
+  }
+  EXPECT_GT(U, 0);
+  EXPECT_LE(du / U, tol) << "max |u_slabs - u_cholmod| / max |u| over report.json's nodes";
+  EXPECT_LE(ds / S, tol) << "max |sigma_slabs - sigma_cholmod| / S over report.json's nodes";
+  return {du / U, ds / S};
 }
 
 class PetscSlabs : public ::testing::TestWithParam<Case> {};
@@ -405,15 +441,15 @@ class PetscSlabs : public ::testing::TestWithParam<Case> {};
 // The slabs against the cholmod engine: same statuses node by node, Γ3 displacements and energies
 // within check.certificate_tol (both answers pass the certificate at that tolerance, and the
 // status system's conditioning on these meshes, ~1e4, times ssn's stop at ssn_tol = 1e-12 of
-// max|f| stays below it, as in PetscAgreement); every rank holds about 1/P of the nodes.
+// max|f| stays below it, as in PetscAgreement); every rank holds about 1/P of the nodes. The runs
+// leave solver.petsc.mesh at its default: a generated mesh takes the slabs (ssn, and TAO).
 TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
   const Case& c = GetParam();
   const fs::path dir = scratch("slabs-" + c.scene + "-" + std::to_string(c.np));
   const std::string common = problem(c.scene) + " " + c.sets + " --quiet";
   const CliOutcome ref = run_cli(dir, "solve " + common + " --set output.vtu=false --out " + (dir / "cholmod").string());
   ASSERT_EQ(ref.code, 0) << ref.err;
-  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + " --set solver.petsc.mesh='\"auto\"' --out " +
-                                                  (dir / "petsc").string() +
+  const CliOutcome got = run_mpi(dir, c.np, "solve " + common + " --out " + (dir / "petsc").string() +
                                                   (c.backend.empty() ? "" : " --backend " + c.backend));
   ASSERT_EQ(got.code, 0) << got.err << got.out;
   const json a = json::parse(slurp(dir / "cholmod" / "report.json"));
@@ -431,7 +467,10 @@ TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
     const double ea = a.at(key).get<double>(), eb = b.at(key).get<double>();
     EXPECT_LE(std::abs(ea - eb), tol * std::max(std::abs(a.at("energy").get<double>()), std::abs(ea))) << key;
   }
-  // Γ3, node by node, from the pieces against the cholmod engine's gamma3.csv.
+  // report.json's nodes, gathered from the ranks, against the cholmod engine's list.
+  const auto [du_nodes, ds_nodes] = expect_same_nodes(a, b);
+  // Γ3, node by node, from the pieces against the cholmod engine's gamma3.csv: every node in one
+  // piece, with the whole list's index and node number.
   const auto ref_rows = csv_rows(dir / "cholmod" / "gamma3.csv");
   const auto got_rows = piece_rows(dir / "petsc", b);
   ASSERT_EQ(ref_rows.size(), got_rows.size());
@@ -440,6 +479,8 @@ TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
     ASSERT_TRUE(got_rows.count(place(r))) << place(r);
     const auto& g = got_rows.at(place(r));
     EXPECT_EQ(r.at("status"), g.at("status")) << place(r);
+    EXPECT_EQ(r.at("index"), g.at("index")) << place(r);
+    EXPECT_EQ(r.at("node"), g.at("node")) << place(r);
     for (const char* key : {"u_nu", "u_tau"}) {
       scale = std::max(scale, std::abs(std::stod(r.at(key))));
       diff = std::max(diff, std::abs(std::stod(r.at(key)) - std::stod(g.at(key))));
@@ -475,9 +516,16 @@ TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
     ++pieces;
   }
   EXPECT_EQ(pieces, c.np);
-  std::printf("[slabs] %s np=%d: max|du|/max|u| on Gamma3 = %.2e, certificate %.2e, local nodes %ld of %ld\n",
-              c.scene.c_str(), c.np, diff / scale, b.at("certificate").at("max_residual").get<double>(), local,
-              b.at("mesh").at("nodes").get<long>());
+  EXPECT_NE(pvtu.find("status_normal: -1 not on Gamma3"), std::string::npos) << "the status legend";
+  // The records of what ran, as the replicated path has them (ssn: no polish, no outer loop).
+  for (const char* key : {"solved_by", "phases", "fixed_point", "polish", "inner", "inner_convexity", "smallness"})
+    EXPECT_TRUE(b.contains(key)) << key;
+  EXPECT_EQ(b.at("polish").at("attempted"), false);
+  EXPECT_EQ(b.at("phases").size(), a.at("phases").size());
+  std::printf("[slabs] %s np=%d: max|du|/max|u| on Gamma3 = %.2e (report nodes %.2e, tractions/S %.2e), "
+              "certificate %.2e, local nodes %ld of %ld\n",
+              c.scene.c_str(), c.np, diff / scale, du_nodes, ds_nodes, b.at("certificate").at("max_residual").get<double>(),
+              local, b.at("mesh").at("nodes").get<long>());
   fs::remove_all(dir);
 }
 
@@ -494,16 +542,37 @@ INSTANTIATE_TEST_SUITE_P(PaperScenes, PetscSlabs,
                                            Case{"sofonea2017-fig2", "--set mesh.n=16", 2, "tao:bnls"},
                                            Case{"sofonea2017-3d", "--set mesh.n=8", 2, "tao:bntr"}));
 
-// What the slabs do not cover runs on the replicated mesh, and the report says so and why.
+// --plot on the slabs draws from the pieces (no whole VTU or CSV exists): fig2.png from the .pvtu's
+// pieces, status3d.png from the rank CSVs, each listed in the report's files.
+TEST(PetscEngine, PlotDrawsFromTheSlabPieces) {
+  if (!matplotlib_available()) GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
+  const fs::path dir = scratch("slab-plot");
+  for (const auto& [scene, picture] : {std::pair<std::string, std::string>{"sofonea2017-fig2", "fig2.png"},
+                                       std::pair<std::string, std::string>{"sofonea2017-3d", "status3d.png"}}) {
+    SCOPED_TRACE(scene);
+    const json r = solved(dir, 2, "solve " + problem(scene) + " --set mesh.n=4 --quiet --plot", scene);
+    ASSERT_TRUE(r.contains("petsc"));
+    EXPECT_EQ(r.at("petsc").at("mesh"), "distributed (per-rank slabs)");
+    EXPECT_FALSE(fs::exists(dir / scene / "solution.vtu"));
+    EXPECT_TRUE(fs::is_regular_file(dir / scene / picture));
+    EXPECT_GT(fs::file_size(dir / scene / picture), 1000u);
+    const auto files = r.at("files").get<std::vector<std::string>>();
+    EXPECT_NE(std::find(files.begin(), files.end(), picture), files.end());
+  }
+  fs::remove_all(dir);
+}
+
+// What the slabs do not cover runs on the replicated mesh with the default solver.petsc.mesh, and
+// the report says so and why.
 TEST(PetscEngine, WhatTheSlabsDoNotCoverRunsOnTheReplicatedMesh) {
   const fs::path dir = scratch("replicated");
-  const json r = solved(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --quiet --set output.vtu=false --set solver.petsc.mesh='\"auto\"' --set mesh.perturb=0.1 --backend tao:bnls", "tao");
+  const json r = solved(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --quiet --set output.vtu=false --set mesh.perturb=0.1 --backend tao:bnls", "tao");
   ASSERT_TRUE(r.contains("petsc"));
   EXPECT_EQ(r.at("petsc").at("mesh"), "replicated");
   EXPECT_NE(r.at("petsc").at("mesh_reason").get<std::string>().find("mesh.perturb"), std::string::npos);
   // Γ3 on the left quarter of the bottom: the second slab (x >= 1/2) has none of it.
   const json q = solved(dir, 2, "solve " + problem("sofonea2017-fig2") +
-                                    " --set mesh.n=16 --quiet --set output.vtu=false --set solver.petsc.mesh='\"auto\"' --set "
+                                    " --set mesh.n=16 --quiet --set output.vtu=false --set "
                                     "'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'",
                         "quarter");
   ASSERT_TRUE(q.contains("petsc"));

@@ -45,6 +45,10 @@ struct ContactNodes {
   Index size() const { return static_cast<Index>(node.size()); }
 };
 
+/// @return whether a Γ3 node at @p a (mesh node @p ia) comes before one at @p b (node @p ib) in
+/// ContactNodes' order: lexicographic by the @p dim coordinates, then by node index.
+bool gamma3_precedes(const double* a, long ia, const double* b, long ib, int dim);
+
 /// Collect the Γ3 nodes of @p mesh that are not clamped (a node on Γ1 ∩ Γ3 is clamped).
 /// @throws Error if a Γ3 gap value is negative (thickness g ≥ 0, eq. (14)), or if a roller holds a
 /// Γ3 node along a direction that is not tangent to Γ3 (it would fight the contact law).

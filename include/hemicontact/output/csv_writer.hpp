@@ -12,11 +12,13 @@
 /// (written "inf" when there is no rigid obstacle), status e.g. "compliance/slip-". Numbers are
 /// written in the shortest form that reads back to the same double (full precision).
 
+#include <hemicontact/output/gamma3_rows.hpp>
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
 #include <hemicontact/problem/solve_options.hpp>
 
 #include <string>
+#include <vector>
 
 namespace hemicontact {
 
@@ -27,5 +29,12 @@ namespace hemicontact {
 /// @throws Error (EXIT_OUTPUT) if the file cannot be written;
 ///         Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
 void write_gamma3_csv(const std::string& path, const Model& md, const Solution& sol);
+
+/// @brief Write @p rows as the CSV above, row q with the contact-node index @p index[q] (a piece
+/// of the Γ3 nodes, such as one rank's owned nodes in the petsc engine's distributed path).
+/// @param d the mesh's dimension
+/// @throws Error (EXIT_OUTPUT) if the file cannot be written; (EXIT_INTERNAL) if the sizes differ
+void write_gamma3_csv(const std::string& path, int d, const std::vector<Gamma3Row>& rows,
+                      const std::vector<long>& index);
 
 }  // namespace hemicontact

@@ -29,6 +29,7 @@
 /// residual or scale is inf/nan. The file is always valid JSON. Finite doubles are written in
 /// the shortest form that reads back exactly.
 
+#include <hemicontact/output/gamma3_rows.hpp>
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
 #include <hemicontact/problem/solve_options.hpp>
@@ -46,6 +47,22 @@ namespace hemicontact {
 /// @return the report (keys listed in the file comment)
 /// @throws Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
 nlohmann::json make_report(const Model& md, const Solution& sol, const SolveOptions& opt);
+
+/// @return a Γ3 row's entry in "nodes" (the keys listed above) for a mesh of dimension @p dim.
+nlohmann::json gamma3_row_json(const Gamma3Row& r, int dim);
+
+/// @brief The report's records that read the Solution and the options only, not the mesh:
+/// backend, solved_by, phases, certificate, fixed_point, options, skipped, formulation, smallness,
+/// polish, inner, inner_convexity, scales, message, ok. make_report writes them, and so does the
+/// petsc engine's distributed path, whose rank 0 holds no whole model.
+/// @param lagged whether F_b depends on u_ν (the outer fixed point λ = F_b(u_ν) runs)
+nlohmann::json solve_records(const Solution& sol, const SolveOptions& opt, bool lagged);
+
+/// @return "material": {description, m_F, L_F, is_linear} of @p md.
+nlohmann::json material_json(const Model& md);
+
+/// @return "laws": {normal_law, friction, gap} of @p md.
+nlohmann::json laws_json(const Model& md);
 
 /// @brief Write a report, pretty-printed with a 2-space indent and a final newline.
 /// @param path   the file to write (its directory must exist)

@@ -40,13 +40,12 @@ struct PetscEngineOptions {
   /// mesh) or "natural" (contiguous runs of the model's numbering: slabs of a generated box, but
   /// for an imported mesh whatever order its file has).
   std::string partition = "ptscotch";
-  /// Where the mesh lives: "replicated" (every rank builds the whole mesh and DofMap; report.json
-  /// has every key of the cholmod engine's, the per-node list included) or "auto" (a generated box
-  /// or rectangle, not perturbed, solved by ssn, is made per rank in slabs of cell layers and no
-  /// rank holds the whole mesh; report.json then holds reductions only — no per-node list, no
-  /// polish or phase records — and the Γ3 nodes are in the pieces' CSVs). Replicated by default
-  /// until the distributed report carries the per-node list that scripts read.
-  std::string mesh = "replicated";
+  /// Where the mesh lives: "auto" (the default: a generated box or rectangle, not perturbed, solved
+  /// by ssn, is made per rank in slabs of cell layers and no rank holds the whole mesh; report.json's
+  /// scalars are reductions, and its per-node list is the owned Γ3 rows gathered to rank 0; anything
+  /// else runs replicated) or "replicated" (every rank builds the whole mesh and DofMap; report.json
+  /// as the cholmod engine's).
+  std::string mesh = "auto";
   /// Preconditioner of TAO's Newton steps, whose matrix is the Hessian restricted to the inactive
   /// set (it changes size): "hypre" (BoomerAMG) or "gamg".
   std::string newton_pc = "hypre";

@@ -32,6 +32,11 @@ SlabCut slab_cut(const nlohmann::json& scene);
 /// caller sums them over the ranks and refuses a selector that selects nothing anywhere.
 Mesh build_slab_mesh(const nlohmann::json& scene, int c0, int c1, std::vector<long>& counts);
 
+/// @return the index in the whole generated mesh (make_box / make_rectangle's numbering) of node
+/// @p v of build_slab_mesh(@p scene, @p c0, @p c1, ...): the report names Γ3 nodes as the whole
+/// mesh does, whichever rank's slab holds them.
+long slab_global_node(const nlohmann::json& scene, int c0, int c1, Index v);
+
 /// @return the contexts of the scene's boundary selectors in the order of @p counts
 /// ("boundary.gamma1[0]", ...), for the message naming one that selects nothing.
 std::vector<std::string> boundary_selector_names(const nlohmann::json& scene);
