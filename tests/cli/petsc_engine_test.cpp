@@ -415,12 +415,17 @@ std::pair<double, double> expect_same_nodes(const json& a, const json& b) {
     EXPECT_EQ(na[k].size(), nb[k].size()) << "node " << k << ": the same keys";
     EXPECT_EQ(na[k].at("node"), nb[k].at("node")) << "node " << k;
     EXPECT_EQ(na[k].at("status"), nb[k].at("status")) << "node " << k;
-    for (const char* key : {"x", "y", "z"})
-      if (na[k].contains(key)) EXPECT_EQ(na[k].at(key), nb[k].at(key)) << "node " << k << " " << key;
-    for (const char* key : {"w", "g"})
-      if (!na[k].at(key).is_null())
+    for (const char* key : {"x", "y", "z"}) {
+      if (na[k].contains(key)) {
+        EXPECT_EQ(na[k].at(key), nb[k].at(key)) << "node " << k << " " << key;
+      }
+    }
+    for (const char* key : {"w", "g"}) {
+      if (!na[k].at(key).is_null()) {
         EXPECT_NEAR(na[k].at(key).get<double>(), nb[k].at(key).get<double>(), 1e-13 * std::abs(na[k].at(key).get<double>()))
             << "node " << k << " " << key;
+      }
+    }
     EXPECT_EQ(na[k].contains("slip_dir") && na[k].at("slip_dir").is_null(),
               nb[k].contains("slip_dir") && nb[k].at("slip_dir").is_null());
     for (const char* key : {"u_nu", "u_tau"}) {
