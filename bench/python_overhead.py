@@ -52,8 +52,12 @@ def processes(cli, n, repeat, out):
     for _ in range(repeat):
         t_cli.append(wall(cli_argv))
         t_py.append(wall(py_argv, env))
+    # Also the median of the paired ratios (each Python run over the CLI run just before it): this
+    # machine's speed flips between two modes ~30 % apart, and a pair mostly falls in one of them.
+    paired = statistics.median(p / c for c, p in zip(t_cli, t_py))
     return {"n": n, "cli_s": statistics.median(t_cli), "python_s": statistics.median(t_py),
-            "ratio": statistics.median(t_py) / statistics.median(t_cli), "cli_all": t_cli, "python_all": t_py}
+            "ratio": statistics.median(t_py) / statistics.median(t_cli), "paired_ratio": paired,
+            "cli_all": t_cli, "python_all": t_py}
 
 
 def threads(n_min, n_max, repeat, largest_first):
@@ -101,7 +105,8 @@ def main():
         for n in map(int, a.sizes.split(",")):
             p = processes(a.cli, n, a.repeat, os.path.join(tmp, f"fig2-{n}"))
             res["processes"].append(p)
-            print(f"fig2 n={n}: CLI {p['cli_s']:.3f} s, Python {p['python_s']:.3f} s, ratio {p['ratio']:.3f}")
+            print(f"fig2 n={n}: CLI {p['cli_s']:.3f} s, Python {p['python_s']:.3f} s, ratio {p['ratio']:.3f} "
+                  f"(paired {p['paired_ratio']:.3f})")
     res["threads"] = []
     for largest_first in (False, True):
         t = threads(a.n_min, a.n_max, a.repeat, largest_first)
