@@ -1,9 +1,10 @@
 // The scene fuzzer's dictionary (fuzz/scene.dict, written by fuzz/make_corpus.py) holds every part
 // of every scene key the schema documents (docs/scene-format.md, generated from the schema): a key
 // added to the schema and not to the dictionary is one the fuzzer reaches only by chance.
+#include "support/cli_runner.hpp"
+
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -11,16 +12,11 @@
 
 namespace {
 
-std::string read_text_file(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using hemicontact::test::slurp;
 
 TEST(House, TheFuzzDictionaryHoldsEverySchemaKey) {
-  const std::string doc = read_text_file(HEMICONTACT_SOURCE_DIR "/docs/scene-format.md");
-  const std::string dict = read_text_file(HEMICONTACT_SOURCE_DIR "/fuzz/scene.dict");
+  const std::string doc = slurp(HEMICONTACT_SOURCE_DIR "/docs/scene-format.md");
+  const std::string dict = slurp(HEMICONTACT_SOURCE_DIR "/fuzz/scene.dict");
   ASSERT_FALSE(doc.empty());
   ASSERT_FALSE(dict.empty());
   std::set<std::string> tokens;
