@@ -1,5 +1,6 @@
 // The hooks for programs that embed the library (the Python module): the interrupt check the
 // solve's loops poll (core/interrupt.hpp) and the log sink (core/log.hpp).
+#include <hemicontact/config.hpp>
 #include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/scene/build_model.hpp>
@@ -59,6 +60,7 @@ TEST(Interrupt, ACheckThatNeverStopsChangesNothing) {
 }
 
 TEST(Interrupt, IpoptStopsAtItsNextIteration) {
+  if (!HEMICONTACT_HAS_IPOPT) GTEST_SKIP() << "built without Ipopt (coinor-libipopt-dev): nothing to interrupt";
   // The backend's stage only (exact.start = never): Ipopt's intermediate callback polls.
   const InterruptScene s = interrupt_scene({"mesh.n=8", "solver.backend=ipopt", "solver.exact.start=never"});
   int polls = 0;

@@ -7,6 +7,7 @@
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
 
+#include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/fem/assembly.hpp>

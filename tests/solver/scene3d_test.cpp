@@ -1,6 +1,7 @@
 // The 3D paper scene (problems/sofonea2017-3d.json) through the whole pipeline: certificate after the
 // 3D polish, mirror symmetry of statuses and slip directions about x = 1/2 and y = 1/2, backends
 // agreeing, the 3D output columns, and the 3D scene checks (plane, n → nz).
+#include <hemicontact/config.hpp>
 #include <hemicontact/check/certificate.hpp>
 #include <hemicontact/check/contact_status.hpp>
 #include <hemicontact/output/csv_writer.hpp>
@@ -99,6 +100,7 @@ TEST(Scene3D, CertifiedSymmetricWithCentreStick) {
 // Every backend family solves the 3D scene to the same answer; the local NLopt ones at tol 1e-6
 // are then polished (3D Newton on the statuses) to the same certified solution.
 TEST(Scene3D, BackendsAgree) {
+  if (!HEMICONTACT_HAS_IPOPT) GTEST_SKIP() << "built without Ipopt (coinor-libipopt-dev): the comparison needs both backends";
   const Solved3D ref = solve_3d({"mesh.n=4", "solver.backend=ipopt"});
   ASSERT_TRUE(ref.sol.ok()) << ref.sol.message;
   const double U = ref.sol.certificate.length_scale;
