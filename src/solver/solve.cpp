@@ -7,6 +7,7 @@
 #include <hemicontact/contact/mollified_law.hpp>
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/energy/elastic_energy.hpp>
@@ -21,9 +22,7 @@
 
 #include <chrono>
 #include <cmath>
-#include <iomanip>
 #include <optional>
-#include <sstream>
 
 namespace hemicontact {
 namespace {
@@ -34,15 +33,6 @@ double rel_change(const Vec& a, const Vec& b) {
   return s > 0 ? (a - b).cwiseAbs().maxCoeff() / s : 0.0;
 }
 
-std::string short_number(double x) {
-  std::ostringstream os;
-  os << std::setprecision(3) << x;
-  return os.str();
-}
-
-}  // namespace
-
-namespace {
 // What the continuation / fixed-point loop works on: an energy in the solver's unknowns z, the
 // bounds, where each Γ3 node's (ν, τ) unknowns are in z, and the map back to the reduced x.
 struct Formulation {
@@ -674,7 +664,7 @@ std::string ContactSolver::Impl::exact_first() const {
   // one minimizer, which the exact solver's monotone sweeps reach from any start.
   if (convexity.checked && convexity.strongly_convex)
     return "the inner problem is strongly convex (smallest eigenvalue of S - alpha W_nu " +
-           short_number(convexity.min_eigenvalue) + " > 0): its minimizer is unique and the exact solver "
+           fmt(convexity.min_eigenvalue, 3) + " > 0): its minimizer is unique and the exact solver "
            "reaches it from any start";
   return "";
 }
@@ -773,7 +763,7 @@ bool exact_converged(HandoverReport& H, const ExactInnerResult& R, int it, doubl
   // the certificate, computed from u alone, decides.
   if (R.converged && it >= 5 && H.residual <= opt.certificate_tol && !(H.residual < 0.5 * floor_ref)) {
     H.fixed_point_converged = true;
-    H.note = "coupled residual " + short_number(H.residual) +
+    H.note = "coupled residual " + fmt(H.residual, 3) +
              " below check.certificate_tol but at its round-off floor above solver.exact.tol";
     return true;
   }
@@ -788,7 +778,7 @@ void accept_at_cap(HandoverReport& H, const SolveOptions& opt) {
   if (!H.fixed_point_converged && H.inner_converged && H.outer_iterations >= opt.max_outer &&
       H.residual <= opt.certificate_tol) {
     H.fixed_point_converged = true;
-    H.note = "coupled residual " + short_number(H.residual) + " after " + std::to_string(H.outer_iterations) +
+    H.note = "coupled residual " + fmt(H.residual, 3) + " after " + std::to_string(H.outer_iterations) +
              " updates (solver.fixed_point.max_iters): below check.certificate_tol, above solver.exact.tol";
   }
 }
@@ -814,7 +804,7 @@ void exact_verdict(Solution& sol, const std::string& when) {
     else
       sol.message = "fixed point lambda = F_b(u_nu) did not converge in the exact solver: " +
                     std::to_string(H.outer_iterations) + " Anderson iterations (solver.fixed_point.max_iters), " +
-                    "coupled residual " + short_number(H.residual);
+                    "coupled residual " + fmt(H.residual, 3);
   }
 }
 
@@ -877,7 +867,7 @@ void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& re
   // An answer already at round-off (solver.exact.polish_above) does not need it.
   if (H.fixed_point_converged && H.residual <= opt.exact_inner.polish_above) {
     polish(run, false);  // x, u and the rest of the answer, without the polish itself
-    run.sol.skipped.push_back("polish: the exact solver's coupled residual " + short_number(H.residual) +
+    run.sol.skipped.push_back("polish: the exact solver's coupled residual " + fmt(H.residual, 3) +
                               " is at round-off already (solver.exact.polish_above)");
     return;
   }
