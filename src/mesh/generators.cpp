@@ -238,17 +238,21 @@ void check_box(const BoxSpec& s) {
 // The nodes and cells of the box's cell layers j0 <= j < j1 along y (the whole box: 0, ny); node
 // (i, j, k) gets the index (k·(j1 − j0 + 1) + j − j0)·(nx + 1) + i, so the whole box keeps the
 // numbering make_box documents. Cells are split by their global (i, j), as in the whole box.
-Mesh box_cells(const BoxSpec& s, int j0, int j1) {
-  const int nx = s.nx, ny = s.ny, nz = s.nz, nyl = j1 - j0;
+// The cells of the box's columns [i0, i1) × [j0, j1) (all z layers) and their nodes, numbered
+// (k·(j1 − j0 + 1) + j − j0)·(i1 − i0 + 1) + i − i0: make_box's numbering for the whole range.
+Mesh box_cells(const BoxSpec& s, int i0, int i1, int j0, int j1) {
+  const int nx = s.nx, ny = s.ny, nz = s.nz, nxl = i1 - i0, nyl = j1 - j0;
   const double hx = (s.x1 - s.x0) / nx, hy = (s.y1 - s.y0) / ny, hz = (s.z1 - s.z0) / nz;
-  const auto grid = [nx, nyl, j0](int i, int j, int k) { return (k * (nyl + 1) + j - j0) * (nx + 1) + i; };
+  const auto grid = [nxl, nyl, i0, j0](int i, int j, int k) {
+    return (k * (nyl + 1) + j - j0) * (nxl + 1) + i - i0;
+  };
 
   Mesh m;
   m.dim = 3;
-  m.points.resize(Index(nx + 1) * (nyl + 1) * (nz + 1), 3);
+  m.points.resize(Index(nxl + 1) * (nyl + 1) * (nz + 1), 3);
   for (int k = 0; k <= nz; ++k)
     for (int j = j0; j <= j1; ++j)
-      for (int i = 0; i <= nx; ++i) {
+      for (int i = i0; i <= i1; ++i) {
         const int v = grid(i, j, k);
         // Exact end points so that side selection sees exact coordinates.
         m.points(v, 0) = (i == nx) ? s.x1 : s.x0 + i * hx;
@@ -266,11 +270,11 @@ Mesh box_cells(const BoxSpec& s, int j0, int j1) {
     kuhn[t] = t < 3 ? std::array<int, 4>{0, a, b, 7} : std::array<int, 4>{0, b, a, 7};
   }
 
-  m.cells.resize(Index(nx) * nyl * nz * 6, 4);
+  m.cells.resize(Index(nxl) * nyl * nz * 6, 4);
   Index c = 0;
   for (int k = 0; k < nz; ++k)
     for (int j = j0; j < j1; ++j)
-      for (int i = 0; i < nx; ++i) {
+      for (int i = i0; i < i1; ++i) {
         // SYMMETRIC: the mirror image of the Kuhn split in the upper halves. Reflecting x maps local
         // bit x to 1 − x (flip = 1), and likewise y. Conformity: faces inside one half see the same
         // (reflected) split from both cells, so they match as in KUHN. A face on the mirror plane
@@ -306,7 +310,7 @@ std::string box_origin(const BoxSpec& s) {
 
 Mesh make_box(const BoxSpec& s) {
   check_box(s);
-  Mesh m = box_cells(s, 0, s.ny);
+  Mesh m = box_cells(s, 0, s.nx, 0, s.ny);
   const int nx = s.nx, ny = s.ny, nz = s.nz;
   const double hx = (s.x1 - s.x0) / nx, hy = (s.y1 - s.y0) / ny, hz = (s.z1 - s.z0) / nz;
   const auto grid = [nx, ny](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };
@@ -339,7 +343,18 @@ Mesh make_box_slab(const BoxSpec& s, int j0, int j1) {
   check_box(s);
   if (s.perturb > 0) input_error("mesh.perturb: a box made in slabs is not perturbed (its draws run over the whole box)");
   if (!(0 <= j0 && j0 < j1 && j1 <= s.ny)) throw Error("make_box_slab: cell layers out of range", EXIT_INTERNAL);
-  Mesh m = box_cells(s, j0, j1);
+  Mesh m = box_cells(s, 0, s.nx, j0, j1);
+  m.origin = box_origin(s);
+  extract_boundary_facets(m);
+  return m;
+}
+
+Mesh make_box_block(const BoxSpec& s, int i0, int i1, int j0, int j1) {
+  check_box(s);
+  if (s.perturb > 0) input_error("mesh.perturb: a box made in blocks is not perturbed (its draws run over the whole box)");
+  if (!(0 <= i0 && i0 < i1 && i1 <= s.nx && 0 <= j0 && j0 < j1 && j1 <= s.ny))
+    throw Error("make_box_block: cell columns out of range", EXIT_INTERNAL);
+  Mesh m = box_cells(s, i0, i1, j0, j1);
   m.origin = box_origin(s);
   extract_boundary_facets(m);
   return m;

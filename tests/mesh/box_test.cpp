@@ -255,3 +255,50 @@ TEST(Box, SlabsTileTheBoxWithTheSameCellsAndParts) {
   r.diagonal = Diagonal::CROSSED;
   expect_input_error([&] { (void)make_rectangle_slab(r, 0, 2); }, {"crossed"});
 }
+
+// The block split (more ranks than cell layers): columns [i0, i1) × [j0, j1) of a 3 × 2 grid tile
+// the box with the whole mesh's cells and boundary parts, in both patterns (the symmetric one
+// mirrors at the middle, which the blocks cross), and each block's nodes sit where its numbering
+// says.
+TEST(Box, BlocksTileTheBoxWithTheSameCellsAndParts) {
+  for (BoxPattern pattern : {BoxPattern::KUHN, BoxPattern::SYMMETRIC}) {
+    BoxSpec s;
+    s.nx = 6, s.ny = 6, s.nz = 2, s.pattern = pattern;
+    const Mesh whole = make_box(s);
+    BoundarySpec spec;
+    BoundarySelector left, bottom, front;
+    left.side = "left", left.context = "left", left.from = 0.5;
+    bottom.side = "bottom", bottom.context = "bottom";
+    front.side = "front", front.context = "front", front.traction = Vec::Zero(3);
+    spec.gamma1 = {left};
+    spec.gamma2 = {front};
+    spec.gamma3 = {bottom};
+    const std::vector<long> expect = whole_counts(whole, spec);
+    RowMat lo(1, 3), hi(1, 3);
+    lo << s.x0, s.y0, s.z0;
+    hi << s.x1, s.y1, s.z1;
+    std::multiset<std::vector<double>> cells;
+    std::vector<long> sum(expect.size(), 0);
+    for (auto [i0, i1] : {std::pair{0, 2}, std::pair{2, 5}, std::pair{5, 6}})
+      for (auto [j0, j1] : {std::pair{0, 4}, std::pair{4, 6}}) {
+        Mesh block = make_box_block(s, i0, i1, j0, j1);
+        ASSERT_EQ(block.num_nodes(), Index(i1 - i0 + 1) * (j1 - j0 + 1) * (s.nz + 1));
+        for (int k = 0; k <= s.nz; ++k)
+          for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) {
+              const Index v = (Index(k) * (j1 - j0 + 1) + j - j0) * (i1 - i0 + 1) + i - i0;
+              const Index g = (Index(k) * (s.ny + 1) + j) * (s.nx + 1) + i;
+              ASSERT_EQ(block.points.row(v), whole.points.row(g)) << i << " " << j << " " << k;
+            }
+        const std::vector<long> c = assign_boundary_in_box(block, spec, lo, hi);
+        for (size_t i = 0; i < c.size(); ++i) sum[i] += c[i];
+        const auto p = cell_places(block);
+        cells.insert(p.begin(), p.end());
+      }
+    EXPECT_EQ(cells, cell_places(whole)) << to_string(pattern);
+    EXPECT_EQ(sum, expect) << to_string(pattern);
+  }
+  BoxSpec q;
+  q.perturb = 0.1;
+  expect_input_error([&] { (void)make_box_block(q, 0, 1, 0, 2); }, {"mesh.perturb"});
+}

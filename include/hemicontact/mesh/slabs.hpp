@@ -16,6 +16,13 @@ namespace hemicontact {
 /// @throws Error as make_box, and for a perturbed box (its draws run over the whole box).
 Mesh make_box_slab(const BoxSpec& s, int j0, int j1);
 
+/// @brief The cells of make_box(@p s) in the columns i0 <= i < i1, j0 <= j < j1 (every z layer),
+/// and their nodes: the same coordinates and split as in the whole box (the petsc engine's block
+/// split, for more ranks than a slab cut allows; Γ3 on the bottom face z = z0 reaches every block).
+/// Node (i, j, k) has index (k·(j1 − j0 + 1) + j − j0)·(i1 − i0 + 1) + i − i0.
+/// @throws Error as make_box_slab.
+Mesh make_box_block(const BoxSpec& s, int i0, int i1, int j0, int j1);
+
 /// @brief The cells of make_rectangle(@p s) in the columns i0 <= i < i1, and their nodes. Grid node
 /// (i, j) has index j·(i1 − i0 + 1) + i − i0 (make_rectangle's numbering when i0 = 0, i1 = nx).
 /// @throws Error as make_rectangle, and for a perturbed rectangle or crossed cells (their centre
