@@ -428,6 +428,27 @@ Mesh build_slab_mesh(const json& scene, int c0, int c1, std::vector<long>& count
   return mesh;
 }
 
+Mesh build_block_mesh(const json& scene, const BlockRange& b, std::vector<long>& counts) {
+  const json& m = scene.at("mesh");
+  if (m.at("type") != "box") throw Error("build_block_mesh: only a box is made in blocks", EXIT_INTERNAL);
+  const BoxSpec s = box_spec(m);
+  Mesh mesh = make_box_block(s, b.i0, b.i1, b.j0, b.j1);
+  RowMat lo(1, 3), hi(1, 3);
+  lo << s.x0, s.y0, s.z0;
+  hi << s.x1, s.y1, s.z1;
+  check_cells(mesh);
+  counts = assign_boundary_in_box(mesh, scene_boundary_spec(scene), lo, hi);
+  return mesh;
+}
+
+long block_global_node(const json& scene, const BlockRange& b, Index v) {
+  // mesh/slabs.hpp's numbering: a block's node (i, j, k) is (k·(j1 − j0 + 1) + j − j0)·(i1 − i0 + 1) + i − i0.
+  const BoxSpec s = box_spec(scene.at("mesh"));
+  const long wi = b.i1 - b.i0 + 1, wj = b.j1 - b.j0 + 1, u = static_cast<long>(v);
+  const long i = u % wi + b.i0, j = (u / wi) % wj + b.j0, k = u / wi / wj;
+  return (k * (s.ny + 1) + j) * (s.nx + 1) + i;
+}
+
 void assign_scene_boundary(Mesh& mesh, const json& scene) {
   check_cells(mesh);
   assign_boundary(mesh, scene_boundary_spec(scene));

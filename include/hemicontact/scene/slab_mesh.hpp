@@ -37,6 +37,19 @@ Mesh build_slab_mesh(const nlohmann::json& scene, int c0, int c1, std::vector<lo
 /// mesh does, whichever rank's slab holds them.
 long slab_global_node(const nlohmann::json& scene, int c0, int c1, Index v);
 
+/// A block of a generated box's cell columns (the block split: every z layer, so that Γ3 on the
+/// bottom face reaches each block): cells [i0, i1) × [j0, j1).
+struct BlockRange {
+  int i0 = 0, i1 = 0, j0 = 0, j1 = 0;
+};
+
+/// @brief The cells of the box's block @p b and their nodes (make_box_block), boundary parts
+/// assigned with the sides of the whole box; @p counts as build_slab_mesh's.
+Mesh build_block_mesh(const nlohmann::json& scene, const BlockRange& b, std::vector<long>& counts);
+
+/// @return the whole box's index (make_box's numbering) of node @p v of build_block_mesh(@p scene, @p b, ...).
+long block_global_node(const nlohmann::json& scene, const BlockRange& b, Index v);
+
 /// @return the contexts of the scene's boundary selectors in the order of @p counts
 /// ("boundary.gamma1[0]", ...), for the message naming one that selects nothing.
 std::vector<std::string> boundary_selector_names(const nlohmann::json& scene);
