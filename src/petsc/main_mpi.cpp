@@ -113,7 +113,7 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
   MPI_Comm_size(comm, &size);
   log_info() << "petsc: the mesh made per rank (slabs of cell layers), " << size << " rank(s)";
   Mesh mesh;
-  petsc_engine::Slab slab;
+  petsc_engine::Piece slab;
   Model md;
   const auto tm = std::chrono::steady_clock::now();
   on_every_rank(comm, [&] { slab = petsc_engine::make_slab(scene, comm, mesh); });

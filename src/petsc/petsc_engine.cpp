@@ -166,7 +166,7 @@ Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& 
   return e.run();
 }
 
-Solution solve_slabs(Model& md, const Slab& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
+Solution solve_slabs(Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
                      SlabResult& out) {
   detail::Engine e(md, slab, opt, comm, report, out);
   return e.run();

@@ -502,6 +502,8 @@ TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
   EXPECT_LE(local, ((layers + c.np - 1) / c.np + 2) * layer_nodes);
   if (c.np > 1) {
     EXPECT_LT(local, b.at("mesh").at("nodes").get<long>());
+    // Each rank's ghosts got their owners' rows (the engine checks each row is in its owner's range).
+    EXPECT_GT(b.at("petsc").at("ghost_nodes").get<long>(), 0);
   }
   // The parallel VTU: one piece per rank, each there and listed in the folder's files.
   const std::string pvtu = slurp(dir / "petsc" / "solution.pvtu");
