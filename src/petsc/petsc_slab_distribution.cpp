@@ -4,6 +4,7 @@
 #include <hemicontact/scene/slab_mesh.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -113,8 +114,9 @@ void Engine::distribute_slabs() {
 
 // Every ghost's rows from its owner, by the whole mesh's node number: each rank asks the owners of
 // its ghosts (MPI_Alltoallv of the numbers, grouped by owner), each owner answers with the PETSc
-// rows of those nodes (d per node, −1 for a component without one) and their Γ3 weights w (−1 off
-// Γ3), which a ghost's partial set of facets would get wrong (the certificate and the piece's
+// rows of those nodes (d per node, −1 for a component without one), their coordinates (checked
+// against the ghost's: the same node) and their Γ3 weights w (−1 off Γ3), which a ghost's partial
+// set of facets would get wrong (the certificate and the piece's
 // tractions read w). A ghost whose unknowns differ from its owner's is a bug where the piece says
 // it is complete (an outer ghost keeps no row: its rows enter no owned row). Then each received
 // row is checked to lie in its owner's range of rows.
@@ -156,7 +158,7 @@ void Engine::exchange_ghosts(const std::vector<Index>& sel) {
     if (pc.owned_node[v]) by_global.emplace_back(pc.global_node[v], static_cast<Index>(v));
   std::sort(by_global.begin(), by_global.end());
   std::vector<PetscInt> rows(asked.size() * D);
-  std::vector<double> wout(asked.size(), -1.0);
+  std::vector<double> wout(asked.size(), -1.0), xout(asked.size() * D);
   for (size_t i = 0; i < asked.size(); ++i) {
     const auto it = std::lower_bound(by_global.begin(), by_global.end(), std::make_pair(asked[i], Index(-1)));
     if (it == by_global.end() || it->first != asked[i])
@@ -168,13 +170,15 @@ void Engine::exchange_ghosts(const std::vector<Index>& sel) {
       rows[i * D + c] = x < 0 ? -1 : perm[static_cast<size_t>(x)];
     }
     if (k_of[v] >= 0) wout[i] = md.contact.w[k_of[v]];
+    for (size_t c = 0; c < D; ++c) xout[i * D + c] = md.mesh.points(it->second, static_cast<Index>(c));
   }
   std::vector<int> sc(S), sd(S), rc(S), rd(S);
   for (size_t q = 0; q < S; ++q)
     sc[q] = rcount[q] * d, sd[q] = rdispl[q] * d, rc[q] = scount[q] * d, rd[q] = sdispl[q] * d;
   std::vector<PetscInt> got(ask.size() * D);
-  std::vector<double> win(ask.size());
+  std::vector<double> win(ask.size()), xin(ask.size() * D);
   MPI_Alltoallv(rows.data(), sc.data(), sd.data(), MPIU_INT, got.data(), rc.data(), rd.data(), MPIU_INT, comm);
+  MPI_Alltoallv(xout.data(), sc.data(), sd.data(), MPI_DOUBLE, xin.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
   MPI_Alltoallv(wout.data(), rcount.data(), rdispl.data(), MPI_DOUBLE, win.data(), scount.data(), sdispl.data(),
                 MPI_DOUBLE, comm);
   // Each owner's range of rows, to check that a ghost's rows are its owner's.
@@ -185,6 +189,14 @@ void Engine::exchange_ghosts(const std::vector<Index>& sel) {
   for (size_t i = 0; i < ghost.size(); ++i) {
     const auto v = static_cast<size_t>(ghost[i]);
     const auto q = static_cast<size_t>(pc.owner[v]);
+    // The owner's node of that number is this one: at the same place (both pieces made its
+    // coordinates by the same formula, or carried the file's).
+    for (size_t c = 0; c < D; ++c) {
+      const double here = md.mesh.points(static_cast<Index>(v), static_cast<Index>(c)), there = xin[i * D + c];
+      if (!(std::abs(here - there) <= 1e-12 * std::max(1.0, std::abs(here))))
+        throw Error("petsc engine: ghost node " + std::to_string(pc.global_node[v]) + " is not where its owner has it",
+                    EXIT_INTERNAL);
+    }
     bool same = (k_of[v] >= 0) == (win[i] >= 0);
     for (size_t c = 0; c < D; ++c) same = same && ((sel[v * D + c] < 0) == (got[i * D + c] < 0));
     if (!same) {
