@@ -118,10 +118,9 @@ long free_gamma3_nodes(const Mesh& mesh) {
 // The distributed path: each rank makes its piece of the mesh (@p layout: "slabs" of the generated
 // mesh, or the Gmsh file distributed by "dmplex") and its model, solves, and writes its piece;
 // report.json (rank 0) holds reductions and the gathered Γ3 rows.
-// @p fallback: set (and nothing solved) when the pieces do not suit the scene after all.
 int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
               const SolveOptions& opt, MPI_Comm comm, std::chrono::steady_clock::time_point t0,
-              const std::string& layout, std::string& fallback) {
+              const std::string& layout) {
   int size = 1;
   MPI_Comm_size(comm, &size);
   const bool slabs = layout == "slabs";
@@ -136,19 +135,13 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
                  : petsc_engine::make_plex_piece(scene, scene_directory(a.scene), comm, mesh);
   });
   const double t_mesh = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
-  // A piece without a free Γ3 node, where others have some (Γ3 on part of the cut axis, or away
-  // from a part DMPlex made), would fail the model's check that a contact law has Γ3 nodes, which
-  // holds for the whole mesh.
-  long g3 = free_gamma3_nodes(mesh), g3_min = 0, g3_max = 0;
-  MPI_Allreduce(&g3, &g3_min, 1, MPI_LONG, MPI_MIN, comm);
-  MPI_Allreduce(&g3, &g3_max, 1, MPI_LONG, MPI_MAX, comm);
-  if (g3_min == 0 && g3_max > 0) {
-    fallback = slabs ? "a slab without a free Γ3 node (Γ3 covers part of the cut along " + std::string(1, "xyz"[slab.axis]) + ")"
-                     : "a rank's DMPlex part without a free Γ3 node (" + slab.partitioner + "'s cut)";
-    return 0;
-  }
+  // A piece may hold no free Γ3 node where others have some (Γ3 on part of the slabs' cut axis, or
+  // away from a part DMPlex made): the model's check that a contact law has Γ3 nodes is then made
+  // over the ranks (none anywhere: build_model's own error, on every rank alike).
+  long g3 = free_gamma3_nodes(mesh), g3_all = 0;
+  MPI_Allreduce(&g3, &g3_all, 1, MPI_LONG, MPI_SUM, comm);
   on_every_rank(comm, [&] {
-    md = build_model(scene, std::move(mesh), /*stiffness=*/false);
+    md = build_model(scene, std::move(mesh), /*stiffness=*/false, /*piece=*/g3_all > 0);
     md.timings["mesh"] = t_mesh;
   });
   malloc_trim(0);
@@ -217,10 +210,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   if (code != 0) throw Error(message, static_cast<ExitCode>(code));
   std::string replicated;
   const std::string layout = distributed_layout(scene, opt, comm, replicated);
-  if (!layout.empty()) {
-    const int verdict = run_slabs(a, plot_args, scene, opt, comm, t0, layout, replicated);
-    if (replicated.empty()) return verdict;
-  }
+  if (!layout.empty()) return run_slabs(a, plot_args, scene, opt, comm, t0, layout);
   log_info() << "petsc: the whole mesh on every rank (" << replicated << ")";
 
   // No K_x in the model: each rank assembles its own rows into PETSc (petsc_assembly.cpp).

@@ -320,7 +320,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "Where the mesh lives: auto (a generated box or rectangle, not perturbed, is made per rank in "
                   "slabs of cell layers, a Gmsh file is read by rank 0 and distributed by DMPlex, and no rank "
                   "holds the whole mesh; report.json from reductions, its per-node list gathered from the ranks' "
-                  "owned Γ3 nodes; anything else, or a rank's piece without a free Γ3 node, as replicated; "
+                  "owned Γ3 nodes; anything else as replicated; "
                   "petsc.mesh says which ran) or replicated (every rank builds the whole mesh; report.json as the "
                   "cholmod engine's).",
                   {"auto", "replicated"}));

@@ -622,16 +622,19 @@ TEST(PetscEngine, GmshMeshDistributedByDMPlex) {
                   local, nodes, b.at("petsc").at("ghost_nodes").get<long>());
     }
   }
-  // Γ3 on the strip's left end only: the part DMPlex gives rank 1 has none of it, and the run falls
-  // back to the replicated mesh, saying why (the model's check that a contact law has Γ3 nodes
-  // holds for the whole mesh, not for each part).
-  const CliOutcome q = run_mpi(dir, 2, "solve " + (dir / "strip.json").string() + " --quiet --set output.vtu=false " +
-                                           "--set 'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.5}]' --out " +
-                                           (dir / "quarter").string());
-  ASSERT_EQ(q.code, 0) << q.err;
-  const json r = json::parse(slurp(dir / "quarter" / "report.json"));
-  EXPECT_EQ(r.at("petsc").at("mesh"), "replicated");
-  EXPECT_NE(r.at("petsc").at("mesh_reason").get<std::string>().find("DMPlex part without a free"), std::string::npos);
+  // Γ3 on the strip's left end only: the part DMPlex gives rank 1 holds none of it, and the run
+  // stays distributed (the check that a contact law has Γ3 nodes is made over the ranks).
+  const std::string quarter = (dir / "strip.json").string() + " --quiet --set output.vtu=false " +
+                              "--set 'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.5}]'";
+  const CliOutcome qa = run_cli(dir, "solve " + quarter + " --out " + (dir / "quarter-cholmod").string());
+  ASSERT_EQ(qa.code, 0) << qa.err;
+  const json ra = json::parse(slurp(dir / "quarter-cholmod" / "report.json"));
+  const json rb = solved(dir, 2, "solve " + quarter, "quarter-petsc");
+  ASSERT_TRUE(rb.contains("petsc"));
+  EXPECT_EQ(rb.at("petsc").at("mesh").get<std::string>().rfind("distributed (DMPlex, ", 0), 0u);
+  EXPECT_TRUE(rb.at("certificate").at("passed").get<bool>());
+  EXPECT_EQ(ra.at("status_counts"), rb.at("status_counts"));
+  expect_same_nodes(ra, rb);
   fs::remove_all(dir);
 #else
   GTEST_SKIP() << "built without Gmsh (read_gmsh reads the file on rank 0)";
@@ -659,21 +662,27 @@ TEST(PetscEngine, PlotDrawsFromTheSlabPieces) {
 }
 
 // What the slabs do not cover runs on the replicated mesh with the default solver.petsc.mesh, and
-// the report says so and why.
+// the report says so and why; a slab without Γ3 does not send the run there.
 TEST(PetscEngine, WhatTheSlabsDoNotCoverRunsOnTheReplicatedMesh) {
   const fs::path dir = scratch("replicated");
   const json r = solved(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --quiet --set output.vtu=false --set mesh.perturb=0.1 --backend tao:bnls", "tao");
   ASSERT_TRUE(r.contains("petsc"));
   EXPECT_EQ(r.at("petsc").at("mesh"), "replicated");
   EXPECT_NE(r.at("petsc").at("mesh_reason").get<std::string>().find("mesh.perturb"), std::string::npos);
-  // Γ3 on the left quarter of the bottom: the second slab (x >= 1/2) has none of it.
-  const json q = solved(dir, 2, "solve " + problem("sofonea2017-fig2") +
-                                    " --set mesh.n=16 --quiet --set output.vtu=false --set "
-                                    "'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'",
-                        "quarter");
+  // Γ3 on the left quarter of the bottom: the second slab (x >= 1/2) holds none of it, and the run
+  // stays on the slabs (the check that a contact law has Γ3 nodes is made over the ranks), with the
+  // cholmod engine's answer.
+  const std::string quarter = problem("sofonea2017-fig2") + " --set mesh.n=16 --quiet --set output.vtu=false --set "
+                              "'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'";
+  const CliOutcome qa = run_cli(dir, "solve " + quarter + " --out " + (dir / "quarter-cholmod").string());
+  ASSERT_EQ(qa.code, 0) << qa.err;
+  const json ra = json::parse(slurp(dir / "quarter-cholmod" / "report.json"));
+  const json q = solved(dir, 2, "solve " + quarter, "quarter");
   ASSERT_TRUE(q.contains("petsc"));
-  EXPECT_EQ(q.at("petsc").at("mesh"), "replicated");
-  EXPECT_NE(q.at("petsc").at("mesh_reason").get<std::string>().find("a slab without a free"), std::string::npos);
+  EXPECT_EQ(q.at("petsc").at("mesh"), "distributed (per-rank slabs)");
+  EXPECT_TRUE(q.at("certificate").at("passed").get<bool>());
+  EXPECT_EQ(ra.at("status_counts"), q.at("status_counts"));
+  expect_same_nodes(ra, q);
   fs::remove_all(dir);
 }
 
