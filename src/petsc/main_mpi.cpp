@@ -10,10 +10,11 @@
 // by rank 0, with a "petsc" record added), same exit codes.
 //
 // Every rank parses the scene. A generated box or rectangle (ssn or TAO) is made per rank, in slabs
-// of cell layers, and a Gmsh file is read by rank 0 and distributed by DMPlex (solver.petsc.mesh =
-// "auto", the default): no rank holds the whole mesh (rank 0 frees it once distributed), each
-// writes its own piece of the results, and rank 0 gathers only the Γ3 rows for report.json.
-// Otherwise (or with solver.petsc.mesh = "replicated") every rank builds the whole model
+// of cell layers, and any other mesh (a Gmsh file, a perturbed or crossed one) is made by rank 0
+// and distributed by DMPlex (solver.petsc.mesh = "auto", the default): no rank holds the whole mesh
+// (rank 0 frees it once distributed), each writes its own piece of the results, and rank 0 gathers
+// only the Γ3 rows for report.json. With solver.petsc.mesh = "replicated" every rank builds the
+// whole model
 // (deterministic: the same input errors on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
 // so that the ranks always leave together with one exit code.
 #include "../cli/cli.hpp"
@@ -62,20 +63,27 @@ void share(int& code, std::string& message, MPI_Comm comm) {
   if (len > 0) MPI_Bcast(message.data(), len, MPI_CHAR, 0, comm);
 }
 
-// The distributed layout that suits the scene: "slabs" (a generated box or rectangle), "dmplex"
-// (a Gmsh file), or "" with why not in @p why (the replicated mesh). solver.petsc.mesh: "auto"
-// (the default) takes a distributed layout wherever one covers the scene, "replicated" never.
+// The distributed layout for the scene: "slabs" (a generated box or rectangle that the slabs cover),
+// "dmplex" (anything else: a Gmsh file, a perturbed or crossed mesh, more ranks than cell layers;
+// rank 0 makes the whole mesh as build_mesh does and DMPlex distributes it), or "" with why in
+// @p why (solver.petsc.mesh = "replicated": every rank builds the whole model).
 std::string distributed_layout(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm, std::string& why) {
-  if (opt.petsc.mesh == "replicated") return why = "solver.petsc.mesh = replicated", "";
-  if (scene.at("mesh").at("type") == "gmsh") return "dmplex";
-  why = slab_refusal(scene);
-  if (!why.empty()) return "";
+  if (opt.petsc.mesh == "replicated") {
+    why = "solver.petsc.mesh = replicated";
+    return "";
+  }
+  const std::string refusal = slab_refusal(scene);
+  if (!refusal.empty()) {
+    log_info() << "petsc: not in slabs: " << refusal;
+    return "dmplex";
+  }
   int size = 1;
   MPI_Comm_size(comm, &size);
   const SlabCut cut = slab_cut(scene);
   if (cut.layers < size) {
-    why = std::to_string(size) + " ranks for " + std::to_string(cut.layers) + " cell layers along " + "xyz"[cut.axis];
-    return "";
+    log_info() << "petsc: not in slabs: " << size << " ranks for " << cut.layers << " cell layers along "
+               << "xyz"[cut.axis];
+    return "dmplex";
   }
   return "slabs";
 }

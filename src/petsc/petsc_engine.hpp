@@ -18,12 +18,12 @@
 ///               formulas node by node on each slab's owned nodes with the maxima reduced (slabs)
 ///
 /// Two layouts (docs/petsc-engine.md, "Distributed mesh"). The distributed one (solve_slabs): a
-/// generated box or rectangle is made per rank in slabs of cell layers (make_slab), a Gmsh file is
-/// distributed by DMPlex (make_plex_piece); each rank builds only its piece's model, PETSc's rows
+/// generated box or rectangle is made per rank in slabs of cell layers (make_slab), any other mesh
+/// (a Gmsh file, a perturbed or crossed one) is made on rank 0 and distributed by DMPlex
+/// (make_plex_piece); each rank builds only its piece's model, PETSc's rows
 /// are its owned nodes', the ghosts' rows come from their owners, the certificate and the energies
-/// are reductions over the owned nodes, and no rank holds the whole mesh or solution. Anything else
-/// (perturbed or crossed meshes, solver.petsc.mesh = replicated) builds the whole model on every
-/// rank (solve): each rank copies its own rows of K into PETSc, and the certificate, the report and
+/// are reductions over the owned nodes, and no rank holds the whole mesh or solution. With
+/// solver.petsc.mesh = replicated, every rank builds the whole model (solve): each rank copies its own rows of K into PETSc, and the certificate, the report and
 /// the writers read the gathered answer.
 
 #include <hemicontact/problem/model.hpp>
@@ -90,10 +90,11 @@ struct Piece {
 /// selector that selects nothing on every rank, and more ranks than cell layers (EXIT_INPUT).
 Piece make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh);
 
-/// @brief This rank's piece of the scene's Gmsh mesh (mesh.file; collective): rank 0 reads the
-/// file (read_gmsh, with its checks, and the boundary parts assigned on the whole mesh, as
-/// build_mesh does), builds a DMPlex of it and distributes it with PETSc's partitioner and an
-/// overlap; each rank's @p mesh is then its cells (rank 0 frees the whole mesh). The scene's input
+/// @brief This rank's piece of the scene's mesh (collective): rank 0 makes the whole mesh as
+/// build_mesh does (a Gmsh file read by read_gmsh with its checks, or a generated mesh; the
+/// boundary parts assigned on the whole mesh), builds a DMPlex of it and distributes it with
+/// PETSc's partitioner and an overlap; each rank's @p mesh is then its cells (rank 0 frees the
+/// whole mesh). The scene's input
 /// errors (a missing file, a selector that selects nothing) are thrown on every rank alike.
 Piece make_plex_piece(const nlohmann::json& scene, const std::string& scene_dir, MPI_Comm comm, Mesh& mesh);
 

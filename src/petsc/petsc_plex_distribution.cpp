@@ -1,5 +1,6 @@
-// The distributed path for a Gmsh file (mesh.file): rank 0 reads it with our importer and
-// assigns the boundary parts on the whole mesh, a DMPlex of its cells is distributed by PETSc's
+// The distributed path for a Gmsh file (mesh.file), and for the generated meshes the slabs do not
+// cover (perturbed, crossed cells, more ranks than layers): rank 0 reads or generates the whole
+// mesh and assigns its boundary parts (build_mesh), a DMPlex of its cells is distributed by PETSc's
 // partitioner, and each rank makes its Mesh of the cells it received; rank 0 then frees the whole.
 //
 // Why read_gmsh and not DMPlexCreateGmshFromFile: PETSc 3.18's reader also reads serially on rank

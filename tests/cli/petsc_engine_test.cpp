@@ -28,6 +28,7 @@
 #include <sstream>
 #include <vector>
 #include <string>
+#include <tuple>
 #include <utility>
 
 namespace fs = std::filesystem;
@@ -661,14 +662,34 @@ TEST(PetscEngine, PlotDrawsFromTheSlabPieces) {
   fs::remove_all(dir);
 }
 
-// What the slabs do not cover runs on the replicated mesh with the default solver.petsc.mesh, and
-// the report says so and why; a slab without Γ3 does not send the run there.
-TEST(PetscEngine, WhatTheSlabsDoNotCoverRunsOnTheReplicatedMesh) {
-  const fs::path dir = scratch("replicated");
-  const json r = solved(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --quiet --set output.vtu=false --set mesh.perturb=0.1 --backend tao:bnls", "tao");
-  ASSERT_TRUE(r.contains("petsc"));
-  EXPECT_EQ(r.at("petsc").at("mesh"), "replicated");
-  EXPECT_NE(r.at("petsc").at("mesh_reason").get<std::string>().find("mesh.perturb"), std::string::npos);
+// What the slabs do not cover (a perturbed mesh, crossed cells) is made on rank 0 and distributed
+// by DMPlex with the default solver.petsc.mesh, with the cholmod engine's answer (TAO and ssn);
+// solver.petsc.mesh = replicated runs on the replicated mesh, and the report says so and why; a
+// slab without Γ3 does not send the run elsewhere.
+TEST(PetscEngine, WhatTheSlabsDoNotCoverIsDistributedByDMPlex) {
+  const fs::path dir = scratch("not-slabs");
+  for (const auto& [scene, sets, backend] :
+       {std::tuple<std::string, std::string, std::string>{"sofonea2017-3d", "--set mesh.n=4 --set mesh.perturb=0.1", "tao:bnls"},
+        std::tuple<std::string, std::string, std::string>{"sofonea2017-fig2", "--set mesh.n=8 --set mesh.diagonal='\"crossed\"'", "ssn"}}) {
+    SCOPED_TRACE(scene + " " + sets);
+    const std::string args = problem(scene) + " " + sets + " --quiet --set output.vtu=false";
+    const CliOutcome ref = run_cli(dir, "solve " + args + " --out " + (dir / (scene + "-cholmod")).string());
+    ASSERT_EQ(ref.code, 0) << ref.err;
+    const json a = json::parse(slurp(dir / (scene + "-cholmod") / "report.json"));
+    const json r = solved(dir, 2, "solve " + args + " --backend " + backend, scene);
+    ASSERT_TRUE(r.contains("petsc"));
+    EXPECT_EQ(r.at("petsc").at("mesh").get<std::string>().rfind("distributed (DMPlex, ", 0), 0u) << r.at("petsc").at("mesh");
+    EXPECT_TRUE(r.at("certificate").at("passed").get<bool>());
+    EXPECT_EQ(a.at("status_counts"), r.at("status_counts"));
+    EXPECT_EQ(a.at("mesh").at("nodes"), r.at("mesh").at("nodes"));
+    expect_same_nodes(a, r);
+  }
+  const json rep = solved(dir, 2, "solve " + problem("sofonea2017-3d") +
+                                      " --set mesh.n=4 --quiet --set output.vtu=false --set solver.petsc.mesh='\"replicated\"'",
+                          "replicated");
+  ASSERT_TRUE(rep.contains("petsc"));
+  EXPECT_EQ(rep.at("petsc").at("mesh"), "replicated");
+  EXPECT_NE(rep.at("petsc").at("mesh_reason").get<std::string>().find("solver.petsc.mesh = replicated"), std::string::npos);
   // Γ3 on the left quarter of the bottom: the second slab (x >= 1/2) holds none of it, and the run
   // stays on the slabs (the check that a contact law has Γ3 nodes is made over the ranks), with the
   // cholmod engine's answer.
