@@ -191,10 +191,15 @@ void Engine::slab_report(Solution& s) {
   long g3 = static_cast<long>(my_nodes.size()), nodes = static_cast<long>(md.mesh.num_nodes());
   MPI_Allreduce(&g3, &slab_out->gamma3_nodes, 1, MPI_LONG, MPI_SUM, comm);
   MPI_Allreduce(&nodes, &slab_out->local_nodes_max, 1, MPI_LONG, MPI_MAX, comm);
+  long nodes_sum = 0;
+  MPI_Allreduce(&nodes, &nodes_sum, 1, MPI_LONG, MPI_SUM, comm);
   rep.json["mesh"] = slab->describe();
   rep.json["local_nodes"] = slab_out->local_nodes_max;
   rep.json["global_nodes"] = slab->global_nodes;
-  rep.json["ghost_nodes"] = slab_out->ghosts;  // given their owners' rows (exchange_ghosts), over the ranks
+  // The ranks' ghosts (local nodes not owned, counted on each rank that holds one) and those that got
+  // their owners' rows (exchange_ghosts): the same number unless an outer ghost kept none.
+  rep.json["ghost_nodes"] = nodes_sum - slab->global_nodes;
+  rep.json["ghost_nodes_given_rows"] = slab_out->ghosts;
   if (slab->layout == "slabs")
     rep.json["slab_layers"] = {{"axis", std::string(1, "xyz"[slab->axis])}, {"layers", slab->layers},
                                {"first", slab->c0}, {"end", slab->c1}};

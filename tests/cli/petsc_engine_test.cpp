@@ -503,8 +503,10 @@ TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
   EXPECT_LE(local, ((layers + c.np - 1) / c.np + 2) * layer_nodes);
   if (c.np > 1) {
     EXPECT_LT(local, b.at("mesh").at("nodes").get<long>());
-    // Each rank's ghosts got their owners' rows (the engine checks each row is in its owner's range).
-    EXPECT_GT(b.at("petsc").at("ghost_nodes").get<long>(), 0);
+    // Every ghost got its owner's rows (the engine checks each row is in its owner's range, and the
+    // owner's coordinates): each cut has a node layer of ghosts on either side.
+    EXPECT_EQ(b.at("petsc").at("ghost_nodes").get<long>(), 2 * (c.np - 1) * layer_nodes);
+    EXPECT_EQ(b.at("petsc").at("ghost_nodes_given_rows"), b.at("petsc").at("ghost_nodes"));
   }
   // The parallel VTU: one piece per rank, each there and listed in the folder's files.
   const std::string pvtu = slurp(dir / "petsc" / "solution.pvtu");
@@ -615,7 +617,9 @@ TEST(PetscEngine, GmshMeshDistributedByDMPlex) {
       const long local = b.at("petsc").at("local_nodes").get<long>(), nodes = b.at("mesh").at("nodes").get<long>();
       if (np > 1) {
         EXPECT_LT(local, nodes) << "a rank holds the whole mesh";
+        // Every ghost got its owner's rows (and was where its owner has it: the engine checks).
         EXPECT_GT(b.at("petsc").at("ghost_nodes").get<long>(), 0);
+        EXPECT_EQ(b.at("petsc").at("ghost_nodes_given_rows"), b.at("petsc").at("ghost_nodes"));
       }
       std::printf("[dmplex] %s np=%d (%s): report nodes max|du|/max|u| %.2e, tractions/S %.2e, certificate %.2e, "
                   "local nodes %ld of %ld, ghosts %ld\n",
