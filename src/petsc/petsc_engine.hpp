@@ -15,7 +15,7 @@
 ///   polish:     Newton on the unsmoothed conditions of (22) with the statuses fixed (full space:
 ///               contact x_ν = g, stick x_τ = 0, compliance w p(x_ν) on its branch, slip w λ t), CG + GAMG
 ///   certify:    the certificate of check/certificate.hpp on the gathered u (replicated model), or its
-///               formulas node by node on each slab's owned nodes with the maxima reduced (slabs)
+///               formulas node by node on each piece's owned nodes with the maxima reduced (distributed mesh)
 ///
 /// Two layouts (docs/petsc-engine.md, "Distributed mesh"). The distributed one (solve_slabs): a
 /// generated box or rectangle is made per rank in slabs of cell layers (make_slab), any other mesh
