@@ -11,6 +11,7 @@
 ///   petsc_engine.cpp        the run's set-up, then solver/outer_loop's algorithm over the engine's
 ///                           steps (its polished copy, its finish), the report, solve()
 ///   petsc_slab_distribution.cpp  the distributed path's slabs (make_slab), its numbering, the ghost rows
+///   petsc_plex_distribution.cpp  its Gmsh meshes distributed by DMPlex (make_plex_piece)
 ///   petsc_slab_finish.cpp   its certificate, energies and status counts by reductions, its piece
 ///   petsc_slab_output.cpp   its files: a piece per rank, the .pvtu, report.json (not the engine's)
 /// Not installed and not part of the library: only hemicontact-mpi's sources include it.
@@ -111,7 +112,7 @@ class Engine : private OuterStepper {
  public:
   Engine(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep);
   // The distributed path: md is this rank's slab; the answer's vectors stay on the ranks (out).
-  Engine(Model& md, const Slab& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep, SlabResult& out);
+  Engine(Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep, SlabResult& out);
   ~Engine() {
     if (rigid) MatNullSpaceDestroy(&rigid);
     // K lives no longer than the engine: after the solve, nothing may apply it.
@@ -149,8 +150,7 @@ class Engine : private OuterStepper {
   void restore_band(const BandRows& b) const;
   // ---- the distributed path (petsc_slab_distribution.cpp, petsc_slab_finish.cpp)
   void distribute_slabs();
-  void exchange_ghosts(const std::vector<Index>& send, const std::vector<Index>& recv, int peer,
-                       const std::vector<Index>& sel, const std::vector<Index>& k_of);
+  void exchange_ghosts(const std::vector<Index>& sel);
   void finish_slabs(Solution& s, ::Vec x, clk::time_point t0);
   void slab_piece(::Vec x, ::Vec R);
   void slab_certificate(Solution& s) const;
@@ -241,7 +241,7 @@ class Engine : private OuterStepper {
   nlohmann::json stages = nlohmann::json::array();
   std::map<std::string, double> timings;
   bool owns_apply = false;  // md.Kx_apply set by assemble(), reading K and work
-  const Slab* slab = nullptr;       // the distributed path: md is this rank's slab
+  const Piece* slab = nullptr;      // the distributed path: md is this rank's piece
   SlabResult* slab_out = nullptr;   // and its piece goes here
 };
 

@@ -10,9 +10,11 @@
 // by rank 0, with a "petsc" record added), same exit codes.
 //
 // Every rank parses the scene. A generated box or rectangle (ssn or TAO) is made per rank, in slabs
-// of cell layers (solver.petsc.mesh = "auto", the default): no rank holds the whole mesh, each
-// writes its own piece of the results, and rank 0 gathers only the Γ3 rows for report.json.
-// Otherwise (or with solver.petsc.mesh = "replicated") every rank builds the whole model
+// of cell layers, and any other mesh (a Gmsh file, a perturbed or crossed one) is made by rank 0
+// and distributed by DMPlex (solver.petsc.mesh = "auto", the default): no rank holds the whole mesh
+// (rank 0 frees it once distributed), each writes its own piece of the results, and rank 0 gathers
+// only the Γ3 rows for report.json. With solver.petsc.mesh = "replicated" every rank builds the
+// whole model
 // (deterministic: the same input errors on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
 // so that the ranks always leave together with one exit code.
 #include "../cli/cli.hpp"
@@ -61,18 +63,29 @@ void share(int& code, std::string& message, MPI_Comm comm) {
   if (len > 0) MPI_Bcast(message.data(), len, MPI_CHAR, 0, comm);
 }
 
-// Why the scene runs on the replicated mesh ("" : on the per-rank slabs). solver.petsc.mesh:
-// "auto" (the default) takes the slabs wherever they cover the scene, "replicated" never.
-std::string replicated_reason(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm) {
-  if (opt.petsc.mesh == "replicated") return "solver.petsc.mesh = replicated";
-  const std::string why = slab_refusal(scene);
-  if (!why.empty()) return why;
+// The distributed layout for the scene: "slabs" (a generated box or rectangle that the slabs cover),
+// "dmplex" (anything else: a Gmsh file, a perturbed or crossed mesh, more ranks than cell layers;
+// rank 0 makes the whole mesh as build_mesh does and DMPlex distributes it), or "" with why in
+// @p why (solver.petsc.mesh = "replicated": every rank builds the whole model).
+std::string distributed_layout(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm, std::string& why) {
+  if (opt.petsc.mesh == "replicated") {
+    why = "solver.petsc.mesh = replicated";
+    return "";
+  }
+  const std::string refusal = slab_refusal(scene);
+  if (!refusal.empty()) {
+    log_info() << "petsc: not in slabs: " << refusal;
+    return "dmplex";
+  }
   int size = 1;
   MPI_Comm_size(comm, &size);
   const SlabCut cut = slab_cut(scene);
-  if (cut.layers < size)
-    return std::to_string(size) + " ranks for " + std::to_string(cut.layers) + " cell layers along " + "xyz"[cut.axis];
-  return "";
+  if (cut.layers < size) {
+    log_info() << "petsc: not in slabs: " << size << " ranks for " << cut.layers << " cell layers along "
+               << "xyz"[cut.axis];
+    return "dmplex";
+  }
+  return "slabs";
 }
 
 // A step that may fail on some ranks only (their slab's input checks): the ranks agree on the
@@ -90,49 +103,57 @@ void on_every_rank(MPI_Comm comm, const F& fn) {
   MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, comm);
   if (worst == 0) return;
   MPI_Comm_rank(comm, &rank);
-  if (code != 0 && rank != 0) std::fprintf(stderr, "hemicontact: error (rank %d): %s\n", rank, message.c_str());
+  // Rank 0's message is printed by main(); another rank's only where rank 0 had none (an error
+  // every rank met is printed once).
+  int code0 = code;
+  MPI_Bcast(&code0, 1, MPI_INT, 0, comm);
+  if (code != 0 && rank != 0 && code0 == 0) std::fprintf(stderr, "hemicontact: error (rank %d): %s\n", rank, message.c_str());
   throw Error(code != 0 ? message : "another rank stopped (its message is above)", static_cast<ExitCode>(worst));
 }
 
 // The free (not clamped) nodes on Γ3 facets of a mesh.
 long free_gamma3_nodes(const Mesh& mesh) {
   const std::vector<bool> clamped = clamped_nodes(mesh);
-  std::vector<char> on(static_cast<size_t>(mesh.num_nodes()), 0);
+  std::vector<Index> on;
   for (Index f = 0; f < mesh.num_facets(); ++f)
     if (mesh.facet_part[static_cast<size_t>(f)] == Part::GAMMA3)
-      for (int a = 0; a < mesh.dim; ++a) on[static_cast<size_t>(mesh.facets(f, a))] = !clamped[static_cast<size_t>(mesh.facets(f, a))];
-  return static_cast<long>(std::count(on.begin(), on.end(), 1));
+      for (int a = 0; a < mesh.dim; ++a)
+        if (!clamped[static_cast<size_t>(mesh.facets(f, a))]) on.push_back(mesh.facets(f, a));
+  std::sort(on.begin(), on.end());
+  return static_cast<long>(std::unique(on.begin(), on.end()) - on.begin());
 }
 
-// The distributed path: each rank makes its slab of the generated mesh and its model, solves with
-// ssn, and writes its piece; report.json (rank 0) holds reductions and the gathered Γ3 rows.
-// @p fallback: set (and nothing solved) when the slabs do not suit the scene after all.
+// The distributed path: each rank makes its piece of the mesh (@p layout: "slabs" of the generated
+// mesh, or the Gmsh file distributed by "dmplex") and its model, solves, and writes its piece;
+// report.json (rank 0) holds reductions and the gathered Γ3 rows.
 int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
-              const SolveOptions& opt, MPI_Comm comm, std::chrono::steady_clock::time_point t0, std::string& fallback) {
+              const SolveOptions& opt, MPI_Comm comm, std::chrono::steady_clock::time_point t0,
+              const std::string& layout) {
   int size = 1;
   MPI_Comm_size(comm, &size);
-  log_info() << "petsc: the mesh made per rank (slabs of cell layers), " << size << " rank(s)";
+  const bool slabs = layout == "slabs";
+  log_info() << "petsc: the mesh distributed over the ranks ("
+             << (slabs ? "slabs of cell layers" : "DMPlex") << "), " << size << " rank(s)";
   Mesh mesh;
-  petsc_engine::Slab slab;
+  petsc_engine::Piece slab;
   Model md;
   const auto tm = std::chrono::steady_clock::now();
-  on_every_rank(comm, [&] { slab = petsc_engine::make_slab(scene, comm, mesh); });
-  const double t_mesh = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
-  // A slab without a free Γ3 node, where others have some (Γ3 on part of the cut axis), would
-  // fail the model's check that a contact law has Γ3 nodes, which holds for the whole mesh.
-  long g3 = free_gamma3_nodes(mesh), g3_min = 0, g3_max = 0;
-  MPI_Allreduce(&g3, &g3_min, 1, MPI_LONG, MPI_MIN, comm);
-  MPI_Allreduce(&g3, &g3_max, 1, MPI_LONG, MPI_MAX, comm);
-  if (g3_min == 0 && g3_max > 0) {
-    fallback = "a slab without a free Γ3 node (Γ3 covers part of the cut along " + std::string(1, "xyz"[slab.axis]) + ")";
-    return 0;
-  }
   on_every_rank(comm, [&] {
-    md = build_model(scene, std::move(mesh), /*stiffness=*/false);
+    slab = slabs ? petsc_engine::make_slab(scene, comm, mesh)
+                 : petsc_engine::make_plex_piece(scene, scene_directory(a.scene), comm, mesh);
+  });
+  const double t_mesh = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
+  // A piece may hold no free Γ3 node where others have some (Γ3 on part of the slabs' cut axis, or
+  // away from a part DMPlex made): the model's check that a contact law has Γ3 nodes is then made
+  // over the ranks (none anywhere: build_model's own error, on every rank alike).
+  long g3 = free_gamma3_nodes(mesh), g3_all = 0;
+  MPI_Allreduce(&g3, &g3_all, 1, MPI_LONG, MPI_SUM, comm);
+  on_every_rank(comm, [&] {
+    md = build_model(scene, std::move(mesh), /*stiffness=*/false, /*piece=*/g3_all > 0);
     md.timings["mesh"] = t_mesh;
   });
   malloc_trim(0);
-  log_info() << "slab built: " << md.mesh.num_nodes() << " nodes, memory " << petsc_engine::current_rss_kb() / 1024
+  log_info() << "piece built: " << md.mesh.num_nodes() << " nodes, memory " << petsc_engine::current_rss_kb() / 1024
              << " MB (rank 0)";
   petsc_engine::EngineReport er;
   petsc_engine::SlabResult out;
@@ -195,11 +216,9 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   }
   share(code, message, comm);
   if (code != 0) throw Error(message, static_cast<ExitCode>(code));
-  std::string replicated = replicated_reason(scene, opt, comm);
-  if (replicated.empty()) {
-    const int verdict = run_slabs(a, plot_args, scene, opt, comm, t0, replicated);
-    if (replicated.empty()) return verdict;
-  }
+  std::string replicated;
+  const std::string layout = distributed_layout(scene, opt, comm, replicated);
+  if (!layout.empty()) return run_slabs(a, plot_args, scene, opt, comm, t0, layout);
   log_info() << "petsc: the whole mesh on every rank (" << replicated << ")";
 
   // No K_x in the model: each rank assembles its own rows into PETSc (petsc_assembly.cpp).

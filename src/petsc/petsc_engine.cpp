@@ -84,7 +84,7 @@ std::optional<Solution> Engine::certified_copy() {
 Solution Engine::finish() {
   if (slab) {  // the distributed path: nothing global is gathered, and so no polish
     if (opt.polish)
-      sol.skipped.push_back("polish: not on the per-rank slabs (it linearizes at the whole vector); the "
+      sol.skipped.push_back("polish: not on the distributed mesh (it linearizes at the whole vector); the "
                             "certificate judges the continuation's answer");
     PVec x;
     HC_PETSC(VecDuplicate(zs.v, &x.v));
@@ -166,7 +166,7 @@ Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& 
   return e.run();
 }
 
-Solution solve_slabs(Model& md, const Slab& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
+Solution solve_slabs(Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
                      SlabResult& out) {
   detail::Engine e(md, slab, opt, comm, report, out);
   return e.run();

@@ -15,14 +15,16 @@
 ///   polish:     Newton on the unsmoothed conditions of (22) with the statuses fixed (full space:
 ///               contact x_ν = g, stick x_τ = 0, compliance w p(x_ν) on its branch, slip w λ t), CG + GAMG
 ///   certify:    the certificate of check/certificate.hpp on the gathered u (replicated model), or its
-///               formulas node by node on each slab's owned nodes with the maxima reduced (slabs)
+///               formulas node by node on each piece's owned nodes with the maxima reduced (distributed mesh)
 ///
-/// Two layouts (docs/petsc-engine.md, "Distributed mesh"). A generated box or rectangle solved by
-/// ssn is made per rank in slabs of cell layers (make_slab, solve_slabs): each rank builds only its
-/// slab's model, PETSc's rows are its owned nodes', the certificate and the energies are reductions
-/// over the owned nodes, and no rank holds the whole mesh or solution. Anything else (Gmsh files,
-/// perturbed meshes, TAO) builds the whole model on every rank (solve): each rank copies its own
-/// rows of K into PETSc, and the certificate, the report and the writers read the gathered answer.
+/// Two layouts (docs/petsc-engine.md, "Distributed mesh"). The distributed one (solve_slabs): a
+/// generated box or rectangle is made per rank in slabs of cell layers (make_slab), any other mesh
+/// (a Gmsh file, a perturbed or crossed one) is made on rank 0 and distributed by DMPlex
+/// (make_plex_piece); each rank builds only its piece's model, PETSc's rows
+/// are its owned nodes', the ghosts' rows come from their owners, the certificate and the energies
+/// are reductions over the owned nodes, and no rank holds the whole mesh or solution. With
+/// solver.petsc.mesh = replicated, every rank builds the whole model (solve): each rank copies its own rows of K into PETSc, and the certificate, the report and
+/// the writers read the gathered answer.
 
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
@@ -52,27 +54,49 @@ struct EngineReport {
 ///         every rank throws the same error.
 Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report);
 
-/// A rank's slab of a generated mesh (the distributed path: solver.petsc.mesh, docs/petsc-engine.md
-/// "Distributed mesh"): the rank owns the node layers [c0, c1) along the cut (the last rank also
-/// layer c1 = layers) and holds the cell layers [max(c0 − 1, 0), c1), every cell that touches an
-/// owned node; the nodes of layer c0 − 1 and of layer c1 are ghosts, owned by the ranks below and
-/// above. Local node and cell indices are those of the rank's own mesh (build_slab_mesh).
-struct Slab {
+/// A rank's piece of the distributed mesh (the distributed path: solver.petsc.mesh,
+/// docs/petsc-engine.md "Distributed mesh"): the local mesh holds every cell that touches an owned
+/// node, so that each owned node's row is complete locally; the other local nodes are ghosts, each
+/// owned by one other rank, and the engine gets their PETSc rows from their owners by the whole
+/// mesh's node number (Engine::exchange_ghosts). Two producers: make_slab (a generated box or
+/// rectangle in slabs of cell layers) and make_plex_piece (a Gmsh file distributed by DMPlex).
+/// Local node and cell indices are those of the rank's own mesh.
+struct Piece {
+  std::vector<char> owned_node;  ///< per local node: owned by this rank
+  std::vector<char> owned_cell;  ///< per local cell: this rank's (each cell is one rank's; VTU pieces)
+  std::vector<long> global_node;  ///< per local node: its number in the whole mesh (the report's "node")
+  std::vector<int> owner;         ///< per local node: the rank that owns it
+  /// Per local node: every cell of the whole mesh that touches it is local (its boundary facets,
+  /// and so its clamping, Γ3 frame and unknowns, are those of the whole mesh). Empty: every node
+  /// (the slabs, whose cuts are planes of grid nodes). A node without it is an outer ghost, in no
+  /// cell that touches an owned node: its rows enter no owned row, and a difference between its
+  /// unknowns and its owner's is not an error (it gets no PETSc row).
+  std::vector<char> complete;
+  long global_nodes = 0, global_cells = 0;  ///< the whole mesh's counts (sums over the ranks)
+  std::string layout = "slabs";              ///< "slabs" or "dmplex"
+  std::string partitioner;                   ///< dmplex: PETSc's partitioner type (e.g. ptscotch)
+  // The slabs only: the rank owns the node layers [c0, c1) along the cut (the last rank also layer
+  // c1 = layers) and holds the cell layers [max(c0 − 1, 0), c1).
   int axis = 0, layers = 0;  ///< the cut (SlabCut)
   int c0 = 0, c1 = 0;        ///< owned cell layers [c0, c1)
-  std::vector<char> owned_node;  ///< per local node: owned by this rank
-  std::vector<char> owned_cell;  ///< per local cell: in layers [c0, c1) (the ghost layer is not)
-  /// Ghost nodes of layer c0 − 1 (owned by rank − 1) and of layer c1 (rank + 1), and the owned nodes
-  /// that are ghosts there (layers c0 and c1 − 1), each in local index order: the same order on
-  /// both sides (the generators number a layer's nodes in the same relative order on every rank).
-  std::vector<Index> recv_below, recv_above, send_below, send_above;
-  long global_nodes = 0, global_cells = 0;  ///< the whole mesh's counts (sums over the ranks)
+  /// @return report.json's petsc.mesh: "distributed (per-rank slabs)" or "distributed (DMPlex, <partitioner>)".
+  std::string describe() const {
+    return layout == "slabs" ? "distributed (per-rank slabs)" : "distributed (DMPlex, " + partitioner + ")";
+  }
 };
 
 /// @brief This rank's slab of the scene's generated mesh (collective): the cell layers split evenly
 /// over the ranks, the mesh of its layers with the boundary parts of the whole mesh. Refuses a
 /// selector that selects nothing on every rank, and more ranks than cell layers (EXIT_INPUT).
-Slab make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh);
+Piece make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh);
+
+/// @brief This rank's piece of the scene's mesh (collective): rank 0 makes the whole mesh as
+/// build_mesh does (a Gmsh file read by read_gmsh with its checks, or a generated mesh; the
+/// boundary parts assigned on the whole mesh), builds a DMPlex of it and distributes it with
+/// PETSc's partitioner and an overlap; each rank's @p mesh is then its cells (rank 0 frees the
+/// whole mesh). The scene's input
+/// errors (a missing file, a selector that selects nothing) are thrown on every rank alike.
+Piece make_plex_piece(const nlohmann::json& scene, const std::string& scene_dir, MPI_Comm comm, Mesh& mesh);
 
 /// What the distributed path leaves for the writers: this rank's piece (the local nodes' u, the
 /// local Γ3 nodes' state and statuses, read with the global scales), and the report's reductions.
@@ -81,12 +105,13 @@ struct SlabResult {
   nlohmann::json status_counts = nlohmann::json::object();   ///< over all ranks
   long gamma3_nodes = 0;                                     ///< over all ranks
   long local_nodes_max = 0;                                  ///< the most nodes a rank holds (ghosts included)
+  long ghosts = 0;                                           ///< ghost nodes given rows by their owners (all ranks)
 };
 
 /// @brief Solve on the slabs (collective; ssn, or TAO without the polish): as solve(), but @p md is this rank's
 /// slab (make_slab, build_model(scene, mesh, false)) and nothing global is gathered. @return the
 /// scalars of the answer (energies, certificate, verdict; its vectors empty); @p out the piece.
-Solution solve_slabs(Model& md, const Slab& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
+Solution solve_slabs(Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
                      SlabResult& out);
 
 /// Replace PETSc's error handler (traceback on every rank) by one that keeps the failure's first

@@ -4,6 +4,7 @@
 #include <hemicontact/scene/slab_mesh.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -11,7 +12,7 @@ namespace hemicontact::petsc_engine {
 
 // Even split of the cell layers; each rank builds the layers it owns and the one below them (the
 // cells that touch its lowest node layer), so that every owned node's row is complete locally.
-Slab make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh) {
+Piece make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -20,7 +21,7 @@ Slab make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh) {
     input_error("solver.petsc.mesh: " + std::to_string(size) + " MPI ranks for " + std::to_string(cut.layers) +
                 " cell layers along " + "xyz"[cut.axis] + "; use at most as many ranks as layers (mpirun -np), or "
                 "solver.petsc.mesh = \"replicated\"");
-  Slab s;
+  Piece s;
   s.axis = cut.axis;
   s.layers = cut.layers;
   s.c0 = static_cast<int>(static_cast<long>(cut.layers) * rank / size);
@@ -41,14 +42,15 @@ Slab make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh) {
   };
   const Index N = mesh.num_nodes();
   s.owned_node.assign(static_cast<size_t>(N), 0);
+  s.global_node.assign(static_cast<size_t>(N), 0);
+  s.owner.assign(static_cast<size_t>(N), rank);
   for (Index v = 0; v < N; ++v) {
     const int l = layer(v);
     const bool own = (l >= s.c0 && l < s.c1) || (l == s.layers && s.c1 == s.layers);
     s.owned_node[static_cast<size_t>(v)] = own;
-    if (rank > 0 && l == s.c0 - 1) s.recv_below.push_back(v);
-    if (rank > 0 && l == s.c0) s.send_below.push_back(v);
-    if (rank + 1 < size && l == s.c1) s.recv_above.push_back(v);
-    if (rank + 1 < size && l == s.c1 - 1) s.send_above.push_back(v);
+    s.global_node[static_cast<size_t>(v)] = slab_global_node(scene, first, s.c1, v);
+    // A ghost is of layer c0 − 1 (the rank below owns it) or of layer c1 (the rank above).
+    if (!own) s.owner[static_cast<size_t>(v)] = l < s.c0 ? rank - 1 : rank + 1;
   }
   s.owned_cell.assign(static_cast<size_t>(mesh.num_cells()), 0);
   for (Index c = 0; c < mesh.num_cells(); ++c) {
@@ -66,12 +68,12 @@ Slab make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh) {
 
 namespace detail {
 
-Engine::Engine(Model& m, const Slab& sl, const SolveOptions& o, MPI_Comm c, EngineReport& r, SlabResult& out)
+Engine::Engine(Model& m, const Piece& sl, const SolveOptions& o, MPI_Comm c, EngineReport& r, SlabResult& out)
     : md(m), opt(o), comm(c), rep(r), slab(&sl), slab_out(&out) {
   init();
 }
 
-// PETSc's numbering on the slabs: each rank's owned unknowns, in its local x order (interior
+// PETSc's numbering on the pieces: each rank's owned unknowns, in its local x order (interior
 // nodes node-major, then its Γ3 nodes), form the contiguous rows [lo, hi); a ghost node's rows
 // come from its owner (exchange_ghosts). No rank numbers, or sees, another rank's interior.
 void Engine::distribute_slabs() {
@@ -90,7 +92,7 @@ void Engine::distribute_slabs() {
   lo = rank == 0 ? 0 : before;
   hi = lo + nloc;
   MPI_Allreduce(&nloc, &n, 1, MPIU_INT, MPI_SUM, comm);
-  if (nloc == 0) input_error("solver.petsc.mesh: a rank's slab has no free node; use fewer MPI ranks");
+  if (nloc == 0) input_error("solver.petsc.mesh: a rank's piece of the mesh has no free node; use fewer MPI ranks");
   perm.assign(static_cast<size_t>(nx), -1);
   for (PetscInt l = 0; l < nloc; ++l) perm[static_cast<size_t>(mine[static_cast<size_t>(l)])] = lo + l;
   // Block size d where no node anywhere has a roller (every free node then has d unknowns).
@@ -98,53 +100,124 @@ void Engine::distribute_slabs() {
   for (Index v = 0; v < md.mesh.num_nodes(); ++v) rollers |= md.mesh.held(v) != 0;
   MPI_Allreduce(&rollers, &rollers_all, 1, MPI_INT, MPI_MAX, comm);
   bs = rollers_all ? 1 : d;
-  std::vector<Index> k_of(static_cast<size_t>(md.mesh.num_nodes()), -1);
-  for (Index k = 0; k < md.contact.size(); ++k) k_of[static_cast<size_t>(md.contact.node[k])] = k;
-  // Below first on every rank: rank 0 has no one below, so the pairs meet in turn.
-  exchange_ghosts(slab->send_below, slab->recv_below, rank - 1, sel, k_of);
-  exchange_ghosts(slab->send_above, slab->recv_above, rank + 1, sel, k_of);
-  if (std::count(perm.begin(), perm.end(), PetscInt(-1)) != 0)
-    throw Error("petsc engine: a ghost unknown of the slab got no row from its owner", EXIT_INTERNAL);
+  exchange_ghosts(sel);
   for (Index k = 0; k < md.contact.size(); ++k)
     if (slab->owned_node[static_cast<size_t>(md.contact.node[k])]) my_nodes.push_back(k);
   lambda.assign(my_nodes.size(), 0.0);
   own_nodes = slab->owned_node;
-  rep.json["partition"] = {{"type", "slabs"}, {"axis", std::string(1, "xyz"[slab->axis])}};
+  if (slab->layout == "slabs")
+    rep.json["partition"] = {{"type", "slabs"}, {"axis", std::string(1, "xyz"[slab->axis])}};
+  else
+    rep.json["partition"] = {{"type", slab->layout}, {"partitioner", slab->partitioner}};
   timings["petsc_partition"] = since(t0);
 }
 
-// With the rank @p peer: send the rows of the owned nodes @p send (d per node, −1 for a
-// component without one), receive those of the ghosts @p recv, in the same node order on both
-// sides; and the Γ3 weights, which a ghost's partial set of facets would get wrong (the certificate
-// and the piece's tractions read w). A component free on one side and fixed on the other is a bug.
-void Engine::exchange_ghosts(const std::vector<Index>& send, const std::vector<Index>& recv, int peer,
-                             const std::vector<Index>& sel, const std::vector<Index>& k_of) {
-  if (peer < 0 || peer >= size) return;
-  std::vector<PetscInt> out(send.size() * static_cast<size_t>(d)), in(recv.size() * static_cast<size_t>(d));
-  std::vector<double> wout(send.size(), 0.0), win(recv.size(), 0.0);
-  for (size_t i = 0; i < send.size(); ++i) {
-    const auto v = static_cast<size_t>(send[i]);
-    for (int c = 0; c < d; ++c) {
-      const Index x = sel[v * static_cast<size_t>(d) + static_cast<size_t>(c)];
-      out[i * static_cast<size_t>(d) + static_cast<size_t>(c)] = x < 0 ? -1 : perm[static_cast<size_t>(x)];
+// Every ghost's rows from its owner, by the whole mesh's node number: each rank asks the owners of
+// its ghosts (MPI_Alltoallv of the numbers, grouped by owner), each owner answers with the PETSc
+// rows of those nodes (d per node, −1 for a component without one), their coordinates (checked
+// against the ghost's: the same node) and their Γ3 weights w (−1 off Γ3), which a ghost's partial
+// set of facets would get wrong (the certificate and the piece's
+// tractions read w). A ghost whose unknowns differ from its owner's is a bug where the piece says
+// it is complete (an outer ghost keeps no row: its rows enter no owned row). Then each received
+// row is checked to lie in its owner's range of rows.
+void Engine::exchange_ghosts(const std::vector<Index>& sel) {
+  const Piece& pc = *slab;
+  const auto D = static_cast<size_t>(d);
+  const auto complete = [&](size_t v) { return pc.complete.empty() || pc.complete[v] != 0; };
+  std::vector<Index> k_of(static_cast<size_t>(md.mesh.num_nodes()), -1);
+  for (Index k = 0; k < md.contact.size(); ++k) k_of[static_cast<size_t>(md.contact.node[k])] = k;
+  // The requests: the ghosts grouped by owner (a counting sort), each group in local order.
+  const auto S = static_cast<size_t>(size);
+  std::vector<int> scount(S, 0), sdispl(S + 1, 0), rcount(S, 0), rdispl(S + 1, 0);
+  for (size_t v = 0; v < pc.owner.size(); ++v)
+    if (!pc.owned_node[v]) {
+      const int q = pc.owner[v];
+      if (q < 0 || q >= size || q == rank) throw Error("petsc engine: a ghost node without another owner", EXIT_INTERNAL);
+      ++scount[static_cast<size_t>(q)];
+    }
+  for (size_t q = 0; q < S; ++q) sdispl[q + 1] = sdispl[q] + scount[q];
+  std::vector<long> ask(static_cast<size_t>(sdispl[S]));
+  std::vector<Index> ghost(ask.size());
+  {
+    std::vector<int> at(sdispl.begin(), sdispl.end() - 1);
+    for (size_t v = 0; v < pc.owner.size(); ++v)
+      if (!pc.owned_node[v]) {
+        const auto i = static_cast<size_t>(at[static_cast<size_t>(pc.owner[v])]++);
+        ask[i] = pc.global_node[v];
+        ghost[i] = static_cast<Index>(v);
+      }
+  }
+  MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, comm);
+  for (size_t q = 0; q < S; ++q) rdispl[q + 1] = rdispl[q] + rcount[q];
+  std::vector<long> asked(static_cast<size_t>(rdispl[S]));
+  MPI_Alltoallv(ask.data(), scount.data(), sdispl.data(), MPI_LONG, asked.data(), rcount.data(), rdispl.data(),
+                MPI_LONG, comm);
+  // The answers: this rank's owned nodes by their global numbers.
+  std::vector<std::pair<long, Index>> by_global;
+  for (size_t v = 0; v < pc.owned_node.size(); ++v)
+    if (pc.owned_node[v]) by_global.emplace_back(pc.global_node[v], static_cast<Index>(v));
+  std::sort(by_global.begin(), by_global.end());
+  std::vector<PetscInt> rows(asked.size() * D);
+  std::vector<double> wout(asked.size(), -1.0), xout(asked.size() * D);
+  for (size_t i = 0; i < asked.size(); ++i) {
+    const auto it = std::lower_bound(by_global.begin(), by_global.end(), std::make_pair(asked[i], Index(-1)));
+    if (it == by_global.end() || it->first != asked[i])
+      throw Error("petsc engine: a rank asked for the rows of node " + std::to_string(asked[i]) +
+                      ", which its owner does not own", EXIT_INTERNAL);
+    const auto v = static_cast<size_t>(it->second);
+    for (size_t c = 0; c < D; ++c) {
+      const Index x = sel[v * D + c];
+      rows[i * D + c] = x < 0 ? -1 : perm[static_cast<size_t>(x)];
     }
     if (k_of[v] >= 0) wout[i] = md.contact.w[k_of[v]];
+    for (size_t c = 0; c < D; ++c) xout[i * D + c] = md.mesh.points(it->second, static_cast<Index>(c));
   }
-  MPI_Sendrecv(out.data(), static_cast<int>(out.size()), MPIU_INT, peer, 31, in.data(), static_cast<int>(in.size()),
-               MPIU_INT, peer, 31, comm, MPI_STATUS_IGNORE);
-  MPI_Sendrecv(wout.data(), static_cast<int>(wout.size()), MPI_DOUBLE, peer, 32, win.data(),
-               static_cast<int>(win.size()), MPI_DOUBLE, peer, 32, comm, MPI_STATUS_IGNORE);
-  for (size_t i = 0; i < recv.size(); ++i) {
-    const auto v = static_cast<size_t>(recv[i]);
-    for (int c = 0; c < d; ++c) {
-      const Index x = sel[v * static_cast<size_t>(d) + static_cast<size_t>(c)];
-      const PetscInt p = in[i * static_cast<size_t>(d) + static_cast<size_t>(c)];
-      if ((x < 0) != (p < 0))
-        throw Error("petsc engine: a ghost node's unknowns differ from its owner's", EXIT_INTERNAL);
-      if (x >= 0) perm[static_cast<size_t>(x)] = p;
+  std::vector<int> sc(S), sd(S), rc(S), rd(S);
+  for (size_t q = 0; q < S; ++q)
+    sc[q] = rcount[q] * d, sd[q] = rdispl[q] * d, rc[q] = scount[q] * d, rd[q] = sdispl[q] * d;
+  std::vector<PetscInt> got(ask.size() * D);
+  std::vector<double> win(ask.size()), xin(ask.size() * D);
+  MPI_Alltoallv(rows.data(), sc.data(), sd.data(), MPIU_INT, got.data(), rc.data(), rd.data(), MPIU_INT, comm);
+  MPI_Alltoallv(xout.data(), sc.data(), sd.data(), MPI_DOUBLE, xin.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
+  MPI_Alltoallv(wout.data(), rcount.data(), rdispl.data(), MPI_DOUBLE, win.data(), scount.data(), sdispl.data(),
+                MPI_DOUBLE, comm);
+  // Each owner's range of rows, to check that a ghost's rows are its owner's.
+  std::vector<PetscInt> first(S), last(S);
+  MPI_Allgather(&lo, 1, MPIU_INT, first.data(), 1, MPIU_INT, comm);
+  MPI_Allgather(&hi, 1, MPIU_INT, last.data(), 1, MPIU_INT, comm);
+  long given = 0;
+  for (size_t i = 0; i < ghost.size(); ++i) {
+    const auto v = static_cast<size_t>(ghost[i]);
+    const auto q = static_cast<size_t>(pc.owner[v]);
+    // The owner's node of that number is this one: at the same place (both pieces made its
+    // coordinates by the same formula, or carried the file's).
+    for (size_t c = 0; c < D; ++c) {
+      const double here = md.mesh.points(static_cast<Index>(v), static_cast<Index>(c)), there = xin[i * D + c];
+      if (!(std::abs(here - there) <= 1e-12 * std::max(1.0, std::abs(here))))
+        throw Error("petsc engine: ghost node " + std::to_string(pc.global_node[v]) + " is not where its owner has it",
+                    EXIT_INTERNAL);
+    }
+    bool same = (k_of[v] >= 0) == (win[i] >= 0);
+    for (size_t c = 0; c < D; ++c) same = same && ((sel[v * D + c] < 0) == (got[i * D + c] < 0));
+    if (!same) {
+      if (complete(v)) throw Error("petsc engine: a ghost node's unknowns differ from its owner's", EXIT_INTERNAL);
+      continue;  // an outer ghost: no row (its unknowns are not read)
+    }
+    for (size_t c = 0; c < D; ++c) {
+      const Index x = sel[v * D + c];
+      const PetscInt p = got[i * D + c];
+      if (x < 0) continue;
+      if (p < first[q] || p >= last[q])
+        throw Error("petsc engine: a ghost's row is not in its owner's range", EXIT_INTERNAL);
+      perm[static_cast<size_t>(x)] = p;
     }
     if (k_of[v] >= 0) md.contact.w[k_of[v]] = win[i];
+    ++given;
   }
+  for (size_t j = 0; j < sel.size(); ++j)
+    if (sel[j] >= 0 && perm[static_cast<size_t>(sel[j])] < 0 && complete(j / D))
+      throw Error("petsc engine: a ghost unknown of the piece got no row from its owner", EXIT_INTERNAL);
+  MPI_Allreduce(&given, &slab_out->ghosts, 1, MPI_LONG, MPI_SUM, comm);
 }
 
 }  // namespace detail

@@ -50,19 +50,28 @@ void Engine::finish_slabs(Solution& s, ::Vec x, clk::time_point t0) {
 // every free component (the slab's own f is partial on its ghosts; this sum does not use it).
 void Engine::slab_piece(::Vec x, ::Vec R) {
   const auto nx = static_cast<PetscInt>(md.dofs.n_free());
-  IS is;
-  HC_PETSC(ISCreateGeneral(PETSC_COMM_SELF, nx, perm.data(), PETSC_USE_POINTER, &is));
+  // The unknowns with a row: all but an outer ghost's whose unknowns differ from its owner's
+  // (Piece::complete), which keep 0 here and are read by nothing this rank reports.
+  std::vector<PetscInt> from, to;
+  for (PetscInt i = 0; i < nx; ++i)
+    if (perm[static_cast<size_t>(i)] >= 0) from.push_back(perm[static_cast<size_t>(i)]), to.push_back(i);
+  IS is, ist;
+  HC_PETSC(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(from.size()), from.data(), PETSC_USE_POINTER, &is));
+  HC_PETSC(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(to.size()), to.data(), PETSC_USE_POINTER, &ist));
   PVec xl, Rl;
   HC_PETSC(VecCreateSeq(PETSC_COMM_SELF, nx, &xl.v));
   HC_PETSC(VecDuplicate(xl.v, &Rl.v));
+  HC_PETSC(VecSet(xl.v, 0.0));
+  HC_PETSC(VecSet(Rl.v, 0.0));
   VecScatter sc;
-  HC_PETSC(VecScatterCreate(x, is, xl.v, nullptr, &sc));
+  HC_PETSC(VecScatterCreate(x, is, xl.v, ist, &sc));
   for (auto [from, to] : {std::pair<::Vec, ::Vec>{x, xl.v}, std::pair<::Vec, ::Vec>{R, Rl.v}}) {
     HC_PETSC(VecScatterBegin(sc, from, to, INSERT_VALUES, SCATTER_FORWARD));
     HC_PETSC(VecScatterEnd(sc, from, to, INSERT_VALUES, SCATTER_FORWARD));
   }
   VecScatterDestroy(&sc);
   ISDestroy(&is);
+  ISDestroy(&ist);
   Eigen::VectorXd xe(nx), kx(nx);
   const PetscScalar *px, *pr;
   HC_PETSC(VecGetArrayRead(xl.v, &px));
@@ -182,11 +191,18 @@ void Engine::slab_report(Solution& s) {
   long g3 = static_cast<long>(my_nodes.size()), nodes = static_cast<long>(md.mesh.num_nodes());
   MPI_Allreduce(&g3, &slab_out->gamma3_nodes, 1, MPI_LONG, MPI_SUM, comm);
   MPI_Allreduce(&nodes, &slab_out->local_nodes_max, 1, MPI_LONG, MPI_MAX, comm);
-  rep.json["mesh"] = "distributed (per-rank slabs)";
+  long nodes_sum = 0;
+  MPI_Allreduce(&nodes, &nodes_sum, 1, MPI_LONG, MPI_SUM, comm);
+  rep.json["mesh"] = slab->describe();
   rep.json["local_nodes"] = slab_out->local_nodes_max;
   rep.json["global_nodes"] = slab->global_nodes;
-  rep.json["slab_layers"] = {{"axis", std::string(1, "xyz"[slab->axis])}, {"layers", slab->layers},
-                             {"first", slab->c0}, {"end", slab->c1}};
+  // The ranks' ghosts (local nodes not owned, counted on each rank that holds one) and those that got
+  // their owners' rows (exchange_ghosts): the same number unless an outer ghost kept none.
+  rep.json["ghost_nodes"] = nodes_sum - slab->global_nodes;
+  rep.json["ghost_nodes_given_rows"] = slab_out->ghosts;
+  if (slab->layout == "slabs")
+    rep.json["slab_layers"] = {{"axis", std::string(1, "xyz"[slab->axis])}, {"layers", slab->layers},
+                               {"first", slab->c0}, {"end", slab->c1}};
 }
 
 }  // namespace hemicontact::petsc_engine::detail

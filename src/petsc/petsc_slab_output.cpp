@@ -13,7 +13,6 @@
 #include <hemicontact/output/pvtu_writer.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/output/solve_files.hpp>
-#include <hemicontact/scene/slab_mesh.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
 
 #include <algorithm>
@@ -55,13 +54,12 @@ Gamma3Row unpack(const double* v, long node) {
 }
 
 // This rank's owned Γ3 nodes (a ghost is its owner's), named in the whole mesh's numbering.
-std::vector<Gamma3Row> owned_rows(const nlohmann::json& scene, const Model& md, const Slab& slab, const Solution& piece) {
+std::vector<Gamma3Row> owned_rows(const Model& md, const Piece& slab, const Solution& piece) {
   std::vector<Gamma3Row> rows;
-  const int first = std::max(slab.c0 - 1, 0);
   for (Index k = 0; k < md.contact.size(); ++k)
     if (slab.owned_node[static_cast<size_t>(md.contact.node[k])]) {
       rows.push_back(gamma3_row(md, piece, k));
-      rows.back().node = slab_global_node(scene, first, slab.c1, md.contact.node[k]);
+      rows.back().node = slab.global_node[static_cast<size_t>(md.contact.node[k])];
     }
   return rows;
 }
@@ -107,7 +105,7 @@ std::vector<Gamma3Row> gather_rows(const std::vector<Gamma3Row>& mine, int dim, 
 
 // This rank's piece: the VTU of its owned cells (the ghost layer is the rank below's), and the CSV
 // of its owned Γ3 nodes (each node in one piece only), indexed as in the whole list.
-void write_piece(const std::string& dir, const nlohmann::json& scene, Model& md, const Slab& slab,
+void write_piece(const std::string& dir, const nlohmann::json& scene, Model& md, const Piece& slab,
                  const SlabResult& out, const std::vector<Gamma3Row>& rows, const std::vector<long>& index, int rank) {
   const std::filesystem::path p(dir);
   if (scene.at("output").at("vtu").get<bool>()) {
@@ -141,7 +139,7 @@ nlohmann::json certificate_record(const CertificateReport& c) {
 // "nodes" from the Γ3 rows gathered to rank 0 (@p nodes, in ContactNodes' order); "pieces" names
 // the ranks' files. The certificate's worst places are PETSc rows (the slabs have no global x).
 nlohmann::json slab_report(const nlohmann::json& scene, const Model& md, const Solution& sol, const SlabResult& out,
-                           const Slab& slab, const SolveOptions& opt, const EngineReport& er, double h, int size,
+                           const Piece& slab, const SolveOptions& opt, const EngineReport& er, double h, int size,
                            const std::vector<Gamma3Row>& nodes) {
   nlohmann::json r = solve_records(sol, opt, md.friction && md.friction->depends_on_u_nu());
   r["scene"] = scene;
@@ -182,7 +180,7 @@ std::vector<OutputNamePattern> slab_output_patterns() {
   return {{"solution_rank", ".vtu"}, {"gamma3_rank", ".csv"}};
 }
 
-void write_slab_results(const std::string& dir, const nlohmann::json& scene, Model& md, const Slab& slab,
+void write_slab_results(const std::string& dir, const nlohmann::json& scene, Model& md, const Piece& slab,
                         const Solution& sol, const SlabResult& out, const SolveOptions& opt, const EngineReport& er,
                         MPI_Comm comm, const std::function<void()>& before_report) {
   int rank = 0, size = 1;
@@ -215,7 +213,7 @@ void write_slab_results(const std::string& dir, const nlohmann::json& scene, Mod
   MPI_Bcast(&code, 1, MPI_INT, 0, comm);
   // The Γ3 rows first (collective): each piece's CSV carries the whole list's index k.
   std::vector<long> index;
-  const std::vector<Gamma3Row> mine = owned_rows(scene, md, slab, out.piece);
+  const std::vector<Gamma3Row> mine = owned_rows(md, slab, out.piece);
   const std::vector<Gamma3Row> nodes = gather_rows(mine, md.dim(), index, comm);
   attempt([&] { write_piece(dir, scene, md, slab, out, mine, index, rank); });
   int worst = 0;

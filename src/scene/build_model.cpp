@@ -463,7 +463,7 @@ Model build_model(const json& scene, const std::string& scene_dir, bool stiffnes
   return md;
 }
 
-Model build_model(const json& scene, Mesh mesh, bool stiffness) {
+Model build_model(const json& scene, Mesh mesh, bool stiffness, bool piece) {
   Model md;
   md.scene = scene;
   md.mesh = std::move(mesh);
@@ -483,7 +483,7 @@ Model build_model(const json& scene, Mesh mesh, bool stiffness) {
   md.clamped = clamped_nodes(md.mesh);
   md.contact = make_contact_nodes(md.mesh, md.clamped, md.gap);
   const bool has_contact_law = md.normal_law || md.friction || !md.gap.is_infinite();
-  if (md.contact.size() == 0 && has_contact_law)
+  if (md.contact.size() == 0 && has_contact_law && !piece)
     input_error("boundary.gamma3: the scene defines a contact law but Γ3 has no free node");
   // Γ3 is known now: the cholmod engine's dense condensed matrices join the estimate (the mesh
   // alone passed before it was generated).

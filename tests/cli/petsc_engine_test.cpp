@@ -28,6 +28,7 @@
 #include <sstream>
 #include <vector>
 #include <string>
+#include <tuple>
 #include <utility>
 
 namespace fs = std::filesystem;
@@ -502,6 +503,10 @@ TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
   EXPECT_LE(local, ((layers + c.np - 1) / c.np + 2) * layer_nodes);
   if (c.np > 1) {
     EXPECT_LT(local, b.at("mesh").at("nodes").get<long>());
+    // Every ghost got its owner's rows (the engine checks each row is in its owner's range, and the
+    // owner's coordinates): each cut has a node layer of ghosts on either side.
+    EXPECT_EQ(b.at("petsc").at("ghost_nodes").get<long>(), 2 * (c.np - 1) * layer_nodes);
+    EXPECT_EQ(b.at("petsc").at("ghost_nodes_given_rows"), b.at("petsc").at("ghost_nodes"));
   }
   // The parallel VTU: one piece per rank, each there and listed in the folder's files.
   const std::string pvtu = slurp(dir / "petsc" / "solution.pvtu");
@@ -547,6 +552,100 @@ INSTANTIATE_TEST_SUITE_P(PaperScenes, PetscSlabs,
                                            Case{"sofonea2017-fig2", "--set mesh.n=16", 2, "tao:bnls"},
                                            Case{"sofonea2017-3d", "--set mesh.n=8", 2, "tao:bntr"}));
 
+// A Gmsh file (mesh.file) on the petsc engine's default mesh: rank 0 reads it, DMPlex distributes it
+// (docs/petsc-engine.md, "Distributed mesh"), and on 1, 2 and 3 ranks the answer is the cholmod
+// engine's: the same statuses node by node, report.json's nodes named by the same whole-mesh
+// numbers, Γ3 displacements and energies within check.certificate_tol (as PetscSlabs), the
+// certificate passed; on 2 and 3 ranks no rank holds the whole mesh, and the ghosts got their
+// owners' rows. The meshes: tests/data/strip_4x1.msh and plate_2x2.msh (make_strip_msh.py; node
+// tags permuted, so that a wrong node number would show; thin, so that every part has Γ3 nodes).
+TEST(PetscEngine, GmshMeshDistributedByDMPlex) {
+#if HEMICONTACT_HAS_GMSH
+  const fs::path dir = scratch("plex");
+  // 2D: fig2's scene on the strip; 3D: the 3D scene on the plate (tests/data/plate_2x2.msh).
+  for (const bool three_d : {false, true}) {
+    SCOPED_TRACE(three_d ? "plate_2x2.msh" : "strip_4x1.msh");
+    json scene = json::parse(slurp(problem(three_d ? "sofonea2017-3d" : "sofonea2017-fig2")));
+    const std::string file = three_d ? "plate_2x2.msh" : "strip_4x1.msh";
+    scene["mesh"] = {{"type", "gmsh"}, {"file", HEMICONTACT_SOURCE_DIR "/tests/data/" + file}};
+    // Clamped on top, pushed on the sides' upper halves, in contact below (fig2's conditions).
+    const double from = three_d ? 0.25 : 0.5, to = three_d ? 0.5 : 1.0;
+    json push = three_d ? json::array({8000.0, 0.0, 0.0}) : json::array({8000.0, 0.0}), pull = push;
+    pull[0] = -8000.0;
+    scene["boundary"] = json::object();
+    scene["boundary"]["gamma1"] = json::array({json{{"physical", "clamped"}}});
+    scene["boundary"]["gamma2"] = json::array({json{{"side", "left"}, {"from", from}, {"to", to}, {"traction", push}},
+                                               json{{"side", "right"}, {"from", from}, {"to", to}, {"traction", pull}}});
+    scene["boundary"]["gamma3"] = json::array({json{{"physical", "contact"}}});
+    const std::string name = three_d ? "plate" : "strip";
+    std::ofstream(dir / (name + ".json")) << scene.dump(2);
+    const std::string common = (dir / (name + ".json")).string() + " --quiet";
+    const CliOutcome ref = run_cli(dir, "solve " + common + " --set output.vtu=false --out " + (dir / (name + "-cholmod")).string());
+    ASSERT_EQ(ref.code, 0) << ref.err;
+    const json a = json::parse(slurp(dir / (name + "-cholmod") / "report.json"));
+    const auto ref_rows = csv_rows(dir / (name + "-cholmod") / "gamma3.csv");
+    for (int np : {1, 2, 3}) {
+      SCOPED_TRACE("np=" + std::to_string(np));
+      const std::string out = name + "-petsc" + std::to_string(np);
+      const CliOutcome got = run_mpi(dir, np, "solve " + common + " --out " + (dir / out).string());
+      ASSERT_EQ(got.code, 0) << got.err << got.out;
+      const json b = json::parse(slurp(dir / out / "report.json"));
+      const std::string mesh = b.at("petsc").at("mesh").get<std::string>();
+      EXPECT_EQ(mesh.rfind("distributed (DMPlex, ", 0), 0u) << mesh;
+      EXPECT_EQ(b.at("petsc").at("partition").at("type"), "dmplex");
+      const double tol = b.at("options").at("certificate_tol").get<double>();
+      EXPECT_TRUE(b.at("certificate").at("passed").get<bool>());
+      EXPECT_LE(b.at("certificate").at("max_residual").get<double>(), tol);
+      EXPECT_EQ(a.at("status_counts"), b.at("status_counts"));
+      EXPECT_EQ(a.at("mesh").at("nodes"), b.at("mesh").at("nodes"));
+      EXPECT_EQ(a.at("mesh").at("cells"), b.at("mesh").at("cells"));
+      EXPECT_EQ(a.at("mesh").at("gamma3_nodes"), b.at("mesh").at("gamma3_nodes"));
+      EXPECT_EQ(a.at("dofs"), b.at("dofs"));
+      for (const char* key : {"energy", "energy_norm", "a_uu", "f_u", "j_term", "friction_term"}) {
+        const double ea = a.at(key).get<double>(), eb = b.at(key).get<double>();
+        EXPECT_LE(std::abs(ea - eb), tol * std::max(std::abs(a.at("energy").get<double>()), std::abs(ea))) << key;
+      }
+      const auto [du_nodes, ds_nodes] = expect_same_nodes(a, b);
+      const auto got_rows = piece_rows(dir / out, b);
+      ASSERT_EQ(ref_rows.size(), got_rows.size());
+      for (const auto& r : ref_rows) {
+        ASSERT_TRUE(got_rows.count(place(r))) << place(r);
+        EXPECT_EQ(r.at("index"), got_rows.at(place(r)).at("index")) << place(r);
+        EXPECT_EQ(r.at("node"), got_rows.at(place(r)).at("node")) << place(r);
+        EXPECT_EQ(r.at("status"), got_rows.at(place(r)).at("status")) << place(r);
+      }
+      const long local = b.at("petsc").at("local_nodes").get<long>(), nodes = b.at("mesh").at("nodes").get<long>();
+      if (np > 1) {
+        EXPECT_LT(local, nodes) << "a rank holds the whole mesh";
+        // Every ghost got its owner's rows (and was where its owner has it: the engine checks).
+        EXPECT_GT(b.at("petsc").at("ghost_nodes").get<long>(), 0);
+        EXPECT_EQ(b.at("petsc").at("ghost_nodes_given_rows"), b.at("petsc").at("ghost_nodes"));
+      }
+      std::printf("[dmplex] %s np=%d (%s): report nodes max|du|/max|u| %.2e, tractions/S %.2e, certificate %.2e, "
+                  "local nodes %ld of %ld, ghosts %ld\n",
+                  file.c_str(), np, mesh.c_str(), du_nodes, ds_nodes, b.at("certificate").at("max_residual").get<double>(),
+                  local, nodes, b.at("petsc").at("ghost_nodes").get<long>());
+    }
+  }
+  // Γ3 on the strip's left end only: the part DMPlex gives rank 1 holds none of it, and the run
+  // stays distributed (the check that a contact law has Γ3 nodes is made over the ranks).
+  const std::string quarter = (dir / "strip.json").string() + " --quiet --set output.vtu=false " +
+                              "--set 'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.5}]'";
+  const CliOutcome qa = run_cli(dir, "solve " + quarter + " --out " + (dir / "quarter-cholmod").string());
+  ASSERT_EQ(qa.code, 0) << qa.err;
+  const json ra = json::parse(slurp(dir / "quarter-cholmod" / "report.json"));
+  const json rb = solved(dir, 2, "solve " + quarter, "quarter-petsc");
+  ASSERT_TRUE(rb.contains("petsc"));
+  EXPECT_EQ(rb.at("petsc").at("mesh").get<std::string>().rfind("distributed (DMPlex, ", 0), 0u);
+  EXPECT_TRUE(rb.at("certificate").at("passed").get<bool>());
+  EXPECT_EQ(ra.at("status_counts"), rb.at("status_counts"));
+  expect_same_nodes(ra, rb);
+  fs::remove_all(dir);
+#else
+  GTEST_SKIP() << "built without Gmsh (read_gmsh reads the file on rank 0)";
+#endif
+}
+
 // --plot on the slabs draws from the pieces (no whole VTU or CSV exists): fig2.png from the .pvtu's
 // pieces, status3d.png from the rank CSVs, each listed in the report's files.
 TEST(PetscEngine, PlotDrawsFromTheSlabPieces) {
@@ -567,22 +666,48 @@ TEST(PetscEngine, PlotDrawsFromTheSlabPieces) {
   fs::remove_all(dir);
 }
 
-// What the slabs do not cover runs on the replicated mesh with the default solver.petsc.mesh, and
-// the report says so and why.
-TEST(PetscEngine, WhatTheSlabsDoNotCoverRunsOnTheReplicatedMesh) {
-  const fs::path dir = scratch("replicated");
-  const json r = solved(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --quiet --set output.vtu=false --set mesh.perturb=0.1 --backend tao:bnls", "tao");
-  ASSERT_TRUE(r.contains("petsc"));
-  EXPECT_EQ(r.at("petsc").at("mesh"), "replicated");
-  EXPECT_NE(r.at("petsc").at("mesh_reason").get<std::string>().find("mesh.perturb"), std::string::npos);
-  // Γ3 on the left quarter of the bottom: the second slab (x >= 1/2) has none of it.
-  const json q = solved(dir, 2, "solve " + problem("sofonea2017-fig2") +
-                                    " --set mesh.n=16 --quiet --set output.vtu=false --set "
-                                    "'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'",
-                        "quarter");
+// What the slabs do not cover (a perturbed mesh, crossed cells) is made on rank 0 and distributed
+// by DMPlex with the default solver.petsc.mesh, with the cholmod engine's answer (TAO and ssn);
+// solver.petsc.mesh = replicated runs on the replicated mesh, and the report says so and why; a
+// slab without Γ3 does not send the run elsewhere.
+TEST(PetscEngine, WhatTheSlabsDoNotCoverIsDistributedByDMPlex) {
+  const fs::path dir = scratch("not-slabs");
+  for (const auto& [scene, sets, backend] :
+       {std::tuple<std::string, std::string, std::string>{"sofonea2017-3d", "--set mesh.n=4 --set mesh.perturb=0.1", "tao:bnls"},
+        std::tuple<std::string, std::string, std::string>{"sofonea2017-fig2", "--set mesh.n=8 --set mesh.diagonal='\"crossed\"'", "ssn"}}) {
+    SCOPED_TRACE(scene + " " + sets);
+    const std::string args = problem(scene) + " " + sets + " --quiet --set output.vtu=false";
+    const CliOutcome ref = run_cli(dir, "solve " + args + " --out " + (dir / (scene + "-cholmod")).string());
+    ASSERT_EQ(ref.code, 0) << ref.err;
+    const json a = json::parse(slurp(dir / (scene + "-cholmod") / "report.json"));
+    const json r = solved(dir, 2, "solve " + args + " --backend " + backend, scene);
+    ASSERT_TRUE(r.contains("petsc"));
+    EXPECT_EQ(r.at("petsc").at("mesh").get<std::string>().rfind("distributed (DMPlex, ", 0), 0u) << r.at("petsc").at("mesh");
+    EXPECT_TRUE(r.at("certificate").at("passed").get<bool>());
+    EXPECT_EQ(a.at("status_counts"), r.at("status_counts"));
+    EXPECT_EQ(a.at("mesh").at("nodes"), r.at("mesh").at("nodes"));
+    expect_same_nodes(a, r);
+  }
+  const json rep = solved(dir, 2, "solve " + problem("sofonea2017-3d") +
+                                      " --set mesh.n=4 --quiet --set output.vtu=false --set solver.petsc.mesh='\"replicated\"'",
+                          "replicated");
+  ASSERT_TRUE(rep.contains("petsc"));
+  EXPECT_EQ(rep.at("petsc").at("mesh"), "replicated");
+  EXPECT_NE(rep.at("petsc").at("mesh_reason").get<std::string>().find("solver.petsc.mesh = replicated"), std::string::npos);
+  // Γ3 on the left quarter of the bottom: the second slab (x >= 1/2) holds none of it, and the run
+  // stays on the slabs (the check that a contact law has Γ3 nodes is made over the ranks), with the
+  // cholmod engine's answer.
+  const std::string quarter = problem("sofonea2017-fig2") + " --set mesh.n=16 --quiet --set output.vtu=false --set "
+                              "'boundary.gamma3=[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'";
+  const CliOutcome qa = run_cli(dir, "solve " + quarter + " --out " + (dir / "quarter-cholmod").string());
+  ASSERT_EQ(qa.code, 0) << qa.err;
+  const json ra = json::parse(slurp(dir / "quarter-cholmod" / "report.json"));
+  const json q = solved(dir, 2, "solve " + quarter, "quarter");
   ASSERT_TRUE(q.contains("petsc"));
-  EXPECT_EQ(q.at("petsc").at("mesh"), "replicated");
-  EXPECT_NE(q.at("petsc").at("mesh_reason").get<std::string>().find("a slab without a free"), std::string::npos);
+  EXPECT_EQ(q.at("petsc").at("mesh"), "distributed (per-rank slabs)");
+  EXPECT_TRUE(q.at("certificate").at("passed").get<bool>());
+  EXPECT_EQ(ra.at("status_counts"), q.at("status_counts"));
+  expect_same_nodes(ra, q);
   fs::remove_all(dir);
 }
 

@@ -24,7 +24,10 @@ void assign_scene_boundary(Mesh& mesh, const nlohmann::json& scene);
 /// (assign_scene_boundary); the scene's "mesh" block is then not read. Used by tests and studies.
 /// @param stiffness false: K_x is not assembled (the petsc engine assembles each rank's own rows
 /// into PETSc and sets Model::Kx_apply).
-Model build_model(const nlohmann::json& scene, Mesh mesh, bool stiffness = true);
+/// @param piece true: @p mesh is one rank's piece of a distributed mesh (the petsc engine's), which
+/// may hold no Γ3 node although the whole mesh has some: the check that a contact law has Γ3 nodes
+/// is then the caller's, over the ranks.
+Model build_model(const nlohmann::json& scene, Mesh mesh, bool stiffness = true, bool piece = false);
 
 /// @brief Estimated peak memory (bytes) of a default solve on a mesh of @p nodes nodes in
 /// dimension @p dim with @p gamma3_nodes Γ3 nodes: estimate_sparse_memory + dense_gamma3_memory.
