@@ -4,7 +4,7 @@ scene (problems/sofonea2017-3d.json) on n^3 boxes, run as `mpirun -np P hemicont
 solver.engine="petsc"` for each n and P, one run at a time. Reads each run's report.json and prints
 one row per run: unknowns, ranks, wall time (the whole process, measured here), the solve's own
 time, peak memory summed over the ranks and the largest rank's (getrusage, from report.json
-"petsc"), bytes per unknown, which mesh layout ran (per-rank slabs, DMPlex or replicated) and the most
+"petsc"), bytes per unknown, which mesh layout ran (per-rank slabs or blocks, DMPlex or replicated) and the most
 nodes one rank held,
 the method (ssn by default; --backend tao:bnls for TAO), Newton and Krylov counts, Krylov per Newton
 step (mean and largest), how many times the AMG hierarchy was built, the certificate, the share of
@@ -42,8 +42,9 @@ def main() -> int:
     ap.add_argument("--levels", default="8,16,24,32", help="box cells per side, comma-separated")
     ap.add_argument("--ranks", default="1,2", help="MPI ranks, comma-separated")
     ap.add_argument("--set", action="append", default=[], help="extra --set path=value for every run")
-    ap.add_argument("--mesh", default="auto", choices=["auto", "replicated"],
-                    help="solver.petsc.mesh: auto (per-rank slabs where they cover the scene, DMPlex elsewhere) or replicated")
+    ap.add_argument("--mesh", default="auto", choices=["auto", "blocks", "replicated"],
+                    help="solver.petsc.mesh: auto (per-rank slabs where they cover the scene, a box's blocks beyond one "
+                         "rank per layer, DMPlex elsewhere), blocks or replicated")
     ap.add_argument("--backend", default="", help="ssn (the engine's default) or tao:bnls, tao:bntr, tao:bntl")
     ap.add_argument("--weak-per-rank", type=int, default=0,
                     help="weak scaling: about this many unknowns per rank (--levels is then ignored)")
@@ -91,8 +92,8 @@ def main() -> int:
             # hold about nodes/P plus two ghost layers, DMPlex's parts two cell layers around theirs;
             # the replicated mesh all of it)
             "peak_mb_max_rank": round(pe["peak_rss_mb_max"], 1),
-            "mesh": ("slabs" if "slabs" in pe.get("mesh", "") else "dmplex" if "DMPlex" in pe.get("mesh", "")
-                     else "replicated"),
+            "mesh": pe.get("partition", {}).get("type", "replicated") if pe.get("mesh", "") != "replicated"
+                    else "replicated",
             "local_nodes_max": pe.get("local_nodes", rep["mesh"]["nodes"]),
             "newton": pe["newton_iterations"], "krylov": pe["krylov_iterations"],
             "krylov_per_newton": round(pe["krylov_per_newton"], 1),

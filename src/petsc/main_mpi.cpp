@@ -79,8 +79,19 @@ std::string distributed_layout(const nlohmann::json& scene, const SolveOptions& 
   }
   int size = 1;
   MPI_Comm_size(comm, &size);
+  const bool box = scene.at("mesh").at("type") == "box";
+  if (opt.petsc.mesh == "blocks") {
+    if (!box) input_error("solver.petsc.mesh = \"blocks\": only a generated box is made in blocks (mesh.type = box)");
+    return "blocks";
+  }
   const SlabCut cut = slab_cut(scene);
   if (cut.layers < size) {
+    // Beyond one rank per layer: a box's blocks, made per rank as the slabs are (no rank makes the
+    // whole mesh); else rank 0 makes it and DMPlex distributes it.
+    if (box && petsc_engine::block_grid(scene.at("mesh").at("nx").get<int>(), scene.at("mesh").at("ny").get<int>(), size).px > 0) {
+      log_info() << "petsc: in blocks: " << size << " ranks for " << cut.layers << " cell layers along " << "xyz"[cut.axis];
+      return "blocks";
+    }
     log_info() << "petsc: not in slabs: " << size << " ranks for " << cut.layers << " cell layers along "
                << "xyz"[cut.axis];
     return "dmplex";
@@ -131,16 +142,17 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
               const std::string& layout) {
   int size = 1;
   MPI_Comm_size(comm, &size);
-  const bool slabs = layout == "slabs";
   log_info() << "petsc: the mesh distributed over the ranks ("
-             << (slabs ? "slabs of cell layers" : "DMPlex") << "), " << size << " rank(s)";
+             << (layout == "slabs" ? "slabs of cell layers" : layout == "blocks" ? "blocks of cell columns" : "DMPlex")
+             << "), " << size << " rank(s)";
   Mesh mesh;
   petsc_engine::Piece slab;
   Model md;
   const auto tm = std::chrono::steady_clock::now();
   on_every_rank(comm, [&] {
-    slab = slabs ? petsc_engine::make_slab(scene, comm, mesh)
-                 : petsc_engine::make_plex_piece(scene, scene_directory(a.scene), comm, mesh);
+    slab = layout == "slabs"    ? petsc_engine::make_slab(scene, comm, mesh)
+           : layout == "blocks" ? petsc_engine::make_block(scene, comm, mesh)
+                                : petsc_engine::make_plex_piece(scene, scene_directory(a.scene), comm, mesh);
   });
   const double t_mesh = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
   // A piece may hold no free Γ3 node where others have some (Γ3 on part of the slabs' cut axis, or

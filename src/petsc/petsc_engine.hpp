@@ -29,6 +29,7 @@
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
 #include <hemicontact/problem/solve_options.hpp>
+#include <hemicontact/scene/slab_mesh.hpp>
 
 #include <mpi.h>
 #include <nlohmann/json.hpp>
@@ -73,15 +74,23 @@ struct Piece {
   /// unknowns and its owner's is not an error (it gets no PETSc row).
   std::vector<char> complete;
   long global_nodes = 0, global_cells = 0;  ///< the whole mesh's counts (sums over the ranks)
-  std::string layout = "slabs";              ///< "slabs" or "dmplex"
+  std::string layout = "slabs";              ///< "slabs", "blocks" or "dmplex"
   std::string partitioner;                   ///< dmplex: PETSc's partitioner type (e.g. ptscotch)
   // The slabs only: the rank owns the node layers [c0, c1) along the cut (the last rank also layer
   // c1 = layers) and holds the cell layers [max(c0 − 1, 0), c1).
   int axis = 0, layers = 0;  ///< the cut (SlabCut)
   int c0 = 0, c1 = 0;        ///< owned cell layers [c0, c1)
+  // The blocks only: the ranks form a grid_x × grid_y grid over the box's cell columns; this rank
+  // owns the node columns of block [i0, i1) × [j0, j1) (the last block in x also node column nx,
+  // in y ny) and holds the cell columns [max(i0 − 1, 0), i1) × [max(j0 − 1, 0), j1), every z layer.
+  int grid_x = 0, grid_y = 0;
+  BlockRange block;
   /// @return report.json's petsc.mesh: "distributed (per-rank slabs)" or "distributed (DMPlex, <partitioner>)".
   std::string describe() const {
-    return layout == "slabs" ? "distributed (per-rank slabs)" : "distributed (DMPlex, " + partitioner + ")";
+    if (layout == "slabs") return "distributed (per-rank slabs)";
+    if (layout == "blocks")
+      return "distributed (per-rank blocks, " + std::to_string(grid_x) + " x " + std::to_string(grid_y) + ")";
+    return "distributed (DMPlex, " + partitioner + ")";
   }
 };
 
@@ -89,6 +98,22 @@ struct Piece {
 /// over the ranks, the mesh of its layers with the boundary parts of the whole mesh. Refuses a
 /// selector that selects nothing on every rank, and more ranks than cell layers (EXIT_INPUT).
 Piece make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh);
+
+/// The ranks' grid over a box's cell columns (x by y): px·py = ranks, px <= nx, py <= ny.
+struct BlockGrid {
+  int px = 0, py = 0;  ///< 0, 0: no such grid
+};
+
+/// @return among the grids of @p ranks blocks over nx × ny cell columns, the one with the least cut
+/// area (blocks closest to square); {0, 0} when none fits (a prime count of ranks above nx and ny).
+BlockGrid block_grid(int nx, int ny, int ranks);
+
+/// @brief This rank's block of the scene's generated box (collective): the ranks in a block_grid
+/// over the cell columns, every z layer in each block (so that Γ3 on the bottom reaches each), the
+/// mesh of its columns and one column of cells below in x and in y, with the boundary parts of the
+/// whole box. For more ranks than a slab cut has layers. Refuses what make_slab refuses, a scene that
+/// is not a box, and a count of ranks that makes no grid (EXIT_INPUT).
+Piece make_block(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh);
 
 /// @brief This rank's piece of the scene's mesh (collective): rank 0 makes the whole mesh as
 /// build_mesh does (a Gmsh file read by read_gmsh with its checks, or a generated mesh; the

@@ -107,6 +107,8 @@ void Engine::distribute_slabs() {
   own_nodes = slab->owned_node;
   if (slab->layout == "slabs")
     rep.json["partition"] = {{"type", "slabs"}, {"axis", std::string(1, "xyz"[slab->axis])}};
+  else if (slab->layout == "blocks")
+    rep.json["partition"] = {{"type", "blocks"}, {"grid", {slab->grid_x, slab->grid_y}}};
   else
     rep.json["partition"] = {{"type", slab->layout}, {"partitioner", slab->partitioner}};
   timings["petsc_partition"] = since(t0);

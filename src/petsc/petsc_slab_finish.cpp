@@ -203,6 +203,9 @@ void Engine::slab_report(Solution& s) {
   if (slab->layout == "slabs")
     rep.json["slab_layers"] = {{"axis", std::string(1, "xyz"[slab->axis])}, {"layers", slab->layers},
                                {"first", slab->c0}, {"end", slab->c1}};
+  else if (slab->layout == "blocks")  // rank 0's block, as slab_layers gives rank 0's layers
+    rep.json["blocks"] = {{"grid", {slab->grid_x, slab->grid_y}},
+                          {"columns", {{"x", {slab->block.i0, slab->block.i1}}, {"y", {slab->block.j0, slab->block.j1}}}}};
 }
 
 }  // namespace hemicontact::petsc_engine::detail

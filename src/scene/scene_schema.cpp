@@ -318,11 +318,13 @@ std::vector<SchemaEntry> build_scene_schema() {
                   {"ptscotch", "natural"}));
   t.push_back(key("/solver/petsc/mesh", "string", D.petsc.mesh,
                   "Where the mesh lives: auto (a generated box or rectangle, not perturbed, is made per rank in "
-                  "slabs of cell layers; any other mesh, a Gmsh file included, is made by rank 0 and distributed "
-                  "by DMPlex; no rank holds the whole mesh; report.json from reductions, its per-node list "
-                  "gathered from the ranks' owned Γ3 nodes; petsc.mesh says which ran) or replicated (every rank "
-                  "builds the whole mesh; report.json as the cholmod engine's, with the graph partition's records).",
-                  {"auto", "replicated"}));
+                  "slabs of cell layers; a box with more ranks than layers in blocks of cell columns, per rank "
+                  "too; any other mesh, a Gmsh file included, is made by rank 0 and distributed by DMPlex; no "
+                  "rank holds the whole mesh; report.json from reductions, its per-node list gathered from the "
+                  "ranks' owned Γ3 nodes; petsc.mesh says which ran), blocks (a box in blocks at any rank "
+                  "count that makes a grid) or replicated (every rank builds the whole mesh; report.json as the "
+                  "cholmod engine's, with the graph partition's records).",
+                  {"auto", "blocks", "replicated"}));
   t.push_back(key("/solver/petsc/newton_pc", "string", D.petsc.newton_pc,
                   "Preconditioner of TAO's Newton steps (the Hessian on the inactive set): hypre "
                   "(BoomerAMG) or gamg.",

@@ -93,6 +93,7 @@ struct Case {
   std::string sets;  // mesh size
   int np;
   std::string backend = "";  // "": the engine's default (ssn)
+  std::string layout = "slabs";  // PetscSlabs: the distributed layout expected (slabs or blocks)
 };
 
 void PrintTo(const Case& c, std::ostream* os) {
@@ -460,7 +461,9 @@ TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
   ASSERT_EQ(got.code, 0) << got.err << got.out;
   const json a = json::parse(slurp(dir / "cholmod" / "report.json"));
   const json b = json::parse(slurp(dir / "petsc" / "report.json"));
-  ASSERT_EQ(b.at("petsc").at("mesh"), "distributed (per-rank slabs)");
+  const bool blocks = c.layout == "blocks";
+  ASSERT_EQ(b.at("petsc").at("partition").at("type"), c.layout);
+  if (!blocks) ASSERT_EQ(b.at("petsc").at("mesh"), "distributed (per-rank slabs)");
   EXPECT_EQ(b.at("petsc").at("method"), c.backend.empty() ? "ssn" : c.backend);
   const double tol = b.at("options").at("certificate_tol").get<double>();
   EXPECT_TRUE(b.at("certificate").at("passed").get<bool>());
@@ -494,18 +497,32 @@ TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
   }
   ASSERT_GT(scale, 0);
   EXPECT_LE(diff / scale, tol) << "max |u_slabs - u_cholmod| / max |u| on Gamma3";
-  // No rank holds the whole mesh: at most its share of the layers plus two layers of ghosts.
+  // No rank holds the whole mesh: at most its share of the layers plus two layers of ghosts (slabs),
+  // or its share of the cell columns plus two node columns in x and in y (blocks).
   const json& m = b.at("scene").at("mesh");
   const bool box = m.at("type") == "box";
   const long layers = m.at(box ? "ny" : "nx").get<long>();
   const long layer_nodes = box ? (m.at("nx").get<long>() + 1) * (m.at("nz").get<long>() + 1) : m.at("ny").get<long>() + 1;
   const long local = b.at("petsc").at("local_nodes").get<long>();
-  EXPECT_LE(local, ((layers + c.np - 1) / c.np + 2) * layer_nodes);
-  if (c.np > 1) {
+  if (blocks) {
+    const json& grid = b.at("petsc").at("blocks").at("grid");
+    const long px = grid.at(0).get<long>(), py = grid.at(1).get<long>(), nx = m.at("nx").get<long>();
+    EXPECT_EQ(px * py, c.np);
+    EXPECT_EQ(b.at("petsc").at("mesh"), "distributed (per-rank blocks, " + std::to_string(px) + " x " + std::to_string(py) + ")");
+    EXPECT_LE(local, ((nx + px - 1) / px + 2) * ((layers + py - 1) / py + 2) * (m.at("nz").get<long>() + 1));
+  } else {
+    EXPECT_LE(local, ((layers + c.np - 1) / c.np + 2) * layer_nodes);
+  }
+  if (c.np > 1 && !blocks) {
     EXPECT_LT(local, b.at("mesh").at("nodes").get<long>());
     // Every ghost got its owner's rows (the engine checks each row is in its owner's range, and the
     // owner's coordinates): each cut has a node layer of ghosts on either side.
     EXPECT_EQ(b.at("petsc").at("ghost_nodes").get<long>(), 2 * (c.np - 1) * layer_nodes);
+    EXPECT_EQ(b.at("petsc").at("ghost_nodes_given_rows"), b.at("petsc").at("ghost_nodes"));
+  }
+  if (c.np > 1 && blocks) {
+    EXPECT_LT(local, b.at("mesh").at("nodes").get<long>());
+    EXPECT_GT(b.at("petsc").at("ghost_nodes").get<long>(), 0);
     EXPECT_EQ(b.at("petsc").at("ghost_nodes_given_rows"), b.at("petsc").at("ghost_nodes"));
   }
   // The parallel VTU: one piece per rank, each there and listed in the folder's files.
@@ -532,9 +549,9 @@ TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {
     EXPECT_TRUE(b.contains(key)) << key;
   EXPECT_EQ(b.at("polish").at("attempted"), false);
   EXPECT_EQ(b.at("phases").size(), a.at("phases").size());
-  std::printf("[slabs] %s np=%d: max|du|/max|u| on Gamma3 = %.2e (report nodes %.2e, tractions/S %.2e), "
+  std::printf("[%s] %s np=%d: max|du|/max|u| on Gamma3 = %.2e (report nodes %.2e, tractions/S %.2e), "
               "certificate %.2e, local nodes %ld of %ld\n",
-              c.scene.c_str(), c.np, diff / scale, du_nodes, ds_nodes, b.at("certificate").at("max_residual").get<double>(),
+              c.layout.c_str(), c.scene.c_str(), c.np, diff / scale, du_nodes, ds_nodes, b.at("certificate").at("max_residual").get<double>(),
               local, b.at("mesh").at("nodes").get<long>());
   fs::remove_all(dir);
 }
@@ -550,7 +567,13 @@ INSTANTIATE_TEST_SUITE_P(PaperScenes, PetscSlabs,
                                            // (solver/outer_loop.hpp): no polish there, its last
                                            // width (1e-10 U) leaves u within the tolerance
                                            Case{"sofonea2017-fig2", "--set mesh.n=16", 2, "tao:bnls"},
-                                           Case{"sofonea2017-3d", "--set mesh.n=8", 2, "tao:bntr"}));
+                                           Case{"sofonea2017-3d", "--set mesh.n=8", 2, "tao:bntr"},
+                                           // blocks of cell columns (a 2 x 2 grid, asked for), and
+                                           // by default beyond one rank per layer (6 ranks, 4
+                                           // layers: 2 x 3), TAO on them too
+                                           Case{"sofonea2017-3d", "--set mesh.n=8 --set solver.petsc.mesh='\"blocks\"'", 4, "", "blocks"},
+                                           Case{"sofonea2017-3d", "--set mesh.n=4", 6, "", "blocks"},
+                                           Case{"sofonea2017-3d", "--set mesh.n=8 --set solver.petsc.mesh='\"blocks\"'", 4, "tao:bntr", "blocks"}));
 
 // A Gmsh file (mesh.file) on the petsc engine's default mesh: rank 0 reads it, DMPlex distributes it
 // (docs/petsc-engine.md, "Distributed mesh"), and on 1, 2 and 3 ranks the answer is the cholmod
@@ -663,6 +686,26 @@ TEST(PetscEngine, PlotDrawsFromTheSlabPieces) {
     const auto files = r.at("files").get<std::vector<std::string>>();
     EXPECT_NE(std::find(files.begin(), files.end(), picture), files.end());
   }
+  fs::remove_all(dir);
+}
+
+// solver.petsc.mesh = "blocks" where no grid of blocks exists: a rectangle (blocks cut a box's
+// columns; fig2's Γ3 would leave some without contact), and 5 ranks on a 2 x 2-column box (5 is
+// prime and above both): an input error naming the key and why, from every rank alike, no result.
+TEST(PetscEngine, BlocksRefuseWhatTheyCannotCut) {
+  const fs::path dir = scratch("blocks-refused");
+  const std::string blocks = " --set solver.petsc.mesh='\"blocks\"' --quiet --set output.vtu=false";
+  const CliOutcome rect = run_mpi(dir, 2, "solve " + problem("sofonea2017-fig2") + " --set mesh.n=8" + blocks +
+                                              " --out " + (dir / "rect").string());
+  EXPECT_EQ(rect.code, hemicontact::EXIT_INPUT) << rect.err;
+  EXPECT_NE(rect.err.find("solver.petsc.mesh = \"blocks\": only a generated box"), std::string::npos) << rect.err;
+  EXPECT_FALSE(fs::exists(dir / "rect" / "report.json"));
+  const CliOutcome five = run_mpi(dir, 5, "solve " + problem("sofonea2017-3d") + " --set mesh.n=2" + blocks +
+                                              " --out " + (dir / "five").string());
+  EXPECT_EQ(five.code, hemicontact::EXIT_INPUT) << five.err;
+  EXPECT_NE(five.err.find("5 MPI ranks do not make a grid of blocks of the box's 2 x 2 cell columns"), std::string::npos)
+      << five.err;
+  EXPECT_FALSE(fs::exists(dir / "five" / "report.json"));
   fs::remove_all(dir);
 }
 
