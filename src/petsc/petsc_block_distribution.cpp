@@ -67,11 +67,7 @@ Piece make_block(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh) {
   const BlockRange held{std::max(a0 - 1, 0), a1, std::max(b0 - 1, 0), b1};
   std::vector<long> counts;
   mesh = build_block_mesh(scene, held, counts);
-  std::vector<long> all(counts.size(), 0);
-  MPI_Allreduce(counts.data(), all.data(), static_cast<int>(counts.size()), MPI_LONG, MPI_SUM, comm);
-  const std::vector<std::string> names = boundary_selector_names(scene);
-  for (size_t i = 0; i < all.size() && i < names.size(); ++i)
-    if (all[i] == 0) input_error(names[i] + " selects no boundary facet");
+  check_selectors_somewhere(scene, counts, comm);
   // Local node v is (i, j, k) of the held columns (mesh/slabs.hpp's block numbering).
   const int wi = held.i1 - held.i0 + 1, wj = held.j1 - held.j0 + 1;
   const Index N = mesh.num_nodes();
@@ -98,11 +94,7 @@ Piece make_block(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh) {
     }
     s.owned_cell[static_cast<size_t>(c)] = imin >= a0 && jmin >= b0;
   }
-  long nodes = 0, cells = 0;
-  for (char o : s.owned_node) nodes += o;
-  for (char o : s.owned_cell) cells += o;
-  MPI_Allreduce(&nodes, &s.global_nodes, 1, MPI_LONG, MPI_SUM, comm);
-  MPI_Allreduce(&cells, &s.global_cells, 1, MPI_LONG, MPI_SUM, comm);
+  count_whole_mesh(s, comm);
   return s;
 }
 

@@ -99,6 +99,15 @@ struct Piece {
 /// selector that selects nothing on every rank, and more ranks than cell layers (EXIT_INPUT).
 Piece make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh);
 
+/// A generated piece's selectors: each must select a facet on some rank (what assign_boundary
+/// checks on a whole mesh), @p counts this rank's (build_slab_mesh's order). Collective.
+/// @throws Error EXIT_INPUT naming the selector that selects nothing anywhere.
+void check_selectors_somewhere(const nlohmann::json& scene, const std::vector<long>& counts, MPI_Comm comm);
+
+/// The whole mesh's node and cell counts of @p s (global_nodes, global_cells): the sums of the
+/// ranks' owned ones. Collective.
+void count_whole_mesh(Piece& s, MPI_Comm comm);
+
 /// The ranks' grid over a box's cell columns (x by y): px·py = ranks, px <= nx, py <= ny.
 struct BlockGrid {
   int px = 0, py = 0;  ///< 0, 0: no such grid

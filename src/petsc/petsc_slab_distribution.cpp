@@ -29,12 +29,7 @@ Piece make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh) {
   const int first = std::max(s.c0 - 1, 0), held = s.c1 - first;
   std::vector<long> counts;
   mesh = build_slab_mesh(scene, first, s.c1, counts);
-  // A selector must select something on some rank (what assign_boundary checks on a whole mesh).
-  std::vector<long> all(counts.size(), 0);
-  MPI_Allreduce(counts.data(), all.data(), static_cast<int>(counts.size()), MPI_LONG, MPI_SUM, comm);
-  const std::vector<std::string> names = boundary_selector_names(scene);
-  for (size_t i = 0; i < all.size() && i < names.size(); ++i)
-    if (all[i] == 0) input_error(names[i] + " selects no boundary facet");
+  check_selectors_somewhere(scene, counts, comm);
   // The layer of local node v along the cut (mesh/slabs.hpp's numbering).
   const Index row = cut.axis == 1 ? scene.at("mesh").at("nx").get<Index>() + 1 : 1;
   const auto layer = [&](Index v) {
@@ -58,12 +53,24 @@ Piece make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh) {
     for (int a = 0; a < mesh.cells.cols(); ++a) lmin = std::min(lmin, layer(mesh.cells(c, a)));
     s.owned_cell[static_cast<size_t>(c)] = lmin >= s.c0;
   }
+  count_whole_mesh(s, comm);
+  return s;
+}
+
+void check_selectors_somewhere(const nlohmann::json& scene, const std::vector<long>& counts, MPI_Comm comm) {
+  std::vector<long> all(counts.size(), 0);
+  MPI_Allreduce(counts.data(), all.data(), static_cast<int>(counts.size()), MPI_LONG, MPI_SUM, comm);
+  const std::vector<std::string> names = boundary_selector_names(scene);
+  for (size_t i = 0; i < all.size() && i < names.size(); ++i)
+    if (all[i] == 0) input_error(names[i] + " selects no boundary facet");
+}
+
+void count_whole_mesh(Piece& s, MPI_Comm comm) {
   long nodes = 0, cells = 0;
   for (char o : s.owned_node) nodes += o;
   for (char o : s.owned_cell) cells += o;
   MPI_Allreduce(&nodes, &s.global_nodes, 1, MPI_LONG, MPI_SUM, comm);
   MPI_Allreduce(&cells, &s.global_cells, 1, MPI_LONG, MPI_SUM, comm);
-  return s;
 }
 
 namespace detail {

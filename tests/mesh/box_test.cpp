@@ -206,6 +206,30 @@ std::vector<long> whole_counts(Mesh m, const BoundarySpec& spec) {
   return assign_boundary_in_box(m, spec, lo, hi);
 }
 
+// Pieces of a box (slabs or blocks), added one by one: their cells' places and the facets each
+// selector selected on them (with the whole box's sides), against the whole mesh's.
+struct BoxPieces {
+  BoxPieces(const BoxSpec& s, const BoundarySpec& spec) : spec(spec), lo(1, 3), hi(1, 3) {
+    lo << s.x0, s.y0, s.z0;
+    hi << s.x1, s.y1, s.z1;
+  }
+  void add(Mesh piece) {
+    const std::vector<long> c = assign_boundary_in_box(piece, spec, lo, hi);
+    sum.resize(c.size(), 0);
+    for (size_t i = 0; i < c.size(); ++i) sum[i] += c[i];
+    const auto p = cell_places(piece);
+    cells.insert(p.begin(), p.end());
+  }
+  void expect_tile(const Mesh& whole, BoxPattern pattern) const {
+    EXPECT_EQ(cells, cell_places(whole)) << to_string(pattern);
+    EXPECT_EQ(sum, whole_counts(whole, spec)) << to_string(pattern);
+  }
+  const BoundarySpec& spec;
+  RowMat lo, hi;
+  std::multiset<std::vector<double>> cells;
+  std::vector<long> sum;
+};
+
 }  // namespace
 
 // The per-rank pieces of the petsc engine's distributed path: slabs that tile the mesh hold its
@@ -222,22 +246,13 @@ TEST(Box, SlabsTileTheBoxWithTheSameCellsAndParts) {
     bottom.side = "bottom", bottom.context = "bottom";
     spec.gamma1 = {left};
     spec.gamma3 = {bottom};
-    const std::vector<long> expect = whole_counts(whole, spec);
-    RowMat lo(1, 3), hi(1, 3);
-    lo << s.x0, s.y0, s.z0;
-    hi << s.x1, s.y1, s.z1;
-    std::multiset<std::vector<double>> cells;
-    std::vector<long> sum(expect.size(), 0);
+    BoxPieces pieces(s, spec);
     for (auto [j0, j1] : {std::pair{0, 2}, std::pair{2, 3}, std::pair{3, 6}}) {
       Mesh slab = make_box_slab(s, j0, j1);
       EXPECT_EQ(slab.num_nodes(), Index(s.nx + 1) * (j1 - j0 + 1) * (s.nz + 1));
-      const std::vector<long> c = assign_boundary_in_box(slab, spec, lo, hi);
-      for (size_t i = 0; i < c.size(); ++i) sum[i] += c[i];
-      const auto p = cell_places(slab);
-      cells.insert(p.begin(), p.end());
+      pieces.add(std::move(slab));
     }
-    EXPECT_EQ(cells, cell_places(whole)) << to_string(pattern);
-    EXPECT_EQ(sum, expect) << to_string(pattern);
+    pieces.expect_tile(whole, pattern);
   }
   // The rectangle, cut along x, graded along the cut as well.
   RectangleSpec r;
@@ -273,12 +288,7 @@ TEST(Box, BlocksTileTheBoxWithTheSameCellsAndParts) {
     spec.gamma1 = {left};
     spec.gamma2 = {front};
     spec.gamma3 = {bottom};
-    const std::vector<long> expect = whole_counts(whole, spec);
-    RowMat lo(1, 3), hi(1, 3);
-    lo << s.x0, s.y0, s.z0;
-    hi << s.x1, s.y1, s.z1;
-    std::multiset<std::vector<double>> cells;
-    std::vector<long> sum(expect.size(), 0);
+    BoxPieces pieces(s, spec);
     for (auto [i0, i1] : {std::pair{0, 2}, std::pair{2, 5}, std::pair{5, 6}})
       for (auto [j0, j1] : {std::pair{0, 4}, std::pair{4, 6}}) {
         Mesh block = make_box_block(s, i0, i1, j0, j1);
@@ -290,13 +300,9 @@ TEST(Box, BlocksTileTheBoxWithTheSameCellsAndParts) {
               const Index g = (Index(k) * (s.ny + 1) + j) * (s.nx + 1) + i;
               ASSERT_EQ(block.points.row(v), whole.points.row(g)) << i << " " << j << " " << k;
             }
-        const std::vector<long> c = assign_boundary_in_box(block, spec, lo, hi);
-        for (size_t i = 0; i < c.size(); ++i) sum[i] += c[i];
-        const auto p = cell_places(block);
-        cells.insert(p.begin(), p.end());
+        pieces.add(std::move(block));
       }
-    EXPECT_EQ(cells, cell_places(whole)) << to_string(pattern);
-    EXPECT_EQ(sum, expect) << to_string(pattern);
+    pieces.expect_tile(whole, pattern);
   }
   BoxSpec q;
   q.perturb = 0.1;
