@@ -152,8 +152,12 @@ class Engine : private OuterStepper {
   void distribute_slabs();
   void exchange_ghosts(const std::vector<Index>& sel);
   void finish_slabs(Solution& s, ::Vec x, clk::time_point t0);
-  void slab_piece(::Vec x, ::Vec R);
-  void slab_certificate(Solution& s) const;
+  // A piece's evaluation at x (R = K x − f): its u, Γ3 state (slab_piece), then the certificate by
+  // reductions and the statuses read at o.status_tol (slab_certificate), into p; slab_evaluate
+  // makes both for a candidate x (the polish's) without touching the run's piece (slab_out).
+  void slab_piece(::Vec x, ::Vec R, Solution& p);
+  void slab_certificate(Solution& p, const SolveOptions& o) const;
+  Solution slab_evaluate(::Vec x, const SolveOptions& o);
   void slab_energies(Solution& s, ::Vec x, ::Vec R) const;
   void slab_report(Solution& s);
   void record();  // the engine's record for report.json ("petsc"): counts, memory, partition
@@ -180,16 +184,23 @@ class Engine : private OuterStepper {
   void set_smoothing(size_t stage) override;
   OuterIteration minimize(size_t stage) override;
   void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) override;
-  // The polish linearizes at the whole vector (petsc_polish.cpp): not on the per-rank slabs.
-  bool polish_exists() const override { return slab == nullptr; }
+  // The polish (petsc_polish.cpp) reads and writes a PETSc vector (owned rows) and the statuses of
+  // the owned Γ3 nodes: on the replicated mesh and on the pieces alike.
+  bool polish_exists() const override { return true; }
   std::optional<Solution> certified_copy() override;
   Solution finish() override;
-  PolishResult polish(Eigen::VectorXd& x, const SolveOptions& read_opt, const Solution& s0);
-  std::vector<PetscInt> polish_start(::Vec x, const Eigen::VectorXd& x_io, const Solution& s0, double delta) const;
+  PolishResult polish(::Vec x_io, const SolveOptions& read_opt, const Solution& s0);
+  std::vector<PetscInt> polish_start(::Vec x, const Solution& s0, double delta) const;
   bool polish_linearize(::Vec x, ::Vec R, ::Mat J, const Solution& s0, double delta,
                         const std::vector<PetscInt>& fixed);
-  void polish_accept(::Vec x, const Solution& s0, double delta, PolishResult& r, Eigen::VectorXd& x_io) const;
-  PolishResult polish_with_readings(Eigen::VectorXd& x, size_t stage);
+  void polish_accept(::Vec x, const Solution& s0, double delta, PolishResult& r, ::Vec x_io);
+  std::string piece_rejection(const Solution& s0, const Solution& s1, double delta, double before) const;
+  PolishResult polish_with_readings(::Vec x, size_t stage);
+  // x's evaluation at o (statuses, state, certificate): the whole solution gathered on the
+  // replicated mesh, the piece's (slab_evaluate) on the distributed one.
+  Solution evaluate_at(::Vec x, const SolveOptions& o);
+  // U_s zs, the current iterate in the model's units, in a new vector.
+  void unscaled_iterate(PVec& x) const;
   void finish(Solution& sol, Eigen::VectorXd x, clk::time_point t0);
   // ---- helpers
   Eigen::VectorXd gather(::Vec v) const;  // the whole vector on every rank

@@ -68,41 +68,42 @@ Solution Engine::run() {
   return run_outer(*this, opt);
 }
 
-// The polish of a copy of the current iterate, and its certificate (run_outer's early stop).
+// The polish of a copy of the current iterate, and its certificate (run_outer's early stop). On the
+// pieces the copy is finished there (finish_slabs); a trial that fails leaves the run's piece to be
+// written again by the final finish.
 std::optional<Solution> Engine::certified_copy() {
-  Eigen::VectorXd x = U_s * gather(zs.v);
-  const PolishResult pr = polish_with_readings(x, sol.history.empty() ? 0 : static_cast<size_t>(sol.history.back().stage));
+  PVec x;
+  unscaled_iterate(x);
+  const PolishResult pr = polish_with_readings(x.v, sol.history.empty() ? 0 : static_cast<size_t>(sol.history.back().stage));
   if (!pr.accepted) return std::nullopt;
   Solution trial = sol;
   trial.polish = pr;
-  finish(trial, x, t_run);
+  if (slab)
+    finish_slabs(trial, x.v, t_run);
+  else
+    finish(trial, gather(x.v), t_run);
   if (!trial.certificate.passed) return std::nullopt;
   return trial;
 }
 
-// The final polish (solver.polish, after a converged fixed point), then the certificate.
+// The final polish (solver.polish, after a converged fixed point), then the certificate: of the
+// gathered answer on the replicated mesh, by reductions over the pieces on the distributed one
+// (nothing global is gathered there; the polish runs on the owned rows either way).
 Solution Engine::finish() {
-  if (slab) {  // the distributed path: nothing global is gathered, and so no polish
-    if (opt.polish)
-      sol.skipped.push_back("polish: not on the distributed mesh (it linearizes at the whole vector); the "
-                            "certificate judges the continuation's answer");
-    PVec x;
-    HC_PETSC(VecDuplicate(zs.v, &x.v));
-    HC_PETSC(VecCopy(zs.v, x.v));
-    HC_PETSC(VecScale(x.v, U_s));
-    finish_slabs(sol, x.v, t_run);
-    return std::move(sol);
-  }
-  Eigen::VectorXd x = U_s * gather(zs.v);
+  PVec x;
+  unscaled_iterate(x);
   if (opt.polish && sol.fixed_point_converged) {
-    sol.polish = polish_with_readings(x, schedule.size() - 1);
+    sol.polish = polish_with_readings(x.v, schedule.size() - 1);
     log_info() << "polish: " << (sol.polish.accepted ? "accepted" : "rejected") << ", certificate "
                << sol.polish.before << " -> " << sol.polish.after << " in " << sol.polish.iterations
                << " Newton iterations" << (sol.polish.note.empty() ? "" : " (" + sol.polish.note + ")");
   } else if (!opt.polish) {
     sol.skipped.push_back("polish: solver.polish = false");
   }
-  finish(sol, std::move(x), t_run);
+  if (slab)
+    finish_slabs(sol, x.v, t_run);
+  else
+    finish(sol, gather(x.v), t_run);
   return std::move(sol);
 }
 

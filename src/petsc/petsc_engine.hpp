@@ -142,7 +142,7 @@ struct SlabResult {
   long ghosts = 0;                                           ///< ghost nodes given rows by their owners (all ranks)
 };
 
-/// @brief Solve on the slabs (collective; ssn, or TAO without the polish): as solve(), but @p md is this rank's
+/// @brief Solve on the slabs (collective; ssn, or TAO then the polish): as solve(), but @p md is this rank's
 /// slab (make_slab, build_model(scene, mesh, false)) and nothing global is gathered. @return the
 /// scalars of the answer (energies, certificate, verdict; its vectors empty); @p out the piece.
 Solution solve_slabs(Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,

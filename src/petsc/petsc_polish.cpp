@@ -4,6 +4,8 @@
 #include <hemicontact/problem/node_rules.hpp>
 
 #include <algorithm>
+#include <climits>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,16 @@ Solution Engine::evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const
   return s;
 }
 
+Solution Engine::evaluate_at(::Vec x, const SolveOptions& o) {
+  return slab ? slab_evaluate(x, o) : evaluate(gather(x), o);
+}
+
+void Engine::unscaled_iterate(PVec& x) const {
+  HC_PETSC(VecDuplicate(zs.v, &x.v));
+  HC_PETSC(VecCopy(zs.v, x.v));
+  HC_PETSC(VecScale(x.v, U_s));
+}
+
 // The exact polish in the full space (solver/polish.hpp's status system, without condensation):
 // with the statuses of @p s0 fixed, Newton's method on
 //   interior rows:     (K x − f)_i = 0
@@ -28,11 +40,14 @@ Solution Engine::evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const
 // symmetric, so CG + GAMG apply); the iteration then converges linearly in λ with the fixed point's
 // contraction, and stops when the step reaches round-off (1e-14 relative) or stops decreasing.
 // Fixed unknowns (contact ν, stick τ, rollers) are eliminated with MatZeroRowsColumns.
-PolishResult Engine::polish(Eigen::VectorXd& x_io, const SolveOptions& read_opt, const Solution& s0_user) {
+// Everything it reads is on the owned rows and the owned Γ3 nodes (my_nodes), with the statuses of
+// s0 (indexed by the model's Γ3 node, the piece's own on the distributed mesh), so that the same
+// iteration runs on the replicated mesh and on the pieces; only the evaluations differ (evaluate_at).
+PolishResult Engine::polish(::Vec x_io, const SolveOptions& read_opt, const Solution& s0_user) {
   PolishResult r;
   r.attempted = true;
   r.before = s0_user.certificate.max_residual;
-  const Solution s0 = read_opt.status_tol == opt.status_tol ? s0_user : evaluate(x_io, read_opt);
+  const Solution s0 = read_opt.status_tol == opt.status_tol ? s0_user : evaluate_at(x_io, read_opt);
   const double delta = 1e-7 * s0.certificate.length_scale;
   PVec x, R, dx;
   PMat J;
@@ -43,7 +58,8 @@ PolishResult Engine::polish(Eigen::VectorXd& x_io, const SolveOptions& read_opt,
   HC_PETSC(MatDuplicate(K.m, MAT_DO_NOT_COPY_VALUES, &J.m));
   HC_PETSC(MatSetNearNullSpace(J.m, rigid));
   create_cg(ksp, "polish_");
-  const std::vector<PetscInt> fixed = polish_start(x.v, x_io, s0, delta);
+  HC_PETSC(VecCopy(x_io, x.v));
+  const std::vector<PetscInt> fixed = polish_start(x.v, s0, delta);
   double prev = INF;
   for (r.iterations = 1; r.iterations <= opt.petsc.polish_max_iters; ++r.iterations) {
     if (!polish_linearize(x.v, R.v, J.m, s0, delta, fixed)) {
@@ -75,14 +91,12 @@ PolishResult Engine::polish(Eigen::VectorXd& x_io, const SolveOptions& read_opt,
   return r;
 }
 
-// The polish's start: the smoothed answer @p x_io with the fixed unknowns set to their values.
+// The polish's start: @p x, a copy of the smoothed answer, gets the fixed unknowns' values.
 // @return the fixed unknowns (PETSc's numbering, this rank's rows).
-std::vector<PetscInt> Engine::polish_start(::Vec x, const Eigen::VectorXd& x_io, const Solution& s0,
-                                           double delta) const {
+std::vector<PetscInt> Engine::polish_start(::Vec x, const Solution& s0, double delta) const {
   std::vector<PetscInt> fixed;
   PetscScalar* px;
   HC_PETSC(VecGetArray(x, &px));
-  for (PetscInt l = 0; l < hi - lo; ++l) px[l] = x_io[X(l)];
   for (Index k : my_nodes) {
     const PetscInt iv = cdof(k);
     const NodeStatus st = s0.status[k];
@@ -147,26 +161,66 @@ bool Engine::polish_linearize(::Vec x, ::Vec R, ::Mat J, const Solution& s0, dou
 }
 
 // Keep the candidate @p x only if the statuses stay and the certificate does not get worse
-// (solver/polish.cpp's accept_if_better, the same rule): then @p x_io takes it.
-void Engine::polish_accept(::Vec x, const Solution& s0, double delta, PolishResult& r, Eigen::VectorXd& x_io) const {
-  const Eigen::VectorXd xc = gather(x);
-  if (!xc.allFinite()) {
+// (solver/polish.cpp's accept_if_better, the same rule): then @p x_io takes it. On the pieces the
+// rule is read on each rank's owned Γ3 nodes and reduced (piece_rejection).
+void Engine::polish_accept(::Vec x, const Solution& s0, double delta, PolishResult& r, ::Vec x_io) {
+  // A finite candidate on every rank's rows (what gather(x).allFinite() read, without the gather).
+  const PetscScalar* px;
+  int bad = 0;
+  HC_PETSC(VecGetArrayRead(x, &px));
+  for (PetscInt l = 0; l < hi - lo; ++l)
+    if (!std::isfinite(px[l])) bad = 1;
+  HC_PETSC(VecRestoreArrayRead(x, &px));
+  if (allreduce_max(bad, comm) != 0) {
     r.note = "singular status system";
     return;
   }
-  const Solution s1 = evaluate(xc, opt);
+  const Solution s1 = evaluate_at(x, opt);
   r.after = s1.certificate.max_residual;
-  r.note = polish_rejection(md, s0, s1, delta, r.before);
+  r.note = slab ? piece_rejection(s0, s1, delta, r.before) : polish_rejection(md, s0, s1, delta, r.before);
   if (!r.note.empty()) return;
   r.accepted = true;
-  x_io = xc;
+  HC_PETSC(VecCopy(x, x_io));
+}
+
+// polish_rejection on the pieces. It loops over every Γ3 node of the model, which here is the
+// piece's, ghosts included: a ghost's status is its owner's to judge (an outer ghost's state is not
+// even complete, Piece::complete), so each rank reads its owned nodes (my_nodes) and the verdict is
+// reduced. The note names the first changed node by its whole-mesh number (the piece's Γ3 index
+// means nothing to the other ranks), with its statuses sent by its owner; every rank gets the same.
+// The certificate's rule is polish_certificate_rejection on the reduced max residual.
+std::string Engine::piece_rejection(const Solution& s0, const Solution& s1, double delta, double before) const {
+  long first = LONG_MAX;
+  int sts[4] = {0, 0, 0, 0};
+  for (Index k : my_nodes) {
+    const NodeStatus& a = s0.status[static_cast<size_t>(k)];
+    const NodeStatus& b = s1.status[static_cast<size_t>(k)];
+    const long g = slab->global_node[static_cast<size_t>(md.contact.node[static_cast<size_t>(k)])];
+    if (!polish_status_kept(md, a, b, s0.state.u_nu[k], delta) && g < first) {
+      first = g;
+      sts[0] = static_cast<int>(a.normal), sts[1] = static_cast<int>(a.tangential);
+      sts[2] = static_cast<int>(b.normal), sts[3] = static_cast<int>(b.tangential);
+    }
+  }
+  long all_first = LONG_MAX;
+  MPI_Allreduce(&first, &all_first, 1, MPI_LONG, MPI_MIN, comm);
+  if (all_first != LONG_MAX) {
+    int who = first == all_first ? rank : -1, owner = -1;
+    MPI_Allreduce(&who, &owner, 1, MPI_INT, MPI_MAX, comm);
+    MPI_Bcast(sts, 4, MPI_INT, owner, comm);
+    NodeStatus a, b;
+    a.normal = static_cast<NormalStatus>(sts[0]), a.tangential = static_cast<TangentialStatus>(sts[1]);
+    b.normal = static_cast<NormalStatus>(sts[2]), b.tangential = static_cast<TangentialStatus>(sts[3]);
+    return "statuses changed at mesh node " + std::to_string(all_first) + " (" + a.str() + " -> " + b.str() + ")";
+  }
+  return polish_certificate_rejection(s1.certificate.max_residual, before);
 }
 
 // The statuses read at check.status_tol and, when the stage's ε is larger, at 10 ε (a sticking
 // node shows |u_τ| ~ ε U): solver/polish.cpp's first two readings.
-PolishResult Engine::polish_with_readings(Eigen::VectorXd& x, size_t stage) {
+PolishResult Engine::polish_with_readings(::Vec x, size_t stage) {
   const auto t0 = clk::now();
-  const Solution s0 = evaluate(x, opt);
+  const Solution s0 = evaluate_at(x, opt);
   PolishResult r = polish(x, opt, s0);
   const double coarse = 10 * std::max(schedule[stage].first, schedule[stage].second);
   if (!r.accepted && coarse > opt.status_tol) {

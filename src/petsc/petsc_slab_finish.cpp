@@ -37,8 +37,9 @@ void Engine::finish_slabs(Solution& s, ::Vec x, clk::time_point t0) {
   HC_PETSC(VecDuplicate(x, &R.v));
   HC_PETSC(MatMult(K.m, x, R.v));
   HC_PETSC(VecAXPY(R.v, -1.0, f.v));
-  slab_piece(x, R.v);
-  slab_certificate(s);
+  slab_piece(x, R.v, slab_out->piece);
+  slab_certificate(slab_out->piece, opt);
+  s.certificate = slab_out->piece.certificate;
   slab_energies(s, x, R.v);
   close_record(s, t0, t1);
   slab_report(s);
@@ -48,7 +49,7 @@ void Engine::finish_slabs(Solution& s, ::Vec x, clk::time_point t0) {
 // of every Γ3 node of the slab by check/'s contact_state: it reads K u − f through md.Kx_apply,
 // here the owners' rows plus the slab's own f_x, so that internal_force − f is T (K x − f) on
 // every free component (the slab's own f is partial on its ghosts; this sum does not use it).
-void Engine::slab_piece(::Vec x, ::Vec R) {
+void Engine::slab_piece(::Vec x, ::Vec R, Solution& p) {
   const auto nx = static_cast<PetscInt>(md.dofs.n_free());
   // The unknowns with a row: all but an outer ghost's whose unknowns differ from its owner's
   // (Piece::complete), which keep 0 here and are read by nothing this rank reports.
@@ -79,7 +80,6 @@ void Engine::slab_piece(::Vec x, ::Vec R) {
   for (PetscInt i = 0; i < nx; ++i) xe[i] = px[i], kx[i] = pr[i] + md.fx[i];
   HC_PETSC(VecRestoreArrayRead(xl.v, &px));
   HC_PETSC(VecRestoreArrayRead(Rl.v, &pr));
-  Solution& p = slab_out->piece;
   p.u = md.dofs.to_full(xe);
   p.x = std::move(xe);
   md.Kx_apply = [kx](const Vec&) { return kx; };  // only for this u (the engine resets it when done)
@@ -87,11 +87,11 @@ void Engine::slab_piece(::Vec x, ::Vec R) {
   p.state = contact_state(md, p.u);
 }
 
-// check/certificate.cpp's certify over the owned nodes, its scales and maxima reduced over the
-// ranks; then the statuses of the slab's Γ3 nodes (classify, with the global displacement scale)
-// and their counts over the owned ones.
-void Engine::slab_certificate(Solution& s) const {
-  const Solution& p = slab_out->piece;
+// check/certificate.cpp's certify over the owned nodes of the piece @p p (slab_piece's), its scales
+// and maxima reduced over the ranks, at @p o's tolerances (the polish reads a second time at a
+// coarser status_tol); then the statuses of the slab's Γ3 nodes (classify, with the global
+// displacement scale). Both into p (the caller's: the run's piece or a candidate's).
+void Engine::slab_certificate(Solution& p, const SolveOptions& o) const {
   const ContactState& st = p.state;
   const auto owned = [&](Index v) { return slab->owned_node[static_cast<size_t>(v)] != 0; };
   double umax = 0, fmax = 0, wsum = 0, lmax = 0;
@@ -101,7 +101,7 @@ void Engine::slab_certificate(Solution& s) const {
         umax = std::max(umax, std::abs(p.u[d * v + c])), fmax = std::max(fmax, std::abs(md.f[d * v + c]));
   for (Index k : my_nodes) wsum += md.contact.w[k], lmax = std::max({lmax, std::abs(st.lambda[k]), std::abs(st.xi[k])});
   CertificateReport r;
-  r.tol = opt.certificate_tol;
+  r.tol = o.certificate_tol;
   const double U = allreduce_max(umax, comm), h = allreduce_max(md.mesh.max_edge_length(), comm);
   r.length_scale = U > 0 ? U : h;
   r.force_scale = allreduce_max(fmax, comm);
@@ -127,7 +127,7 @@ void Engine::slab_certificate(Solution& s) const {
     const double stt = d == 2 ? std::abs(st.sigma_tau[k]) : st.sigma_tau[k];
     take(cone, pos(stt - st.lambda[k]) / S, at);
     const double y = st.u_tau_vec.row(k).norm();
-    if (y > opt.status_tol * Ul)  // −σ_τ = λ u_τ/|u_τ| on slipping nodes, eq. (6)
+    if (y > o.status_tol * Ul)  // −σ_τ = λ u_τ/|u_τ| on slipping nodes, eq. (6)
       take(slip, (st.sigma_tau_vec.row(k) + st.lambda[k] * st.u_tau_vec.row(k) / y).norm() / S, at);
   }
   // Interior equilibrium on the owned free components that are not on Γ3 (nor a roller's).
@@ -142,9 +142,21 @@ void Engine::slab_certificate(Solution& s) const {
   r.max_residual = 0;
   for (auto& c : r.residuals) reduce_residual(c, comm), r.max_residual = std::max(r.max_residual, c.value);
   r.passed = r.max_residual <= r.tol;
-  s.certificate = r;
-  slab_out->piece.status = classify(md, st, r.length_scale, opt.status_tol);
-  slab_out->piece.certificate = r;
+  p.status = classify(md, st, r.length_scale, o.status_tol);
+  p.certificate = r;
+}
+
+// A candidate's evaluation on the pieces (the polish's s0 and s1): as finish_slabs reads x, into a
+// Solution of its own, so that the run's piece and records stay as they are.
+Solution Engine::slab_evaluate(::Vec x, const SolveOptions& o) {
+  PVec R;
+  HC_PETSC(VecDuplicate(x, &R.v));
+  HC_PETSC(MatMult(K.m, x, R.v));
+  HC_PETSC(VecAXPY(R.v, -1.0, f.v));
+  Solution p;
+  slab_piece(x, R.v, p);
+  slab_certificate(p, o);
+  return p;
 }
 
 // The energies of eq. (22) from the pieces: a(u, u) = xᵀ K x and f·u = f_x·x by PETSc's
