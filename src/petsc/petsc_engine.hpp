@@ -18,9 +18,9 @@
 ///               formulas node by node on each piece's owned nodes with the maxima reduced (distributed mesh)
 ///
 /// Two layouts (docs/petsc-engine.md, "Distributed mesh"). The distributed one (solve_slabs): a
-/// generated box or rectangle is made per rank in slabs of cell layers (make_slab), any other mesh
-/// (a Gmsh file, a perturbed or crossed one) is made on rank 0 and distributed by DMPlex
-/// (make_plex_piece); each rank builds only its piece's model, PETSc's rows
+/// generated box or rectangle is made per rank in slabs of cell layers (make_slab), a box on more
+/// ranks than layers in blocks of cell columns (make_block), any other mesh (a Gmsh file, a
+/// perturbed or crossed one) is made on rank 0 and distributed by DMPlex (make_plex_piece); each rank builds only its piece's model, PETSc's rows
 /// are its owned nodes', the ghosts' rows come from their owners, the certificate and the energies
 /// are reductions over the owned nodes, and no rank holds the whole mesh or solution. With
 /// solver.petsc.mesh = replicated, every rank builds the whole model (solve): each rank copies its own rows of K into PETSc, and the certificate, the report and
@@ -59,8 +59,9 @@ Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& 
 /// docs/petsc-engine.md "Distributed mesh"): the local mesh holds every cell that touches an owned
 /// node, so that each owned node's row is complete locally; the other local nodes are ghosts, each
 /// owned by one other rank, and the engine gets their PETSc rows from their owners by the whole
-/// mesh's node number (Engine::exchange_ghosts). Two producers: make_slab (a generated box or
-/// rectangle in slabs of cell layers) and make_plex_piece (a Gmsh file distributed by DMPlex).
+/// mesh's node number (Engine::exchange_ghosts). Three producers: make_slab (a generated box or
+/// rectangle in slabs of cell layers), make_block (a box in blocks of cell columns) and
+/// make_plex_piece (a Gmsh file, or another mesh rank 0 makes, distributed by DMPlex).
 /// Local node and cell indices are those of the rank's own mesh.
 struct Piece {
   std::vector<char> owned_node;  ///< per local node: owned by this rank
@@ -85,7 +86,8 @@ struct Piece {
   // in y ny) and holds the cell columns [max(i0 − 1, 0), i1) × [max(j0 − 1, 0), j1), every z layer.
   int grid_x = 0, grid_y = 0;
   BlockRange block;
-  /// @return report.json's petsc.mesh: "distributed (per-rank slabs)" or "distributed (DMPlex, <partitioner>)".
+  /// @return report.json's petsc.mesh: "distributed (per-rank slabs)", "distributed (per-rank blocks,
+  /// px x py)" or "distributed (DMPlex, <partitioner>)".
   std::string describe() const {
     if (layout == "slabs") return "distributed (per-rank slabs)";
     if (layout == "blocks")
