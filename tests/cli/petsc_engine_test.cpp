@@ -746,6 +746,43 @@ TEST(PetscEngine, BlocksRefuseWhatTheyCannotCut) {
   fs::remove_all(dir);
 }
 
+// The polish's second reading on the pieces, as on the replicated mesh: TAO ends at a smoothing
+// width of 5 U (solver.eps_tau = eps_nu = eps_start = 5), where the polish on the statuses read at
+// check.status_tol is rejected (polish_with_readings then reads them at 10 ε, which the note says)
+// and the second is accepted. Its answer does not pass the certificate: exit 4 and
+// report.json saying so, with the same polish record (note, iterations, before and after to the
+// Krylov tolerance) and statuses on the slabs as on the replicated mesh (the polish's acceptance
+// reduced over the ranks against read on the gathered answer).
+TEST(PetscEngine, ThePolishsSecondReadingOnThePiecesAsOnTheReplicatedMesh) {
+  const fs::path dir = scratch("polish-readings");
+  const std::string args = "solve " + problem("sofonea2017-fig2") +
+                           " --set mesh.n=16 --backend tao:bnls --set solver.eps_tau=5 --set solver.eps_nu=5 "
+                           "--set solver.continuation.eps_start=5 --set output.vtu=false --quiet";
+  std::map<std::string, json> reports;
+  for (const std::string mesh : {"auto", "replicated"}) {
+    const CliOutcome r = run_mpi(dir, 2, args + " --set solver.petsc.mesh='\"" + mesh + "\"' --out " + (dir / mesh).string());
+    EXPECT_EQ(r.code, hemicontact::EXIT_CERTIFICATE) << mesh << ": " << r.err;
+    ASSERT_TRUE(fs::exists(dir / mesh / "report.json")) << mesh;
+    reports[mesh] = json::parse(slurp(dir / mesh / "report.json"));
+    const json& p = reports[mesh].at("polish");
+    EXPECT_EQ(p.at("attempted"), true) << mesh;
+    EXPECT_EQ(p.at("accepted"), true) << mesh;
+    EXPECT_EQ(p.at("note"), "statuses read at 10 eps") << mesh;
+    EXPECT_EQ(reports[mesh].at("certificate").at("passed"), false) << mesh;
+    EXPECT_EQ(reports[mesh].at("ok"), false) << mesh;
+  }
+  const json &a = reports.at("auto"), &b = reports.at("replicated");
+  EXPECT_EQ(a.at("petsc").at("mesh"), "distributed (per-rank slabs)");
+  EXPECT_EQ(a.at("status_counts"), b.at("status_counts"));
+  EXPECT_EQ(a.at("polish").at("iterations"), b.at("polish").at("iterations"));
+  const double rtol = a.at("options").at("certificate_tol").get<double>();
+  for (const char* key : {"certificate_before", "certificate_after"}) {
+    const double x = a.at("polish").at(key).get<double>(), y = b.at("polish").at(key).get<double>();
+    EXPECT_LE(std::abs(x - y), rtol * std::abs(y)) << key;
+  }
+  fs::remove_all(dir);
+}
+
 // What the slabs do not cover (a perturbed mesh, crossed cells) is made on rank 0 and distributed
 // by DMPlex with the default solver.petsc.mesh, with the cholmod engine's answer (TAO and ssn);
 // solver.petsc.mesh = replicated runs on the replicated mesh, and the report says so and why; a
