@@ -10,8 +10,9 @@
 // by rank 0, with a "petsc" record added), same exit codes.
 //
 // Every rank parses the scene. A generated box or rectangle (ssn or TAO) is made per rank, in slabs
-// of cell layers, and any other mesh (a Gmsh file, a perturbed or crossed one) is made by rank 0
-// and distributed by DMPlex (solver.petsc.mesh = "auto", the default): no rank holds the whole mesh
+// of cell layers (a box on more ranks than layers: in blocks of cell columns), and any other mesh
+// (a Gmsh file, a perturbed or crossed one) is made by rank 0 and distributed by DMPlex
+// (solver.petsc.mesh = "auto", the default): no rank holds the whole mesh
 // (rank 0 frees it once distributed), each writes its own piece of the results, and rank 0 gathers
 // only the Γ3 rows for report.json. With solver.petsc.mesh = "replicated" every rank builds the
 // whole model
@@ -64,13 +65,19 @@ void share(int& code, std::string& message, MPI_Comm comm) {
 }
 
 // The distributed layout for the scene: "slabs" (a generated box or rectangle that the slabs cover),
-// "dmplex" (anything else: a Gmsh file, a perturbed or crossed mesh, more ranks than cell layers;
-// rank 0 makes the whole mesh as build_mesh does and DMPlex distributes it), or "" with why in
-// @p why (solver.petsc.mesh = "replicated": every rank builds the whole model).
+// "blocks" (a box on more ranks than cell layers, or asked for), "dmplex" (anything else: a Gmsh
+// file, a perturbed or crossed mesh, a rectangle on more ranks than cell layers; rank 0 makes the
+// whole mesh as build_mesh does and DMPlex distributes it), or "" with why in @p why
+// (solver.petsc.mesh = "replicated": every rank builds the whole model).
 std::string distributed_layout(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm, std::string& why) {
   if (opt.petsc.mesh == "replicated") {
     why = "solver.petsc.mesh = replicated";
     return "";
+  }
+  const bool box = scene.at("mesh").at("type") == "box";
+  if (opt.petsc.mesh == "blocks") {  // asked for: what blocks cannot make is refused (make_block), not sent elsewhere
+    if (!box) input_error("solver.petsc.mesh = \"blocks\": only a generated box is made in blocks (mesh.type = box)");
+    return "blocks";
   }
   const std::string refusal = slab_refusal(scene);
   if (!refusal.empty()) {
@@ -79,11 +86,6 @@ std::string distributed_layout(const nlohmann::json& scene, const SolveOptions& 
   }
   int size = 1;
   MPI_Comm_size(comm, &size);
-  const bool box = scene.at("mesh").at("type") == "box";
-  if (opt.petsc.mesh == "blocks") {
-    if (!box) input_error("solver.petsc.mesh = \"blocks\": only a generated box is made in blocks (mesh.type = box)");
-    return "blocks";
-  }
   const SlabCut cut = slab_cut(scene);
   if (cut.layers < size) {
     // Beyond one rank per layer: a box's blocks, made per rank as the slabs are (no rank makes the

@@ -727,8 +727,9 @@ TEST(PetscEngine, PlotDrawsFromTheSlabPieces) {
 }
 
 // solver.petsc.mesh = "blocks" where no grid of blocks exists: a rectangle (blocks cut a box's
-// columns; fig2's Γ3 would leave some without contact), and 5 ranks on a 2 x 2-column box (5 is
-// prime and above both): an input error naming the key and why, from every rank alike, no result.
+// columns; fig2's Γ3 would leave some without contact), 5 ranks on a 2 x 2-column box (5 is prime
+// and above both), a perturbed box (its draws run over the whole box): an input error naming the
+// key and why, from every rank alike, no result.
 TEST(PetscEngine, BlocksRefuseWhatTheyCannotCut) {
   const fs::path dir = scratch("blocks-refused");
   const std::string blocks = " --set solver.petsc.mesh='\"blocks\"' --quiet --set output.vtu=false";
@@ -743,6 +744,12 @@ TEST(PetscEngine, BlocksRefuseWhatTheyCannotCut) {
   EXPECT_NE(five.err.find("5 MPI ranks do not make a grid of blocks of the box's 2 x 2 cell columns"), std::string::npos)
       << five.err;
   EXPECT_FALSE(fs::exists(dir / "five" / "report.json"));
+  // A perturbed box: asked for blocks, refused (auto would send it to DMPlex), naming mesh.perturb.
+  const CliOutcome perturbed = run_mpi(dir, 2, "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --set mesh.perturb=0.1" +
+                                                    blocks + " --out " + (dir / "perturbed").string());
+  EXPECT_EQ(perturbed.code, hemicontact::EXIT_INPUT) << perturbed.err;
+  EXPECT_NE(perturbed.err.find("mesh.perturb: a box made in blocks is not perturbed"), std::string::npos) << perturbed.err;
+  EXPECT_FALSE(fs::exists(dir / "perturbed" / "report.json"));
   fs::remove_all(dir);
 }
 
