@@ -152,11 +152,11 @@ class Engine : private OuterStepper {
   void distribute_slabs();
   void exchange_ghosts(const std::vector<Index>& sel);
   void finish_slabs(Solution& s, ::Vec x, clk::time_point t0);
-  // A piece's evaluation at x (R = K x − f): its u, Γ3 state (slab_piece), then the certificate by
-  // reductions and the statuses read at o.status_tol (slab_certificate), into p; slab_evaluate
+  // A piece's evaluation at x (R = K x − f): its u, Γ3 state (slab_piece), then the judge over the
+  // ranks: certificate, statuses read at o.status_tol, Γ3 energies, counts (slab_judge), into p; slab_evaluate
   // makes both for a candidate x (the polish's) without touching the run's piece (slab_out).
   void slab_piece(::Vec x, ::Vec R, Solution& p);
-  void slab_certificate(Solution& p, const SolveOptions& o) const;
+  void slab_judge(Solution& p, const SolveOptions& o) const;
   Solution slab_evaluate(::Vec x, const SolveOptions& o);
   void slab_energies(Solution& s, ::Vec x, ::Vec R) const;
   void slab_report(Solution& s);
