@@ -21,6 +21,7 @@
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/format.hpp>
+#include <hemicontact/check/status_equations.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/solver/outer_loop.hpp>
 
@@ -134,7 +135,6 @@ class Engine : private OuterStepper {
   void ssn_setup(Ssn& s);
   long ssn_linearize(Ssn& s, int k);
   int ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B);
-  int ssn_tangential(Ssn& s, size_t q, const SsnArrays& a, double* B);
   double ssn_right_hand_side(Ssn& s);
   bool ssn_step(Ssn& s, int k, long changed_all, double res);
   bool ssn_judge_hierarchy(Ssn& s, PetscInt its);
@@ -190,6 +190,7 @@ class Engine : private OuterStepper {
   std::optional<Solution> certified_copy() override;
   Solution finish() override;
   PolishResult polish(::Vec x_io, const SolveOptions& read_opt, const Solution& s0);
+  NodeRows polish_rows(Index k, const PetscScalar* px, const Solution& s0, double delta) const;
   std::vector<PetscInt> polish_start(::Vec x, const Solution& s0, double delta) const;
   bool polish_linearize(::Vec x, ::Vec R, ::Mat J, const Solution& s0, double delta,
                         const std::vector<PetscInt>& fixed);

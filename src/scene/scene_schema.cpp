@@ -337,17 +337,19 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "Newton iterations of the exact polish on the identified statuses."),
                        1));
   t.push_back(at_least(key("/solver/petsc/ssn_max_iters", "integer", D.petsc.ssn_max_iters,
-                           "Backend ssn (semismooth Newton): step cap; statuses are read again at every "
-                           "step, and reaching the cap is exit code 3."),
+                           "Backend ssn (semismooth Newton), both engines: step cap; statuses are read "
+                           "again at every step, and reaching the cap is exit code 3."),
                        1));
   t.push_back(below(above(key("/solver/petsc/ssn_rtol", "number", D.petsc.ssn_rtol,
-                              "Backend ssn: CG rtol of a step while statuses still change (a step with "
-                              "no change uses ksp_rtol)."),
+                              "Backend ssn, petsc engine: CG rtol of a step while statuses still change (a "
+                              "step with no change uses ksp_rtol; the cholmod engine factorizes such steps "
+                              "and solves the others by CG on the last factor to ksp_rtol)."),
                           0),
                     1));
   t.push_back(below(above(key("/solver/petsc/ssn_tol", "number", D.petsc.ssn_tol,
-                              "Backend ssn: converged when the statuses held and the residual (max norm "
-                              "over max|f|) is at most this."),
+                              "Backend ssn, petsc engine: converged when the statuses held and the "
+                              "residual (max norm over max|f|) is at most this (the cholmod engine's ssn "
+                              "steps on to round-off: its steps then cost one CG iteration)."),
                           0),
                     1e-6));
   t.push_back(at_least(key("/solver/petsc/pc_rebuild", "number", D.petsc.pc_rebuild,

@@ -18,6 +18,7 @@
 #include <hemicontact/solver/exact_inner.hpp>
 #include <hemicontact/solver/outer_loop.hpp>
 #include <hemicontact/solver/polish.hpp>
+#include <hemicontact/solver/ssn.hpp>
 #include <hemicontact/solver/run_messages.hpp>
 
 #include <chrono>
@@ -58,6 +59,15 @@ std::string choose_formulation(const Model& md, const SolveOptions& opt) {
   if (opt.formulation == "condensed" && !md.material->is_linear())
     input_error("solver.formulation = condensed: static condensation is exact only for a linear material (" +
                 md.material->describe() + "); use full or auto");
+  // ssn is the exact solver of the full space (solver/ssn.hpp): it reads K_x, not a Schur complement.
+  if (opt.backend == SSN_BACKEND) {
+    if (!md.material->is_linear())
+      input_error("solver.backend = ssn: the full-space semismooth Newton needs a linear material (" +
+                  md.material->describe() + "); use the design's path (solver.backend = auto)");
+    if (opt.formulation == "condensed")
+      input_error("solver.backend = ssn runs in the full space: use solver.formulation = full or auto");
+    return "full";
+  }
   if (opt.formulation != "auto") return opt.formulation;
   // Condensation is exact for a linear material and pays whenever Γ3 is a small part of the mesh.
   return md.material->is_linear() && md.contact.size() > 0 ? "condensed" : "full";
@@ -84,11 +94,16 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
     F.energy->add(F.condensed_elastic);
     for (Index k = 0; k < nc; ++k) F.nd.first.push_back(d * k);
     F.z_free = F.cond->y_C();
+  } else if (opt.backend == SSN_BACKEND) {
+    // ssn factorizes its own Newton matrices and needs no scales: no elastic solve here.
+    F.z_free = Vec::Zero(md.dofs.n_free());
   } else {
     SparseCholesky chol;
     chol.compute(md.Kx);
     F.z_free = chol.solve(md.fx);
     timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
+  }
+  if (F.name == "full") {
     // z_free (from K(0) for a nonlinear law) only sets the solver's scales.
     if (md.material->is_linear()) {
       auto elastic = std::make_shared<ElasticEnergy>(md.Kx);
@@ -164,6 +179,7 @@ struct ContactSolver::Impl {
   };
 
   Solution header() const;
+  Solution ssn_answer(const Vec* z0, clk::time_point t_start);
   Solution linear_answer(clk::time_point t_start) const;
   bool solve_linear(clk::time_point t_start);
   void note_skipped();
@@ -197,9 +213,12 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
     input_error("solver.engine = " + opt.engine +
                 ": this command runs the cholmod engine only; the petsc engine runs `hemicontact solve` "
                 "(hemicontact-mpi)");
-  I.backend = make_backend(opt.backend);
-  // The backend's options are checked now: the exact solver may answer without running it.
-  I.backend->check_options(opt.backend_options);
+  // ssn is no NLP backend: ContactSolver runs it itself (ssn_answer).
+  if (opt.backend != SSN_BACKEND) {
+    I.backend = make_backend(opt.backend);
+    // The backend's options are checked now: the exact solver may answer without running it.
+    I.backend->check_options(opt.backend_options);
+  }
 
   // Nothing nonlinear and no obstacle: one sparse Cholesky solve is the answer (no backend at all).
   if (I.solve_linear(t_start)) return;
@@ -380,6 +399,7 @@ Solution ContactSolver::solve(const Vec* z0) {
   const auto t_start = clk::now();
   Impl& I = *m;
   if (I.linear) return I.linear_answer(t_start);
+  if (I.opt.backend == SSN_BACKEND) return I.ssn_answer(z0, t_start);
   // What the report says of the backend: whether it ran, and why not when it did not.
   const auto done = [&](Solution&& s, const std::string& not_run = "") -> Solution {
     s.backend_use.ran = s.work_of(s.backend).minimizations > 0;
@@ -495,7 +515,7 @@ Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_star
 // What every answer carries from the set-up.
 Solution ContactSolver::Impl::header() const {
   Solution sol;
-  sol.backend = backend->name();
+  sol.backend = backend ? backend->name() : opt.backend;
   sol.backend_use.requested = opt.backend;
   sol.skipped = skipped;
   sol.smallness = smallness;
@@ -514,6 +534,37 @@ Solution ContactSolver::Impl::linear_answer(clk::time_point t_start) const {
   sol.timings["solve_total"] = since(t_start) + setup_timings.at("setup_total");
   sol.message = sol.certificate.passed ? "linear solve; certificate passed" : "linear solve; certificate failed";
   return sol;
+}
+
+// Backend ssn: the exact solver of the full space (solver/ssn.hpp) from @p z0 (full unknowns), no
+// smoothing and no outer loop; judged by the certificate as every answer is.
+Solution ContactSolver::Impl::ssn_answer(const Vec* z0, clk::time_point t_start) {
+  Run run;
+  Solution& sol = run.sol;
+  sol = header();
+  sol.formulation = F.name;
+  sol.backend = "ssn (semismooth Newton, CHOLMOD)";
+  sol.skipped.push_back("continuation: ssn solves the unsmoothed problem (no eps stages)");
+  sol.skipped.push_back("polish: ssn's steps are the polish's, with statuses updated");
+  if (lagged) sol.skipped.push_back("fixed_point: lambda = F_b(u_nu) is read at every Newton step (no outer loop)");
+  // No stop before a step at round-off (tol 0, unlike the petsc engine's ssn_tol): here a step
+  // whose statuses held is one CG iteration on the last factor, and the answer is then as exact as
+  // the condensed solver's (1e-14 U, not the 1e-12 F of a residual test).
+  const SsnOutcome o = ssn_full(*model, SsnLimits{opt.petsc.ssn_max_iters, 0.0, opt.petsc.ksp_rtol}, z0);
+  OuterIteration rec;
+  rec.solver = sol.backend;
+  rec.backend.iterations = o.steps;
+  rec.backend.seconds = o.seconds;
+  rec.backend.status = o.converged ? SolveStatus::CONVERGED : SolveStatus::MAX_ITERATIONS;
+  rec.backend.message = o.converged ? "ssn converged in " + std::to_string(o.steps) + " Newton steps" : o.message;
+  sol.history.push_back(rec);
+  sol.backend_use.ran = true;
+  sol.backend_ok = o.converged;
+  if (!o.converged) sol.message = o.message;
+  sol.x = o.x;
+  sol.u = model->dofs.to_full(sol.x);
+  certify(run, t_start);
+  return std::move(run.sol);
 }
 
 // The start z0 (zero by default) in scaled unknowns, projected onto the bounds, with λ frozen there.
@@ -625,7 +676,7 @@ void ContactSolver::Impl::certify(Run& run, clk::time_point t_start) const {
   evaluate_solution(*model, opt, sol);
   sol.timings["certificate"] = since(t1);
   // The backend's own minimizations (the exact solver's inner solves are under "exact").
-  sol.timings["backend"] = sol.work_of(backend->name()).seconds;
+  sol.timings["backend"] = sol.work_of(sol.backend).seconds;
   sol.timings["solve_total"] = since(t_start) + setup_timings.at("setup_total");
   state_verdict(sol);
   if (!sol.fixed_point_converged) log_warn() << sol.message;
