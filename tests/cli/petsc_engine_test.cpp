@@ -189,6 +189,32 @@ TEST(PetscEngine, BackendsListSsnAndTao) {
   fs::remove_all(dir);
 }
 
+// Every layout prints the summary (one function, output/report.hpp's summary_table): the pieces'
+// from their reduced records and the Γ3 rows gathered to rank 0, the same lines as the cholmod
+// engine's where the answers agree (statuses, counts, the certificate's verdict).
+TEST(PetscEngine, ThePiecesPrintTheSameSummaryAsOneProcess) {
+  const fs::path dir = scratch("slab-summary");
+  const std::string args = "solve " + problem("sofonea2017-fig2") + " --set mesh.n=16 --set output.vtu=false";
+  const CliOutcome one = run_cli(dir, args + " --out " + (dir / "one").string());
+  const CliOutcome two = run_mpi(dir, 2, args + " --out " + (dir / "two").string());
+  ASSERT_EQ(one.code, 0) << one.err;
+  ASSERT_EQ(two.code, 0) << two.err;
+  const auto line = [](const std::string& out, const std::string& label, int lines) {
+    const size_t hit = out.compare(0, label.size(), label) == 0 ? 0 : out.find("\n" + label);
+    if (hit == std::string::npos) return std::string("(no " + label + ")");
+    const size_t at = hit == 0 ? 0 : hit + 1;
+    size_t end = at;
+    for (int i = 0; i < lines; ++i) end = out.find('\n', end) + 1;
+    return out.substr(at, end - at);
+  };
+  EXPECT_NE(two.out.find("pieces)"), std::string::npos) << two.out;
+  EXPECT_EQ(line(two.out, "status", 2), line(one.out, "status", 2)) << two.out;
+  EXPECT_EQ(line(two.out, "gamma3 nodes", 4), line(one.out, "gamma3 nodes", 4)) << two.out;
+  EXPECT_NE(line(two.out, "certificate", 1).find("passed"), std::string::npos) << two.out;
+  EXPECT_NE(line(two.out, "mesh", 1).find("289 nodes, 512 cells, 17 gamma3 nodes"), std::string::npos) << two.out;
+  fs::remove_all(dir);
+}
+
 // ssn runs in both engines (solver/ssn.hpp: the same node rows, CHOLMOD for CG + AMG): in the
 // cholmod engine the summary names the engine's linear solve.
 TEST(PetscEngine, SsnRunsInTheCholmodEngineToo) {
