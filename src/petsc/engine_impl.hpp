@@ -183,7 +183,7 @@ class Engine : private OuterStepper {
   std::string backend_name() const override { return "tao:" + tao_type(opt.backend); }
   void set_smoothing(size_t stage) override;
   OuterIteration minimize(size_t stage) override;
-  void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) override;
+  LambdaChange relax_lambda() override;
   // The polish (petsc_polish.cpp) reads and writes a PETSc vector (owned rows) and the statuses of
   // the owned Γ3 nodes: on the replicated mesh and on the pieces alike.
   bool polish_exists() const override { return true; }

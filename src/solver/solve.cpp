@@ -189,7 +189,7 @@ struct ContactSolver::Impl {
   struct Stepper;  // the steps of the outer algorithm (outer_loop.hpp) on a Run
   void set_smoothing(size_t stage);
   OuterIteration minimize(Run& run, size_t stage);
-  void relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta);
+  LambdaChange relax_lambda(Run& run);
   /// The polish (when @p attempt and solver.polish), then x and u from the iterate.
   void polish(Run& run, bool attempt = true);
   bool all_separated(const Vec& z) const;
@@ -479,9 +479,7 @@ struct ContactSolver::Impl::Stepper final : OuterStepper {
     if (stage == 0) run.sol.start_energy = I.F.energy->value(I.U_s * run.zs);
   }
   OuterIteration minimize(size_t stage) override { return I.minimize(run, stage); }
-  void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) override {
-    I.relax_lambda(run, rec, measure_contraction, prev_delta);
-  }
+  LambdaChange relax_lambda() override { return I.relax_lambda(run); }
   bool polish_exists() const override { return I.F.cond != nullptr; }
   std::optional<Solution> certified_copy() override {
     Run trial = run;
@@ -614,19 +612,13 @@ OuterIteration ContactSolver::Impl::minimize(Run& run, size_t stage) {
 }
 
 // λ ← (1−θ)λ + θ F_b(u_ν), with the change and (when @p measure_contraction) the contraction ρ_k.
-void ContactSolver::Impl::relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta) {
+LambdaChange ContactSolver::Impl::relax_lambda(Run& run) {
   const Vec lam_old = F.friction->lambda();
   const Vec lam = (1 - opt.relaxation) * lam_old + opt.relaxation * friction_bounds(run.zs);
-  rec.change_lambda = rel_change(lam, lam_old);
-  rec.delta_lambda = (lam - lam_old).cwiseAbs().maxCoeff();
-  // ρ_k of the relaxed map, from two successive updates at the same ε, both above the
-  // inner solves' round-off (contraction_floor): λ rather than u because λ is the variable
-  // the map iterates (λ ↦ F_b(u_ν(λ))); u_ν(λ) is a solution operator with its own scale.
-  const double noise = opt.contraction_floor * std::max(lam.cwiseAbs().maxCoeff(), lam_old.cwiseAbs().maxCoeff());
-  if (measure_contraction && prev_delta > noise && rec.delta_lambda > noise)
-    rec.contraction = rec.delta_lambda / prev_delta;
-  prev_delta = rec.delta_lambda;
+  const LambdaChange c{(lam - lam_old).cwiseAbs().maxCoeff(),
+                       std::max(lam.cwiseAbs().maxCoeff(), lam_old.cwiseAbs().maxCoeff())};
   F.friction->set_lambda(lam);
+  return c;
 }
 
 // The exact polish on the identified statuses (solver/polish.hpp), then x and u. Polished even
