@@ -82,7 +82,7 @@ std::vector<Entry> registry() {
   // refused as an NLP backend (minima's backend switch).
   r.push_back({SSN_BACKEND, SSN_BACKEND,
                "semismooth Newton on the unsmoothed statuses in the full space: cholmod engine with a CHOLMOD "
-               "factorization per step; petsc engine (its default) with CG + GAMG",
+               "factorization per status change; petsc engine (its default) with CG + GAMG",
                "", [](const std::string&) -> std::unique_ptr<NlpBackend> {
                  throw Error("backend 'ssn' is the full-space exact solver, not an NLP backend: give it as "
                              "solver.backend = ssn (--backend ssn) of a solve",
