@@ -36,10 +36,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <new>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -53,6 +55,19 @@ const char* const HELP =
     "  mpirun -np P hemicontact solve SCENE.json --set solver.engine='\"petsc\"' --out DIR\n"
     "Same scene keys, results and exit codes as `hemicontact solve --help` describes; settings of the\n"
     "engine under solver.petsc (docs/scene-format.md). PETSc options: solver.petsc.options or PETSC_OPTIONS.\n";
+
+// An error every rank holds, agreed on in a collective step (share, on_every_rank): the ranks can
+// leave together through PetscFinalize. Any other error may be one rank's alone while the others
+// wait in a collective for it, so main() ends the whole job on it (MPI_Abort).
+struct SharedError : Error {
+  using Error::Error;
+};
+
+// How long a rank other than 0 that met an error waits before it prints the message and ends the
+// job itself: where every rank met the same error, rank 0 prints it and aborts first (the message
+// once); where only this rank did, rank 0 is waiting in a collective and never will. Well inside
+// the 10 s in which every rank must stop after a failure (issue 40).
+constexpr std::chrono::seconds OTHER_RANKS_ABORT_GRACE{2};
 
 // Rank 0's outcome of a step only it does (the output folder), shared with every rank: the code
 // (0: fine) and the message.
@@ -121,7 +136,7 @@ void on_every_rank(MPI_Comm comm, const F& fn) {
   int code0 = code;
   MPI_Bcast(&code0, 1, MPI_INT, 0, comm);
   if (code != 0 && rank != 0 && code0 == 0) std::fprintf(stderr, "hemicontact: error (rank %d): %s\n", rank, message.c_str());
-  throw Error(code != 0 ? message : "another rank stopped (its message is above)", static_cast<ExitCode>(worst));
+  throw SharedError(code != 0 ? message : "another rank stopped (its message is above)", static_cast<ExitCode>(worst));
 }
 
 // The free (not clamped) nodes on Γ3 facets of a mesh.
@@ -229,7 +244,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
     }
   }
   share(code, message, comm);
-  if (code != 0) throw Error(message, static_cast<ExitCode>(code));
+  if (code != 0) throw SharedError(message, static_cast<ExitCode>(code));
   std::string replicated;
   const std::string layout = distributed_layout(scene, opt, comm, replicated);
   if (!layout.empty()) return run_slabs(a, plot_args, scene, opt, comm, t0, layout);
@@ -260,8 +275,20 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
     }
   }
   share(code, message, comm);
-  if (code != 0) throw Error(message, static_cast<ExitCode>(code));
+  if (code != 0) throw SharedError(message, static_cast<ExitCode>(code));
   return cli::solve_verdict(sol, opt);
+}
+
+// The end of a job after an error that may be this rank's alone: the message printed once (rank
+// 0's; another rank's only if rank 0 has not ended the job within the grace period), then
+// MPI_Abort, which stops every rank; Open MPI's mpirun exits with @p code.
+[[noreturn]] void abort_job(int rank, int size, const std::string& line, int code) {
+  if (rank != 0 && size > 1) std::this_thread::sleep_for(OTHER_RANKS_ABORT_GRACE);
+  std::fflush(stdout);
+  std::fputs(line.c_str(), stderr);
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);  // MPI_Abort does not return; should it, this rank still ends with the code
 }
 
 }  // namespace
@@ -275,29 +302,38 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hemicontact-mpi: internal error: PETSc/MPI could not be initialized\n");
     return EXIT_INTERNAL;
   }
-  int rank = 0;
+  int rank = 0, size = 1;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
   install_interrupt_handlers();
-  // The errors below are collective (each rank meets the same one, or rank 0 shared it): rank 0
-  // prints it and every rank returns the same code.
+  // Usage errors (every rank parses the same arguments before any communication) and shared ones
+  // are collective: rank 0 prints it and every rank returns the same code. Any other error may be
+  // one rank's alone (its piece of the mesh, its memory): abort_job ends every rank.
   int code = EXIT_INTERNAL;
+  const std::string where = size > 1 ? " (rank " + std::to_string(rank) + ")" : std::string();
   try {
     code = run(args, PETSC_COMM_WORLD);
   } catch (const cli::UsageError& e) {
     if (rank == 0) std::fprintf(stderr, "hemicontact: %s (see hemicontact solve --help)\n", e.what());
     code = EXIT_USAGE;
-  } catch (const Error& e) {
+  } catch (const SharedError& e) {
     if (rank == 0) std::fprintf(stderr, "hemicontact: error: %s\n", e.what());
     code = e.code();
+  } catch (const Error& e) {
+    if (size == 1) {
+      std::fprintf(stderr, "hemicontact: error: %s\n", e.what());
+      code = e.code();
+    } else {
+      abort_job(rank, size, "hemicontact: error" + where + ": " + e.what() + "\n", e.code());
+    }
   } catch (const std::bad_alloc&) {
-    // Not known to be collective either; the memory message and code 2 as in `hemicontact`.
-    std::fprintf(stderr, "hemicontact: error (rank %d): %s\n", rank,
-                 out_of_memory_message("an allocation of the petsc engine (std::bad_alloc)").c_str());
-    MPI_Abort(PETSC_COMM_WORLD, EXIT_INPUT);
+    // The memory message and code 2 as in `hemicontact`.
+    abort_job(rank, size,
+              "hemicontact: error" + where + ": " +
+                  out_of_memory_message("an allocation of the petsc engine (std::bad_alloc)") + "\n",
+              EXIT_INPUT);
   } catch (const std::exception& e) {
-    // Not known to be collective: a rank alone in trouble must not leave the others waiting.
-    std::fprintf(stderr, "hemicontact: internal error (rank %d): %s\n", rank, e.what());
-    MPI_Abort(PETSC_COMM_WORLD, EXIT_INTERNAL);
+    abort_job(rank, size, "hemicontact: internal error" + where + ": " + e.what() + "\n", EXIT_INTERNAL);
   }
   // PetscFinalize stops at its first error (with the engine's error handler it returns it) before
   // MPI_Finalize, and mpirun then reports the rank as "exiting improperly" with exit code 1 after

@@ -367,7 +367,7 @@ void check_text(const json& scene) {
 }
 
 void check_selectors(const json& boundary) {
-  for (const char* gamma : {"gamma1", "gamma2", "gamma3"}) {
+  for (const char* gamma : {"gamma1", "gamma2", "gamma3", "rollers"}) {
     const json& list = boundary.at(gamma);
     for (std::size_t i = 0; i < list.size(); ++i) {
       const json& s = list[i];
@@ -377,6 +377,12 @@ void check_selectors(const json& boundary) {
       if (!side && !physical)
         key_error(path, "set exactly one of 'side' (a side of the bounding box) and 'physical' (a Gmsh group)");
       const json &from = s.at("from"), &to = s.at("to");
+      // [from, to) is measured along a side of the bounding box; a physical group has no such axis,
+      // and an interval on it was silently ignored (the whole group selected, issue 40).
+      if (physical && !(from.is_null() && to.is_null()))
+        key_error(path + (from.is_null() ? ".to" : ".from"),
+                  "an interval [from, to) restricts a 'side' selector only (it is measured along the side); "
+                  "a 'physical' group is taken whole: remove from/to, or make the group smaller in the mesh");
       if (from.is_number() && to.is_number() && !(from.get<double>() < to.get<double>()))
         key_error(path, "empty range [from, to) = [" + from.dump() + ", " + to.dump() + ")");
     }

@@ -290,6 +290,29 @@ TEST(SceneSchemaErrors, SelectorNeedsExactlyOneOfSideAndPhysical) {
                   "'boundary.gamma2[0]': empty range [from, to) = [0.5, 0.5)");
 }
 
+// An interval on a physical group was ignored: {"physical": "contact", "from": 100, "to": 200}
+// selected the whole group and certified (issue 40). It is refused, naming the key, on every
+// boundary part and on the rollers.
+TEST(SceneSchemaErrors, IntervalOnAPhysicalSelectorIsRefused) {
+  for (const char* part : {"gamma1", "gamma3", "rollers"}) {
+    SCOPED_TRACE(part);
+    json s = paper_scene();
+    json sel = {{"physical", "contact"}, {"from", 100}, {"to", 200}};
+    if (std::string(part) == "rollers") sel["components"] = {"x"};
+    s["boundary"][part] = json::array({sel});
+    EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                    std::string("scene key 'boundary.") + part + "[0].from': an interval [from, to) restricts a 'side'");
+    s["boundary"][part][0].erase("from");
+    EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                    std::string("scene key 'boundary.") + part + "[0].to'");
+  }
+  // The rollers are checked as the three parts are (they were not before).
+  json s = paper_scene();
+  s["boundary"]["rollers"] = json::array({{{"side", "left"}, {"physical", "x"}, {"components", {"x"}}}});
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                  "'boundary.rollers[0]': set exactly one of 'side' and 'physical', not both");
+}
+
 TEST(SceneSchemaErrors, Gap) {
   json s = minimal_scene();
   for (const json& ok : {json(0.15), json(0), json("inf"), json(nullptr)}) {
