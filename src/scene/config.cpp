@@ -366,6 +366,18 @@ void check_text(const json& scene) {
   }
 }
 
+// A file name is handed to the C library, which ends it at a NUL byte: "m.msh\u0000.txt" would
+// read m.msh, and the messages printed the name cut short (issue 40).
+void check_file_name(const json& name, const std::string& path) {
+  if (!name.is_string()) return;
+  const std::string& text = name.get_ref<const std::string&>();
+  const size_t nul = text.find('\0');
+  if (nul != std::string::npos)
+    key_error(path, "the file name holds a NUL byte (\\u0000) at character " + std::to_string(nul + 1) + " ('" +
+                        printable(text) + "'); a file name cannot contain one");
+  if (text.empty()) key_error(path, "empty file name");
+}
+
 void check_selectors(const json& boundary) {
   for (const char* gamma : {"gamma1", "gamma2", "gamma3", "rollers"}) {
     const json& list = boundary.at(gamma);
@@ -600,6 +612,7 @@ json validate_scene(json scene) {
   check_finite(scene, "");
   validate_object(scene, "", "", idx);
   check_selectors(scene["boundary"]);
+  check_file_name(scene["mesh"]["file"], "mesh.file");
   check_gap(scene["contact"]["gap"]);
   check_interval(scene["mesh"]["x"], "mesh.x");
   check_interval(scene["mesh"]["y"], "mesh.y");

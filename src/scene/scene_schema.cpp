@@ -185,10 +185,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                              "E/(3(1 − 2 nu)), μ_0 = E/(2(1 + nu)))."),
                     0));
   // (−1, 1) keeps both E/(1+κ) and the plane-stress factor 1/(1−κ²) finite and positive; the
-  // stricter κ < 0.5 of plane strain depends on `plane`, so the material checks it.
+  // materials refuse κ ≥ 0.5 in every plane (linear_elastic.cpp, hencky.cpp), with their own
+  // message, and the text says so (it said plane strain only, issue 40).
   t.push_back(below(above(required("/material/nu", "number",
-                                   "Poisson's ratio κ. Plane strain also needs κ < 0.5 (checked by "
-                                   "the material)."),
+                                   "Poisson's ratio κ. The material needs κ < 0.5 in plane stress, plane "
+                                   "strain and 3D alike (0.5 is incompressible; checked by the material), "
+                                   "so the range in effect is (−1, 0.5)."),
                           -1),
                     1));
   t.push_back(key("/material/plane", "string", "stress",
