@@ -378,6 +378,25 @@ void check_file_name(const json& name, const std::string& path) {
   if (text.empty()) key_error(path, "empty file name");
 }
 
+// Keys of one mesh type set on a scene of another changed nothing, silently (issue 40's audit):
+// refused where the key's default tells a set value apart (null, 0, "none"). mesh.nx/ny/nz,
+// x/y/z, diagonal and pattern have non-null defaults and cannot be told apart here.
+void check_mesh_keys(const json& mesh) {
+  const std::string type = mesh.at("type").get<std::string>();
+  const std::string is = " (mesh.type is '" + type + "')";
+  if (type != "gmsh" && !mesh.at("file").is_null())
+    key_error("mesh.file", "is read for mesh.type = \"gmsh\" only" + is + ": remove it, or set mesh.type");
+  if (type == "gmsh") {
+    if (!mesh.at("n").is_null())
+      key_error("mesh.n", "refines a generated mesh (rectangle, box); a Gmsh mesh is used as read" + is);
+    if (mesh.at("perturb").get<double>() > 0)
+      key_error("mesh.perturb", "moves the nodes of a generated mesh (rectangle, box), not of a Gmsh mesh" + is);
+  }
+  const json& g = mesh.at("grading");
+  if (type != "rectangle" && (g.at("x") != "none" || g.at("y") != "none"))
+    key_error("mesh.grading", "grades a rectangle's grid lines only" + is);
+}
+
 void check_selectors(const json& boundary) {
   for (const char* gamma : {"gamma1", "gamma2", "gamma3", "rollers"}) {
     const json& list = boundary.at(gamma);
@@ -613,6 +632,7 @@ json validate_scene(json scene) {
   validate_object(scene, "", "", idx);
   check_selectors(scene["boundary"]);
   check_file_name(scene["mesh"]["file"], "mesh.file");
+  check_mesh_keys(scene["mesh"]);
   check_gap(scene["contact"]["gap"]);
   check_interval(scene["mesh"]["x"], "mesh.x");
   check_interval(scene["mesh"]["y"], "mesh.y");

@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -322,6 +323,42 @@ TEST(PetscEngine, MoreRanksThanCellsIsRefused) {
                                    (dir / "o").string());
   EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
   EXPECT_NE(r.err.find("3 MPI ranks for a mesh of 2 cells"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
+// An error on one rank while the others wait in a collective hung the job (issue 40): rank 0
+// printed "a rank's piece of the mesh has no free node" and waited in PetscFinalize, ranks 1 and 2
+// spun in MPI_Allreduce. Every case must end every rank within seconds, with the message once and
+// the documented exit code (mpirun exits with the code given to MPI_Abort). Under `timeout`: a
+// hang is a failure (exit 124), not a stuck test.
+TEST(PetscEngine, AnErrorOnOneRankEndsEveryRank) {
+  const fs::path dir = scratch("one-rank-error");
+  std::string mpirun = MPIRUN;
+  mpirun.replace(mpirun.find("mpirun"), 6, "timeout -k 5 60 mpirun");
+  struct Case {
+    int np;
+    std::string args;
+  };
+  const std::vector<Case> cases{
+      {3, problem("sofonea2017-3d") + " --set mesh.n=2"},
+      {2, problem("sofonea2017-fig2") + " --set mesh.n=2 --set 'boundary.gamma1=[{\"side\": \"left\"}]'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto t0 = std::chrono::steady_clock::now();
+    const CliOutcome r = run_cli(dir, "solve " + c.args + " --set solver.engine='\"petsc\"' --quiet --out " +
+                                          (dir / "o").string(),
+                                 mpirun + " " + std::to_string(c.np));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+    const std::string message = "a rank's piece of the mesh has no free node";
+    const size_t at = r.err.find(message);
+    ASSERT_NE(at, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(message, at + 1), std::string::npos) << "printed more than once:\n" << r.err;
+    // Start-up, the failure and the abort: far below the hang's 60 s (10 s after the failure, issue 40).
+    EXPECT_LT(seconds, 30) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
+  }
   fs::remove_all(dir);
 }
 

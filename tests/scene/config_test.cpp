@@ -313,6 +313,32 @@ TEST(SceneSchemaErrors, IntervalOnAPhysicalSelectorIsRefused) {
                   "'boundary.rollers[0]': set exactly one of 'side' and 'physical', not both");
 }
 
+// A key of one mesh type on a scene of another changed nothing: refused, naming it.
+TEST(SceneSchemaErrors, MeshKeysOfAnotherMeshTypeAreRefused) {
+  json s = paper_scene();
+  s["mesh"]["file"] = "m.msh";  // a rectangle
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                  "scene key 'mesh.file': is read for mesh.type = \"gmsh\" only (mesh.type is 'rectangle')");
+  s = paper_scene();
+  s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}, {"n", 8}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.n': refines a generated mesh");
+  s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}, {"perturb", 0.1}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.perturb'");
+  s["mesh"] = {{"type", "box"}, {"grading", {{"x", "low"}}}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                  "scene key 'mesh.grading': grades a rectangle's grid lines only (mesh.type is 'box')");
+  s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}};
+  EXPECT_NO_THROW(validate_scene(s));
+}
+
+// A NUL byte in mesh.file ended the name early in every system call (and cut the messages short).
+TEST(SceneSchemaErrors, NulByteInMeshFileIsRefused) {
+  json s = paper_scene();
+  s["mesh"] = {{"type", "gmsh"}, {"file", std::string("m.msh\0.txt", 11)}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                  "scene key 'mesh.file': the file name holds a NUL byte (\\u0000) at character 6");
+}
+
 TEST(SceneSchemaErrors, Gap) {
   json s = minimal_scene();
   for (const json& ok : {json(0.15), json(0), json("inf"), json(nullptr)}) {
