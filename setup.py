@@ -6,7 +6,7 @@ else build/ (scripts/build.sh's), configured here first if it has never been. An
 is only checked, so installing after scripts/build.sh takes seconds. Offline, with Debian's pip,
 setuptools and wheel (scripts/install-deps.sh):
 
-    python3 -m venv --system-site-packages /tmp/v
+    /usr/bin/python3 -m venv --system-site-packages /tmp/v
     /tmp/v/bin/pip install --no-build-isolation --no-index .
 """
 import os

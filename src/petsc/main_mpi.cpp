@@ -66,7 +66,7 @@ struct SharedError : Error {
 // How long a rank other than 0 that met an error waits before it prints the message and ends the
 // job itself: where every rank met the same error, rank 0 prints it and aborts first (the message
 // once); where only this rank did, rank 0 is waiting in a collective and never will. Well inside
-// the 10 s in which every rank must stop after a failure (issue 40).
+// the 10 s in which every rank must stop after a failure.
 constexpr std::chrono::seconds OTHER_RANKS_ABORT_GRACE{2};
 
 // Rank 0's outcome of a step only it does (the output folder), shared with every rank: the code

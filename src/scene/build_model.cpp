@@ -261,7 +261,7 @@ double estimate_petsc_memory(double nodes, int dim) {
 constexpr int MAX_MEMORY_DIGITS = 6;
 
 std::pair<std::string, std::string> distinct_gigabytes(double need, double have) {
-  // "needs about 1.1 GB ... 1.1 GB are available" read as a contradiction (issue 40).
+  // "needs about 1.1 GB ... 1.1 GB are available" read as a contradiction.
   int digits = 2;
   while (digits < MAX_MEMORY_DIGITS && gigabytes(need, digits) == gigabytes(have, digits)) ++digits;
   return {gigabytes(need, digits), gigabytes(have, digits)};

@@ -367,7 +367,7 @@ void check_text(const json& scene) {
 }
 
 // A file name is handed to the C library, which ends it at a NUL byte: "m.msh\u0000.txt" would
-// read m.msh, and the messages printed the name cut short (issue 40).
+// read m.msh, and the messages printed the name cut short.
 void check_file_name(const json& name, const std::string& path) {
   if (!name.is_string()) return;
   const std::string& text = name.get_ref<const std::string&>();
@@ -378,7 +378,7 @@ void check_file_name(const json& name, const std::string& path) {
   if (text.empty()) key_error(path, "empty file name");
 }
 
-// Keys of one mesh type set on a scene of another changed nothing, silently (issue 40's audit):
+// Keys of one mesh type set on a scene of another changed nothing, silently (an audit of the schema):
 // refused where the key's default tells a set value apart (null, 0, "none"). mesh.nx/ny/nz,
 // x/y/z, diagonal and pattern have non-null defaults and cannot be told apart here.
 void check_mesh_keys(const json& mesh) {
@@ -409,7 +409,7 @@ void check_selectors(const json& boundary) {
         key_error(path, "set exactly one of 'side' (a side of the bounding box) and 'physical' (a Gmsh group)");
       const json &from = s.at("from"), &to = s.at("to");
       // [from, to) is measured along a side of the bounding box; a physical group has no such axis,
-      // and an interval on it was silently ignored (the whole group selected, issue 40).
+      // and an interval on it was silently ignored (the whole group selected).
       if (physical && !(from.is_null() && to.is_null()))
         key_error(path + (from.is_null() ? ".to" : ".from"),
                   "an interval [from, to) restricts a 'side' selector only (it is measured along the side); "

@@ -186,7 +186,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                     0));
   // (−1, 1) keeps both E/(1+κ) and the plane-stress factor 1/(1−κ²) finite and positive; the
   // materials refuse κ ≥ 0.5 in every plane (linear_elastic.cpp, hencky.cpp), with their own
-  // message, and the text says so (it said plane strain only, issue 40).
+  // message, and the text says so (it said plane strain only).
   t.push_back(below(above(required("/material/nu", "number",
                                    "Poisson's ratio κ. The material needs κ < 0.5 in plane stress, plane "
                                    "strain and 3D alike (0.5 is incompressible; checked by the material), "

@@ -376,7 +376,7 @@ TEST_F(OutputSafety, AnInterruptDuringThePlotEndsThePlottingProcess) {
 }
 
 // SIGTERM while the picture is drawn left .fig2.png.partial (the script's temporary), which the
-// advised --force rerun then refused as a file not written by hemicontact (issue 40). The stand-in
+// advised --force rerun then refused as a file not written by hemicontact. The stand-in
 // "python" writes the temporary, then sleeps; the rerun's stand-in draws nothing.
 TEST_F(OutputSafety, APictureInterruptedWhileDrawnDoesNotBlockForce) {
   const fs::path python = dir / "slow-python", ready = dir / "drawing", out = dir / "res";

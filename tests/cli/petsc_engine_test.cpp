@@ -326,7 +326,7 @@ TEST(PetscEngine, MoreRanksThanCellsIsRefused) {
   fs::remove_all(dir);
 }
 
-// An error on one rank while the others wait in a collective hung the job (issue 40): rank 0
+// An error on one rank while the others wait in a collective hung the job: rank 0
 // printed "a rank's piece of the mesh has no free node" and waited in PetscFinalize, ranks 1 and 2
 // spun in MPI_Allreduce. Every case must end every rank within seconds, with the message once and
 // the documented exit code (mpirun exits with the code given to MPI_Abort). Under `timeout`: a
@@ -355,7 +355,7 @@ TEST(PetscEngine, AnErrorOnOneRankEndsEveryRank) {
     const size_t at = r.err.find(message);
     ASSERT_NE(at, std::string::npos) << r.err;
     EXPECT_EQ(r.err.find(message, at + 1), std::string::npos) << "printed more than once:\n" << r.err;
-    // Start-up, the failure and the abort: far below the hang's 60 s (10 s after the failure, issue 40).
+    // Start-up, the failure and the abort: far below the hang's 60 s (10 s after the failure).
     EXPECT_LT(seconds, 30) << r.err;
     EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
   }

@@ -285,7 +285,7 @@ TEST(GmshImport, ScriptsAreNotRunWithoutOptIn) {
 }
 
 // Gmsh merges <file>.opt after opening any file, and an .opt file is a script: a m.msh.opt holding
-// SystemCall beside a valid m.msh ran the command (issue 40). Without allow_scripts Gmsh opens a
+// SystemCall beside a valid m.msh ran the command. Without allow_scripts Gmsh opens a
 // private copy, so the planted .opt is never read and the mesh is read as before.
 TEST(GmshImport, CompanionOptFileIsNotRun) {
   SKIP_WITHOUT_GMSH();

@@ -291,7 +291,7 @@ TEST(SceneSchemaErrors, SelectorNeedsExactlyOneOfSideAndPhysical) {
 }
 
 // An interval on a physical group was ignored: {"physical": "contact", "from": 100, "to": 200}
-// selected the whole group and certified (issue 40). It is refused, naming the key, on every
+// selected the whole group and certified. It is refused, naming the key, on every
 // boundary part and on the rollers.
 TEST(SceneSchemaErrors, IntervalOnAPhysicalSelectorIsRefused) {
   for (const char* part : {"gamma1", "gamma3", "rollers"}) {

@@ -65,7 +65,7 @@ TEST_F(CgroupBudget, V1MemoryControllerAndNoLimit) {
   EXPECT_LT(cgroup_memory_budget(root.string()).bytes, 0);
 }
 
-// A refusal said "needs about 1.1 GB ... 1.1 GB are available" (issue 40): the two amounts get the
+// A refusal said "needs about 1.1 GB ... 1.1 GB are available": the two amounts get the
 // digits that tell them apart, and no more than two where two suffice.
 TEST(MemoryRefusal, AmountsShowTheDigitsThatTellThemApart) {
   using hemicontact::distinct_gigabytes;
