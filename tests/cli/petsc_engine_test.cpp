@@ -341,7 +341,9 @@ TEST(PetscEngine, AnErrorOnOneRankEndsEveryRank) {
   };
   const std::vector<Case> cases{
       {3, problem("sofonea2017-3d") + " --set mesh.n=2"},
-      {2, problem("sofonea2017-fig2") + " --set mesh.n=2 --set 'boundary.gamma1=[{\"side\": \"left\"}]'"},
+      {2, problem("sofonea2017-fig2") +
+              " --set mesh.n=2 --set 'boundary.gamma1=[{\"side\": \"left\"}]' --set 'boundary.gamma2=[]'"},
+      {2, problem("sofonea2017-3d") + " --set mesh.n=2 --set 'boundary.gamma1=[{\"side\": \"front\"}]'"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
