@@ -397,6 +397,18 @@ void check_mesh_keys(const json& mesh) {
   const json& g = mesh.at("grading");
   if (type != "rectangle" && (g.at("x") != "none" || g.at("y") != "none"))
     key_error("mesh.grading", "grades a rectangle's grid lines only" + is);
+  // Keys with a default of their own: refused where set to another value and not read. (nx, ny,
+  // nz are left out: mesh.n copies itself into all three whatever the type.)
+  const auto unread = [&](const char* key, bool read) {
+    const std::string dotted = std::string("mesh.") + key;
+    if (!read && mesh.at(key) != schema_default(dotted))
+      key_error(dotted, "is not read for this mesh" + is + " and would be ignored: remove it, or set mesh.type");
+  };
+  unread("diagonal", type == "rectangle");
+  unread("pattern", type == "box");
+  unread("z", type == "box");
+  unread("x", type != "gmsh");
+  unread("y", type != "gmsh");
 }
 
 void check_selectors(const json& boundary) {

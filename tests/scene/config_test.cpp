@@ -327,8 +327,23 @@ TEST(SceneSchemaErrors, MeshKeysOfAnotherMeshTypeAreRefused) {
   s["mesh"] = {{"type", "box"}, {"grading", {{"x", "low"}}}};
   EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
                   "scene key 'mesh.grading': grades a rectangle's grid lines only (mesh.type is 'box')");
+  s["mesh"] = {{"type", "box"}, {"diagonal", "crossed"}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                  "scene key 'mesh.diagonal': is not read for this mesh (mesh.type is 'box')");
+  s["mesh"] = {{"type", "rectangle"}, {"pattern", "symmetric"}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.pattern'");
+  s["mesh"] = {{"type", "rectangle"}, {"z", {0, 2}}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.z'");
+  s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}, {"x", {0, 4}}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.x'");
   s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}};
   EXPECT_NO_THROW(validate_scene(s));
+  // An effective scene (every default filled in) validates again: the defaults are not "set".
+  for (const char* type : {"rectangle", "box"}) {
+    json e = paper_scene();
+    e["mesh"] = {{"type", type}, {"n", 4}};
+    EXPECT_NO_THROW(validate_scene(validate_scene(e))) << type;
+  }
 }
 
 // A NUL byte in mesh.file ended the name early in every system call (and cut the messages short).
