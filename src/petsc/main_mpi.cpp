@@ -198,6 +198,26 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
   return cli::solve_verdict(sol, opt);
 }
 
+// The scene and its options, read by every rank alike: an error in them (a bad key, a non-TAO
+// backend) is every rank's and is agreed on, so that the ranks leave together through
+// PetscFinalize with the message once, rather than by MPI_Abort.
+void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt) {
+  on_every_rank(comm, [&] {
+    scene = load_scene(a.scene, a.overrides);
+    if (scene.at("solver").at("engine").get<std::string>() != "petsc") {
+      log_info() << "hemicontact-mpi is the petsc engine: solver.engine = petsc";
+      scene["solver"]["engine"] = "petsc";
+    }
+    opt = solve_options_from_scene(scene);
+    petsc_engine::install_error_handler(opt.petsc.options);
+    if (!opt.petsc.options.empty()) {
+      if (PetscOptionsInsertString(nullptr, opt.petsc.options.c_str()))
+        input_error("solver.petsc.options: PETSc could not read '" + opt.petsc.options + "'");
+    }
+    (void)petsc_engine::tao_type(opt.backend);  // a non-TAO backend is refused before any work
+  });
+}
+
 int run(const std::vector<std::string>& args, MPI_Comm comm) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
@@ -216,18 +236,9 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   const cli::SceneArgs a = cli::parse_scene_args(rest, {"--magnification"});
   if (a.quiet || rank != 0) set_log_level(LogLevel::WARN);  // one rank reports progress
   const std::vector<std::string> plot_args = cli::solve_plot_args(a);
-  nlohmann::json scene = load_scene(a.scene, a.overrides);
-  if (scene.at("solver").at("engine").get<std::string>() != "petsc") {
-    log_info() << "hemicontact-mpi is the petsc engine: solver.engine = petsc";
-    scene["solver"]["engine"] = "petsc";
-  }
-  const SolveOptions opt = solve_options_from_scene(scene);
-  petsc_engine::install_error_handler(opt.petsc.options);
-  if (!opt.petsc.options.empty()) {
-    if (PetscOptionsInsertString(nullptr, opt.petsc.options.c_str()))
-      input_error("solver.petsc.options: PETSc could not read '" + opt.petsc.options + "'");
-  }
-  (void)petsc_engine::tao_type(opt.backend);  // a non-TAO backend is refused before any work
+  nlohmann::json scene;
+  SolveOptions opt;
+  read_scene(a, comm, scene, opt);
 
   // The output folder: rank 0 locks it (held until the end) and tells the others how that went.
   std::optional<OutputLock> lock;
