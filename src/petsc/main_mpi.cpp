@@ -198,6 +198,27 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
   return cli::solve_verdict(sol, opt);
 }
 
+// The output folder: rank 0 locks it (held until the end, the returned lock) and tells the others
+// how that went; a refusal is every rank's error.
+std::optional<OutputLock> lock_output(const cli::SceneArgs& a, int rank, MPI_Comm comm) {
+  std::optional<OutputLock> lock;
+  int code = 0;
+  std::string message;
+  if (rank == 0) {
+    try {
+      std::vector<std::string> names = solve_output_names();
+      names.push_back("solution.pvtu");
+      lock.emplace(prepare_output_dir(a.out, a.force, names, petsc_engine::slab_output_patterns()));
+    } catch (const Error& e) {
+      code = e.code();
+      message = e.what();
+    }
+  }
+  share(code, message, comm);
+  if (code != 0) throw SharedError(message, static_cast<ExitCode>(code));
+  return lock;
+}
+
 // The scene and its options, read by every rank alike: an error in them (a bad key, a non-TAO
 // backend) is every rank's and is agreed on, so that the ranks leave together through
 // PetscFinalize with the message once, rather than by MPI_Abort.
@@ -240,22 +261,9 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   SolveOptions opt;
   read_scene(a, comm, scene, opt);
 
-  // The output folder: rank 0 locks it (held until the end) and tells the others how that went.
-  std::optional<OutputLock> lock;
+  const std::optional<OutputLock> lock = lock_output(a, rank, comm);
   int code = 0;
   std::string message;
-  if (rank == 0) {
-    try {
-      std::vector<std::string> names = solve_output_names();
-      names.push_back("solution.pvtu");
-      lock.emplace(prepare_output_dir(a.out, a.force, names, petsc_engine::slab_output_patterns()));
-    } catch (const Error& e) {
-      code = e.code();
-      message = e.what();
-    }
-  }
-  share(code, message, comm);
-  if (code != 0) throw SharedError(message, static_cast<ExitCode>(code));
   std::string replicated;
   const std::string layout = distributed_layout(scene, opt, comm, replicated);
   if (!layout.empty()) return run_slabs(a, plot_args, scene, opt, comm, t0, layout);
