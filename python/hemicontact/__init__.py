@@ -23,7 +23,6 @@ from __future__ import annotations
 import math as _math
 import numbers as _numbers
 import os as _os
-import re as _re
 from collections import namedtuple as _namedtuple
 from collections.abc import Mapping as _Mapping
 
@@ -155,7 +154,6 @@ _FLAG_KEYWORDS = {
     "backends": "backends", "backend": "backend", "group-tol": "group_tol", "box": "box",
     "load-path-steps": "load_path_steps", "levels": "levels", "reference": "reference",
 }
-_FLAG = _re.compile(r"--(" + "|".join(sorted(map(_re.escape, _FLAG_KEYWORDS), key=len, reverse=True)) + r")\b")
 
 
 class _Keywords:
@@ -166,7 +164,10 @@ class _Keywords:
 
     def __exit__(self, kind: Any, error: Any, tb: Any) -> bool:
         if isinstance(error, (SceneError, HemicontactError)):
-            text = _FLAG.sub(lambda m: _FLAG_KEYWORDS[m.group(1)], str(error))
+            import re  # on an error only: re stays out of a script's start
+
+            flags = "|".join(sorted(map(re.escape, _FLAG_KEYWORDS), key=len, reverse=True))
+            text = re.sub(r"--(" + flags + r")\b", lambda m: _FLAG_KEYWORDS[m.group(1)], str(error))
             if text != str(error):
                 raise type(error)(text) from None
         return False
