@@ -26,6 +26,7 @@
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/studies/adapt_study.hpp>
 
+#include "bench_limits.hpp"
 #include <nlohmann/json.hpp>
 
 #include <sys/resource.h>
@@ -93,8 +94,6 @@ const char* const USAGE =
     "follows `hemicontact solve --out`'s rules: earlier results replaced only with --force. Exit\n"
     "codes: 0, 1 usage, 2 bad input or output folder.\n";
 
-constexpr long MAX_REPEATS = 100;
-
 // The options, checked as `hemicontact`'s are (core/options.hpp): a bad value is a usage error.
 BenchArgs parse_bench_args(int argc, char** argv) {
   BenchArgs A;
@@ -112,7 +111,7 @@ BenchArgs parse_bench_args(int argc, char** argv) {
     else if (k == "--out") A.out = value();
     else if (k == "--reference") A.reference = value();
     else if (k == "--target") A.target = parse_positive_option(k, value());
-    else if (k == "--repeats") A.repeats = static_cast<int>(parse_integer_option(k, value(), 1, MAX_REPEATS));
+    else if (k == "--repeats") A.repeats = static_cast<int>(parse_integer_option(k, value(), 1, bench::MAX_REPEATS));
     else throw Error("unknown option '" + k + "' (see hemicontact_adapt_study --help)", EXIT_USAGE);
   }
   return A;

@@ -25,6 +25,7 @@
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/solve.hpp>
 
+#include "bench_limits.hpp"
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -166,8 +167,6 @@ const char* const USAGE =
     "`hemicontact solve --out`'s rules: earlier results replaced only with --force). Exit codes: 0, 1\n"
     "usage, 2 bad input or output folder, 3 a run not certified.\n";
 
-constexpr long MAX_REPEATS = 100;
-
 BackendsArgs parse_backends_args(int argc, char** argv) {
   BackendsArgs A;
   for (int i = 1; i < argc; ++i) {
@@ -179,7 +178,7 @@ BackendsArgs parse_backends_args(int argc, char** argv) {
     if (a == "--scenes") A.scenes = split(next(), ',');
     else if (a == "--backends") A.backends = split(next(), ',');
     else if (a == "--out") A.out = next();
-    else if (a == "--repeats") A.repeats = static_cast<int>(parse_integer_option(a, next(), 1, MAX_REPEATS));
+    else if (a == "--repeats") A.repeats = static_cast<int>(parse_integer_option(a, next(), 1, bench::MAX_REPEATS));
     else if (a == "--force") A.force = true;
     else if (a == "-h" || a == "--help") A.help = true;
     else throw Error("unknown option '" + a + "' (see hemicontact_backends --help)", EXIT_USAGE);

@@ -25,6 +25,7 @@
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/solve.hpp>
 
+#include "bench_limits.hpp"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -32,6 +33,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -110,9 +112,6 @@ const char* const USAGE =
     "DIR follows `hemicontact solve --out`'s rules: no links followed, earlier results replaced only\n"
     "with --force. Exit codes: 0, 1 usage, 2 bad input or output folder, 3 nothing certified.\n";
 
-// The most scenes, and the largest mesh and seed, a study takes (the scenes' n, std::mt19937's seed).
-constexpr long MAX_SEEDS = 1000000, MAX_N = 4096, MAX_REPEATS = 100, MAX_SEED = 4294967295L;
-
 // The options, checked as `hemicontact`'s are (core/options.hpp): a bad value is a usage error.
 StudyArgs parse_study_args(int argc, char** argv) {
   StudyArgs A;
@@ -123,14 +122,14 @@ StudyArgs parse_study_args(int argc, char** argv) {
       return argv[++i];
     };
     const auto integer = [&](long lo, long hi) { return static_cast<int>(parse_integer_option(a, next(), lo, hi)); };
-    if (a == "--seeds") A.seeds = integer(1, MAX_SEEDS);
-    else if (a == "--first") A.first = integer(0, MAX_SEED - MAX_SEEDS);
-    else if (a == "--n-min") A.n_min = integer(1, MAX_N);
-    else if (a == "--n-max") A.n_max = integer(1, MAX_N);
+    if (a == "--seeds") A.seeds = integer(1, bench::MAX_SEEDS);
+    else if (a == "--first") A.first = integer(0, std::numeric_limits<int>::max() - bench::MAX_SEEDS);  // seeds are ints here
+    else if (a == "--n-min") A.n_min = integer(1, bench::MAX_MESH_N);
+    else if (a == "--n-max") A.n_max = integer(1, bench::MAX_MESH_N);
     else if (a == "--out") A.out = next();
     else if (a == "--backend") A.backend = next();
     else if (a == "--set") A.sets.push_back(next());
-    else if (a == "--repeats") A.repeats = integer(1, MAX_REPEATS);
+    else if (a == "--repeats") A.repeats = integer(1, bench::MAX_REPEATS);
     else if (a == "--force") A.force = true;
     else if (a == "-h" || a == "--help") A.help = true;
     else throw Error("unknown option '" + a + "' (see hemicontact_random_study --help)", EXIT_USAGE);

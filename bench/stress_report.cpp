@@ -32,6 +32,7 @@
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/solve.hpp>
 
+#include "bench_limits.hpp"
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -507,9 +508,6 @@ const char* const USAGE =
     "`hemicontact solve --out`'s rules: earlier results replaced only with --force). Exit codes: 0,\n"
     "1 usage, 2 bad input or output folder.\n";
 
-// The largest mesh level and counts the options take (a typo of 10^9 is a hang, not a report).
-constexpr long MAX_N = 4096, MAX_SEEDS = 1000000, MAX_ITER = 1000000;
-
 ReportArgs parse_report_args(int argc, char** argv) {
   ReportArgs A;
   for (int i = 1; i < argc; ++i) {
@@ -521,12 +519,12 @@ ReportArgs parse_report_args(int argc, char** argv) {
     const auto integer = [&](long hi) { return static_cast<int>(parse_integer_option(a, value(), 1, hi)); };
     if (a == "--out") A.out = value();
     else if (a == "--parts") A.parts = value();
-    else if (a == "--n") A.n = integer(MAX_N);
-    else if (a == "--seeds") A.seeds = integer(MAX_SEEDS);
-    else if (a == "--n-min") A.n_min = integer(MAX_N);
-    else if (a == "--n-max") A.n_max = integer(MAX_N);
-    else if (a == "--n-theta") A.n_theta = integer(MAX_N);
-    else if (a == "--max-iter") A.max_iter = integer(MAX_ITER);
+    else if (a == "--n") A.n = integer(bench::MAX_MESH_N);
+    else if (a == "--seeds") A.seeds = integer(bench::MAX_SEEDS);
+    else if (a == "--n-min") A.n_min = integer(bench::MAX_MESH_N);
+    else if (a == "--n-max") A.n_max = integer(bench::MAX_MESH_N);
+    else if (a == "--n-theta") A.n_theta = integer(bench::MAX_MESH_N);
+    else if (a == "--max-iter") A.max_iter = integer(bench::MAX_ITERATIONS);
     else if (a == "--force") A.force = true;
     else if (a == "-h" || a == "--help") A.help = true;
     else throw Error("unknown option '" + a + "' (see hemicontact_stress_report --help)", EXIT_USAGE);

@@ -24,6 +24,7 @@
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/studies/convergence.hpp>
 
+#include "bench_limits.hpp"
 #include <cholmod.h>
 #include <nlohmann/json.hpp>
 
@@ -334,8 +335,6 @@ const char* const USAGE =
     "`hemicontact solve --out`'s rules: earlier results replaced only with --force). --levels as\n"
     "`hemicontact converge --levels` (e.g. 8,16,...,128). Exit codes: 0, 1 usage, 2 bad input.\n";
 
-constexpr long MAX_REPEATS = 100;
-
 // The options, checked with the CLI's own parsers (--levels: studies/convergence.hpp).
 Args parse_args(int argc, char** argv) {
   Args a;
@@ -350,7 +349,7 @@ Args parse_args(int argc, char** argv) {
     else if (s == "--backends") a.backends = split(value());
     else if (s == "--cli") a.cli = value();
     else if (s == "--out") a.out = value();
-    else if (s == "--repeats") a.repeats = static_cast<int>(parse_integer_option(s, value(), 1, MAX_REPEATS));
+    else if (s == "--repeats") a.repeats = static_cast<int>(parse_integer_option(s, value(), 1, bench::MAX_REPEATS));
     else if (s == "--force") a.force = true;
     else if (s == "--help" || s == "-h") a.help = true;
     else throw Error("unknown option '" + s + "' (see hemicontact_whole_process --help)", EXIT_USAGE);
