@@ -192,11 +192,11 @@ int adapt_main(int argc, char** argv) {
   set_log_level(LogLevel::WARN);
   // The CLI's folder rules (output/output_dir.hpp) for this program's files; DIR/solve is the timed
   // `hemicontact solve`'s own folder (run with --force), kept: the child names it as its results.
-  const OutputLock lock =
-      prepare_output_dir(A.out, A.force, {"work_precision.csv", "work_precision.json", "work_precision.png"});
   std::vector<std::string> overrides = {"check.smallness=false"};
   overrides.insert(overrides.end(), A.sets.begin(), A.sets.end());
-  const nlohmann::json scene = load_scene(A.scene_path, overrides);
+  const nlohmann::json scene = load_scene(A.scene_path, overrides);  // before the folder, as the CLI
+  const OutputLock lock =
+      prepare_output_dir(A.out, A.force, {"work_precision.csv", "work_precision.json", "work_precision.png"});
   WorkPrecisionStudy st;
   nlohmann::json js;
   if (A.study) st = run_study(scene, A, js);

@@ -187,13 +187,18 @@ BackendsArgs parse_backends_args(int argc, char** argv) {
   return A;
 }
 
+// A --scenes entry FILE[:key=value...]: the file (as given, else in problems/) and its scene.
+json scene_of(const std::string& spec, std::string& path) {
+  const std::vector<std::string> parts = split(spec, ':');
+  path = fs::exists(parts.front()) ? parts.front() : std::string(HEMICONTACT_SOURCE_DIR "/problems/") + parts.front();
+  return load_scene(path, std::vector<std::string>(parts.begin() + 1, parts.end()));
+}
+
 // One scene's runs (the default, the exact solver's path, each backend) into @p md and @p all;
 // @return how many were not certified.
 int compare_on_scene(const std::string& spec, const BackendsArgs& A, std::ostringstream& md, json& all) {
-  const std::vector<std::string> parts = split(spec, ':');
-  const std::string path = fs::exists(parts.front()) ? parts.front()
-                                                     : std::string(HEMICONTACT_SOURCE_DIR "/problems/") + parts.front();
-  const json scene = load_scene(path, std::vector<std::string>(parts.begin() + 1, parts.end()));
+  std::string path;
+  const json scene = scene_of(spec, path);
   const Model model = build_model(scene, fs::path(path).parent_path().string());
   const SolveOptions base = solve_options_from_scene(scene);
   std::vector<std::pair<std::string, SolveOptions>> runs{{"auto (default)", base}, {"exact", base}};
@@ -225,6 +230,11 @@ int backends_main(int argc, char** argv) {
     for (const auto& [name, doc] : available_backends())
       if (name != AUTO_BACKEND && name != "ssn" && name.rfind("tao:", 0) != 0) A.backends.push_back(name);
   set_log_level(LogLevel::QUIET);
+  // Every scene read before the folder is touched, as the CLI does: a bad one leaves nothing.
+  for (const std::string& spec : A.scenes) {
+    std::string path;
+    (void)scene_of(spec, path);
+  }
   // The CLI's folder rules (output/output_dir.hpp): no link followed, earlier results only with --force.
   const OutputLock lock = prepare_output_dir(A.out, A.force, {"backends.md", "backends.json"});
   std::ostringstream md;

@@ -21,6 +21,7 @@ expect() {
 }
 
 expect 2 "/dev/zero" "$bin/hemicontact_backends" --scenes /dev/zero --out "$scratch/b"
+[[ ! -e "$scratch/b" ]] || fail "hemicontact_backends made its --out folder for a scene it refused"
 expect 1 "--levels: expected a positive integer" "$bin/hemicontact_whole_process" --levels abc --out "$scratch/w"
 expect 1 "--repeats: expected an integer from 1" "$bin/hemicontact_random_study" --repeats x --out "$scratch/r"
 expect 1 "--target: expected a positive number" "$bin/hemicontact_adapt_study" --target -1 --out "$scratch/a"

@@ -414,6 +414,7 @@ int whole_main(int argc, char** argv) {
   }
   // The CLI's folder rules (output/output_dir.hpp) for this program's own file; each solve's
   // folder inside is the CLI's own (run with --force: it replaces the previous measurement).
+  for (const int level : a.levels) (void)load_scene(a.scene, {"mesh.n=" + std::to_string(level)});  // before the folder
   const OutputLock lock = prepare_output_dir(a.out, a.force, {"whole_process.json"});
   json rows = json::array();
   std::printf("%-6s %-10s %9s %8s %9s %8s %7s %s\n", "n", "program", "dofs", "wall s", "peak MB", "ratio", "exit",
