@@ -361,6 +361,24 @@ TEST(PetscEngine, AnErrorOnOneRankEndsEveryRank) {
     EXPECT_LT(seconds, 30) << r.err;
     EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
   }
+  // Two ranks of four failing alike (a Γ3 ending inside the blocks' ghost layer: ranks 1 and 3 met
+  // an internal error and left without a word, ranks 0 and 2 hung). Whatever the engine makes of
+  // the scene, a certified answer or an error, every rank ends, and an error is printed once.
+  const std::string blocks = problem("sofonea2017-3d") +
+                             " --set mesh.n=null --set mesh.nx=4 --set mesh.ny=2 --set mesh.nz=2 --set "
+                             "solver.petsc.mesh='\"blocks\"' --set 'boundary.gamma3=[{\"side\": \"bottom\", "
+                             "\"from\": 0, \"to\": 0.25}]'";
+  const auto t0 = std::chrono::steady_clock::now();
+  const CliOutcome r = run_cli(dir, "solve " + blocks + " --set solver.engine='\"petsc\"' --quiet --force --out " +
+                                        (dir / "blocks").string(),
+                               mpirun + " 4");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 30) << r.err;
+  EXPECT_NE(r.code, 124) << "hung:\n" << r.err;
+  if (r.code != 0) {
+    const size_t at = r.err.find("hemicontact: error");
+    ASSERT_NE(at, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("hemicontact: error", at + 1), std::string::npos) << "printed more than once:\n" << r.err;
+  }
   fs::remove_all(dir);
 }
 
