@@ -6,7 +6,7 @@
      CLI:    hemicontact solve problems/sofonea2017-fig2.json --set mesh.n=N ... --quiet
      Python: python3 -c "import hemicontact ...; hemicontact.solve(scene)"
    run alternately, --repeat times each; the medians and their ratio.
-2. Eight random scenes (seeds 1..8 of the default-settings study, tests/stress/random_scenes.hpp,
+2. Eight random scenes (seeds 1..8 of the default-settings study, include/hemicontact/studies/random_scenes.hpp,
    n from --n-min to --n-max) solved one after the other, then in a ThreadPoolExecutor(2), in one
    process, --repeat times alternately; the medians and their ratio (target <= 0.6). Twice: in the
    seeds' order, and largest first (by unknowns, which each scene's mesh fixes before any solve):

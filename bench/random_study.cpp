@@ -1,7 +1,7 @@
 // hemicontact_random_study — the random-scene study with DEFAULT solver settings (what a user gets
 // without tuning).
 //
-// Seeds 1..N of tests/stress/random_scenes.hpp (draw_default_scene: E, ν, plane stress/strain,
+// Seeds 1..N of include/hemicontact/studies/random_scenes.hpp (draw_default_scene: E, ν, plane stress/strain,
 // loads, layer law, μ, g, mesh, perturbation, aspect drawn over realistic and extreme ranges; no
 // solver override), each solved in this process with the default backend (or --backend), and timed
 // against the linear-elastic factor+solve of the same mesh (CHOLMOD, both best of 3, same process).
@@ -14,7 +14,7 @@
 // Sample: hemicontact_random_study --seeds 1000 --out /tmp/random  (docs/stress/random-default.md
 // is the committed summary; the CSV is regenerated, not committed).
 
-#include "stress/random_scenes.hpp"
+#include <hemicontact/studies/random_scenes.hpp>
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
@@ -297,7 +297,7 @@ void write_counts(std::ostringstream& md, const StudyArgs& A, size_t drawn, cons
   const std::string& backend = A.backend;
   const std::vector<std::string>& sets = A.sets;
   md << "### Random scenes" << (backend.empty() && sets.empty() ? " with default settings" : "") << "\n\n"
-     << "Seeds " << A.first << ".." << A.first + A.seeds - 1 << " of `draw_default_scene` (tests/stress/random_scenes.hpp), n = "
+     << "Seeds " << A.first << ".." << A.first + A.seeds - 1 << " of `draw_default_scene` (include/hemicontact/studies/random_scenes.hpp), n = "
      << A.n_min << ".." << A.n_max << ", backend "
      << (backend.empty() ? "auto (ipopt; its stage skipped where the inner problem is strongly convex)" : backend)
      << (sets.empty() ? std::string(", no solver override") : ", overrides: " + [&] {

@@ -9,7 +9,7 @@
 //           frictionless solution as c1 grows), μ over 0..5, g = 0 and huge, ε over 1e-2..1e-12,
 //           Γ3 entirely separated and entirely at g, distorted meshes (30% of h), a 100:1 body.
 //           Each row: case, what was checked, outcome, certificate, iterations, time.
-//   random  --seeds N randomized scenes (tests/stress/random_scenes.hpp, seeds 1..N, n in
+//   random  --seeds N randomized scenes (include/hemicontact/studies/random_scenes.hpp, seeds 1..N, n in
 //           [--n-min, --n-max]) with the solver's default budgets: certified, honest
 //           non-convergence (which reason), or input error (an inverted perturbed mesh).
 //   theta   the outer fixed point λ = F_b(u_ν): contraction factor, iterations and success for
@@ -22,7 +22,7 @@
 // Everything runs in this process, one solve after another; a crash would end the report (none is
 // expected: that is one of the things it checks).
 
-#include "stress/random_scenes.hpp"
+#include <hemicontact/studies/random_scenes.hpp>
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>

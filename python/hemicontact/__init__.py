@@ -554,7 +554,7 @@ def backends() -> Dict[str, str]:
 
 
 def random_scene(base: Scene, seed: int, n_min: int = 8, n_max: int = 24) -> Scene:
-    """Scene ``seed`` of the random default-settings study (tests/stress/random_scenes.hpp) as
+    """Scene ``seed`` of the random default-settings study (include/hemicontact/studies/random_scenes.hpp) as
     changes to ``base`` (problems/sofonea2017-fig2.json): its physics, mesh and loads drawn,
     every solver setting at its default. ``base`` is not changed."""
     if not isinstance(base, Scene):

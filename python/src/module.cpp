@@ -31,7 +31,7 @@
 
 // The random scenes of the stress and default-settings studies (seeds -> --set assignments), so
 // that the Python benchmarks and tests draw exactly the scenes the C++ studies do.
-#include "stress/random_scenes.hpp"
+#include <hemicontact/studies/random_scenes.hpp>
 
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>

@@ -18,7 +18,7 @@
 // whole model
 // (deterministic: the same input errors on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
 // so that the ranks always leave together with one exit code.
-#include "../cli/cli.hpp"
+#include "cli/cli.hpp"
 #include "petsc_engine.hpp"
 #include "petsc_slab_output.hpp"
 

@@ -200,6 +200,34 @@ TEST(House, NothingPointsOutsideTheRepository) {
   }
 }
 
+// What ships (the library's headers and sources, the programs, the Python module) includes nothing
+// from tests/ or bench/: a quoted include names a file beside the including one or under src/
+// (a program's private headers), never a path climbing out with "../", so that a user's build of
+// the library and programs does not depend on the test tree.
+TEST(House, ShippedCodeIncludesNothingFromTheTestTree) {
+  const fs::path root(HEMICONTACT_SOURCE_DIR);
+  const std::regex quoted(R"re(^\s*#\s*include\s*"([^"]+)")re");
+  int files = 0;
+  for (const char* dir : {"include", "src", "python/src"})
+    for (const auto& e : fs::recursive_directory_iterator(root / dir)) {
+      const std::string ext = e.path().extension().string();
+      if (!e.is_regular_file() || (ext != ".hpp" && ext != ".cpp" && ext != ".in")) continue;
+      ++files;
+      std::ifstream in(e.path());
+      std::string line;
+      std::smatch m;
+      for (int n = 1; std::getline(in, line); ++n) {
+        if (!std::regex_search(line, m, quoted)) continue;
+        const std::string inc = m[1].str();
+        const bool beside = fs::exists(e.path().parent_path() / inc), in_src = fs::exists(root / "src" / inc);
+        if (inc.find("..") != std::string::npos || !(beside || in_src))
+          ADD_FAILURE() << fs::relative(e.path(), root).string() << ":" << n << ": #include \"" << inc
+                        << "\" is neither beside the file nor under src/ (shipped code must not reach tests/ or bench/)";
+      }
+    }
+  EXPECT_GT(files, 100);  // the tree was found
+}
+
 // Every C++ source file has a basename of its own across src/, include/, tests/, bench/ and fuzz/
 // (a header and its source, x.hpp and x.cpp, are one pair): a debugger's breakpoint, a compiler
 // message or a profile names a file by its basename, and two minima.cpp are two guesses.

@@ -3,7 +3,7 @@
 // point, the backend or the certificate) — never NaN, never a crash, never an uncertified answer
 // presented as converged. The full part (300 seeds, finer meshes) is bench/stress_report.cpp. A
 // failing seed prints the command line that reruns it.
-#include "stress/random_scenes.hpp"
+#include <hemicontact/studies/random_scenes.hpp>
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/scene/build_model.hpp>
@@ -76,7 +76,7 @@ bool certified_or_honestly_not(unsigned seed) {
 // Honest failures alone would let this pass with every seed failing, so it also has a floor: the
 // number of certified seeds among 1..24 measured when the floor was set (CERTIFIED_MEASURED) less
 // a margin of 2 for machines whose rounding tips a borderline draw (the draws themselves are
-// portable: stress/random_scenes.hpp). Raise the floor when the solver gets better.
+// portable: studies/random_scenes.hpp). Raise the floor when the solver gets better.
 TEST(RandomScenes, CertifiedOrHonestlyNotConvergedWithAFloor) {
   constexpr int CERTIFIED_MEASURED = 21, MARGIN = 2;
   int certified = 0;

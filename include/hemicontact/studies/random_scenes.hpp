@@ -2,7 +2,8 @@
 /// @file random_scenes.hpp  Randomized stress scenes with fixed seeds: parameters drawn over
 /// realistic and extreme ranges, written as `--set` overrides of problems/sofonea2017-fig2.json so
 /// that any seed can be rerun from the command line. Shared by tests/stress/random_test.cpp (fast
-/// part) and bench/stress_report.cpp (full part).
+/// part), bench/stress_report.cpp and bench/random_study.cpp (full part) and the Python module
+/// (hemicontact.random_scene): shipped with the library, so that the module needs nothing of tests/.
 ///
 /// Portability: std::mt19937's output sequence is fixed by the standard, the library's
 /// distributions are not (libstdc++ and libc++ differ), so every draw maps raw 32-bit outputs
