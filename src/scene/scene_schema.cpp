@@ -385,6 +385,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "condensed where one factorization with the dense Γ3 block plus dense_work·m³ "
                            "is at most this × one factorization without it."),
                        1));
+  t.push_back(at_least(key("/solver/method_choice/condensed_below", "number", MC.condensed_below,
+                           "Condensed whatever the full formulation costs where the condensed path's whole "
+                           "work (factorization + dense Γ3 work) is at most this many flops: its exact "
+                           "solver answers to round-off at no real cost."),
+                       0));
   t.push_back(at_least(key("/solver/method_choice/small_fraction", "number", MC.small_fraction,
                            "Condensed at once where the dense Γ3 work is at most this fraction of the "
                            "condensation's factorization; above, the full formulation's factorization is "

@@ -51,6 +51,12 @@ void decide(SceneNumbers n, const MethodChoiceOptions& o, const std::function<do
                "of the memory available (" + fmt(budget / 1e9, 3) + " GB)";
     return;
   }
+  if (condensed <= o.condensed_below) {
+    c.chosen = "condensed";
+    c.reason = "condensed work " + fmt(condensed, 3) + " flops (m = " + std::to_string(n.gamma3_unknowns) +
+               ") <= solver.method_choice.condensed_below: the exact solver's path, at no real cost";
+    return;
+  }
   if (dense <= o.small_fraction * n.factor_flops) {
     c.chosen = "condensed";
     c.reason = dw + " <= " + fmt(o.small_fraction, 3) + " x the factorization's " + fmt(n.factor_flops, 3) + " flops";

@@ -185,6 +185,11 @@ struct ContactSolver::Impl {
 
   /// More Γ3 unknowns than check.dense_max_unknowns: no dense Γ3 matrix for the checks.
   bool dense_checks_too_large() const { return model->dim() * model->contact.size() > opt.dense_max_unknowns; }
+  /// Full formulation chosen by auto for a linear material (Γ3 large against the interior): (21)
+  /// from its elastic factor by Lanczos too, not a second factorization (the Gram matrix's).
+  bool automatic_full() const {
+    return F.choice.automatic && F.name == "full" && model->material->is_linear() && model->contact.size() > 0;
+  }
   /// The Lanczos spectrum from the factor at hand (the condensation's L_CC, or the elastic factor
   /// while the set-up holds it); null when neither is there.
   const Gamma3Spectrum* spectrum() const;
@@ -419,7 +424,7 @@ SmallnessReport ContactSolver::smallness() const {
   // The constructor's choice too: the bracket from the condensation where there is one (2D, method
   // auto), the exact evaluation otherwise; above check.dense_max_unknowns the bracket by Lanczos.
   if (I.opt.smallness_method == "exact") return evaluate_smallness(md);
-  if (I.dense_checks_too_large()) return I.sparse_smallness();
+  if (I.dense_checks_too_large() || I.automatic_full()) return I.sparse_smallness();
   if (md.dim() == 3 || !I.F.cond) return evaluate_smallness(md);
   return evaluate_smallness(md, I.F.cond->S());
 }

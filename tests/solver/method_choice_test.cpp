@@ -35,9 +35,9 @@ Solved run(const std::string& scene, const std::vector<std::string>& overrides) 
   return r;
 }
 
-// fig2's conditions on the strip [0, 200] × [0, 1], 400 × 2 cells: 401 Γ3 nodes over 1 203 nodes.
+// fig2's conditions on the strip [0, 300] × [0, 1], 600 × 2 cells: 601 Γ3 nodes over 1 803 nodes.
 std::vector<std::string> strip(std::vector<std::string> more = {}) {
-  std::vector<std::string> o = {"mesh.n=null", "mesh.x=[0,200]", "mesh.nx=400", "mesh.ny=2"};
+  std::vector<std::string> o = {"mesh.n=null", "mesh.x=[0,300]", "mesh.nx=600", "mesh.ny=2"};
   o.insert(o.end(), more.begin(), more.end());
   return o;
 }
@@ -77,11 +77,14 @@ TEST(MethodChoice, LongStripPicksFull) {
   EXPECT_TRUE(c.automatic);
   EXPECT_EQ(c.backend, "newton");
   EXPECT_EQ(r.sol.backend, "newton");
-  EXPECT_EQ(c.numbers.at("gamma3_unknowns"), 802);
+  EXPECT_EQ(c.numbers.at("gamma3_unknowns"), 1202);
   ASSERT_GT(c.numbers.at("factor_flops"), 0);
   EXPECT_GT(c.numbers.at("condensed_flops"), c.numbers.at("full_flops"));
   EXPECT_NE(c.reason.find(" > "), std::string::npos) << c.reason;
   EXPECT_TRUE(r.sol.ok()) << r.sol.message;
+  // (21) from the elastic factor the full formulation has anyway: no Gram factorization.
+  EXPECT_EQ(r.sol.smallness.method, "bound");
+  EXPECT_NE(r.sol.smallness.note.find("elastic factor"), std::string::npos) << r.sol.smallness.note;
 }
 
 // The paper's square: few Γ3 unknowns against a large interior, condensed as before.
@@ -122,6 +125,9 @@ TEST(MethodChoice, TheCostModelDecides) {
   SolveOptions opt;
   int analyses = 0;
   const auto full = [&] { return ++analyses, 1e6; };
+  EXPECT_EQ(choose_method(n, opt, full).chosen, "condensed");  // 3e6 ≤ condensed_below: no comparison
+  EXPECT_EQ(analyses, 0);
+  opt.method_choice.condensed_below = 0;
   EXPECT_EQ(choose_method(n, opt, full).chosen, "condensed");  // 2e6 + 1e6 ≤ 10 · 1e6
   EXPECT_EQ(analyses, 1);
   opt.method_choice.full_factorizations = 2;
@@ -145,7 +151,7 @@ TEST(MethodChoice, ReportCarriesTheReason) {
   EXPECT_EQ(j["method_choice"]["chosen"], "full");
   EXPECT_EQ(j["method_choice"]["backend"], "newton");
   EXPECT_EQ(j["method_choice"]["reason"], r.sol.method_choice.reason);
-  EXPECT_EQ(j["method_choice"]["numbers"]["gamma3_unknowns"], 802);
+  EXPECT_EQ(j["method_choice"]["numbers"]["gamma3_unknowns"], 1202);
   EXPECT_TRUE(j.contains("formulation") && j.contains("smallness") && j.contains("inner_convexity"));
   EXPECT_NE(summary_table(r.md, r.sol).find("method        full (auto)"), std::string::npos);
 }
@@ -236,6 +242,7 @@ TEST(SparseChecks, NotConvexIsFoundByLanczosToo) {
   const mct::Solved sparse = mct::run("minima-softening", {"check.dense_max_unknowns=0"});
   const InnerConvexity &cd = dense.sol.inner_convexity, &cs = sparse.sol.inner_convexity;
   ASSERT_TRUE(cd.checked);
+  ASSERT_FALSE(cd.strongly_convex);  // λ_min(S − αW_ν) = −6083 at α = 1e5
   EXPECT_EQ(cd.checked, cs.checked) << cs.note;
   EXPECT_EQ(cd.strongly_convex, cs.strongly_convex) << cs.note;
   EXPECT_EQ(cd.min_eigenvalue > 0, cs.min_eigenvalue > 0);

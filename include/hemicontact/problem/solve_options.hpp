@@ -123,6 +123,13 @@ struct MethodChoiceOptions {
   /// formulation's factorization is analysed too (same ordering rule, no Γ3 block) and the two works
   /// compared. 0.1: the paper's 2D scenes (fig2 n = 64..1024) stay on the first test.
   double small_fraction = 0.1;
+  /// Condensed whatever the full path would cost where the condensed path's whole work (its
+  /// factorization and dense_work · m³) is at most this many flops (~0.3 s on the 2-core machine):
+  /// there the exact solver and its polish answer to round-off, where the full formulation has the
+  /// continuation alone, and the difference in time is a few milliseconds. Measured: the 1000-scene
+  /// random study and the minima scenes (a 16 × 2 laminate: 6.6e4 flops) stay on the exact path;
+  /// the fig2 strip 300 × 1 (2.9e9 flops) goes to the comparison.
+  double condensed_below = 1e9;
   /// The condensed path's dense Γ3 matrices (L_CC, S, the condensed energy's dense Hessian and the
   /// solvers' copies: 7 · 8 m² bytes, from the strip's 940 MB peak at m = 4002) may use at most this
   /// fraction of the memory available to the process (physical memory free, or the address-space
