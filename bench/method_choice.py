@@ -142,7 +142,7 @@ def ratio(runs, key):
     """auto's value over the smallest certified one's, with that method's name."""
     vals = {m: r[key] for m, r in runs.items() if r.get(key) is not None and r.get("certified")}
     auto = runs.get("auto", {}).get(key)
-    if not vals or auto is None:
+    if not vals or auto is None or min(vals.values()) <= 0:  # /usr/bin/time's 0.01 s resolution
         return "-"
     best = min(vals, key=vals.get)
     return f"{auto / vals[best]:.2f} ({best})"
@@ -171,7 +171,16 @@ def main():
     ap.add_argument("--repeats", type=int, default=1, help="best of this many processes by wall time")
     ap.add_argument("--methods", default="", help="comma-separated subset of: " + ",".join(METHODS))
     ap.add_argument("--max-n", type=int, default=0, help="leave out fig2 and 3D boxes above this mesh.n")
+    ap.add_argument("--table", default="", help="only print the table of an earlier run's method_choice.json")
     a = ap.parse_args()
+    if a.table:
+        with open(a.table) as f:
+            results = json.load(f)
+        for m in list(METHODS):
+            if not any(m in row["runs"] for row in results):
+                del METHODS[m]
+        print(table(results))
+        return 0
     only = [s for s in a.only.split(",") if s]
     for m in [m for m in a.methods.split(",") if m]:
         if m not in METHODS:
