@@ -265,6 +265,9 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   Formulation& F = I.F;
   I.take_choice_backend();
   if (opt.smallness && !exact_first) I.report_smallness(smallness(), t_smallness);
+  // A caller that asks for (21) only after the solve (the adaptive loop's final mesh) finds the
+  // spectrum already read from the elastic factor, which is released now.
+  if (!opt.smallness && F.elastic_factor && (I.automatic_full() || I.dense_checks_too_large())) I.spectrum();
   F.elastic_factor.reset();  // the checks have read it; the backend factorizes its own matrices
   I.lagged = md.friction && md.friction->depends_on_u_nu();
   I.note_skipped();

@@ -260,3 +260,17 @@ TEST(SparseChecks, Large3DSmallnessNeedsNoFactorization) {
   }
   EXPECT_TRUE(r.sol.ok()) << r.sol.message;
 }
+
+// A caller that asks for (21) after the solve (the adaptive loop's final mesh: check.smallness off
+// during the solve) gets it from the spectrum read at set-up, under an automatic full as well.
+TEST(SparseChecks, SmallnessAfterTheSolveUnderAnAutomaticFull) {
+  const json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json",
+                            mct::strip({"check.smallness=false"}));
+  const Model md = build_model(s, HEMICONTACT_SOURCE_DIR "/problems");
+  ContactSolver solver(md, solve_options_from_scene(s));
+  ASSERT_EQ(solver.formulation(), "full");
+  const SmallnessReport q = solver.smallness();
+  EXPECT_TRUE(q.computed) << q.note;
+  EXPECT_EQ(q.method, "bound");
+  EXPECT_NE(q.note.find("elastic factor"), std::string::npos) << q.note;
+}
