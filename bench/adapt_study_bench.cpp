@@ -21,9 +21,12 @@
 //    as unknown (null).
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/core/options.hpp>
+#include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/studies/adapt_study.hpp>
 
+#include "bench_limits.hpp"
 #include <nlohmann/json.hpp>
 
 #include <sys/resource.h>
@@ -73,45 +76,45 @@ ChildTime run_child(const std::vector<std::string>& argv) {
   return t;
 }
 
-// The command line (usage in parse_bench_args's message).
+// The command line (USAGE).
 struct BenchArgs {
   std::string scene_path = HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json";
   std::string out = "out/adapt-study", reference = "adaptive:0.002";
   double target = 0.01;
   int repeats = 3;
-  bool study = true;
+  bool study = true, force = false, help = false;
   std::vector<std::string> sets;
 };
 
-// False on a bad command line (after saying why).
-bool parse_bench_args(int argc, char** argv, BenchArgs& A) {
-  for (int i = 1; i < argc; i += 2) {
+const char* const USAGE =
+    "usage: hemicontact_adapt_study [--scene S] [--reference R] [--target T] [--repeats N] [--out DIR]\n"
+    "                               [--set K=V ...] [--no-study] [--force]\n"
+    "The work-precision study (DIR/work_precision.csv, .json, .png) and the whole-process time of\n"
+    "`hemicontact solve --set adapt.target_error=T` (its last run's results stay in DIR/solve). DIR\n"
+    "follows `hemicontact solve --out`'s rules: earlier results replaced only with --force. Exit\n"
+    "codes: 0, 1 usage, 2 bad input or output folder.\n";
+
+// The options, checked as `hemicontact`'s are (core/options.hpp): a bad value is a usage error.
+BenchArgs parse_bench_args(int argc, char** argv) {
+  BenchArgs A;
+  for (int i = 1; i < argc; ++i) {
     const std::string k = argv[i];
-    if (k == "--no-study") {
-      A.study = false;
-      --i;
-      continue;
-    }
-    if (i + 1 >= argc) {
-      std::fprintf(stderr, "%s: %s needs a value\n", argv[0], k.c_str());
-      return false;
-    }
-    const std::string v = argv[i + 1];
-    if (k == "--scene") A.scene_path = v;
-    else if (k == "--set") A.sets.push_back(v);
-    else if (k == "--out") A.out = v;
-    else if (k == "--reference") A.reference = v;
-    else if (k == "--target") A.target = std::stod(v);
-    else if (k == "--repeats") A.repeats = std::stoi(v);
-    else {
-      std::fprintf(stderr,
-                   "usage: %s [--scene S] [--reference R] [--target T] [--repeats N] [--out DIR] [--set K=V ...] "
-                   "[--no-study]\n",
-                   argv[0]);
-      return false;
-    }
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw Error("option " + k + " needs a value", EXIT_USAGE);
+      return argv[++i];
+    };
+    if (k == "--no-study") A.study = false;
+    else if (k == "--force") A.force = true;
+    else if (k == "-h" || k == "--help") A.help = true;
+    else if (k == "--scene") A.scene_path = value();
+    else if (k == "--set") A.sets.push_back(value());
+    else if (k == "--out") A.out = value();
+    else if (k == "--reference") A.reference = value();
+    else if (k == "--target") A.target = parse_positive_option(k, value());
+    else if (k == "--repeats") A.repeats = static_cast<int>(parse_integer_option(k, value(), 1, bench::MAX_REPEATS));
+    else throw Error("unknown option '" + k + "' (see hemicontact_adapt_study --help)", EXIT_USAGE);
   }
-  return true;
+  return A;
 }
 
 // 1. The study, in this process: its CSV, its JSON into @p js, and its table on stdout.
@@ -123,7 +126,7 @@ WorkPrecisionStudy run_study(const nlohmann::json& scene, const BenchArgs& A, nl
   req.adapt = adapt_options_from_scene(scene);
   req.adapt.target_error = A.target;
   WorkPrecisionStudy st = run_work_precision(scene, scene_directory(A.scene_path), req);
-  std::ofstream(fs::path(A.out) / "work_precision.csv") << work_precision_csv(st);
+  write_text_file((fs::path(A.out) / "work_precision.csv").string(), work_precision_csv(st));
   js = work_precision_json(st);
   std::printf("reference %s: %lld dofs, its own estimate %.3g\n", st.reference.c_str(),
               static_cast<long long>(st.reference_dofs), st.reference_estimate);
@@ -180,34 +183,40 @@ void time_whole_process(const BenchArgs& A, const WorkPrecisionStudy& st, nlohma
                          {"history", a.at("history")}};
 }
 
+int adapt_main(int argc, char** argv) {
+  const BenchArgs A = parse_bench_args(argc, argv);
+  if (A.help) {
+    std::fputs(USAGE, stdout);
+    return EXIT_OK;
+  }
+  set_log_level(LogLevel::WARN);
+  // The CLI's folder rules (output/output_dir.hpp) for this program's files; DIR/solve is the timed
+  // `hemicontact solve`'s own folder (run with --force), kept: the child names it as its results.
+  std::vector<std::string> overrides = {"check.smallness=false"};
+  overrides.insert(overrides.end(), A.sets.begin(), A.sets.end());
+  const nlohmann::json scene = load_scene(A.scene_path, overrides);  // before the folder, as the CLI
+  const OutputLock lock =
+      prepare_output_dir(A.out, A.force, {"work_precision.csv", "work_precision.json", "work_precision.png"});
+  WorkPrecisionStudy st;
+  nlohmann::json js;
+  if (A.study) st = run_study(scene, A, js);
+  js["scene_file"] = fs::path(A.scene_path).filename().string();
+  js["target_error"] = A.target;
+  js["set"] = A.sets;
+  time_whole_process(A, st, js);
+  write_text_file((fs::path(A.out) / "work_precision.json").string(), js.dump(2) + "\n");
+  if (A.study) {
+    const std::string plot = "/usr/bin/python3 " HEMICONTACT_SOURCE_DIR "/scripts/plot_work_precision.py " +
+                             (fs::path(A.out) / "work_precision.csv").string() + " --title fig2";
+    record_output_file((fs::path(A.out) / "work_precision.png").string());
+    if (std::system(plot.c_str()) != 0) std::fprintf(stderr, "adapt_study: the plot was not drawn\n");
+  }
+  return EXIT_OK;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  BenchArgs A;
-  if (!parse_bench_args(argc, argv, A)) return 1;
-  try {
-    set_log_level(LogLevel::WARN);
-    fs::create_directories(A.out);
-    std::vector<std::string> overrides = {"check.smallness=false"};
-    overrides.insert(overrides.end(), A.sets.begin(), A.sets.end());
-    const nlohmann::json scene = load_scene(A.scene_path, overrides);
-    WorkPrecisionStudy st;
-    nlohmann::json js;
-    if (A.study) st = run_study(scene, A, js);
-    js["scene_file"] = fs::path(A.scene_path).filename().string();
-    js["target_error"] = A.target;
-    js["set"] = A.sets;
-    time_whole_process(A, st, js);
-    std::ofstream(fs::path(A.out) / "work_precision.json") << js.dump(2) << '\n';
-    fs::remove_all(fs::path(A.out) / "solve");
-    if (A.study) {
-      const std::string plot = "/usr/bin/python3 " HEMICONTACT_SOURCE_DIR "/scripts/plot_work_precision.py " +
-                               (fs::path(A.out) / "work_precision.csv").string() + " --title fig2";
-      if (std::system(plot.c_str()) != 0) std::fprintf(stderr, "adapt_study: the plot was not drawn\n");
-    }
-  } catch (const Error& e) {
-    std::fprintf(stderr, "adapt_study: %s\n", e.what());
-    return e.code();
-  }
-  return 0;
+  install_interrupt_handlers();
+  return run_program("hemicontact_adapt_study", [&] { return adapt_main(argc, argv); });
 }

@@ -18,11 +18,14 @@
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/core/options.hpp>
 #include <hemicontact/nlp/backend.hpp>
+#include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/solve.hpp>
 
+#include "bench_limits.hpp"
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -147,74 +150,114 @@ std::string scene_table(const std::string& spec, const Model& model, const Solut
   return md.str() + "\n";
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The command line (USAGE).
+struct BackendsArgs {
   std::vector<std::string> scenes = {"sofonea2017-fig2.json:mesh.n=64", "minima-softening.json:check.smallness=false",
                                      "minima-laminate.json:check.smallness=false"};
   std::vector<std::string> backends;
   std::string out = "backends";
   int repeats = 3;
+  bool force = false, help = false;
+};
+
+const char* const USAGE =
+    "usage: hemicontact_backends [--scenes FILE[:key=value...],...] [--backends a,b,...] [--repeats N]\n"
+    "                            [--out DIR] [--force]\n"
+    "Every NLP backend on the same scenes; writes DIR/backends.md and DIR/backends.json (DIR follows\n"
+    "`hemicontact solve --out`'s rules: earlier results replaced only with --force). Exit codes: 0, 1\n"
+    "usage, 2 bad input or output folder, 3 a run not certified.\n";
+
+BackendsArgs parse_backends_args(int argc, char** argv) {
+  BackendsArgs A;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::cerr << a << " needs a value\n";
-        std::exit(1);
-      }
+      if (i + 1 >= argc) throw Error("option " + a + " needs a value", EXIT_USAGE);
       return argv[++i];
     };
-    if (a == "--scenes") scenes = split(next(), ',');
-    else if (a == "--backends") backends = split(next(), ',');
-    else if (a == "--out") out = next();
-    else if (a == "--repeats") repeats = std::max(1, std::stoi(next()));
-    else {
-      std::cerr << "usage: hemicontact_backends [--scenes FILE[:key=value...],...] [--backends a,b,...] "
-                   "[--repeats N] [--out DIR]\n";
-      return 1;
-    }
+    if (a == "--scenes") A.scenes = split(next(), ',');
+    else if (a == "--backends") A.backends = split(next(), ',');
+    else if (a == "--out") A.out = next();
+    else if (a == "--repeats") A.repeats = static_cast<int>(parse_integer_option(a, next(), 1, bench::MAX_REPEATS));
+    else if (a == "--force") A.force = true;
+    else if (a == "-h" || a == "--help") A.help = true;
+    else throw Error("unknown option '" + a + "' (see hemicontact_backends --help)", EXIT_USAGE);
   }
-  if (backends.empty())
+  if (A.scenes.empty()) throw Error("--scenes: no scene given", EXIT_USAGE);
+  return A;
+}
+
+// A --scenes entry FILE[:key=value...]: the file (as given, else in problems/) and its scene.
+json scene_of(const std::string& spec, std::string& path) {
+  const std::vector<std::string> parts = split(spec, ':');
+  path = fs::exists(parts.front()) ? parts.front() : std::string(HEMICONTACT_SOURCE_DIR "/problems/") + parts.front();
+  return load_scene(path, std::vector<std::string>(parts.begin() + 1, parts.end()));
+}
+
+// One scene's runs (the default, the exact solver's path, each backend) into @p md and @p all;
+// @return how many were not certified.
+int compare_on_scene(const std::string& spec, const BackendsArgs& A, std::ostringstream& md, json& all) {
+  std::string path;
+  const json scene = scene_of(spec, path);
+  const Model model = build_model(scene, fs::path(path).parent_path().string());
+  const SolveOptions base = solve_options_from_scene(scene);
+  std::vector<std::pair<std::string, SolveOptions>> runs{{"auto (default)", base}, {"exact", base}};
+  runs[1].second.exact_start = "always";
+  for (const std::string& b : A.backends) {
+    runs.emplace_back(b, base);
+    runs.back().second.backend = b;
+  }
+  Solution reference;
+  std::vector<Row> rows;
+  int failures = 0;
+  for (size_t r = 0; r < runs.size(); ++r) {
+    std::cerr << spec << ": " << runs[r].first << "\n";
+    rows.push_back(run_one(model, runs[r].first, runs[r].second, A.repeats, reference, r == 0));
+    failures += !rows.back().ok;
+    all.push_back(row_json(spec, rows.back()));
+  }
+  md << scene_table(spec, model, reference, rows);
+  return failures;
+}
+
+int backends_main(int argc, char** argv) {
+  BackendsArgs A = parse_backends_args(argc, argv);
+  if (A.help) {
+    std::fputs(USAGE, stdout);
+    return EXIT_OK;
+  }
+  if (A.backends.empty())
     for (const auto& [name, doc] : available_backends())
-      if (name != AUTO_BACKEND && name != "ssn" && name.rfind("tao:", 0) != 0) backends.push_back(name);
+      if (name != AUTO_BACKEND && name != "ssn" && name.rfind("tao:", 0) != 0) A.backends.push_back(name);
   set_log_level(LogLevel::QUIET);
-  fs::create_directories(out);
+  // Every scene read before the folder is touched, as the CLI does: a bad one leaves nothing.
+  for (const std::string& spec : A.scenes) {
+    std::string path;
+    (void)scene_of(spec, path);
+  }
+  // The CLI's folder rules (output/output_dir.hpp): no link followed, earlier results only with --force.
+  const OutputLock lock = prepare_output_dir(A.out, A.force, {"backends.md", "backends.json"});
   std::ostringstream md;
   json all = json::array();
   int failures = 0;
-  md << "Generated by `hemicontact_backends --repeats " << repeats << "` (bench/backends.cpp). Per scene: the default "
+  md << "Generated by `hemicontact_backends --repeats " << A.repeats << "` (bench/backends.cpp). Per scene: the default "
      << "solve (`auto`), the exact solver's own path (`exact`: solver.exact.start = always), then each backend "
         "named (its first ε-stage, then the exact solver). `backend it / ev / s`: the backend's own iterations, "
         "evaluations and seconds; `exact s`: the exact solver's; `total s`: the whole solve (best of "
-     << repeats << "); `Δu`, `ΔE`: relative distance to the default's displacement and energy; `statuses`: nodes "
+     << A.repeats << "); `Δu`, `ΔE`: relative distance to the default's displacement and energy; `statuses`: nodes "
         "whose status differs from the default's.\n\n";
-  for (const std::string& spec : scenes) {
-    const std::vector<std::string> parts = split(spec, ':');
-    const std::string path = fs::exists(parts.front()) ? parts.front()
-                                                       : std::string(HEMICONTACT_SOURCE_DIR "/problems/") + parts.front();
-    const json scene = load_scene(path, std::vector<std::string>(parts.begin() + 1, parts.end()));
-    const Model model = build_model(scene, fs::path(path).parent_path().string());
-    const SolveOptions base = solve_options_from_scene(scene);
-    std::vector<std::pair<std::string, SolveOptions>> runs{{"auto (default)", base}, {"exact", base}};
-    runs[1].second.exact_start = "always";
-    for (const std::string& b : backends) {
-      runs.emplace_back(b, base);
-      runs.back().second.backend = b;
-    }
-    Solution reference;
-    std::vector<Row> rows;
-    for (size_t r = 0; r < runs.size(); ++r) {
-      std::cerr << spec << ": " << runs[r].first << "\n";
-      rows.push_back(run_one(model, runs[r].first, runs[r].second, repeats, reference, r == 0));
-      failures += !rows.back().ok;
-      all.push_back(row_json(spec, rows.back()));
-    }
-    md << scene_table(spec, model, reference, rows);
-  }
-  std::ofstream(fs::path(out) / "backends.md") << md.str();
-  std::ofstream(fs::path(out) / "backends.json") << all.dump(2) << "\n";
+  for (const std::string& spec : A.scenes) failures += compare_on_scene(spec, A, md, all);
+  write_text_file((fs::path(A.out) / "backends.md").string(), md.str());
+  write_text_file((fs::path(A.out) / "backends.json").string(), all.dump(2) + "\n");
   std::cout << md.str();
   // A comparison in which a backend failed to certify is reported, and the exit status says so.
   if (failures > 0) std::cerr << "hemicontact_backends: " << failures << " run(s) not certified\n";
-  return failures > 0 ? 3 : 0;
+  return failures > 0 ? EXIT_NOT_CONVERGED : EXIT_OK;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  install_interrupt_handlers();
+  return run_program("hemicontact_backends", [&] { return backends_main(argc, argv); });
 }

@@ -18,11 +18,14 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/core/options.hpp>
+#include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/solve.hpp>
 
+#include "bench_limits.hpp"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -30,6 +33,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -67,6 +71,7 @@ struct Row {
   bool backend_ran = false;
   long long backend_iterations = 0, backend_evaluations = 0;
   std::map<std::string, double> timings;  // the solve's own split (Solution::timings)
+  std::string command;  // the `hemicontact solve` that reruns this row (rerun_command)
 };
 
 double percentile(std::vector<double> v, double q) {
@@ -90,35 +95,79 @@ std::string path_of(const Solution& s) {
   return s.handover.used ? "backend stages, exact hand-over" : "backend stages";
 }
 
-// The command line (usage in main's message).
+// The command line (USAGE).
 struct StudyArgs {
   int seeds = 1000, n_min = 8, n_max = 16, first = 1, repeats = 3;
   std::string out = "random-study", backend;
   std::vector<std::string> sets;  // --set KEY=VALUE: a solver override on every scene (not the default study)
+  bool force = false;
+  bool help = false;
 };
 
-// False on an unknown argument (after printing the usage).
-bool parse_study_args(int argc, char** argv, StudyArgs& A) {
+const char* const USAGE =
+    "usage: hemicontact_random_study [--seeds N] [--first S] [--n-min A] [--n-max B] [--backend NAME]\n"
+    "                                [--set KEY=VALUE]... [--repeats R] [--out DIR] [--force]\n"
+    "Seeds S..S+N-1 of the random default-settings scenes, solved and timed against the linear solve;\n"
+    "writes DIR/random-default.csv (with the command that reruns each row) and DIR/random-default.md.\n"
+    "DIR follows `hemicontact solve --out`'s rules: no links followed, earlier results replaced only\n"
+    "with --force. Exit codes: 0, 1 usage, 2 bad input or output folder, 3 nothing certified.\n";
+
+// The options, checked as `hemicontact`'s are (core/options.hpp): a bad value is a usage error.
+StudyArgs parse_study_args(int argc, char** argv) {
+  StudyArgs A;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const auto next = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
+      if (i + 1 >= argc) throw Error("option " + a + " needs a value", EXIT_USAGE);
       return argv[++i];
     };
-    if (a == "--seeds") A.seeds = std::stoi(next());
-    else if (a == "--first") A.first = std::stoi(next());
-    else if (a == "--n-min") A.n_min = std::stoi(next());
-    else if (a == "--n-max") A.n_max = std::stoi(next());
+    const auto integer = [&](long lo, long hi) { return static_cast<int>(parse_integer_option(a, next(), lo, hi)); };
+    if (a == "--seeds") A.seeds = integer(1, bench::MAX_SEEDS);
+    else if (a == "--first") A.first = integer(0, std::numeric_limits<int>::max() - bench::MAX_SEEDS);  // seeds are ints here
+    else if (a == "--n-min") A.n_min = integer(1, bench::MAX_MESH_N);
+    else if (a == "--n-max") A.n_max = integer(1, bench::MAX_MESH_N);
     else if (a == "--out") A.out = next();
     else if (a == "--backend") A.backend = next();
     else if (a == "--set") A.sets.push_back(next());
-    else if (a == "--repeats") A.repeats = std::max(1, std::stoi(next()));
-    else {
-      std::cerr << "usage: hemicontact_random_study [--seeds N] [--first S] [--n-min A] [--n-max B] [--backend NAME] [--set KEY=VALUE]... [--repeats R] [--out DIR]\n";
-      return false;
-    }
+    else if (a == "--repeats") A.repeats = integer(1, bench::MAX_REPEATS);
+    else if (a == "--force") A.force = true;
+    else if (a == "-h" || a == "--help") A.help = true;
+    else throw Error("unknown option '" + a + "' (see hemicontact_random_study --help)", EXIT_USAGE);
   }
-  return true;
+  if (A.n_min > A.n_max) throw Error("--n-min " + std::to_string(A.n_min) + " is above --n-max " + std::to_string(A.n_max), EXIT_USAGE);
+  return A;
+}
+
+// Every override of a seed's scene: the drawn ones, --backend, the --set ones, in the order applied.
+std::vector<std::string> scene_overrides(const StudyArgs& A, const stress::RandomScene& rs) {
+  std::vector<std::string> o = rs.overrides;
+  if (!A.backend.empty()) o.push_back("solver.backend=\"" + A.backend + "\"");
+  o.insert(o.end(), A.sets.begin(), A.sets.end());
+  return o;
+}
+
+// The `hemicontact solve` that reruns a row as it was run here (the --set overrides included: a
+// failed seed rerun without them would certify).
+std::string rerun_command(const StudyArgs& A, const stress::RandomScene& rs) {
+  std::vector<std::string> argv = {"hemicontact", "solve", "problems/sofonea2017-fig2.json"};
+  for (const std::string& o : scene_overrides(A, rs)) argv.insert(argv.end(), {"--set", o});
+  return shell_command(argv);
+}
+
+// The study's own command line, every option that differs from its default (--out DIR left open).
+std::string study_command(const StudyArgs& A) {
+  const StudyArgs d;
+  std::vector<std::string> argv = {"hemicontact_random_study", "--seeds", std::to_string(A.seeds)};
+  const auto add = [&](const char* key, int v, int def) {
+    if (v != def) argv.insert(argv.end(), {key, std::to_string(v)});
+  };
+  add("--first", A.first, d.first);
+  add("--n-min", A.n_min, d.n_min);
+  add("--n-max", A.n_max, d.n_max);
+  if (!A.backend.empty()) argv.insert(argv.end(), {"--backend", A.backend});
+  for (const std::string& kv : A.sets) argv.insert(argv.end(), {"--set", kv});
+  add("--repeats", A.repeats, d.repeats);
+  return shell_command(argv) + " --out DIR";
 }
 
 // The linear-elastic factor+solve of the model's mesh, best of 3, into @p best (NaN before).
@@ -166,9 +215,8 @@ void record_solution(const Solution& s, Row& r) {
 Row run_seed(const StudyArgs& A, int seed) {
   Row r;
   r.rs = stress::draw_default_scene(static_cast<unsigned>(seed), A.n_min, A.n_max);
-  std::vector<std::string> o = r.rs.overrides;
-  if (!A.backend.empty()) o.push_back("solver.backend=\"" + A.backend + "\"");
-  o.insert(o.end(), A.sets.begin(), A.sets.end());
+  const std::vector<std::string> o = scene_overrides(A, r.rs);
+  r.command = rerun_command(A, r.rs);
   try {
     const nlohmann::json scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", o);
     const Model md = build_model(scene, ".");
@@ -197,7 +245,7 @@ Row run_seed(const StudyArgs& A, int seed) {
 }
 
 void write_rows_csv(const std::string& out, const std::vector<Row>& rows) {
-  std::ofstream csv(fs::path(out) / "random-default.csv");
+  std::ostringstream csv;
   csv << "seed,n,E,load_scale,mu,g,aspect,outcome,certificate,strongly_convex_checked,strongly_convex,min_eigenvalue,"
          "handover,path,solved_by,backend_ran,backend_iterations,backend_evaluations,energy,seconds,linear_seconds,"
          "ratio,message,command\n";
@@ -207,7 +255,8 @@ void write_rows_csv(const std::string& out, const std::vector<Row>& rows) {
         << r.certificate << ',' << r.convex_checked << ',' << r.convex << ',' << r.min_eig << ',' << r.handover << ','
         << csv_quote(r.path) << ',' << r.solved_by << ',' << r.backend_ran << ',' << r.backend_iterations << ','
         << r.backend_evaluations << ',' << stress::num(r.energy) << ',' << r.seconds << ',' << r.linear << ',' << r.ratio << ',' << csv_quote(r.message) << ','
-        << csv_quote(r.rs.command()) << '\n';
+        << csv_quote(r.command) << '\n';
+  write_text_file((fs::path(out) / "random-default.csv").string(), csv.str());
 }
 
 // The summary's counts over the rows.
@@ -256,9 +305,7 @@ void write_counts(std::ostringstream& md, const StudyArgs& A, size_t drawn, cons
           for (const auto& x : sets) j += (j.empty() ? "" : ", ") + x;
           return j;
         }())
-     << ". Regenerate: `hemicontact_random_study --seeds " << A.seeds
-     << (backend.empty() ? std::string() : " --backend " + backend)
-     << (A.repeats == 3 ? std::string() : " --repeats " + std::to_string(A.repeats)) << " --out DIR`"
+     << ". Regenerate: `" << study_command(A) << "`"
      << (A.repeats == 1 ? " (single timings: the ratios are noisier than best-of-3)" : "") << ".\n\n"
      << "| | scenes |\n|---|---|\n"
      << "| drawn | " << drawn << " |\n"
@@ -319,13 +366,16 @@ void write_slowest(std::ostringstream& md, const std::vector<Row>& rows) {
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  StudyArgs A;
-  if (!parse_study_args(argc, argv, A)) return 1;
+int study_main(int argc, char** argv) {
+  const StudyArgs A = parse_study_args(argc, argv);
+  if (A.help) {
+    std::fputs(USAGE, stdout);
+    return EXIT_OK;
+  }
   set_log_level(LogLevel::QUIET);  // the outcome of every scene is in the CSV
-  fs::create_directories(A.out);
+  // The CLI's folder rules (output/output_dir.hpp): no link followed, nothing of someone else's
+  // replaced, an earlier study only with --force.
+  const OutputLock lock = prepare_output_dir(A.out, A.force, {"random-default.csv", "random-default.md"});
   std::vector<Row> rows;
   const auto t_all = clk::now();
   for (int seed = A.first; seed < A.first + A.seeds; ++seed) {
@@ -341,12 +391,19 @@ int main(int argc, char** argv) {
   write_counts(md, A, rows.size(), c, t_all);
   write_not_certified(md, rows);
   write_slowest(md, rows);
-  std::ofstream(fs::path(A.out) / "random-default.md") << md.str();
+  write_text_file((fs::path(A.out) / "random-default.md").string(), md.str());
   std::cout << md.str();
   // A study in which nothing was certified says nothing: it fails loudly.
   if (c.valid > 0 && c.ok == 0) {
     std::cerr << "hemicontact_random_study: none of the " << c.valid << " solved scenes was certified\n";
-    return 3;
+    return EXIT_NOT_CONVERGED;
   }
-  return 0;
+  return EXIT_OK;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  install_interrupt_handlers();
+  return run_program("hemicontact_random_study", [&] { return study_main(argc, argv); });
 }

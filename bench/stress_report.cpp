@@ -26,10 +26,13 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/core/options.hpp>
+#include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/solve.hpp>
 
+#include "bench_limits.hpp"
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -378,11 +381,8 @@ std::vector<ThetaRow> run_theta(int n) {
 
 // ============================================================== output
 
-void write(const fs::path& p, const std::string& text) {
-  std::ofstream f(p);
-  f << text;
-  if (!f) throw Error("cannot write " + p.string(), EXIT_INPUT);
-}
+// Atomically and never through a link, as the CLI writes (output/output_dir.hpp).
+void write(const fs::path& p, const std::string& text) { write_text_file(p.string(), text); }
 
 std::string cases_csv(const std::vector<CaseRow>& rows) {
   std::string t =
@@ -493,80 +493,95 @@ std::string theta_md(const std::vector<ThetaRow>& rows, int n) {
   return t;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The command line (USAGE).
+struct ReportArgs {
   std::string out;
   std::string parts = "cases,random,theta";
   int n = 64, seeds = 300, n_min = 8, n_max = 16, n_theta = 16, max_iter = 500;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      const auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw Error(a + " needs a value", EXIT_USAGE);
-        return argv[++i];
-      };
-      if (a == "--out")
-        out = value();
-      else if (a == "--parts")
-        parts = value();
-      else if (a == "--n")
-        n = std::stoi(value());
-      else if (a == "--seeds")
-        seeds = std::stoi(value());
-      else if (a == "--n-min")
-        n_min = std::stoi(value());
-      else if (a == "--n-max")
-        n_max = std::stoi(value());
-      else if (a == "--n-theta")
-        n_theta = std::stoi(value());
-      else if (a == "--max-iter")
-        max_iter = std::stoi(value());
-      else
-        throw Error("unknown option " + a, EXIT_USAGE);
-    }
-    if (out.empty()) throw Error("missing --out DIR", EXIT_USAGE);
-  } catch (const std::exception& e) {
-    std::fprintf(
-        stderr,
-        "hemicontact_stress_report: %s\nusage: hemicontact_stress_report --out DIR [--parts cases,random,theta] "
-        "[--n 64] [--seeds 300] [--n-min 8] [--n-max 16] [--n-theta 16] [--max-iter 500]\n",
-        e.what());
-    return EXIT_USAGE;
+  bool force = false, help = false;
+};
+
+const char* const USAGE =
+    "usage: hemicontact_stress_report --out DIR [--parts cases,random,theta] [--n 64] [--seeds 300] [--n-min 8]\n"
+    "                                 [--n-max 16] [--n-theta 16] [--max-iter 500] [--force]\n"
+    "The numerical stress report: DIR/stress-report.md and a CSV and table per part (DIR follows\n"
+    "`hemicontact solve --out`'s rules: earlier results replaced only with --force). Exit codes: 0,\n"
+    "1 usage, 2 bad input or output folder.\n";
+
+ReportArgs parse_report_args(int argc, char** argv) {
+  ReportArgs A;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw Error("option " + a + " needs a value", EXIT_USAGE);
+      return argv[++i];
+    };
+    const auto integer = [&](long hi) { return static_cast<int>(parse_integer_option(a, value(), 1, hi)); };
+    if (a == "--out") A.out = value();
+    else if (a == "--parts") A.parts = value();
+    else if (a == "--n") A.n = integer(bench::MAX_MESH_N);
+    else if (a == "--seeds") A.seeds = integer(bench::MAX_SEEDS);
+    else if (a == "--n-min") A.n_min = integer(bench::MAX_MESH_N);
+    else if (a == "--n-max") A.n_max = integer(bench::MAX_MESH_N);
+    else if (a == "--n-theta") A.n_theta = integer(bench::MAX_MESH_N);
+    else if (a == "--max-iter") A.max_iter = integer(bench::MAX_ITERATIONS);
+    else if (a == "--force") A.force = true;
+    else if (a == "-h" || a == "--help") A.help = true;
+    else throw Error("unknown option '" + a + "' (see hemicontact_stress_report --help)", EXIT_USAGE);
+  }
+  if (!A.help && A.out.empty()) throw Error("missing --out DIR (see hemicontact_stress_report --help)", EXIT_USAGE);
+  if (A.n_min > A.n_max) throw Error("--n-min is above --n-max", EXIT_USAGE);
+  return A;
+}
+
+int report_main(int argc, char** argv) {
+  const ReportArgs A = parse_report_args(argc, argv);
+  if (A.help) {
+    std::fputs(USAGE, stdout);
+    return EXIT_OK;
   }
   set_log_level(LogLevel::QUIET);
-  fs::create_directories(out);
-  const auto want = [&](const std::string& p) { return parts.find(p) != std::string::npos; };
+  const fs::path out(A.out);
+  const OutputLock lock = prepare_output_dir(A.out, A.force, {"cases.csv", "cases.md", "random.csv", "random.md",
+                                                              "theta.csv", "theta.md", "stress-report.md"});
+  const auto want = [&](const std::string& p) { return A.parts.find(p) != std::string::npos; };
   std::string report = "## Numerical stress report\n\nGenerated by `hemicontact_stress_report --out DIR --parts " +
-                       parts + " --n " + std::to_string(n) + " --seeds " + std::to_string(seeds) + " --n-min " +
-                       std::to_string(n_min) + " --n-max " + std::to_string(n_max) + " --n-theta " +
-                       std::to_string(n_theta) + " --max-iter " + std::to_string(max_iter) + "`.\n\n";
+                       A.parts + " --n " + std::to_string(A.n) + " --seeds " + std::to_string(A.seeds) + " --n-min " +
+                       std::to_string(A.n_min) + " --n-max " + std::to_string(A.n_max) + " --n-theta " +
+                       std::to_string(A.n_theta) + " --max-iter " + std::to_string(A.max_iter) + "`.\n\n";
   const auto t0 = clk::now();
   if (want("cases")) {
-    std::fprintf(stderr, "cases (n = %d)\n", n);
-    const auto rows = run_cases(n);
-    write(fs::path(out) / "cases.csv", cases_csv(rows));
-    write(fs::path(out) / "cases.md", cases_md(rows, n));
-    report += cases_md(rows, n) + "\n";
+    std::fprintf(stderr, "cases (n = %d)\n", A.n);
+    const auto rows = run_cases(A.n);
+    write(out / "cases.csv", cases_csv(rows));
+    write(out / "cases.md", cases_md(rows, A.n));
+    report += cases_md(rows, A.n) + "\n";
   }
   if (want("random")) {
-    std::fprintf(stderr, "random (%d seeds)\n", seeds);
-    const auto rows = run_random(seeds, n_min, n_max, max_iter);
-    write(fs::path(out) / "random.csv", random_csv(rows));
-    write(fs::path(out) / "random.md", random_md(rows, n_min, n_max, max_iter));
-    report += random_md(rows, n_min, n_max, max_iter) + "\n";
+    std::fprintf(stderr, "random (%d seeds)\n", A.seeds);
+    const auto rows = run_random(A.seeds, A.n_min, A.n_max, A.max_iter);
+    write(out / "random.csv", random_csv(rows));
+    write(out / "random.md", random_md(rows, A.n_min, A.n_max, A.max_iter));
+    report += random_md(rows, A.n_min, A.n_max, A.max_iter) + "\n";
   }
   if (want("theta")) {
-    std::fprintf(stderr, "theta (n = %d)\n", n_theta);
-    const auto rows = run_theta(n_theta);
-    write(fs::path(out) / "theta.csv", theta_csv(rows));
-    write(fs::path(out) / "theta.md", theta_md(rows, n_theta));
-    report += theta_md(rows, n_theta) + "\n";
+    std::fprintf(stderr, "theta (n = %d)\n", A.n_theta);
+    const auto rows = run_theta(A.n_theta);
+    write(out / "theta.csv", theta_csv(rows));
+    write(out / "theta.md", theta_md(rows, A.n_theta));
+    report += theta_md(rows, A.n_theta) + "\n";
   }
   char total[64];
   std::snprintf(total, sizeof total, "Total run time: %.0f s.\n", since(t0));
   report += total;
-  write(fs::path(out) / "stress-report.md", report);
+  write(out / "stress-report.md", report);
   std::fprintf(stderr, "%s", total);
-  return 0;
+  return EXIT_OK;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  install_interrupt_handlers();
+  return run_program("hemicontact_stress_report", [&] { return report_main(argc, argv); });
 }

@@ -17,10 +17,14 @@
 // Output: a table on stdout and DIR/whole_process.json (--out) with every number.
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/options.hpp>
 #include <hemicontact/mesh/mesh.hpp>
 #include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/studies/convergence.hpp>
 
+#include "bench_limits.hpp"
 #include <cholmod.h>
 #include <nlohmann/json.hpp>
 
@@ -55,6 +59,7 @@ struct Args {
   std::string cli = HEMICONTACT_CLI_PATH;
   std::string out = "whole-process";
   int repeats = 1;
+  bool force = false, help = false;
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -322,100 +327,116 @@ Child run_cli(const Args& a, int level, const std::string& backend, const fs::pa
   });
 }
 
-}  // namespace
+const char* const USAGE =
+    "usage: hemicontact_whole_process [--scene FILE] [--levels 256,1024] [--backends ipopt,newton] [--repeats R]\n"
+    "                                 [--cli PATH] [--out DIR] [--force]\n"
+    "`hemicontact solve` start to exit against a plain linear-elastic program on the same meshes; writes\n"
+    "DIR/whole_process.json and each solve's results in DIR/solve_n<level>_<backend> (DIR follows\n"
+    "`hemicontact solve --out`'s rules: earlier results replaced only with --force). --levels as\n"
+    "`hemicontact converge --levels` (e.g. 8,16,...,128). Exit codes: 0, 1 usage, 2 bad input.\n";
 
-int main(int argc, char** argv) {
+// The options, checked with the CLI's own parsers (--levels: studies/convergence.hpp).
+Args parse_args(int argc, char** argv) {
   Args a;
   for (int i = 1; i < argc; ++i) {
     const std::string s = argv[i];
     const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", s.c_str());
-        std::exit(1);
-      }
+      if (i + 1 >= argc) throw Error("option " + s + " needs a value", EXIT_USAGE);
       return argv[++i];
     };
-    if (s == "--scene")
-      a.scene = value();
-    else if (s == "--levels") {
-      a.levels.clear();
-      for (const auto& t : split(value())) a.levels.push_back(std::stoi(t));
-    } else if (s == "--backends")
-      a.backends = split(value());
-    else if (s == "--cli")
-      a.cli = value();
-    else if (s == "--out")
-      a.out = value();
-    else if (s == "--repeats")
-      a.repeats = std::stoi(value());
-    else {
-      std::fprintf(stderr,
-                   "usage: hemicontact_whole_process [--scene FILE] [--levels 256,1024] [--backends ipopt,newton] "
-                   "[--repeats R] [--cli PATH] [--out DIR]\n");
-      return s == "--help" || s == "-h" ? 0 : 1;
-    }
+    if (s == "--scene") a.scene = value();
+    else if (s == "--levels") a.levels = parse_levels(value());
+    else if (s == "--backends") a.backends = split(value());
+    else if (s == "--cli") a.cli = value();
+    else if (s == "--out") a.out = value();
+    else if (s == "--repeats") a.repeats = static_cast<int>(parse_integer_option(s, value(), 1, bench::MAX_REPEATS));
+    else if (s == "--force") a.force = true;
+    else if (s == "--help" || s == "-h") a.help = true;
+    else throw Error("unknown option '" + s + "' (see hemicontact_whole_process --help)", EXIT_USAGE);
   }
-  fs::create_directories(a.out);
+  if (a.backends.empty()) throw Error("--backends: no backend given", EXIT_USAGE);
+  return a;
+}
+
+// The plain program's best of --repeats on one level: its row, and its wall time in @p plain_wall.
+json plain_row(const Args& a, int level, const json& scene, double& plain_wall) {
+  plain_wall = 1e300;
+  Child plain;
+  for (int r = 0; r < a.repeats; ++r) {  // best of R: the machine's noise is one-sided
+    Child c = run_plain(scene);
+    if (c.wall < plain_wall) plain_wall = c.wall, plain = c;
+  }
+  const json pt = plain.code == 0 ? json::parse(plain.text) : json();
+  std::printf("%-6d %-10s %9ld %8.2f %9.0f %8s %7d %.2f/%.2f/%.2f/%.2f/%.2f\n", level, "plain",
+              pt.is_null() ? 0L : pt["dofs"].get<long>(), plain.wall, plain.peak_mb, "1.00", plain.code,
+              pt.value("mesh", 0.0), pt.value("assemble", 0.0), pt.value("analyse", 0.0), pt.value("factor", 0.0),
+              pt.value("solve", 0.0));
+  return {{"n", level}, {"program", "plain"}, {"wall", plain.wall}, {"peak_mb", plain.peak_mb}, {"exit", plain.code},
+          {"phases", pt}};
+}
+
+// `hemicontact solve --backend B` on one level, best of --repeats: its row.
+json solve_row(const Args& a, int level, const std::string& backend, double plain_wall) {
+  const fs::path out = fs::path(a.out) / ("solve_n" + std::to_string(level) + "_" + backend);
+  double best = 1e300;
+  Child solve;
+  for (int r = 0; r < a.repeats; ++r) {
+    Child c = run_cli(a, level, backend, out);
+    if (c.wall < best) best = c.wall, solve = c;
+  }
+  json timings, report;
+  std::ifstream in(out / "report.json");
+  if (in) report = json::parse(in, nullptr, false);
+  if (report.is_object()) timings = report.value("timings", json());
+  // What did the work, as the report says (the backend named may have handed over to the exact solver).
+  const std::string solved_by = report.is_object() ? report.value("solved_by", "?") : "no report";
+  std::string phases;
+  for (const char* k : {"smallness", "assembly", "factorization_total", "backend", "polish", "certificate"})
+    if (timings.contains(k)) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%s %.2f ", k, timings[k].get<double>());
+      phases += buf;
+    }
+  std::printf("%-6d %-10s %9s %8.2f %9.0f %8.2f %7d solved by %s; %s\n", level, backend.c_str(), "", solve.wall,
+              solve.peak_mb, solve.wall / plain_wall, solve.code, solved_by.c_str(), phases.c_str());
+  std::fflush(stdout);
+  return {{"n", level},          {"program", "hemicontact solve --backend " + backend},
+          {"solved_by", solved_by}, {"wall", solve.wall},
+          {"peak_mb", solve.peak_mb}, {"exit", solve.code},
+          {"ratio", solve.wall / plain_wall}, {"timings", timings}};
+}
+
+int whole_main(int argc, char** argv) {
+  const Args a = parse_args(argc, argv);
+  if (a.help) {
+    std::fputs(USAGE, stdout);
+    return EXIT_OK;
+  }
+  // The CLI's folder rules (output/output_dir.hpp) for this program's own file; each solve's
+  // folder inside is the CLI's own (run with --force: it replaces the previous measurement).
+  for (const int level : a.levels) (void)load_scene(a.scene, {"mesh.n=" + std::to_string(level)});  // before the folder
+  const OutputLock lock = prepare_output_dir(a.out, a.force, {"whole_process.json"});
   json rows = json::array();
   std::printf("%-6s %-10s %9s %8s %9s %8s %7s %s\n", "n", "program", "dofs", "wall s", "peak MB", "ratio", "exit",
               "phases (plain: mesh/assemble/analyse/factor/solve s; solve: report.json timings)");
   for (const int level : a.levels) {
     const json scene = load_scene(a.scene, {"mesh.n=" + std::to_string(level)});
-    double plain_wall = 1e300;
-    Child plain;
-    for (int r = 0; r < a.repeats; ++r) {  // best of R: the machine's noise is one-sided
-      Child c = run_plain(scene);
-      if (c.wall < plain_wall) plain_wall = c.wall, plain = c;
-    }
-    const json pt = plain.code == 0 ? json::parse(plain.text) : json();
-    std::printf("%-6d %-10s %9ld %8.2f %9.0f %8s %7d %.2f/%.2f/%.2f/%.2f/%.2f\n", level, "plain",
-                pt.is_null() ? 0L : pt["dofs"].get<long>(), plain.wall, plain.peak_mb, "1.00", plain.code,
-                pt.value("mesh", 0.0), pt.value("assemble", 0.0), pt.value("analyse", 0.0), pt.value("factor", 0.0),
-                pt.value("solve", 0.0));
-    rows.push_back({{"n", level},
-                    {"program", "plain"},
-                    {"wall", plain.wall},
-                    {"peak_mb", plain.peak_mb},
-                    {"exit", plain.code},
-                    {"phases", pt}});
-    for (const auto& backend : a.backends) {
-      const fs::path out = fs::path(a.out) / ("solve_n" + std::to_string(level) + "_" + backend);
-      double best = 1e300;
-      Child solve;
-      for (int r = 0; r < a.repeats; ++r) {
-        Child c = run_cli(a, level, backend, out);
-        if (c.wall < best) best = c.wall, solve = c;
-      }
-      json timings, report;
-      std::ifstream in(out / "report.json");
-      if (in) report = json::parse(in, nullptr, false);
-      if (report.is_object()) timings = report.value("timings", json());
-      // What did the work, as the report says (the backend named may have handed over to the exact solver).
-      const std::string solved_by = report.is_object() ? report.value("solved_by", "?") : "no report";
-      std::string phases;
-      for (const char* k : {"smallness", "assembly", "factorization_total", "backend", "polish", "certificate"})
-        if (timings.contains(k)) {
-          char buf[64];
-          std::snprintf(buf, sizeof buf, "%s %.2f ", k, timings[k].get<double>());
-          phases += buf;
-        }
-      std::printf("%-6d %-10s %9s %8.2f %9.0f %8.2f %7d solved by %s; %s\n", level, backend.c_str(), "", solve.wall,
-                  solve.peak_mb, solve.wall / plain.wall, solve.code, solved_by.c_str(), phases.c_str());
-      rows.push_back({{"n", level},
-                      {"program", "hemicontact solve --backend " + backend},
-                      {"solved_by", solved_by},
-                      {"wall", solve.wall},
-                      {"peak_mb", solve.peak_mb},
-                      {"exit", solve.code},
-                      {"ratio", solve.wall / plain.wall},
-                      {"timings", timings}});
-      std::fflush(stdout);
-    }
+    double plain_wall = 0;
+    rows.push_back(plain_row(a, level, scene, plain_wall));
+    for (const auto& backend : a.backends) rows.push_back(solve_row(a, level, backend, plain_wall));
   }
   // The scene as the repository names it (problems/...), not where this checkout happens to be.
   std::string scene_name = a.scene;
   const std::string src = HEMICONTACT_SOURCE_DIR "/";
   if (scene_name.rfind(src, 0) == 0) scene_name = scene_name.substr(src.size());
-  std::ofstream(fs::path(a.out) / "whole_process.json") << json{{"scene", scene_name}, {"rows", rows}}.dump(2) << "\n";
-  return 0;
+  write_text_file((fs::path(a.out) / "whole_process.json").string(),
+                  json{{"scene", scene_name}, {"rows", rows}}.dump(2) + "\n");
+  return EXIT_OK;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  install_interrupt_handlers();
+  return run_program("hemicontact_whole_process", [&] { return whole_main(argc, argv); });
 }

@@ -26,6 +26,8 @@ pkgs=(
   python3-numpy          # the module's arrays
   python3-pytest         # the module's tests (tests/python)
   python3-meshio         # Result.export / to_meshio (optional at run time: the module imports it on use)
+  python3-h5py           # meshio's XDMF writer (docs/python.md's r.export("u.xdmf"))
+  python3-pip python3-venv python3-setuptools python3-wheel  # `pip install .` of the module (setup.py)
 )
 # Gmsh is part of the default install: users mesh their own geometry (mesh.type = "gmsh").
 gmsh=1

@@ -21,6 +21,7 @@
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/output/solve_files.hpp>
 #include <hemicontact/output/study_writers.hpp>
+#include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/adapt.hpp>
@@ -367,6 +368,28 @@ py::dict gamma3_arrays(const Solved& r) {
   return d;
 }
 
+// The strain, stress and von Mises stress per cell: the VTU writer's own computation
+// (output/vtk_writer.hpp), not a copy of it.
+py::dict cell_field_arrays(const Solved& r) {
+  const CellFields f = cell_fields(*r.model, r.sol);
+  py::dict d;
+  d["strain"] = matrix(f.strain.data(), f.strain.rows(), f.strain.cols());
+  d["stress"] = matrix(f.stress.data(), f.stress.rows(), f.stress.cols());
+  d["von_mises"] = vector(f.von_mises);
+  return d;
+}
+
+// The CLI's ranges of the study options (problem/minima_report.hpp, studies/convergence.hpp), for
+// the keywords' checks in __init__.py: one home for each limit.
+py::dict option_limits() {
+  py::dict limits;
+  limits["starts"] = MINIMA_MAX_STARTS;
+  limits["load_path_steps"] = MINIMA_MAX_LOAD_PATH_STEPS;
+  limits["seed"] = MINIMA_MAX_SEED;
+  limits["level"] = MAX_LEVEL;  // converge's levels and reference
+  return limits;
+}
+
 py::dict certificate_dict(const CertificateReport& c) {
   py::dict residuals;
   for (const auto& r : c.residuals) residuals[py::str(r.name)] = r.value;
@@ -508,6 +531,7 @@ PYBIND11_MODULE(_hemicontact, m) {
                                return matrix(r.sol.u.data(), r.sol.u.size() / d, d);
                              })
       .def_property_readonly("gamma3", &gamma3_arrays)
+      .def_property_readonly("cell_fields", &cell_field_arrays)
       .def_property_readonly("timings", [](const Solved& r) { return r.sol.timings; })
       .def_property_readonly("scene", [](const Solved& r) { return to_py(r.scene); })
       .def("report", [](Solved& r) { return to_py(r.report()); })
@@ -544,5 +568,6 @@ PYBIND11_MODULE(_hemicontact, m) {
       "random_scene_assignments",
       [](unsigned seed, int n_min, int n_max) { return stress::draw_default_scene(seed, n_min, n_max).overrides; },
       py::arg("seed"), py::arg("n_min"), py::arg("n_max"));
+  m.attr("limits") = option_limits();
   m.attr("__version__") = HEMICONTACT_VERSION;
 }

@@ -2,6 +2,7 @@
 // Command-line front end: argument parsing and the commands (private to the program).
 
 #include <hemicontact/output/solve_files.hpp>
+#include <hemicontact/problem/minima_report.hpp>
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
 #include <hemicontact/problem/solve_options.hpp>
@@ -73,9 +74,8 @@ std::string scene_options_help();
 inline constexpr const char* CONVERGE_LEVELS = "4,8,...,128";  ///< the paper's Fig. 3 levels
 inline constexpr const char* CONVERGE_REFERENCE = "256";       ///< the paper's reference h = 1/256
 inline constexpr const char* ADAPTIVE_LEVELS = "4,8,...,64";   ///< uniform and graded levels of --adaptive
-/// Most random starts `minima --starts` takes: each is a full solve, so 10 000 is hours at n = 64
-/// already; more is an effective hang, not a study.
-inline constexpr long MAX_STARTS = 10000;
+/// Most random starts `minima --starts` takes (problem/minima_report.hpp says why).
+inline constexpr long MAX_STARTS = MINIMA_MAX_STARTS;
 int cmd_backends(const std::vector<std::string>& args);
 /// `converge SCENE --levels L1,L2,... --reference R`: mesh-convergence study (src/cli/converge.cpp).
 int cmd_converge(const std::vector<std::string>& args);

@@ -20,6 +20,7 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/core/options.hpp>
 #include <hemicontact/core/text.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/output/study_writers.hpp>
@@ -43,37 +44,19 @@ namespace hemicontact::cli {
 namespace {
 
 
-long parse_int(const std::string& key, const std::string& v, long lo, long hi) {
-  char* end = nullptr;
-  errno = 0;
-  const long x = std::strtol(v.c_str(), &end, 10);
-  if (v.empty() || *end != '\0' || errno == ERANGE || x < lo || x > hi)
-    throw UsageError(key + ": expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) +
-                     ", got '" + v + "'");
-  return x;
-}
-
-double parse_positive(const std::string& key, const std::string& v) {
-  char* end = nullptr;
-  const double x = std::strtod(v.c_str(), &end);
-  if (v.empty() || *end != '\0' || !(x > 0) || !std::isfinite(x))
-    throw UsageError(key + ": expected a positive number, got '" + v + "'");
-  return x;
-}
-
 // The command's own options (--starts, --seed, ...) into @p mo; the --start files into @p start_files.
 void parse_minima_options(const SceneArgs& a, MinimaOptions& mo, std::vector<std::string>& start_files) {
   for (const auto& [key, value] : a.extra) {
     if (key == "--starts")
-      mo.starts = static_cast<int>(parse_int(key, value, 0, MAX_STARTS));
+      mo.starts = static_cast<int>(parse_integer_option(key, value, 0, MAX_STARTS));
     else if (key == "--seed")
-      mo.seed = static_cast<unsigned>(parse_int(key, value, 0, 4294967295L));  // std::mt19937's seed: 32 bits
+      mo.seed = static_cast<unsigned>(parse_integer_option(key, value, 0, MINIMA_MAX_SEED));
     else if (key == "--group-tol")
-      mo.group_tol = parse_positive(key, value);
+      mo.group_tol = parse_positive_option(key, value);
     else if (key == "--box")
-      mo.box = parse_positive(key, value);
+      mo.box = parse_positive_option(key, value);
     else if (key == "--load-path-steps")
-      mo.load_path_steps = static_cast<int>(parse_int(key, value, 0, 10000));
+      mo.load_path_steps = static_cast<int>(parse_integer_option(key, value, 0, MINIMA_MAX_LOAD_PATH_STEPS));
     else if (key == "--start")
       start_files.push_back(value);
     else if (key == "--backends") {

@@ -71,6 +71,10 @@ int run_plot_script(const std::string& script, const std::vector<std::string>& a
                    printable(p.string()).c_str(), kind.c_str());
       return EXIT_INPUT;
     }
+  // Listed in the folder's manifest before the script creates its temporary (as write_text_file
+  // lists its files): a run killed while the script draws leaves .NAME.partial, which the --force
+  // rerun then removes as this run's, instead of refusing it as a file of someone else's.
+  record_output_file(picture);
   const char* env_python = std::getenv("HEMICONTACT_PYTHON");
   const std::string python = env_python && *env_python ? env_python : "/usr/bin/python3";
   if (::access(python.c_str(), X_OK) != 0) {

@@ -68,6 +68,11 @@ std::vector<Index> select_facets(const Mesh& m, const BoundarySelector& s, const
     for (Index f = 0; f < m.num_facets(); ++f)
       if (selects(m, f, s, axes, lo, hi, tol)) chosen.push_back(f);
   } else {
+    // The interval is measured along a side: on a group it cannot restrict anything, and ignoring
+    // it would select more than asked for (the scene checker refuses it first, naming the key).
+    if (std::isfinite(s.from) || std::isfinite(s.to))
+      input_error(s.context + ": an interval [from, to) restricts a 'side' selector only, not 'physical' '" +
+                  s.physical + "'");
     auto it = m.facet_groups.find(s.physical);
     if (it == m.facet_groups.end()) {
       std::string names;

@@ -8,10 +8,14 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 #include <utility>
@@ -313,10 +317,11 @@ void read_facet_groups(const std::string& where, const std::unordered_map<std::s
   }
 }
 
-Mesh read_model(const std::string& path) {
+// @p path names the file in messages; Gmsh opens @p open_path (the same file, or its private copy).
+Mesh read_model(const std::string& path, const std::string& open_path) {
   const std::string where = "gmsh file '" + path + "': ";
   int ierr = 0;
-  gmsh().gmshOpen(path.c_str(), &ierr);
+  gmsh().gmshOpen(open_path.c_str(), &ierr);
   check(ierr, "open");
 
   const ModelCells cells = read_cells(where);
@@ -344,6 +349,38 @@ Mesh read_model(const std::string& path) {
   read_facet_groups(where, index_of_tag, m);
   return m;
 }
+
+// A copy of a mesh file as mesh.msh in a new folder only this user can enter (mkdtemp, mode 0700),
+// removed with the object: Gmsh opening it finds no companion file (mesh.msh.opt) to run. A fixed
+// name with the .msh extension, so that Gmsh reads it as a mesh whatever the original was called
+// (a .gz name would make Gmsh run gunzip).
+class PrivateCopy {
+ public:
+  explicit PrivateCopy(const std::string& path) {
+    std::string dir = (std::filesystem::temp_directory_path() / "hemicontact-gmsh-XXXXXX").string();
+    if (mkdtemp(dir.data()) == nullptr)
+      throw Error("Gmsh .msh import: cannot create a private temporary folder in " +
+                  std::filesystem::temp_directory_path().string() + " (TMPDIR): " + std::strerror(errno));
+    m_dir = dir;
+    std::error_code ec;
+    std::filesystem::copy_file(path, m_dir / "mesh.msh", ec);
+    if (ec) {
+      const std::string why = ec.message();
+      std::filesystem::remove_all(m_dir, ec);  // the destructor does not run for a throwing constructor
+      input_error("gmsh file '" + path + "': cannot copy it for reading (" + why + ")");
+    }
+  }
+  ~PrivateCopy() {
+    std::error_code ec;
+    std::filesystem::remove_all(m_dir, ec);  // a leftover temporary folder is not worth an error
+  }
+  PrivateCopy(const PrivateCopy&) = delete;
+  PrivateCopy& operator=(const PrivateCopy&) = delete;
+  std::string file() const { return (m_dir / "mesh.msh").string(); }
+
+ private:
+  std::filesystem::path m_dir;
+};
 
 // The header of an MSH file, version 2.x or 4.x, ASCII or binary: the first non-blank line is
 // "$MeshFormat", the next "VERSION FILE-TYPE DATA-SIZE" with FILE-TYPE 0 (ASCII) or 1 (binary).
@@ -412,9 +449,13 @@ Mesh read_gmsh(const std::string& path, bool allow_scripts) {
   // mesh (Gmsh's "MSH file format") before Gmsh sees it; scripts only on request.
   if (!allow_scripts) check_msh_header(path);
   const GmshApi& api = gmsh();  // a library that cannot be loaded is an Error of its own, not the file's
+  // Gmsh merges <file>.opt after every file it opens (OpenFile.cpp, unconditionally: there is no
+  // option to turn it off in 4.8), and an .opt file is a script. Without the opt-in Gmsh opens a
+  // copy in a private empty folder, where nothing but the mesh exists.
+  const std::optional<PrivateCopy> copy = allow_scripts ? std::nullopt : std::optional<PrivateCopy>(std::in_place, path);
   GmshSession session;
   try {
-    return read_model(path);
+    return read_model(path, copy ? copy->file() : path);
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {

@@ -78,10 +78,16 @@ std::vector<Entry> registry() {
   const Factory tao = nullptr;
 #endif
   const char* const tao_missing = "install libpetsc-real-dev and rebuild: the petsc engine (hemicontact-mpi)";
-  r.push_back({"ssn", "ssn",
-               "petsc engine (solver.engine = petsc, MPI; its default): semismooth Newton on the unsmoothed "
-               "statuses, CG + GAMG with the rigid-body modes",
-               tao_missing, tao});
+  // ssn runs in both engines, outside the NLP interface (ContactSolver runs it): listed, and
+  // refused as an NLP backend (minima's backend switch).
+  r.push_back({SSN_BACKEND, SSN_BACKEND,
+               "semismooth Newton on the unsmoothed statuses in the full space: cholmod engine with a CHOLMOD "
+               "factorization per status change; petsc engine (its default) with CG + GAMG",
+               "", [](const std::string&) -> std::unique_ptr<NlpBackend> {
+                 throw Error("backend 'ssn' is the full-space exact solver, not an NLP backend: give it as "
+                             "solver.backend = ssn (--backend ssn) of a solve",
+                             EXIT_INPUT);
+               }});
   r.push_back({"tao:bnls", "tao:bnls",
                "petsc engine (solver.engine = petsc, MPI): TAO bounded Newton line search, CG + BoomerAMG",
                tao_missing, tao});

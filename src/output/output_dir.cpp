@@ -380,6 +380,8 @@ OutputLock prepare_output_dir(const std::string& dir, bool overwrite, const std:
                               const std::vector<OutputNamePattern>& patterns) {
   if (dir.empty()) input_error("--out: empty directory name");
   const std::string name = "--out '" + printable(dir) + "'";
+  // The system calls end a name at its first NUL byte: "dir/a\0b" would be written as dir/a.
+  if (dir.find('\0') != std::string::npos) input_error(name + ": the folder name holds a NUL byte");
   Fd handle(open_output_dir(dir, name));
   const int dfd = handle.fd;
   // The lock first: the check for earlier results below and this run's writes are then one

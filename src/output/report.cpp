@@ -346,30 +346,57 @@ void write_report(const std::string& path, const json& report) {
   write_text_file(path, report.dump(2) + '\n');
 }
 
-std::string status_runs(const Solution& sol) {
+namespace {
+
+// "a x2, b x3": consecutive equal statuses run-length compressed.
+std::string runs_of(const std::vector<std::string>& statuses) {
   std::string out;
-  for (size_t i = 0; i < sol.status.size();) {
-    const std::string st = sol.status[i].str();
+  for (size_t i = 0; i < statuses.size();) {
     size_t j = i + 1;
-    while (j < sol.status.size() && sol.status[j].str() == st) ++j;
+    while (j < statuses.size() && statuses[j] == statuses[i]) ++j;
     if (!out.empty()) out += ", ";
-    out += st + " x" + std::to_string(j - i);
+    out += statuses[i] + " x" + std::to_string(j - i);
     i = j;
   }
   return out;
 }
 
-std::string summary_table(const Model& md, const Solution& sol) {
+std::vector<std::string> status_strings(const Solution& sol) {
+  std::vector<std::string> out;
+  for (const auto& s : sol.status) out.push_back(s.str());
+  return out;
+}
+
+}  // namespace
+
+std::string status_runs(const Solution& sol) { return runs_of(status_strings(sol)); }
+
+SummaryFacts summary_facts(const Model& md, const Solution& sol) {
+  SummaryFacts f;
+  f.origin = md.mesh.origin;
+  f.nodes = static_cast<long>(md.mesh.num_nodes());
+  f.cells = static_cast<long>(md.mesh.num_cells());
+  f.dofs = static_cast<long>(md.dofs.n_free());
+  f.h = md.mesh.max_edge_length();
+  f.dim = md.dim();
+  f.linear = md.material->is_linear();
+  f.statuses = status_strings(sol);
+  f.timings = merged_timings(md, sol);
+  return f;
+}
+
+std::string summary_table(const Model& md, const Solution& sol) { return summary_table(summary_facts(md, sol), sol); }
+
+std::string summary_table(const SummaryFacts& md, const Solution& sol) {
   const size_t indent = 14;
   const auto row = [&](const std::string& label, const std::string& text) {
     return label + std::string(indent > label.size() ? indent - label.size() : 1, ' ') + text + "\n";
   };
   std::string out;
-  const Index nc = md.contact.size();
-  out += row("mesh", (md.mesh.origin.empty() ? std::string() : md.mesh.origin + ": ") +
-                         std::to_string(md.mesh.num_nodes()) + " nodes, " + std::to_string(md.mesh.num_cells()) +
-                         " cells, " + std::to_string(nc) + " gamma3 nodes, h = " + fmt(md.mesh.max_edge_length()));
-  out += row("dofs", std::to_string(md.dofs.n_free()));
+  const size_t nc = md.statuses.size();
+  out += row("mesh", (md.origin.empty() ? std::string() : md.origin + ": ") + std::to_string(md.nodes) + " nodes, " +
+                         std::to_string(md.cells) + " cells, " + std::to_string(nc) + " gamma3 nodes, h = " + fmt(md.h));
+  out += row("dofs", std::to_string(md.dofs));
   if (const MethodChoice& c = sol.method_choice; !c.chosen.empty())
     out += row("method", c.chosen + (c.automatic ? " (auto): " : ": ") + c.reason);
   out += row("backend", backend_line(sol));
@@ -377,7 +404,7 @@ std::string summary_table(const Model& md, const Solution& sol) {
   if (const std::string p = polish_line(sol); !p.empty()) out += row("polish", p);
   out += row("solved by", sol.solved_by());
   out +=
-      row("energy", fmt(sol.energy, 10) + "  (" + std::string(md.material->is_linear() ? "a(u,u)/2" : "int W(eps(u))") +
+      row("energy", fmt(sol.energy, 10) + "  (" + std::string(md.linear ? "a(u,u)/2" : "int W(eps(u))") +
                         " = " + fmt(sol.elastic_energy) + ", f(u) = " + fmt(sol.f_u) + ", j = " + fmt(sol.j_term) +
                         ", friction = " + fmt(sol.friction_term) + ")");
   out += row("energy_norm", fmt(sol.energy_norm, 10));
@@ -386,7 +413,7 @@ std::string summary_table(const Model& md, const Solution& sol) {
   // Status counts: normal | tangential, one column each, counts under their names.
   const auto counts = sol.status_counts();
   std::vector<std::string> names = {"separated", "compliance", "contact", "|", "stick", "slip+", "slip-"};
-  if (md.dim() == 3 || (counts.count("slip") && counts.at("slip") > 0)) names.push_back("slip");
+  if (md.dim == 3 || (counts.count("slip") && counts.at("slip") > 0)) names.push_back("slip");
   std::string head, vals;
   for (const auto& n : names) {
     const std::string v = n == "|" ? "|" : std::to_string(counts.count(n) ? counts.at(n) : 0);
@@ -399,13 +426,10 @@ std::string summary_table(const Model& md, const Solution& sol) {
   out += row("status", head);
   out += row("", vals);
   if (nc > 0) {
-    if (nc <= 33) {
-      std::vector<std::string> each;
-      for (const auto& s : sol.status) each.push_back(s.str());
-      out += row("gamma3 nodes", wrap(each, indent, 100));
-    } else {
-      out += row("gamma3 runs", status_runs(sol));
-    }
+    if (nc <= 33)
+      out += row("gamma3 nodes", wrap(md.statuses, indent, 100));
+    else
+      out += row("gamma3 runs", runs_of(md.statuses));
   }
 
   const CertificateReport& c = sol.certificate;
@@ -427,7 +451,7 @@ std::string summary_table(const Model& md, const Solution& sol) {
   out += row("fixed point", std::string(sol.fixed_point_converged ? "converged" : "NOT converged") +
                                 (sol.backend_ok ? "" : "; last minimization FAILED"));
   std::vector<std::string> times;
-  for (const auto& [k, v] : merged_timings(md, sol)) times.push_back(k + " " + fmt(v, 3) + " s");
+  for (const auto& [k, v] : md.timings) times.push_back(k + " " + fmt(v, 3) + " s");
   if (!times.empty()) out += row("times", wrap(times, indent, 100));
   if (!sol.message.empty()) out += row("message", sol.message);
   return out;

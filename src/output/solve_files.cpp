@@ -31,7 +31,14 @@ nlohmann::json solve_report(const Model& md, const Solution& sol, const SolveOpt
 }
 
 void write_final_report(const std::string& dir, nlohmann::json report) {
-  report["files"] = output_files(dir);
+  // The files there now: a picture is listed before it is drawn (cli/plot.cpp), and one that was
+  // not drawn is not among the results.
+  report["files"] = nlohmann::json::array();
+  for (const std::string& f : output_files(dir)) {
+    std::error_code ec;
+    if (f != "report.json" && std::filesystem::is_regular_file(std::filesystem::path(dir) / f, ec))
+      report["files"].push_back(f);
+  }
   report["files"].push_back("report.json");
   write_report((std::filesystem::path(dir) / "report.json").string(), report);
 }

@@ -302,16 +302,11 @@ void write_point_data(VtuLayout& L, std::string& xml, const Model& md, const Sol
 // Cell fields: strain, stress (the material's), von Mises, and the error indicator when given.
 void write_cell_data(VtuLayout& L, std::string& xml, const Model& md, const Solution& sol,
                      const Vec* error_indicator) {
-  const Mesh& mesh = md.mesh;
-  const int d = mesh.dim, nv = voigt_size(d);
-  const Index M = mesh.num_cells();
-  const RowMat strain = cell_strains(mesh, sol.u);
-  RowMat stress(M, nv);
-  Vec vm(M);
-  for (Index c = 0; c < M; ++c) {
-    stress.row(c) = md.material->stress(strain.row(c).transpose()).transpose();
-    vm[c] = von_mises(stress.row(c), d);
-  }
+  const Index M = md.mesh.num_cells();
+  const int nv = voigt_size(md.mesh.dim);
+  const CellFields f = cell_fields(md, sol);
+  const RowMat &strain = f.strain, &stress = f.stress;
+  const Vec& vm = f.von_mises;
   xml += "      <CellData Scalars=\"von_mises\">\n";
   L.array(xml, float_array("strain", M, nv, [&](Index c, int i) { return strain(c, i); }));
   L.array(xml, float_array("stress", M, nv, [&](Index c, int i) { return stress(c, i); }));
@@ -342,6 +337,21 @@ void write_points_and_cells(VtuLayout& L, std::string& xml, const Mesh& mesh) {
 }
 
 }  // namespace
+
+CellFields cell_fields(const Model& md, const Solution& sol) {
+  const Mesh& mesh = md.mesh;
+  const int d = mesh.dim, nv = voigt_size(d);
+  const Index M = mesh.num_cells();
+  CellFields f;
+  f.strain = cell_strains(mesh, sol.u);
+  f.stress.resize(M, nv);
+  f.von_mises.resize(M);
+  for (Index c = 0; c < M; ++c) {
+    f.stress.row(c) = md.material->stress(f.strain.row(c).transpose()).transpose();
+    f.von_mises[c] = von_mises(f.stress.row(c), d);
+  }
+  return f;
+}
 
 void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format,
                const Vec* error_indicator) {

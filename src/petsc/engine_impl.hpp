@@ -21,6 +21,7 @@
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/format.hpp>
+#include <hemicontact/check/status_equations.hpp>
 #include <hemicontact/energy/contact_energy.hpp>
 #include <hemicontact/solver/outer_loop.hpp>
 
@@ -134,7 +135,6 @@ class Engine : private OuterStepper {
   void ssn_setup(Ssn& s);
   long ssn_linearize(Ssn& s, int k);
   int ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B);
-  int ssn_tangential(Ssn& s, size_t q, const SsnArrays& a, double* B);
   double ssn_right_hand_side(Ssn& s);
   bool ssn_step(Ssn& s, int k, long changed_all, double res);
   bool ssn_judge_hierarchy(Ssn& s, PetscInt its);
@@ -152,11 +152,11 @@ class Engine : private OuterStepper {
   void distribute_slabs();
   void exchange_ghosts(const std::vector<Index>& sel);
   void finish_slabs(Solution& s, ::Vec x, clk::time_point t0);
-  // A piece's evaluation at x (R = K x − f): its u, Γ3 state (slab_piece), then the certificate by
-  // reductions and the statuses read at o.status_tol (slab_certificate), into p; slab_evaluate
+  // A piece's evaluation at x (R = K x − f): its u, Γ3 state (slab_piece), then the judge over the
+  // ranks: certificate, statuses read at o.status_tol, Γ3 energies, counts (slab_judge), into p; slab_evaluate
   // makes both for a candidate x (the polish's) without touching the run's piece (slab_out).
   void slab_piece(::Vec x, ::Vec R, Solution& p);
-  void slab_certificate(Solution& p, const SolveOptions& o) const;
+  void slab_judge(Solution& p, const SolveOptions& o) const;
   Solution slab_evaluate(::Vec x, const SolveOptions& o);
   void slab_energies(Solution& s, ::Vec x, ::Vec R) const;
   void slab_report(Solution& s);
@@ -183,13 +183,14 @@ class Engine : private OuterStepper {
   std::string backend_name() const override { return "tao:" + tao_type(opt.backend); }
   void set_smoothing(size_t stage) override;
   OuterIteration minimize(size_t stage) override;
-  void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) override;
+  LambdaChange relax_lambda() override;
   // The polish (petsc_polish.cpp) reads and writes a PETSc vector (owned rows) and the statuses of
   // the owned Γ3 nodes: on the replicated mesh and on the pieces alike.
   bool polish_exists() const override { return true; }
   std::optional<Solution> certified_copy() override;
   Solution finish() override;
   PolishResult polish(::Vec x_io, const SolveOptions& read_opt, const Solution& s0);
+  NodeRows polish_rows(Index k, const PetscScalar* px, const Solution& s0, double delta) const;
   std::vector<PetscInt> polish_start(::Vec x, const Solution& s0, double delta) const;
   bool polish_linearize(::Vec x, ::Vec R, ::Mat J, const Solution& s0, double delta,
                         const std::vector<PetscInt>& fixed);

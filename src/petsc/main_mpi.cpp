@@ -36,10 +36,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <new>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -53,6 +55,23 @@ const char* const HELP =
     "  mpirun -np P hemicontact solve SCENE.json --set solver.engine='\"petsc\"' --out DIR\n"
     "Same scene keys, results and exit codes as `hemicontact solve --help` describes; settings of the\n"
     "engine under solver.petsc (docs/scene-format.md). PETSc options: solver.petsc.options or PETSC_OPTIONS.\n";
+
+// An error every rank holds, agreed on in a collective step (share, on_every_rank): the ranks can
+// leave together through PetscFinalize. Any other error may be one rank's alone while the others
+// wait in a collective for it, so main() ends the whole job on it (MPI_Abort).
+struct SharedError : Error {
+  using Error::Error;
+};
+
+// How long a rank other than 0 that met an error waits before it prints the message and ends the
+// job itself: where every rank met the same error, rank 0 prints it and aborts first (the message
+// once); where only this rank did, rank 0 is waiting in a collective and never will. Each rank
+// waits a step longer than the one below it (up to a cap), so that of several failing ranks the
+// lowest speaks and its MPI_Abort ends the others before their turn (measured: mpirun's kill takes
+// a few ms). At most 2 + 4 s: well inside the 10 s in which every rank must stop after a failure.
+constexpr std::chrono::milliseconds OTHER_RANKS_ABORT_GRACE{2000};
+constexpr std::chrono::milliseconds ABORT_STAGGER_PER_RANK{100};
+constexpr int ABORT_STAGGER_MAX_RANKS = 40;
 
 // Rank 0's outcome of a step only it does (the output folder), shared with every rank: the code
 // (0: fine) and the message.
@@ -121,7 +140,7 @@ void on_every_rank(MPI_Comm comm, const F& fn) {
   int code0 = code;
   MPI_Bcast(&code0, 1, MPI_INT, 0, comm);
   if (code != 0 && rank != 0 && code0 == 0) std::fprintf(stderr, "hemicontact: error (rank %d): %s\n", rank, message.c_str());
-  throw Error(code != 0 ? message : "another rank stopped (its message is above)", static_cast<ExitCode>(worst));
+  throw SharedError(code != 0 ? message : "another rank stopped (its message is above)", static_cast<ExitCode>(worst));
 }
 
 // The free (not clamped) nodes on Γ3 facets of a mesh.
@@ -183,6 +202,47 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
   return cli::solve_verdict(sol, opt);
 }
 
+// The output folder: rank 0 locks it (held until the end, the returned lock) and tells the others
+// how that went; a refusal is every rank's error.
+std::optional<OutputLock> lock_output(const cli::SceneArgs& a, int rank, MPI_Comm comm) {
+  std::optional<OutputLock> lock;
+  int code = 0;
+  std::string message;
+  if (rank == 0) {
+    try {
+      std::vector<std::string> names = solve_output_names();
+      names.push_back("solution.pvtu");
+      lock.emplace(prepare_output_dir(a.out, a.force, names, petsc_engine::slab_output_patterns()));
+    } catch (const Error& e) {
+      code = e.code();
+      message = e.what();
+    }
+  }
+  share(code, message, comm);
+  if (code != 0) throw SharedError(message, static_cast<ExitCode>(code));
+  return lock;
+}
+
+// The scene and its options, read by every rank alike: an error in them (a bad key, a non-TAO
+// backend) is every rank's and is agreed on, so that the ranks leave together through
+// PetscFinalize with the message once, rather than by MPI_Abort.
+void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt) {
+  on_every_rank(comm, [&] {
+    scene = load_scene(a.scene, a.overrides);
+    if (scene.at("solver").at("engine").get<std::string>() != "petsc") {
+      log_info() << "hemicontact-mpi is the petsc engine: solver.engine = petsc";
+      scene["solver"]["engine"] = "petsc";
+    }
+    opt = solve_options_from_scene(scene);
+    petsc_engine::install_error_handler(opt.petsc.options);
+    if (!opt.petsc.options.empty()) {
+      if (PetscOptionsInsertString(nullptr, opt.petsc.options.c_str()))
+        input_error("solver.petsc.options: PETSc could not read '" + opt.petsc.options + "'");
+    }
+    (void)petsc_engine::tao_type(opt.backend);  // a non-TAO backend is refused before any work
+  });
+}
+
 int run(const std::vector<std::string>& args, MPI_Comm comm) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
@@ -201,35 +261,13 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   const cli::SceneArgs a = cli::parse_scene_args(rest, {"--magnification"});
   if (a.quiet || rank != 0) set_log_level(LogLevel::WARN);  // one rank reports progress
   const std::vector<std::string> plot_args = cli::solve_plot_args(a);
-  nlohmann::json scene = load_scene(a.scene, a.overrides);
-  if (scene.at("solver").at("engine").get<std::string>() != "petsc") {
-    log_info() << "hemicontact-mpi is the petsc engine: solver.engine = petsc";
-    scene["solver"]["engine"] = "petsc";
-  }
-  const SolveOptions opt = solve_options_from_scene(scene);
-  petsc_engine::install_error_handler(opt.petsc.options);
-  if (!opt.petsc.options.empty()) {
-    if (PetscOptionsInsertString(nullptr, opt.petsc.options.c_str()))
-      input_error("solver.petsc.options: PETSc could not read '" + opt.petsc.options + "'");
-  }
-  (void)petsc_engine::tao_type(opt.backend);  // a non-TAO backend is refused before any work
+  nlohmann::json scene;
+  SolveOptions opt;
+  read_scene(a, comm, scene, opt);
 
-  // The output folder: rank 0 locks it (held until the end) and tells the others how that went.
-  std::optional<OutputLock> lock;
+  const std::optional<OutputLock> lock = lock_output(a, rank, comm);
   int code = 0;
   std::string message;
-  if (rank == 0) {
-    try {
-      std::vector<std::string> names = solve_output_names();
-      names.push_back("solution.pvtu");
-      lock.emplace(prepare_output_dir(a.out, a.force, names, petsc_engine::slab_output_patterns()));
-    } catch (const Error& e) {
-      code = e.code();
-      message = e.what();
-    }
-  }
-  share(code, message, comm);
-  if (code != 0) throw Error(message, static_cast<ExitCode>(code));
   std::string replicated;
   const std::string layout = distributed_layout(scene, opt, comm, replicated);
   if (!layout.empty()) return run_slabs(a, plot_args, scene, opt, comm, t0, layout);
@@ -260,8 +298,22 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
     }
   }
   share(code, message, comm);
-  if (code != 0) throw Error(message, static_cast<ExitCode>(code));
+  if (code != 0) throw SharedError(message, static_cast<ExitCode>(code));
   return cli::solve_verdict(sol, opt);
+}
+
+// The end of a job after an error that may be this rank's alone: the message printed once (rank
+// 0's; another rank's only if rank 0 has not ended the job within the grace period), then
+// MPI_Abort, which stops every rank; Open MPI's mpirun exits with @p code.
+[[noreturn]] void abort_job(int rank, int size, const std::string& line, int code) {
+  if (rank != 0 && size > 1)
+    std::this_thread::sleep_for(OTHER_RANKS_ABORT_GRACE +
+                                ABORT_STAGGER_PER_RANK * std::min(rank, ABORT_STAGGER_MAX_RANKS));
+  std::fflush(stdout);
+  std::fputs(line.c_str(), stderr);
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);  // MPI_Abort does not return; should it, this rank still ends with the code
 }
 
 }  // namespace
@@ -275,29 +327,38 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hemicontact-mpi: internal error: PETSc/MPI could not be initialized\n");
     return EXIT_INTERNAL;
   }
-  int rank = 0;
+  int rank = 0, size = 1;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
   install_interrupt_handlers();
-  // The errors below are collective (each rank meets the same one, or rank 0 shared it): rank 0
-  // prints it and every rank returns the same code.
+  // Usage errors (every rank parses the same arguments before any communication) and shared ones
+  // are collective: rank 0 prints it and every rank returns the same code. Any other error may be
+  // one rank's alone (its piece of the mesh, its memory): abort_job ends every rank.
   int code = EXIT_INTERNAL;
+  const std::string where = size > 1 ? " (rank " + std::to_string(rank) + ")" : std::string();
   try {
     code = run(args, PETSC_COMM_WORLD);
   } catch (const cli::UsageError& e) {
     if (rank == 0) std::fprintf(stderr, "hemicontact: %s (see hemicontact solve --help)\n", e.what());
     code = EXIT_USAGE;
-  } catch (const Error& e) {
+  } catch (const SharedError& e) {
     if (rank == 0) std::fprintf(stderr, "hemicontact: error: %s\n", e.what());
     code = e.code();
+  } catch (const Error& e) {
+    if (size == 1) {
+      std::fprintf(stderr, "hemicontact: error: %s\n", e.what());
+      code = e.code();
+    } else {
+      abort_job(rank, size, "hemicontact: error" + where + ": " + e.what() + "\n", e.code());
+    }
   } catch (const std::bad_alloc&) {
-    // Not known to be collective either; the memory message and code 2 as in `hemicontact`.
-    std::fprintf(stderr, "hemicontact: error (rank %d): %s\n", rank,
-                 out_of_memory_message("an allocation of the petsc engine (std::bad_alloc)").c_str());
-    MPI_Abort(PETSC_COMM_WORLD, EXIT_INPUT);
+    // The memory message and code 2 as in `hemicontact`.
+    abort_job(rank, size,
+              "hemicontact: error" + where + ": " +
+                  out_of_memory_message("an allocation of the petsc engine (std::bad_alloc)") + "\n",
+              EXIT_INPUT);
   } catch (const std::exception& e) {
-    // Not known to be collective: a rank alone in trouble must not leave the others waiting.
-    std::fprintf(stderr, "hemicontact: internal error (rank %d): %s\n", rank, e.what());
-    MPI_Abort(PETSC_COMM_WORLD, EXIT_INTERNAL);
+    abort_job(rank, size, "hemicontact: internal error" + where + ": " + e.what() + "\n", EXIT_INTERNAL);
   }
   // PetscFinalize stops at its first error (with the engine's error handler it returns it) before
   // MPI_Finalize, and mpirun then reports the rank as "exiting improperly" with exit code 1 after

@@ -1,5 +1,7 @@
 #include "engine_impl.hpp"
 
+#include <hemicontact/check/status_equations.hpp>
+
 #include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/problem/node_rules.hpp>
 
@@ -91,20 +93,26 @@ PolishResult Engine::polish(::Vec x_io, const SolveOptions& read_opt, const Solu
   return r;
 }
 
-// The polish's start: @p x, a copy of the smoothed answer, gets the fixed unknowns' values.
-// @return the fixed unknowns (PETSc's numbering, this rank's rows).
+// Node k's status equations at the local unknowns @p px (check/status_equations.hpp, s0's
+// statuses). Without F_b's x_ν coupling: it is an unsymmetric column, and the status system is
+// solved by CG (the λ coupling then converges linearly over the Newton steps).
+NodeRows Engine::polish_rows(Index k, const PetscScalar* px, const Solution& s0, double delta) const {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  for (int c = 0; c < d; ++c) x[c] = px[cdof(k) + c - lo];
+  return status_rows(node_data(md, k), x, s0.status[static_cast<size_t>(k)],
+                     frictionless_at(md, s0.state.u_nu[k], delta), roller_components(md, k), delta, false);
+}
+
+// The polish's start: @p x, a copy of the smoothed answer, gets the pinned unknowns' values.
+// @return the pinned unknowns (PETSc's numbering, this rank's rows).
 std::vector<PetscInt> Engine::polish_start(::Vec x, const Solution& s0, double delta) const {
   std::vector<PetscInt> fixed;
   PetscScalar* px;
   HC_PETSC(VecGetArray(x, &px));
   for (Index k : my_nodes) {
-    const PetscInt iv = cdof(k);
-    const NodeStatus st = s0.status[k];
-    if (st.normal == NormalStatus::CONTACT) px[iv - lo] = md.contact.g[k], fixed.push_back(iv);
-    const bool frictionless = frictionless_at(md, s0.state.u_nu[k], delta);
-    for (int c = 1; c < d; ++c)
-      if (roller_fixed(md, k, c) || (!frictionless && st.tangential == TangentialStatus::STICK))
-        px[iv + c - lo] = 0, fixed.push_back(iv + c);
+    const NodeRows rows = polish_rows(k, px, s0, delta);
+    for (int c = 0; c < d; ++c)
+      if (rows.is_pinned(c)) px[cdof(k) + c - lo] = rows.pin[c], fixed.push_back(cdof(k) + c);
   }
   HC_PETSC(VecRestoreArray(x, &px));
   return fixed;
@@ -124,30 +132,13 @@ bool Engine::polish_linearize(::Vec x, ::Vec R, ::Mat J, const Solution& s0, dou
   HC_PETSC(VecGetArray(R, &pr));
   int local_bad = 0;
   for (Index k : my_nodes) {
+    const NodeRows rows = polish_rows(k, px, s0, delta);
+    local_bad = local_bad || rows.singular;
     const PetscInt iv = cdof(k);
-    const double w = md.contact.w[k], xn = px[iv - lo];
-    const NodeStatus st = s0.status[k];
     double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    if (st.normal != NormalStatus::CONTACT && md.normal_law) {
-      pr[iv - lo] += w * md.normal_law->p(xn);
-      B[0] = w * md.normal_law->dp(xn);
-    }
-    const bool frictionless = frictionless_at(md, s0.state.u_nu[k], delta);
-    if (!frictionless && st.tangential != TangentialStatus::STICK) {
-      Eigen::Vector2d t = Eigen::Vector2d::Zero();
-      for (int c = 1; c < d; ++c) t[c - 1] = px[iv + c - lo];
-      const double y = t.norm();
-      if (!(y > 0)) {
-        local_bad = 1;  // a slipping node reached u_τ = 0: its status is wrong
-        continue;
-      }
-      t /= y;
-      const double lam = md.friction->F(xn);
-      for (int c = 1; c < d; ++c) pr[iv + c - lo] += w * lam * t[c - 1];
-      if (d == 3) {
-        const Eigen::Matrix2d Jt = w * lam / y * (Eigen::Matrix2d::Identity() - t * t.transpose());
-        B[4] = Jt(0, 0), B[5] = Jt(0, 1), B[7] = Jt(1, 0), B[8] = Jt(1, 1);
-      }
+    for (int c = 0; c < d; ++c) {
+      pr[iv + c - lo] += rows.force[c];
+      for (int j = 0; j < d; ++j) B[c * d + j] = rows.block(c, j);
     }
     PetscInt idx[3] = {iv, iv + 1, iv + 2};
     HC_PETSC(MatSetValues(J, d, idx, d, idx, B, ADD_VALUES));

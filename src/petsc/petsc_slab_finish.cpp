@@ -1,12 +1,12 @@
 #include "engine_impl.hpp"
 
-#include <hemicontact/check/certificate.hpp>
 #include <hemicontact/check/contact_status.hpp>
+#include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/solver/run_messages.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -14,15 +14,33 @@ namespace hemicontact::petsc_engine::detail {
 
 namespace {
 
-// One residual of the certificate over all ranks: the largest value, and where (the PETSc row
-// of the worst node's first unknown; the worst rank's, when two ranks tie).
-void reduce_residual(CertificateResidual& c, MPI_Comm comm) {
-  const double mine = c.value;
-  MPI_Allreduce(&mine, &c.value, 1, MPI_DOUBLE, MPI_MAX, comm);
-  long at = mine == c.value ? static_cast<long>(c.worst) : -1, worst = -1;
-  MPI_Allreduce(&at, &worst, 1, MPI_LONG, MPI_MAX, comm);
-  c.worst = static_cast<Index>(worst);
-}
+// The judge's reduction over the ranks (check/judge.hpp's combine, by MPI_Allreduce): maxima,
+// sums, and each residual's place from the rank that holds the largest value (on a tie the
+// smallest place, as the serial judge's first occurrence).
+struct MpiReduction final : Reduction {
+  MPI_Comm comm;
+  explicit MpiReduction(MPI_Comm c) : comm(c) {}
+  void reduce(ScaleParts& p) const override {
+    double mx[4] = {p.u_max, p.f_max, p.h_max, p.traction_max}, sm[2] = {p.w_sum, p.count};
+    MPI_Allreduce(MPI_IN_PLACE, mx, 4, MPI_DOUBLE, MPI_MAX, comm);
+    MPI_Allreduce(MPI_IN_PLACE, sm, 2, MPI_DOUBLE, MPI_SUM, comm);
+    p.u_max = mx[0], p.f_max = mx[1], p.h_max = mx[2], p.traction_max = mx[3], p.w_sum = sm[0], p.count = sm[1];
+  }
+  void reduce(VerdictParts& p) const override {
+    for (auto& c : p.residuals) {
+      const double mine = c.value;
+      MPI_Allreduce(&mine, &c.value, 1, MPI_DOUBLE, MPI_MAX, comm);
+      long at = mine == c.value ? static_cast<long>(c.worst) : std::numeric_limits<long>::max();
+      MPI_Allreduce(MPI_IN_PLACE, &at, 1, MPI_LONG, MPI_MIN, comm);
+      c.worst = static_cast<Index>(at);
+    }
+    double sums[2] = {p.j, p.friction};
+    MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm);
+    p.j = sums[0], p.friction = sums[1];
+    MPI_Allreduce(MPI_IN_PLACE, &p.u_nu_max, 1, MPI_DOUBLE, MPI_MAX, comm);
+    MPI_Allreduce(MPI_IN_PLACE, p.counts.data(), static_cast<int>(p.counts.size()), MPI_LONG, MPI_SUM, comm);
+  }
+};
 
 }  // namespace
 
@@ -38,7 +56,7 @@ void Engine::finish_slabs(Solution& s, ::Vec x, clk::time_point t0) {
   HC_PETSC(MatMult(K.m, x, R.v));
   HC_PETSC(VecAXPY(R.v, -1.0, f.v));
   slab_piece(x, R.v, slab_out->piece);
-  slab_certificate(slab_out->piece, opt);
+  slab_judge(slab_out->piece, opt);
   s.certificate = slab_out->piece.certificate;
   slab_energies(s, x, R.v);
   close_record(s, t0, t1);
@@ -46,9 +64,9 @@ void Engine::finish_slabs(Solution& s, ::Vec x, clk::time_point t0) {
 }
 
 // x and K x − f at every unknown of the slab (owned and ghost) from their owners, and the state
-// of every Γ3 node of the slab by check/'s contact_state: it reads K u − f through md.Kx_apply,
-// here the owners' rows plus the slab's own f_x, so that internal_force − f is T (K x − f) on
-// every free component (the slab's own f is partial on its ghosts; this sum does not use it).
+// of every Γ3 node of the slab by check/'s contact_state from that residual: T (K x + f_x) − f,
+// the owners' rows of K plus the slab's own f_x, which is internal_force − f on every free component
+// (the slab's own f is partial on its ghosts; this sum does not use it).
 void Engine::slab_piece(::Vec x, ::Vec R, Solution& p) {
   const auto nx = static_cast<PetscInt>(md.dofs.n_free());
   // The unknowns with a row: all but an outer ghost's whose unknowns differ from its owner's
@@ -82,68 +100,21 @@ void Engine::slab_piece(::Vec x, ::Vec R, Solution& p) {
   HC_PETSC(VecRestoreArrayRead(Rl.v, &pr));
   p.u = md.dofs.to_full(xe);
   p.x = std::move(xe);
-  md.Kx_apply = [kx](const Vec&) { return kx; };  // only for this u (the engine resets it when done)
-  owns_apply = true;
-  p.state = contact_state(md, p.u);
+  p.state = contact_state(md, p.u, md.dofs.to_full(kx) - md.f);
 }
 
-// check/certificate.cpp's certify over the owned nodes of the piece @p p (slab_piece's), its scales
-// and maxima reduced over the ranks, at @p o's tolerances (the polish reads a second time at a
-// coarser status_tol); then the statuses of the slab's Γ3 nodes (classify, with the global
-// displacement scale). Both into p (the caller's: the run's piece or a candidate's).
-void Engine::slab_certificate(Solution& p, const SolveOptions& o) const {
-  const ContactState& st = p.state;
-  const auto owned = [&](Index v) { return slab->owned_node[static_cast<size_t>(v)] != 0; };
-  double umax = 0, fmax = 0, wsum = 0, lmax = 0;
-  for (Index v = 0; v < md.mesh.num_nodes(); ++v)
-    if (owned(v))
-      for (int c = 0; c < d; ++c)
-        umax = std::max(umax, std::abs(p.u[d * v + c])), fmax = std::max(fmax, std::abs(md.f[d * v + c]));
-  for (Index k : my_nodes) wsum += md.contact.w[k], lmax = std::max({lmax, std::abs(st.lambda[k]), std::abs(st.xi[k])});
-  CertificateReport r;
-  r.tol = o.certificate_tol;
-  const double U = allreduce_max(umax, comm), h = allreduce_max(md.mesh.max_edge_length(), comm);
-  r.length_scale = U > 0 ? U : h;
-  r.force_scale = allreduce_max(fmax, comm);
-  const double count = allreduce_sum(double(my_nodes.size()), comm), wbar = count > 0 ? allreduce_sum(wsum, comm) / count : 1.0;
-  r.traction_scale = r.force_scale / wbar;
-  if (count > 0) r.traction_scale = std::max(r.traction_scale, allreduce_max(lmax, comm));
-  if (!(r.force_scale > 0)) r.force_scale = 1.0;
-  if (!(r.traction_scale > 0)) r.traction_scale = 1.0;
-  const double Ul = r.length_scale, S = r.traction_scale;
-  CertificateResidual feas{"feasibility"}, normal{"normal"}, compl_{"complementarity"}, cone{"friction_cone"},
-      slip{"slip_direction"}, eq{"equilibrium"};
-  const auto take = [](CertificateResidual& c, double v, Index at) {
-    if (v > c.value || std::isnan(v)) c.value = std::isnan(v) ? INF : v, c.worst = at;
+// The judge (check/judge.hpp) over the owned nodes of the piece @p p (slab_piece's), reduced over
+// the ranks, at @p o's tolerances (the polish reads a second time at a coarser status_tol): the
+// certificate, the statuses of the slab's Γ3 nodes, the Γ3 energy terms and the status counts.
+void Engine::slab_judge(Solution& p, const SolveOptions& o) const {
+  JudgeScope scope;
+  scope.nodes = my_nodes;
+  scope.owns = [this](Index v) { return slab->owned_node[static_cast<size_t>(v)] != 0; };
+  scope.node_at = [this](Index k) { return static_cast<Index>(cdof(k)); };
+  scope.dof_at = [this, sel = md.dofs.cartesian_selection()](Index c) {
+    return static_cast<Index>(P(sel[static_cast<size_t>(c)]));
   };
-  const auto pos = [](double v) { return std::isnan(v) ? v : std::max(0.0, v); };
-  const auto min_nan = [](double a, double b) { return std::isnan(a) || std::isnan(b) ? NAN : std::min(a, b); };
-  for (Index k : my_nodes) {
-    const double g = md.contact.g[k], un = st.u_nu[k], sn = st.sigma_nu[k] + st.xi[k];
-    const Index at = cdof(k);
-    take(feas, pos(un - g) / Ul, at);
-    take(normal, pos(sn) / S, at);
-    take(compl_, std::abs(min_nan((g - un) / Ul, -sn / S)), at);
-    const double stt = d == 2 ? std::abs(st.sigma_tau[k]) : st.sigma_tau[k];
-    take(cone, pos(stt - st.lambda[k]) / S, at);
-    const double y = st.u_tau_vec.row(k).norm();
-    if (y > o.status_tol * Ul)  // −σ_τ = λ u_τ/|u_τ| on slipping nodes, eq. (6)
-      take(slip, (st.sigma_tau_vec.row(k) + st.lambda[k] * st.u_tau_vec.row(k) / y).norm() / S, at);
-  }
-  // Interior equilibrium on the owned free components that are not on Γ3 (nor a roller's).
-  const std::vector<Index> sel = md.dofs.cartesian_selection();
-  for (Index v = 0; v < md.mesh.num_nodes(); ++v)
-    for (int i = 0; i < d; ++i) {
-      const Index xi = sel[static_cast<size_t>(d * v + i)];
-      if (owned(v) && xi >= 0 && xi < md.dofs.n_interior())
-        take(eq, std::abs(st.residual[d * v + i]) / r.force_scale, P(xi));
-    }
-  r.residuals = {feas, normal, compl_, cone, slip, eq};
-  r.max_residual = 0;
-  for (auto& c : r.residuals) reduce_residual(c, comm), r.max_residual = std::max(r.max_residual, c.value);
-  r.passed = r.max_residual <= r.tol;
-  p.status = classify(md, st, r.length_scale, o.status_tol);
-  p.certificate = r;
+  apply_judgement(md, o, p, scope, MpiReduction(comm));
 }
 
 // A candidate's evaluation on the pieces (the polish's s0 and s1): as finish_slabs reads x, into a
@@ -155,51 +126,31 @@ Solution Engine::slab_evaluate(::Vec x, const SolveOptions& o) {
   HC_PETSC(VecAXPY(R.v, -1.0, f.v));
   Solution p;
   slab_piece(x, R.v, p);
-  slab_certificate(p, o);
+  slab_judge(p, o);
   return p;
 }
 
 // The energies of eq. (22) from the pieces: a(u, u) = xᵀ K x and f·u = f_x·x by PETSc's
-// reductions, the Γ3 terms summed over the owned nodes (evaluate.cpp's formulas).
+// reductions, the Γ3 terms from the judge (slab_judge).
 void Engine::slab_energies(Solution& s, ::Vec x, ::Vec R) const {
   PetscScalar xr, xf;
   HC_PETSC(VecDot(x, R, &xr));
   HC_PETSC(VecDot(x, f.v, &xf));
   s.a_uu = xr + xf;
   s.f_u = xf;
-  const ContactState& st = slab_out->piece.state;
-  double j = 0, fr = 0, umax = -INF;
-  for (Index k : my_nodes) {
-    if (md.normal_law) j += md.contact.w[k] * md.normal_law->j(st.u_nu[k]);
-    fr += md.contact.w[k] * st.lambda[k] * st.u_tau_vec.row(k).norm();
-    umax = std::max(umax, st.u_nu[k]);
-  }
-  s.j_term = allreduce_sum(j, comm);
-  s.friction_term = allreduce_sum(fr, comm);
+  const Solution& p = slab_out->piece;
+  s.j_term = p.j_term;
+  s.friction_term = p.friction_term;
+  s.max_u_nu = p.max_u_nu;
+  s.counts = p.counts;
   s.elastic_energy = 0.5 * s.a_uu;
   s.energy = s.elastic_energy - s.f_u + s.j_term + s.friction_term;
   s.energy_norm = std::sqrt(std::max(0.0, s.a_uu));
-  const double m = allreduce_max(umax, comm);
-  s.max_u_nu = std::isfinite(m) ? m : 0.0;
 }
 
 // The distributed path's own record: the status counts and sizes, by reductions only.
 void Engine::slab_report(Solution& s) {
-  (void)s;
-  std::map<std::string, long> c{{"separated", 0}, {"compliance", 0}, {"contact", 0}, {"stick", 0},
-                                {"slip+", 0},     {"slip-", 0},      {"slip", 0}};
-  const auto& status = slab_out->piece.status;
-  for (size_t q = 0; q < my_nodes.size(); ++q) {
-    const NodeStatus& t = status[static_cast<size_t>(my_nodes[q])];
-    ++c[to_string(t.normal)];
-    ++c[to_string(t.tangential)];
-  }
-  slab_out->status_counts = nlohmann::json::object();
-  for (auto& [key, v] : c) {
-    long all = 0;
-    MPI_Allreduce(&v, &all, 1, MPI_LONG, MPI_SUM, comm);
-    if (key != "slip" || all > 0) slab_out->status_counts[key] = all;
-  }
+  slab_out->status_counts = s.status_counts();
   long g3 = static_cast<long>(my_nodes.size()), nodes = static_cast<long>(md.mesh.num_nodes());
   MPI_Allreduce(&g3, &slab_out->gamma3_nodes, 1, MPI_LONG, MPI_SUM, comm);
   MPI_Allreduce(&nodes, &slab_out->local_nodes_max, 1, MPI_LONG, MPI_MAX, comm);

@@ -174,6 +174,24 @@ nlohmann::json slab_report(const nlohmann::json& scene, const Model& md, const S
   return r;
 }
 
+// The summary's facts from the pieces: the whole mesh's sizes, the reduced h and the Γ3 rows
+// gathered to rank 0 (every node's status in ContactNodes' order), as one process's model gives them.
+SummaryFacts slab_summary_facts(const Model& md, const Piece& slab, const Solution& sol, const EngineReport& er,
+                                double h, const std::vector<Gamma3Row>& nodes) {
+  SummaryFacts f;
+  f.origin = md.mesh.origin;
+  f.nodes = slab.global_nodes;
+  f.cells = slab.global_cells;
+  f.dofs = er.json.value("unknowns", 0L);
+  f.h = h;
+  f.dim = md.dim();
+  f.linear = md.material->is_linear();
+  for (const Gamma3Row& row : nodes) f.statuses.push_back(row.status.str());
+  f.timings = md.timings;  // rank 0's slab
+  for (const auto& [k, v] : sol.timings) f.timings[k] = v;
+  return f;
+}
+
 }  // namespace
 
 std::vector<OutputNamePattern> slab_output_patterns() {
@@ -230,6 +248,7 @@ void write_slab_results(const std::string& dir, const nlohmann::json& scene, Mod
       if (!pieces.empty()) write_pvtu((p / "solution.pvtu").string(), md.dim(), pieces);
       if (before_report) before_report();
       write_final_report(dir, slab_report(scene, md, sol, out, slab, opt, er, h, size, nodes));
+      std::fputs(summary_table(slab_summary_facts(md, slab, sol, er, h, nodes), sol).c_str(), stdout);
       std::printf("results in %s (%d pieces)\n", dir.c_str(), size);
     });
   MPI_Bcast(&code, 1, MPI_INT, 0, comm);

@@ -1,7 +1,7 @@
 #include "engine_impl.hpp"
 
 #include <hemicontact/core/log.hpp>
-#include <hemicontact/problem/node_rules.hpp>
+#include <hemicontact/check/status_equations.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -48,8 +48,8 @@ struct Engine::SsnArrays {
 
 // Backend "ssn": a semismooth (active-set) Newton method on the unsmoothed conditions of (22) in
 // the full space, every status read again at every step from the current iterate x and the
-// residual R = K x − f (the complementarity functions of the primal-dual active-set method, with
-// c_n, c_t = the node's diagonal of K so that forces and displacements compare in one unit):
+// residual R = K x − f by check/status_equations.hpp's ssn_reading (the complementarity functions
+// of the primal-dual active-set method; the CHOLMOD engine's ssn reads its nodes the same way):
 //   normal:  contact  iff  −(R_ν + w p(x_ν)) + c_n (x_ν − g) > 0          (eq. (5): u_ν ≤ g)
 //            then x_ν = g; else R_ν + w p(x_ν) = 0 on x_ν's branch of p      (eq. (32))
 //   tangent: stick    iff  |y| ≤ w λ,  y = −R_τ + c_t x_τ,  λ = F_b(x_ν)     (eq. (6))
@@ -173,79 +173,28 @@ long Engine::ssn_linearize(Ssn& s, int k) {
   return changed_all;
 }
 
-// Owned Γ3 node q at step k: its normal and tangential statuses read from the iterate, its forces
-// added to the residual, its block of J into @p B (row-major d×d), its fixed unknowns recorded.
-// @return its status code (bit 0 contact, bit 1 stick, 8/16 the 2D slip direction, 32·(branch of p)).
+// Owned Γ3 node q at step k: its statuses read from the iterate (check/status_equations.hpp's
+// ssn_reading, the CHOLMOD engine's ssn's too), its forces added to the residual, its block of J
+// into @p B (row-major d×d), its fixed unknowns and their prescribed steps recorded.
+// @return its status code (SsnReading::code).
 int Engine::ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B) {
   const Index kk = my_nodes[q];
-  const PetscInt iv = cdof(kk);
-  const PetscInt l = iv - lo;
-  const double w = md.contact.w[kk], xn = a.x[l], g = md.contact.g[kk];
-  s.slip_dir[q].setZero();  // set below if the node slides this step
-  int st = 0;
-  const double p = md.normal_law ? md.normal_law->p(xn) : 0.0;
-  // The first step starts from every node in contact (x = 0 has no reaction to read): the free
-  // elastic solve it would otherwise make pushes Γ3 far through g and every status changes
-  // twice. 3D scene, 2 ranks: 70³ 13 → 11 steps, 178 → 115 CG iterations, 62.9 → 55.9 s.
-  const bool contact = std::isfinite(g) && (k == 1 || -(a.r[l] + w * p) + a.diag[l] * (xn - g) > 0);
-  if (contact) {
-    st |= 1;
-    s.fixed.push_back(iv);
-    a.fix[l] = g - xn;
-  } else {
-    a.r[l] += w * p;
-    if (md.normal_law) B[0] = w * md.normal_law->dp(xn);
-  }
-  st |= ssn_tangential(s, q, a, B);
-  if (md.normal_law && !contact) {
-    // The branch of p: the index of the breakpoint interval x_ν lies in (eq. (32)'s pieces).
-    const auto& r = md.normal_law->breakpoints();
-    st |= 32 * static_cast<int>(1 + (std::upper_bound(r.begin(), r.end(), xn) - r.begin()));
-  }
-  return st;
-}
-
-// The tangential part of ssn_node: a roller's fixed components, or stick (x_τ = 0) or slip
-// (R_τ + w λ t = 0) by the complementarity function. @return the status bits it sets.
-int Engine::ssn_tangential(Ssn& s, size_t q, const SsnArrays& a, double* B) {
-  const Index kk = my_nodes[q];
-  const PetscInt iv = cdof(kk);
-  const PetscInt l = iv - lo;
-  const double w = md.contact.w[kk], xn = a.x[l];
-  int st = 0;
-  const double lam = md.friction ? md.friction->F(xn) : 0.0;
-  Eigen::Vector2d xt = Eigen::Vector2d::Zero(), rt = Eigen::Vector2d::Zero();
-  for (int c = 1; c < d; ++c) xt[c - 1] = a.x[l + c], rt[c - 1] = a.r[l + c];
-  const double ct = d == 2 ? a.diag[l + 1] : std::max(a.diag[l + 1], a.diag[l + 2]);
-  bool roller = false;
-  for (int c = 1; c < d; ++c) roller = roller || roller_fixed(md, kk, c);
-  if (roller) {
-    for (int c = 1; c < d; ++c)
-      if (roller_fixed(md, kk, c)) s.fixed.push_back(iv + c), a.fix[l + c] = -a.x[l + c];
-  } else if (w * lam > 0) {
-    const Eigen::Vector2d y = -rt + ct * xt;
-    const double ny = y.norm();
-    if (ny <= w * lam || s.hold_stick[q]) {
-      st |= 2;
-      for (int c = 1; c < d; ++c) s.fixed.push_back(iv + c), a.fix[l + c] = -a.x[l + c];
+  const PetscInt iv = cdof(kk), l = iv - lo;
+  Eigen::Vector3d x = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero(), diag = Eigen::Vector3d::Zero();
+  for (int c = 0; c < d; ++c) x[c] = a.x[l + c], r[c] = a.r[l + c], diag[c] = a.diag[l + c];
+  const SsnReading rd =
+      ssn_reading(node_data(md, kk), x, r, diag, k == 1, s.hold_stick[q] != 0, roller_components(md, kk));
+  s.slip_dir[q] = rd.slip_dir;
+  for (int c = 0; c < d; ++c) {
+    if (rd.rows.is_pinned(c)) {
+      s.fixed.push_back(iv + c);
+      a.fix[l + c] = rd.rows.pin[c] - x[c];
     } else {
-      const Eigen::Vector2d t = y / ny;
-      s.slip_dir[q] = t;
-      // ρ: the slip now, or the slip this step will reach ((|y| − wλ)/c_t) where that is
-      // larger (a node that just left stick has x_τ = 0). A smaller ρ (stiffer) than the true
-      // curvature would let x_τ overshoot through 0 and the direction t flip every step.
-      const double rho = std::max(xt.norm(), (ny - w * lam) / ct);
-      for (int c = 1; c < d; ++c) a.r[l + c] += w * lam * t[c - 1];
-      if (d == 2) {
-        // One tangent direction: I − t tᵀ = 0, the slip force is constant on the branch.
-      } else {
-        const Eigen::Matrix2d Jt = w * lam / rho * (Eigen::Matrix2d::Identity() - t * t.transpose());
-        B[4] = Jt(0, 0), B[5] = Jt(0, 1), B[7] = Jt(1, 0), B[8] = Jt(1, 1);
-      }
-      if (d == 2) st |= (t[0] >= 0 ? 8 : 16);  // a reversal of the slip direction is a change
+      a.r[l + c] += rd.rows.force[c];
     }
+    for (int j = 0; j < d; ++j) B[c * d + j] = rd.rows.block(c, j);
   }
-  return st;
+  return rd.code;
 }
 
 // rhs = −R on free rows; the fixed rows carry their prescribed step (fixv), and the columns
@@ -334,13 +283,11 @@ long Engine::ssn_stop_reversals(Ssn& s) {
   PetscScalar* px;
   HC_PETSC(VecGetArray(s.x.v, &px));
   for (size_t q = 0; q < my_nodes.size(); ++q) {
-    s.hold_stick[q] = 0;  // one step only
-    if (s.slip_dir[q].squaredNorm() == 0) continue;
     const PetscInt l = cdof(my_nodes[q]) - lo;
-    double dot = 0;
-    for (int c = 1; c < d; ++c) dot += px[l + c] * s.slip_dir[q][c - 1];
-    s.hold_stick[q] = dot < 0;
-    if (dot < 0) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int c = 0; c < d; ++c) x[c] = px[l + c];
+    s.hold_stick[q] = ssn_reversed(s.slip_dir[q], d, x);  // one step only
+    if (s.hold_stick[q]) {
       for (int c = 1; c < d; ++c) px[l + c] = 0;
       ++projected;
     }

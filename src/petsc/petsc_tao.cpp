@@ -218,7 +218,7 @@ OuterIteration Engine::minimize(size_t stage) {
 }
 
 // λ ← (1−θ)λ + θ F_b(u_ν) on the owned Γ3 nodes (solver/solve.cpp's relax_lambda).
-void Engine::relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) {
+LambdaChange Engine::relax_lambda() {
   const PetscScalar* p;
   VecGetArrayRead(zs.v, &p);
   double dmax = 0, lmax = 0;
@@ -231,13 +231,7 @@ void Engine::relax_lambda(OuterIteration& rec, bool measure_contraction, double&
   }
   friction_term->set_lambda(owned_lambda());
   VecRestoreArrayRead(zs.v, &p);
-  dmax = allreduce_max(dmax, comm);
-  lmax = allreduce_max(lmax, comm);
-  rec.change_lambda = lmax > 0 ? dmax / lmax : 0.0;
-  rec.delta_lambda = dmax;
-  const double noise = opt.contraction_floor * lmax;
-  if (measure_contraction && prev_delta > noise && dmax > noise) rec.contraction = dmax / prev_delta;
-  prev_delta = dmax;
+  return LambdaChange{allreduce_max(dmax, comm), allreduce_max(lmax, comm)};
 }
 
 // The smoothing widths of a stage (absolute: relative widths × U_s), and energy/'s nodal terms

@@ -111,7 +111,7 @@ void tighten(MemoryBudget& b, double bytes, const std::string& limit, bool known
   if (b.bytes < 0 || bytes < b.bytes) b = {bytes, limit};
 }
 
-std::string gigabytes(double bytes);
+std::string gigabytes(double bytes, int digits = 2);
 
 }  // namespace
 
@@ -188,11 +188,12 @@ MemoryBudget memory_budget() {
 
 namespace {
 
-std::string gigabytes(double bytes) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, bytes < 1e12 ? "%.2g GB" : "%.1e GB", bytes / 1e9);
+std::string gigabytes(double bytes, int digits) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, bytes < 1e12 ? "%.*g GB" : "%.*e GB", bytes < 1e12 ? digits : digits - 1, bytes / 1e9);
   return buf;
 }
+
 
 // The solver works with products of the problem's scales (energies ~ f·u, squared residuals):
 // a stiffness or load near the ends of the double range (a denormal E, loads.scale = 1e-300)
@@ -256,6 +257,16 @@ double estimate_petsc_memory(double nodes, int dim) {
   return 2e8 + 2000.0 * n;
 }
 
+// The most significant digits a memory refusal shows to tell what is needed from what is there.
+constexpr int MAX_MEMORY_DIGITS = 6;
+
+std::pair<std::string, std::string> distinct_gigabytes(double need, double have) {
+  // "needs about 1.1 GB ... 1.1 GB are available" read as a contradiction.
+  int digits = 2;
+  while (digits < MAX_MEMORY_DIGITS && gigabytes(need, digits) == gigabytes(have, digits)) ++digits;
+  return {gigabytes(need, digits), gigabytes(have, digits)};
+}
+
 void check_memory(double nodes, int dim, const std::string& size_keys, bool petsc, double gamma3_nodes) {
   const double dense = petsc ? 0.0 : dense_gamma3_memory(gamma3_nodes, dim);
   const double need = petsc ? estimate_petsc_memory(nodes, dim) : estimate_sparse_memory(nodes, dim) + dense;
@@ -270,8 +281,9 @@ void check_memory(double nodes, int dim, const std::string& size_keys, bool pets
     std::snprintf(count, sizeof count, "%.0f", gamma3_nodes);
     what += " with " + std::string(count) + " Γ3 nodes (dense condensed Γ3 matrices: " + gigabytes(dense) + ")";
   }
-  input_error(size_keys + ": " + what + " needs about " + gigabytes(need) + " to solve, and " +
-              gigabytes(have.bytes) + " are available: " + have.limit + "; " +
+  const auto [need_text, have_text] = distinct_gigabytes(need, have.bytes);
+  input_error(size_keys + ": " + what + " needs about " + need_text + " to solve, and " + have_text +
+              " are available: " + have.limit + "; " +
               (gamma3 ? "use fewer Γ3 nodes (a shorter boundary.gamma3 or a coarser mesh along it), or "
                         "solver.formulation = full with check.smallness = false (no dense Γ3 matrices)"
                       : "lower " + size_keys.substr(0, size_keys.find(" ="))));

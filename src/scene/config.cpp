@@ -366,8 +366,53 @@ void check_text(const json& scene) {
   }
 }
 
+// A file name is handed to the C library, which ends it at a NUL byte: "m.msh\u0000.txt" would
+// read m.msh, and the messages printed the name cut short.
+void check_file_name(const json& name, const std::string& path) {
+  if (!name.is_string()) return;
+  const std::string& text = name.get_ref<const std::string&>();
+  const size_t nul = text.find('\0');
+  if (nul != std::string::npos)
+    key_error(path, "the file name holds a NUL byte (\\u0000) at character " + std::to_string(nul + 1) + " ('" +
+                        printable(text) + "'); a file name cannot contain one");
+  if (text.empty()) key_error(path, "empty file name");
+}
+
+// Keys of one mesh type set on a scene of another changed nothing, silently (an audit of the schema):
+// refused where the key's default tells a set value apart (null, 0, "none"). mesh.nx/ny/nz,
+// x/y/z, diagonal and pattern have non-null defaults and cannot be told apart here.
+void check_mesh_keys(const json& mesh) {
+  const std::string type = mesh.at("type").get<std::string>();
+  // A Gmsh scene without its file: build_mesh's "mesh.file: required" is the first thing to fix.
+  if (type == "gmsh" && mesh.at("file").is_null()) return;
+  const std::string is = " (mesh.type is '" + type + "')";
+  if (type != "gmsh" && !mesh.at("file").is_null())
+    key_error("mesh.file", "is read for mesh.type = \"gmsh\" only" + is + ": remove it, or set mesh.type");
+  if (type == "gmsh") {
+    if (!mesh.at("n").is_null())
+      key_error("mesh.n", "refines a generated mesh (rectangle, box); a Gmsh mesh is used as read" + is);
+    if (mesh.at("perturb").get<double>() > 0)
+      key_error("mesh.perturb", "moves the nodes of a generated mesh (rectangle, box), not of a Gmsh mesh" + is);
+  }
+  const json& g = mesh.at("grading");
+  if (type != "rectangle" && (g.at("x") != "none" || g.at("y") != "none"))
+    key_error("mesh.grading", "grades a rectangle's grid lines only" + is);
+  // Keys with a default of their own: refused where set to another value and not read. (nx, ny,
+  // nz are left out: mesh.n copies itself into all three whatever the type.)
+  const auto unread = [&](const char* key, bool read) {
+    const std::string dotted = std::string("mesh.") + key;
+    if (!read && mesh.at(key) != schema_default(dotted))
+      key_error(dotted, "is not read for this mesh" + is + " and would be ignored: remove it, or set mesh.type");
+  };
+  unread("diagonal", type == "rectangle");
+  unread("pattern", type == "box");
+  unread("z", type == "box");
+  unread("x", type != "gmsh");
+  unread("y", type != "gmsh");
+}
+
 void check_selectors(const json& boundary) {
-  for (const char* gamma : {"gamma1", "gamma2", "gamma3"}) {
+  for (const char* gamma : {"gamma1", "gamma2", "gamma3", "rollers"}) {
     const json& list = boundary.at(gamma);
     for (std::size_t i = 0; i < list.size(); ++i) {
       const json& s = list[i];
@@ -377,6 +422,12 @@ void check_selectors(const json& boundary) {
       if (!side && !physical)
         key_error(path, "set exactly one of 'side' (a side of the bounding box) and 'physical' (a Gmsh group)");
       const json &from = s.at("from"), &to = s.at("to");
+      // [from, to) is measured along a side of the bounding box; a physical group has no such axis,
+      // and an interval on it was silently ignored (the whole group selected).
+      if (physical && !(from.is_null() && to.is_null()))
+        key_error(path + (from.is_null() ? ".to" : ".from"),
+                  "an interval [from, to) restricts a 'side' selector only (it is measured along the side); "
+                  "a 'physical' group is taken whole: remove from/to, or make the group smaller in the mesh");
       if (from.is_number() && to.is_number() && !(from.get<double>() < to.get<double>()))
         key_error(path, "empty range [from, to) = [" + from.dump() + ", " + to.dump() + ")");
     }
@@ -594,6 +645,8 @@ json validate_scene(json scene) {
   check_finite(scene, "");
   validate_object(scene, "", "", idx);
   check_selectors(scene["boundary"]);
+  check_file_name(scene["mesh"]["file"], "mesh.file");
+  check_mesh_keys(scene["mesh"]);
   check_gap(scene["contact"]["gap"]);
   check_interval(scene["mesh"]["x"], "mesh.x");
   check_interval(scene["mesh"]["y"], "mesh.y");

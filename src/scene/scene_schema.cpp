@@ -76,7 +76,8 @@ void add_selector(std::vector<SchemaEntry>& t, const std::string& gamma, const s
   t.push_back(gamma == "gamma1" ? required(p, "array", doc) : key(p, "array", json::array(), doc));
   t.push_back(key(p + "/*", "object", json::object(),
                   "A selector: the facets it matches belong to this boundary part. Set exactly "
-                  "one of `side` and `physical`."));
+                  "one of `side` and `physical`; `from`/`to` restrict a side only (refused on a "
+                  "physical group). A selector that selects no facet is an error."));
   t.push_back(key(p + "/*/side", "string|null", nullptr,
                   "Side of the mesh's bounding box: left/right = x min/max; bottom/top = y min/max "
                   "in 2D, z min/max in 3D; front/back = y min/max (3D only).",
@@ -116,7 +117,7 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(at_least(key("/mesh/n", "integer|null", nullptr,
                            "If set, nx = ny = nz = n: validation copies it into nx, ny and nz "
                            "(overriding them), so `--set mesh.n=64` refines a scene in every "
-                           "direction."),
+                           "direction. Refused with mesh.type = gmsh (a Gmsh mesh is used as read)."),
                        1));
   t.push_back(at_least(key("/mesh/nx", "integer", 8, "Cells along x (rectangle, box)."), 1));
   t.push_back(at_least(key("/mesh/ny", "integer", 8, "Cells along y (rectangle, box)."), 1));
@@ -136,7 +137,7 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(key("/mesh/file", "string|null", nullptr,
                   "Gmsh mesh file (mesh.type = gmsh; MSH version 2.x or 4.x, ASCII or binary), relative to "
                   "the scene file's directory. It must start with `$MeshFormat`: Gmsh reads anything else as "
-                  "a script (see allow_scripts)."));
+                  "a script (see allow_scripts). Refused with another mesh.type (it would be ignored)."));
   t.push_back(key("/mesh/allow_scripts", "boolean", false,
                   "true: mesh.file may be any file Gmsh reads, .geo scripts included. A Gmsh script RUNS CODE "
                   "with your rights (SystemCall runs shell commands, Printf writes files): set it only for "
@@ -152,14 +153,16 @@ std::vector<SchemaEntry> build_scene_schema() {
                                  "tests on irregular meshes). Right/left/symmetric rectangles "
                                  "cannot invert a cell up to 0.35; beyond (or on crossed meshes "
                                  "and boxes earlier) a cell can invert, which is an input error "
-                                 "naming it (lower perturb or change `seed`)."),
+                                 "naming it (lower perturb or change `seed`). Refused above 0 with "
+                                 "mesh.type = gmsh."),
                              0),
                     0.5));
   t.push_back(at_least(key("/mesh/seed", "integer", 1, "Seed of the random perturbation (same seed, same mesh)."), 0));
   t.push_back(section("/mesh/grading",
                       "Graded rectangle (a priori refinement towards chosen sides and the corners where "
                       "they meet): grid line i of a graded axis sits at φ(i/n) with φ(t) = t^power "
-                      "(low), 1 − (1 − t)^power (high) or both mirrored halves (both); docs/adaptivity.md."));
+                      "(low), 1 − (1 − t)^power (high) or both mirrored halves (both); docs/adaptivity.md. "
+                      "Rectangles only: x or y other than none is refused with another mesh.type."));
   t.push_back(key("/mesh/grading/x", "string", "none", "Which end(s) of x get the small cells.",
                   {"none", "low", "high", "both"}));
   t.push_back(key("/mesh/grading/y", "string", "none", "Which end(s) of y get the small cells.",
@@ -185,10 +188,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                              "E/(3(1 − 2 nu)), μ_0 = E/(2(1 + nu)))."),
                     0));
   // (−1, 1) keeps both E/(1+κ) and the plane-stress factor 1/(1−κ²) finite and positive; the
-  // stricter κ < 0.5 of plane strain depends on `plane`, so the material checks it.
+  // materials refuse κ ≥ 0.5 in every plane (linear_elastic.cpp, hencky.cpp), with their own
+  // message, and the text says so (it said plane strain only).
   t.push_back(below(above(required("/material/nu", "number",
-                                   "Poisson's ratio κ. Plane strain also needs κ < 0.5 (checked by "
-                                   "the material)."),
+                                   "Poisson's ratio κ. The material needs κ < 0.5 in plane stress, plane "
+                                   "strain and 3D alike (0.5 is incompressible; checked by the material), "
+                                   "so the range in effect is (−1, 0.5)."),
                           -1),
                     1));
   t.push_back(key("/material/plane", "string", "stress",
@@ -337,17 +342,19 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "Newton iterations of the exact polish on the identified statuses."),
                        1));
   t.push_back(at_least(key("/solver/petsc/ssn_max_iters", "integer", D.petsc.ssn_max_iters,
-                           "Backend ssn (semismooth Newton): step cap; statuses are read again at every "
-                           "step, and reaching the cap is exit code 3."),
+                           "Backend ssn (semismooth Newton), both engines: step cap; statuses are read "
+                           "again at every step, and reaching the cap is exit code 3."),
                        1));
   t.push_back(below(above(key("/solver/petsc/ssn_rtol", "number", D.petsc.ssn_rtol,
-                              "Backend ssn: CG rtol of a step while statuses still change (a step with "
-                              "no change uses ksp_rtol)."),
+                              "Backend ssn, petsc engine: CG rtol of a step while statuses still change (a "
+                              "step with no change uses ksp_rtol; the cholmod engine factorizes such steps "
+                              "and solves the others by CG on the last factor to ksp_rtol)."),
                           0),
                     1));
   t.push_back(below(above(key("/solver/petsc/ssn_tol", "number", D.petsc.ssn_tol,
-                              "Backend ssn: converged when the statuses held and the residual (max norm "
-                              "over max|f|) is at most this."),
+                              "Backend ssn, petsc engine: converged when the statuses held and the "
+                              "residual (max norm over max|f|) is at most this (the cholmod engine's ssn "
+                              "steps on to round-off: its steps then cost one CG iteration)."),
                           0),
                     1e-6));
   t.push_back(at_least(key("/solver/petsc/pc_rebuild", "number", D.petsc.pc_rebuild,

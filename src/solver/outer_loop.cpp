@@ -80,6 +80,15 @@ Solution OuterStepper::exact_finish(std::size_t, const std::string& why) {
   throw Error("the exact solver was asked to take over (" + why + ") in an engine that has none", EXIT_INTERNAL);
 }
 
+void record_lambda_change(OuterIteration& rec, const LambdaChange& c, const SolveOptions& opt, bool measure,
+                          double& prev_delta) {
+  rec.change_lambda = c.scale > 0 ? c.delta / c.scale : 0.0;
+  rec.delta_lambda = c.delta;
+  const double noise = opt.contraction_floor * c.scale;
+  if (measure && prev_delta > noise && c.delta > noise) rec.contraction = c.delta / prev_delta;
+  prev_delta = c.delta;
+}
+
 bool run_stage(OuterStepper& s, const SolveOptions& opt, std::size_t stage) {
   s.set_smoothing(stage);
   Solution& sol = s.solution();
@@ -91,7 +100,7 @@ bool run_stage(OuterStepper& s, const SolveOptions& opt, std::size_t stage) {
   for (int it = 0;; ++it) {
     s.check_interrupt();
     OuterIteration rec = s.minimize(stage);
-    if (lagged) s.relax_lambda(rec, final_stage && it > 0, prev_delta);
+    if (lagged) record_lambda_change(rec, s.relax_lambda(), opt, final_stage && it > 0, prev_delta);
     sol.history.push_back(rec);
     log_info() << outer_line(rec, static_cast<int>(stage), s.backend_name());
     if (!rec.backend.ok()) {

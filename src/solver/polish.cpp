@@ -1,6 +1,7 @@
 #include <hemicontact/solver/polish.hpp>
 
 #include <hemicontact/check/evaluate.hpp>
+#include <hemicontact/check/status_equations.hpp>
 #include <hemicontact/problem/node_rules.hpp>
 
 #include <Eigen/LU>
@@ -40,12 +41,9 @@ void accept_if_better(const Model& md, const Condensation& cond, const SolveOpti
 
 // 3D: on a slipping node the condition −σ_τ = λ u_τ/|u_τ| (6) is not linear in x_τ, so the status
 // system R(x) = 0 is solved by Newton's method with its exact Jacobian, from the smoothed answer:
-//   contact:         R_ν = x_ν − g
-//   compliance/sep.: R_ν = S_ν (x − y) + w p(x_ν)                     (eq. (32))
-//   stick:           R_τ = x_τ                                          (2 rows)
-//   frictionless:    R_τ = S_τ (x − y)                                  (σ_τ = 0)
-//   slip:            R_τ = S_τ (x − y) + w F_b(x_ν) t,  t = x_τ/|x_τ|   (eq. (6))
-// with ∂t/∂x_τ = (I − t tᵀ)/|x_τ| and ∂F_b/∂x_ν the slope of F_b's branch (F_b is piecewise linear:
+// R = S (x − y) plus the status equations of check/status_equations.hpp (contact x_ν = g; the
+// layer's w p(x_ν), eq. (32); stick x_τ = 0; slip w F_b(x_ν) t, t = x_τ/|x_τ|, eq. (6)), with
+// ∂t/∂x_τ = (I − t tᵀ)/|x_τ| and ∂F_b/∂x_ν the slope of F_b's branch (F_b is piecewise linear:
 // a central difference over a step far below the branch width is exact up to round-off).
 PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& s0,
                                  Vec& x_C, double load_scale, Vec* candidate) {
@@ -58,45 +56,22 @@ PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, cons
   const Vec yC = load_scale * cond.y_C();
   const double delta = 1e-7 * s0.certificate.length_scale;  // difference step of F_b's slope
 
+  // R = S (x − y) plus each node's status equations (check/status_equations.hpp, with F_b's x_ν
+  // coupling: the LU solve below takes the unsymmetric Jacobian); a pinned unknown's row is the pin.
   const auto residual = [&](const Vec& x, Mat& J) {
     Vec R = S * (x - yC);
     J = S;
     for (Index k = 0; k < nc; ++k) {
       const Index iv = d * k;
-      const double w = md.contact.w[k], xn = x[iv];
-      const NodeStatus st = s0.status[k];
-      if (st.normal == NormalStatus::CONTACT) {
-        R[iv] = xn - md.contact.g[k];
-        J.row(iv).setZero();
-        J(iv, iv) = 1;
-      } else if (md.normal_law) {
-        R[iv] += w * md.normal_law->p(xn);
-        J(iv, iv) += w * md.normal_law->dp(xn);
-      }
-      if (frictionless_at(md, s0.state.u_nu[k], delta)) {
-        // σ_τ = 0: the rows S_τ (x − y) already say it.
-      } else if (st.tangential == TangentialStatus::STICK) {
-        for (int c = 1; c < d; ++c) {
-          R[iv + c] = x[iv + c];
-          J.row(iv + c).setZero();
-          J(iv + c, iv + c) = 1;
-        }
-      } else {
-        const Eigen::Vector2d xt = x.segment<2>(iv + 1);
-        const double y = xt.norm();
-        if (!(y > 0)) return Vec(Vec::Constant(m, std::numeric_limits<double>::quiet_NaN()));
-        const Eigen::Vector2d t = xt / y;
-        const double lambda = md.friction->F(xn);
-        R.segment<2>(iv + 1) += w * lambda * t;
-        J.block<2, 2>(iv + 1, iv + 1) += w * lambda / y * (Eigen::Matrix2d::Identity() - t * t.transpose());
-        if (st.normal != NormalStatus::CONTACT) {
-          const double dF = (md.friction->F(xn + delta) - md.friction->F(xn - delta)) / (2 * delta);
-          J.block<2, 1>(iv + 1, iv) += w * dF * t;
-        }
-      }
-      for (int c = 1; c < d; ++c)
-        if (roller_fixed(md, k, c)) {  // a roller: x_τc = 0 replaces the traction balance
-          R[iv + c] = x[iv + c];
+      const NodeRows rows = status_rows(node_data(md, k), x.segment<3>(iv), s0.status[static_cast<size_t>(k)],
+                                        frictionless_at(md, s0.state.u_nu[k], delta), roller_components(md, k),
+                                        delta, true);
+      if (rows.singular) return Vec(Vec::Constant(m, std::numeric_limits<double>::quiet_NaN()));
+      R.segment<3>(iv) += rows.force;
+      J.block<3, 3>(iv, iv) += rows.block;
+      for (int c = 0; c < d; ++c)
+        if (rows.is_pinned(c)) {
+          R[iv + c] = x[iv + c] - rows.pin[c];
           J.row(iv + c).setZero();
           J(iv + c, iv + c) = 1;
         }
@@ -137,38 +112,36 @@ PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, cons
   const Vec yC = load_scale * cond.y_C();
   const double delta = 1e-7 * s0.certificate.length_scale;  // branch probe of F_b
 
-  // Rows: one per unknown. Row ν_k / τ_k either pins the unknown or states the traction balance
-  // (S (x − y))_row / w + [branch terms] = 0, multiplied by w to keep S's scale.
+  // Rows: one per unknown, each the node's status equation (check/status_equations.hpp) at the
+  // start's state: a pin, or the traction balance (S (x − y))_row + [the node's forces] = 0, with
+  // p_ν linear on un's branch (exact: p is piecewise linear) and the slip force's λ = F_b(x_ν)
+  // lagged (added per iteration below).
   Mat A = Mat::Zero(m, m);
   Vec b0 = Vec::Zero(m);  // λ-independent part of the right-hand side
-  std::vector<int> slip_sign(nc, 0);
+  std::vector<char> slipping(static_cast<size_t>(nc), 0);
+  const auto rows_at = [&](Index k, double x_nu, double x_tau) {
+    return status_rows(node_data(md, k), Eigen::Vector3d(x_nu, x_tau, 0), s0.status[static_cast<size_t>(k)],
+                       frictionless_at(md, s0.state.u_nu[k], delta), roller_components(md, k), delta, false);
+  };
   for (Index k = 0; k < nc; ++k) {
     const Index iv = d * k, it = d * k + 1;
-    const double w = md.contact.w[k], un = s0.state.u_nu[k];
-    const NodeStatus st = s0.status[k];
-    if (st.normal == NormalStatus::CONTACT) {
-      A(iv, iv) = 1;
-      b0[iv] = md.contact.g[k];
-    } else {
-      // p(x) = p(un) + p'(un)(x − un) on un's branch (exact: p is piecewise linear).
-      const double p0 = md.normal_law ? md.normal_law->p(un) : 0.0;
-      const double dp0 = md.normal_law ? md.normal_law->dp(un) : 0.0;
-      A.row(iv) = S.row(iv);
-      A(iv, iv) += w * dp0;
-      b0[iv] = S.row(iv).dot(yC) - w * (p0 - dp0 * un);
+    const double un = s0.state.u_nu[k];
+    const NodeRows rows = rows_at(k, un, s0.state.u_tau[k]);
+    for (const Index i : {iv, it}) {
+      if (rows.is_pinned(static_cast<int>(i - iv))) {
+        A(i, i) = 1;
+        b0[i] = rows.pin[i - iv];
+      } else {
+        A.row(i) = S.row(i);
+        b0[i] = S.row(i).dot(yC);
+      }
     }
-    if (roller_fixed(md, k, 1)) {
-      A(it, it) = 1;  // a roller holds x_τ = 0
-    } else if (frictionless_at(md, un, delta)) {
-      A.row(it) = S.row(it);  // frictionless here: σ_τ = 0
-      b0[it] = S.row(it).dot(yC);
-    } else if (st.tangential == TangentialStatus::STICK) {
-      A(it, it) = 1;  // x_τ = 0
-    } else {
-      slip_sign[k] = st.tangential == TangentialStatus::SLIP_PLUS ? 1 : -1;
-      A.row(it) = S.row(it);
-      b0[it] = S.row(it).dot(yC);  // − w s λ added per iteration
+    if (!rows.is_pinned(0)) {  // w p(x) = w p(un) + w p'(un)(x − un) on un's branch
+      A(iv, iv) += rows.block(0, 0);
+      b0[iv] -= rows.force[0] - rows.block(0, 0) * un;
     }
+    slipping[static_cast<size_t>(k)] = !rows.is_pinned(1) && s0.status[static_cast<size_t>(k)].tangential !=
+                                       TangentialStatus::STICK && !frictionless_at(md, un, delta);
   }
   const Eigen::PartialPivLU<Mat> lu(A);
   // λ's fixed point contracts like the outer loop; stop at round-off: a change below 1e-14
@@ -178,7 +151,7 @@ PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, cons
   for (r.iterations = 1; r.iterations <= 100; ++r.iterations) {
     Vec b = b0;
     for (Index k = 0; k < nc; ++k)
-      if (slip_sign[k]) b[d * k + 1] -= md.contact.w[k] * slip_sign[k] * md.friction->F(x[d * k]);
+      if (slipping[static_cast<size_t>(k)]) b[d * k + 1] -= rows_at(k, x[d * k], x[d * k + 1]).force[1];
     const Vec xn = lu.solve(b);
     const double change = (xn - x).cwiseAbs().maxCoeff(), scale = xn.cwiseAbs().maxCoeff();
     x = xn;

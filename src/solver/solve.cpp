@@ -19,6 +19,7 @@
 #include <hemicontact/solver/method_choice.hpp>
 #include <hemicontact/solver/outer_loop.hpp>
 #include <hemicontact/solver/polish.hpp>
+#include <hemicontact/solver/ssn.hpp>
 #include <hemicontact/solver/run_messages.hpp>
 #include <hemicontact/solver/sparse_checks.hpp>
 
@@ -67,6 +68,19 @@ MethodChoice choose_formulation(const Model& md, const SolveOptions& opt, std::s
   if (opt.formulation == "condensed" && !md.material->is_linear())
     input_error("solver.formulation = condensed: static condensation is exact only for a linear material (" +
                 md.material->describe() + "); use full or auto");
+  // ssn is the exact solver of the full space (solver/ssn.hpp): it reads K_x, not a Schur complement.
+  if (opt.backend == SSN_BACKEND) {
+    if (!md.material->is_linear())
+      input_error("solver.backend = ssn: the full-space semismooth Newton needs a linear material (" +
+                  md.material->describe() + "); use the design's path (solver.backend = auto)");
+    if (opt.formulation == "condensed")
+      input_error("solver.backend = ssn runs in the full space: use solver.formulation = full or auto");
+    MethodChoice c;
+    c.chosen = "full";
+    c.backend = SSN_BACKEND;
+    c.reason = "solver.backend = ssn runs in the full space (set explicitly)";
+    return c;
+  }
   SceneNumbers n;
   n.dim = md.dim();
   n.dofs = md.dofs.n_free();
@@ -111,12 +125,17 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
     F.energy->add(F.condensed_elastic);
     for (Index k = 0; k < nc; ++k) F.nd.first.push_back(d * k);
     F.z_free = F.cond->y_C();
+  } else if (opt.backend == SSN_BACKEND) {
+    // ssn factorizes its own Newton matrices and needs no scales: no elastic solve here.
+    F.z_free = Vec::Zero(md.dofs.n_free());
   } else {
     F.elastic_factor = std::make_shared<SparseCholesky>();
     SparseCholesky& chol = *F.elastic_factor;
     chol.compute(md.Kx);
     F.z_free = chol.solve(md.fx);
     timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
+  }
+  if (F.name == "full") {
     // z_free (from K(0) for a nonlinear law) only sets the solver's scales.
     if (md.material->is_linear()) {
       auto elastic = std::make_shared<ElasticEnergy>(md.Kx);
@@ -207,6 +226,7 @@ struct ContactSolver::Impl {
   };
 
   Solution header() const;
+  Solution ssn_answer(const Vec* z0, clk::time_point t_start);
   Solution linear_answer(clk::time_point t_start) const;
   bool solve_linear(clk::time_point t_start);
   void note_skipped();
@@ -216,7 +236,7 @@ struct ContactSolver::Impl {
   struct Stepper;  // the steps of the outer algorithm (outer_loop.hpp) on a Run
   void set_smoothing(size_t stage);
   OuterIteration minimize(Run& run, size_t stage);
-  void relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta);
+  LambdaChange relax_lambda(Run& run);
   /// The polish (when @p attempt and solver.polish), then x and u from the iterate.
   void polish(Run& run, bool attempt = true);
   bool all_separated(const Vec& z) const;
@@ -240,9 +260,12 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
     input_error("solver.engine = " + opt.engine +
                 ": this command runs the cholmod engine only; the petsc engine runs `hemicontact solve` "
                 "(hemicontact-mpi)");
-  I.backend = make_backend(opt.backend);
-  // The backend's options are checked now: the exact solver may answer without running it.
-  I.backend->check_options(opt.backend_options);
+  // ssn is no NLP backend: ContactSolver runs it itself (ssn_answer).
+  if (opt.backend != SSN_BACKEND) {
+    I.backend = make_backend(opt.backend);
+    // The backend's options are checked now: the exact solver may answer without running it.
+    I.backend->check_options(opt.backend_options);
+  }
 
   // Nothing nonlinear and no obstacle: one sparse Cholesky solve is the answer (no backend at all).
   if (I.solve_linear(t_start)) return;
@@ -377,7 +400,7 @@ void ContactSolver::Impl::report_smallness(SmallnessReport r, double& t_smallnes
 // scene passes options through to the engine's default backend (solver.options), which another
 // backend would refuse.
 void ContactSolver::Impl::take_choice_backend() {
-  if (F.choice.backend.empty() || F.choice.backend == backend->name()) return;
+  if (!backend || F.choice.backend.empty() || F.choice.backend == backend->name()) return;  // ssn: no NLP backend
   if (!opt.backend_options.extra.empty()) {
     F.choice.reason += "; backend " + backend->name() + " kept: solver.options are passed to it";
     F.choice.backend = backend->name();
@@ -490,6 +513,7 @@ Solution ContactSolver::solve(const Vec* z0) {
   const auto t_start = clk::now();
   Impl& I = *m;
   if (I.linear) return I.linear_answer(t_start);
+  if (I.opt.backend == SSN_BACKEND) return I.ssn_answer(z0, t_start);
   // What the report says of the backend: whether it ran, and why not when it did not.
   const auto done = [&](Solution&& s, const std::string& not_run = "") -> Solution {
     s.backend_use.ran = s.work_of(s.backend).minimizations > 0;
@@ -569,9 +593,7 @@ struct ContactSolver::Impl::Stepper final : OuterStepper {
     if (stage == 0) run.sol.start_energy = I.F.energy->value(I.U_s * run.zs);
   }
   OuterIteration minimize(size_t stage) override { return I.minimize(run, stage); }
-  void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) override {
-    I.relax_lambda(run, rec, measure_contraction, prev_delta);
-  }
+  LambdaChange relax_lambda() override { return I.relax_lambda(run); }
   bool polish_exists() const override { return I.F.cond != nullptr; }
   std::optional<Solution> certified_copy() override {
     Run trial = run;
@@ -605,7 +627,7 @@ Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_star
 // What every answer carries from the set-up.
 Solution ContactSolver::Impl::header() const {
   Solution sol;
-  sol.backend = backend->name();
+  sol.backend = backend ? backend->name() : opt.backend;
   sol.backend_use.requested = opt.backend;
   sol.skipped = skipped;
   sol.smallness = smallness;
@@ -625,6 +647,37 @@ Solution ContactSolver::Impl::linear_answer(clk::time_point t_start) const {
   sol.timings["solve_total"] = since(t_start) + setup_timings.at("setup_total");
   sol.message = sol.certificate.passed ? "linear solve; certificate passed" : "linear solve; certificate failed";
   return sol;
+}
+
+// Backend ssn: the exact solver of the full space (solver/ssn.hpp) from @p z0 (full unknowns), no
+// smoothing and no outer loop; judged by the certificate as every answer is.
+Solution ContactSolver::Impl::ssn_answer(const Vec* z0, clk::time_point t_start) {
+  Run run;
+  Solution& sol = run.sol;
+  sol = header();
+  sol.formulation = F.name;
+  sol.backend = "ssn (semismooth Newton, CHOLMOD)";
+  sol.skipped.push_back("continuation: ssn solves the unsmoothed problem (no eps stages)");
+  sol.skipped.push_back("polish: ssn's steps are the polish's, with statuses updated");
+  if (lagged) sol.skipped.push_back("fixed_point: lambda = F_b(u_nu) is read at every Newton step (no outer loop)");
+  // No stop before a step at round-off (tol 0, unlike the petsc engine's ssn_tol): here a step
+  // whose statuses held is one CG iteration on the last factor, and the answer is then as exact as
+  // the condensed solver's (1e-14 U, not the 1e-12 F of a residual test).
+  const SsnOutcome o = ssn_full(*model, SsnLimits{opt.petsc.ssn_max_iters, 0.0, opt.petsc.ksp_rtol}, z0);
+  OuterIteration rec;
+  rec.solver = sol.backend;
+  rec.backend.iterations = o.steps;
+  rec.backend.seconds = o.seconds;
+  rec.backend.status = o.converged ? SolveStatus::CONVERGED : SolveStatus::MAX_ITERATIONS;
+  rec.backend.message = o.converged ? "ssn converged in " + std::to_string(o.steps) + " Newton steps" : o.message;
+  sol.history.push_back(rec);
+  sol.backend_use.ran = true;
+  sol.backend_ok = o.converged;
+  if (!o.converged) sol.message = o.message;
+  sol.x = o.x;
+  sol.u = model->dofs.to_full(sol.x);
+  certify(run, t_start);
+  return std::move(run.sol);
 }
 
 // The start z0 (zero by default) in scaled unknowns, projected onto the bounds, with λ frozen there.
@@ -674,19 +727,13 @@ OuterIteration ContactSolver::Impl::minimize(Run& run, size_t stage) {
 }
 
 // λ ← (1−θ)λ + θ F_b(u_ν), with the change and (when @p measure_contraction) the contraction ρ_k.
-void ContactSolver::Impl::relax_lambda(Run& run, OuterIteration& rec, bool measure_contraction, double& prev_delta) {
+LambdaChange ContactSolver::Impl::relax_lambda(Run& run) {
   const Vec lam_old = F.friction->lambda();
   const Vec lam = (1 - opt.relaxation) * lam_old + opt.relaxation * friction_bounds(run.zs);
-  rec.change_lambda = rel_change(lam, lam_old);
-  rec.delta_lambda = (lam - lam_old).cwiseAbs().maxCoeff();
-  // ρ_k of the relaxed map, from two successive updates at the same ε, both above the
-  // inner solves' round-off (contraction_floor): λ rather than u because λ is the variable
-  // the map iterates (λ ↦ F_b(u_ν(λ))); u_ν(λ) is a solution operator with its own scale.
-  const double noise = opt.contraction_floor * std::max(lam.cwiseAbs().maxCoeff(), lam_old.cwiseAbs().maxCoeff());
-  if (measure_contraction && prev_delta > noise && rec.delta_lambda > noise)
-    rec.contraction = rec.delta_lambda / prev_delta;
-  prev_delta = rec.delta_lambda;
+  const LambdaChange c{(lam - lam_old).cwiseAbs().maxCoeff(),
+                       std::max(lam.cwiseAbs().maxCoeff(), lam_old.cwiseAbs().maxCoeff())};
   F.friction->set_lambda(lam);
+  return c;
 }
 
 // The exact polish on the identified statuses (solver/polish.hpp), then x and u. Polished even
@@ -736,7 +783,7 @@ void ContactSolver::Impl::certify(Run& run, clk::time_point t_start) const {
   evaluate_solution(*model, opt, sol);
   sol.timings["certificate"] = since(t1);
   // The backend's own minimizations (the exact solver's inner solves are under "exact").
-  sol.timings["backend"] = sol.work_of(backend->name()).seconds;
+  sol.timings["backend"] = sol.work_of(sol.backend).seconds;
   sol.timings["solve_total"] = since(t_start) + setup_timings.at("setup_total");
   state_verdict(sol);
   if (!sol.fixed_point_converged) log_warn() << sol.message;

@@ -4,6 +4,7 @@
 // never a crash); the default engine under mpirun; an adaptive target that is not met (exit 3,
 // "ok": false) and an interrupted adaptive solve (its certified levels kept); converge's options
 // bounded by the keys they set. The one-line refusals of single keys are in bad_input_test.cpp.
+#include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
 
 #include "support/cli_runner.hpp"
@@ -229,4 +230,24 @@ TEST_F(InputSafety, ConvergeOptionsHaveTheirKeysBounds) {
   r = cli("converge " + FIG2 + " --levels 4 --reference 4194304 --out " + (dir / "c").string());
   EXPECT_EQ(r.code, hemicontact::EXIT_USAGE) << r.err;
   EXPECT_TRUE(has(r.err, "--reference: expected one positive integer up to 1048576")) << r.err;
+}
+
+// Gmsh merges <file>.opt after any file it opens, and an .opt file is a script: a m.msh.opt with
+// SystemCall beside a valid m.msh ran the command and the solve still exited 0. End to end, through
+// `hemicontact solve` on a Gmsh scene: the mesh is solved and nothing beside it runs.
+TEST_F(InputSafety, AGmshMeshsCompanionOptFileIsNotRun) {
+  if (!HEMICONTACT_HAS_GMSH) GTEST_SKIP() << "built without the Gmsh API (install libgmsh-dev)";
+  fs::copy_file(HEMICONTACT_SOURCE_DIR "/tests/data/unit_square_3x3.msh", dir / "m.msh");
+  const fs::path pwned = dir / "pwned";
+  std::ofstream(dir / "m.msh.opt") << "SystemCall \"touch " << pwned.string() << "\";\n";
+  const json scene = {{"mesh", {{"type", "gmsh"}, {"file", "m.msh"}}},
+                      {"material", {{"E", 2000}, {"nu", 0.3}}},
+                      {"boundary", {{"gamma1", {{{"physical", "clamped"}}}},
+                                    {"gamma2", {{{"physical", "load"}, {"traction", {0, -50}}}}},
+                                    {"gamma3", {{{"physical", "contact"}}}}}}};
+  std::ofstream(dir / "scene.json") << scene.dump(2);
+  const auto r = cli("solve " + (dir / "scene.json").string() + " --quiet --out " + (dir / "o").string());
+  EXPECT_EQ(r.code, hemicontact::EXIT_OK) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "o" / "report.json"));
+  EXPECT_FALSE(fs::exists(pwned)) << "Gmsh ran the .opt file beside the mesh";
 }

@@ -375,4 +375,28 @@ TEST_F(OutputSafety, AnInterruptDuringThePlotEndsThePlottingProcess) {
   if (running()) ::kill(child, SIGKILL);
 }
 
+// SIGTERM while the picture is drawn left .fig2.png.partial (the script's temporary), which the
+// advised --force rerun then refused as a file not written by hemicontact. The stand-in
+// "python" writes the temporary, then sleeps; the rerun's stand-in draws nothing.
+TEST_F(OutputSafety, APictureInterruptedWhileDrawnDoesNotBlockForce) {
+  const fs::path python = dir / "slow-python", ready = dir / "drawing", out = dir / "res";
+  const fs::path partial = out / ".fig2.png.partial";
+  std::ofstream(python) << "#!/bin/sh\necho half > " << partial.string() << "\ntouch " << ready.string()
+                        << "\nexec sleep 120\n";
+  fs::permissions(python, fs::perms::owner_all);
+  const std::string args = "solve " + scene() + " --quiet --set mesh.n=4 --plot --out " + out.string();
+  const pid_t pid = start(args, "run", "HEMICONTACT_PYTHON=" + python.string());
+  ASSERT_TRUE(wait_for(ready));
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(fs::exists(partial)) << "the interrupted picture left no temporary: the case is not reproduced";
+  const auto again = hemicontact::test::run_cli(dir, args + " --force", "HEMICONTACT_PYTHON=/bin/true");
+  EXPECT_EQ(again.code, hemicontact::EXIT_OK) << again.err;
+  EXPECT_FALSE(fs::exists(partial));
+  // The picture the stand-in did not draw is not listed among the results.
+  const json files = json::parse(slurp(out / "report.json")).at("files");
+  EXPECT_EQ(std::find(files.begin(), files.end(), "fig2.png"), files.end()) << files;
+}
+
 }  // namespace

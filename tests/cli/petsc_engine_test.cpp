@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -189,12 +190,40 @@ TEST(PetscEngine, BackendsListSsnAndTao) {
   fs::remove_all(dir);
 }
 
-TEST(PetscEngine, SsnInTheCholmodEngineNamesTheEngine) {
+// Every layout prints the summary (one function, output/report.hpp's summary_table): the pieces'
+// from their reduced records and the Γ3 rows gathered to rank 0, the same lines as the cholmod
+// engine's where the answers agree (statuses, counts, the certificate's verdict).
+TEST(PetscEngine, ThePiecesPrintTheSameSummaryAsOneProcess) {
+  const fs::path dir = scratch("slab-summary");
+  const std::string args = "solve " + problem("sofonea2017-fig2") + " --set mesh.n=16 --set output.vtu=false";
+  const CliOutcome one = run_cli(dir, args + " --out " + (dir / "one").string());
+  const CliOutcome two = run_mpi(dir, 2, args + " --out " + (dir / "two").string());
+  ASSERT_EQ(one.code, 0) << one.err;
+  ASSERT_EQ(two.code, 0) << two.err;
+  const auto line = [](const std::string& out, const std::string& label, int lines) {
+    const size_t hit = out.compare(0, label.size(), label) == 0 ? 0 : out.find("\n" + label);
+    if (hit == std::string::npos) return std::string("(no " + label + ")");
+    const size_t at = hit == 0 ? 0 : hit + 1;
+    size_t end = at;
+    for (int i = 0; i < lines; ++i) end = out.find('\n', end) + 1;
+    return out.substr(at, end - at);
+  };
+  EXPECT_NE(two.out.find("pieces)"), std::string::npos) << two.out;
+  EXPECT_EQ(line(two.out, "status", 2), line(one.out, "status", 2)) << two.out;
+  EXPECT_EQ(line(two.out, "gamma3 nodes", 4), line(one.out, "gamma3 nodes", 4)) << two.out;
+  EXPECT_NE(line(two.out, "certificate", 1).find("passed"), std::string::npos) << two.out;
+  EXPECT_NE(line(two.out, "mesh", 1).find("289 nodes, 512 cells, 17 gamma3 nodes"), std::string::npos) << two.out;
+  fs::remove_all(dir);
+}
+
+// ssn runs in both engines (solver/ssn.hpp: the same node rows, CHOLMOD for CG + AMG): in the
+// cholmod engine the summary names the engine's linear solve.
+TEST(PetscEngine, SsnRunsInTheCholmodEngineToo) {
   const fs::path dir = scratch("ssn-cholmod");
   const CliOutcome r = run_cli(
       dir, "solve " + problem("sofonea2017-fig2") + " --set mesh.n=4 --backend ssn --out " + (dir / "o").string());
-  EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
-  EXPECT_NE(r.err.find("solver.engine"), std::string::npos) << r.err;
+  EXPECT_EQ(r.code, hemicontact::EXIT_OK) << r.err;
+  EXPECT_NE(r.out.find("ssn (semismooth Newton, CHOLMOD)"), std::string::npos) << r.out;
   fs::remove_all(dir);
 }
 
@@ -322,6 +351,62 @@ TEST(PetscEngine, MoreRanksThanCellsIsRefused) {
                                    (dir / "o").string());
   EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
   EXPECT_NE(r.err.find("3 MPI ranks for a mesh of 2 cells"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
+// An error on one rank while the others wait in a collective hung the job: rank 0
+// printed "a rank's piece of the mesh has no free node" and waited in PetscFinalize, ranks 1 and 2
+// spun in MPI_Allreduce. Every case must end every rank within seconds, with the message once and
+// the documented exit code (mpirun exits with the code given to MPI_Abort). Under `timeout`: a
+// hang is a failure (exit 124), not a stuck test.
+TEST(PetscEngine, AnErrorOnOneRankEndsEveryRank) {
+  const fs::path dir = scratch("one-rank-error");
+  std::string mpirun = MPIRUN;
+  mpirun.replace(mpirun.find("mpirun"), 6, "timeout -k 5 60 mpirun");
+  struct Case {
+    int np;
+    std::string args;
+  };
+  const std::vector<Case> cases{
+      {3, problem("sofonea2017-3d") + " --set mesh.n=2"},
+      {2, problem("sofonea2017-fig2") +
+              " --set mesh.n=2 --set 'boundary.gamma1=[{\"side\": \"left\"}]' --set 'boundary.gamma2=[]'"},
+      {2, problem("sofonea2017-3d") + " --set mesh.n=2 --set 'boundary.gamma1=[{\"side\": \"front\"}]'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto t0 = std::chrono::steady_clock::now();
+    const CliOutcome r = run_cli(dir, "solve " + c.args + " --set solver.engine='\"petsc\"' --quiet --out " +
+                                          (dir / "o").string(),
+                                 mpirun + " " + std::to_string(c.np));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+    const std::string message = "a rank's piece of the mesh has no free node";
+    const size_t at = r.err.find(message);
+    ASSERT_NE(at, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(message, at + 1), std::string::npos) << "printed more than once:\n" << r.err;
+    // Start-up, the failure and the abort: far below the hang's 60 s (10 s after the failure).
+    EXPECT_LT(seconds, 30) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
+  }
+  // Two ranks of four failing alike (a Γ3 ending inside the blocks' ghost layer: ranks 1 and 3 met
+  // an internal error and left without a word, ranks 0 and 2 hung). Whatever the engine makes of
+  // the scene, a certified answer or an error, every rank ends, and an error is printed once.
+  const std::string blocks = problem("sofonea2017-3d") +
+                             " --set mesh.n=null --set mesh.nx=4 --set mesh.ny=2 --set mesh.nz=2 --set "
+                             "solver.petsc.mesh='\"blocks\"' --set 'boundary.gamma3=[{\"side\": \"bottom\", "
+                             "\"from\": 0, \"to\": 0.25}]'";
+  const auto t0 = std::chrono::steady_clock::now();
+  const CliOutcome r = run_cli(dir, "solve " + blocks + " --set solver.engine='\"petsc\"' --quiet --force --out " +
+                                        (dir / "blocks").string(),
+                               mpirun + " 4");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 30) << r.err;
+  EXPECT_NE(r.code, 124) << "hung:\n" << r.err;
+  if (r.code != 0) {
+    const size_t at = r.err.find("hemicontact: error");
+    ASSERT_NE(at, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("hemicontact: error", at + 1), std::string::npos) << "printed more than once:\n" << r.err;
+  }
   fs::remove_all(dir);
 }
 

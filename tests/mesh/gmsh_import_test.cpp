@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -148,6 +149,17 @@ TEST(GmshImport, PhysicalSelectors) {
   // Group "11" overlaps "load" on the left side: selecting both is an overlap error.
   spec.gamma3.push_back(physical("11", "boundary.gamma3[1]"));
   EXPECT_THROW(assign_boundary(m, spec), Error);
+  // An interval cannot restrict a group (it is measured along a side): refused, not ignored.
+  spec.gamma3 = {physical("contact", "boundary.gamma3[0]")};
+  spec.gamma3[0].from = 100;
+  spec.gamma3[0].to = 200;
+  std::string e = "(no error)";
+  try {
+    assign_boundary(m, spec);
+  } catch (const Error& err) {
+    e = err.what();
+  }
+  EXPECT_TRUE(has_text(e, "boundary.gamma3[0]: an interval [from, to) restricts a 'side' selector only")) << e;
 }
 
 // tests/data/unit_square_3x3_interior_contact.msh: "contact" also holds the edge (5, 12), a
@@ -270,6 +282,27 @@ TEST(GmshImport, ScriptsAreNotRunWithoutOptIn) {
   (void)read_gmsh_or_error(write_temp("trusted.geo", "Printf(\"x\") > \"" + printed + "\";\n"), true);
   EXPECT_TRUE(std::ifstream(printed).good()) << "allow_scripts did not pass the script to Gmsh";
   std::remove(printed.c_str());
+}
+
+// Gmsh merges <file>.opt after opening any file, and an .opt file is a script: a m.msh.opt holding
+// SystemCall beside a valid m.msh ran the command. Without allow_scripts Gmsh opens a
+// private copy, so the planted .opt is never read and the mesh is read as before.
+TEST(GmshImport, CompanionOptFileIsNotRun) {
+  SKIP_WITHOUT_GMSH();
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "hemicontact_gmsh_opt";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string mesh = (dir / "m.msh").string();
+  std::filesystem::copy_file(data("unit_square_3x3.msh"), mesh);
+  const std::string pwned = (dir / "pwned").string();
+  std::ofstream(mesh + ".opt") << "SystemCall \"touch " << pwned << "\";\n";
+  const Mesh m = read_gmsh(mesh);
+  EXPECT_EQ(m.num_nodes(), 16);
+  EXPECT_FALSE(std::filesystem::exists(pwned)) << "Gmsh ran the .opt file beside the mesh";
+  // The check above can fail: with the opt-in, Gmsh opens the file itself and runs its .opt.
+  (void)read_gmsh(mesh, true);
+  EXPECT_TRUE(std::filesystem::exists(pwned)) << "Gmsh did not read the planted .opt (the test proves nothing)";
+  std::filesystem::remove_all(dir);
 }
 
 // The header check accepts what Gmsh writes (MSH 2.x and 4.x, ASCII and binary; leading blank

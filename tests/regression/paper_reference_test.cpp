@@ -3,7 +3,8 @@
 // n = 4, 8, 'right' mesh, loads as printed (s = 1) and × 1e6 (s = 1e6). Every case with both
 // exact backends (ipopt, newton) and both paths: the default (the exact inner solver takes over
 // from the continuation) and the continuation alone (solver.exact.enabled = false):
-// the default certifies what the continuation certified, with the same answer.
+// the default certifies what the continuation certified, with the same answer; and the full-space
+// exact solver (backend ssn, solver/ssn.hpp), whose flag `exact` changes nothing.
 #include <hemicontact/config.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
@@ -129,7 +130,7 @@ TEST_P(PaperReference, MatchesIndependentExactSolution) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCases, PaperReference,
-                         ::testing::Combine(::testing::Range(0, 4), ::testing::Values("ipopt", "newton"),
+                         ::testing::Combine(::testing::Range(0, 4), ::testing::Values("ipopt", "newton", "ssn"),
                                             ::testing::Bool()),
                          [](const ::testing::TestParamInfo<Param>& info) {
                            return "case" + std::to_string(std::get<0>(info.param)) + "_" + std::get<1>(info.param) +

@@ -290,6 +290,70 @@ TEST(SceneSchemaErrors, SelectorNeedsExactlyOneOfSideAndPhysical) {
                   "'boundary.gamma2[0]': empty range [from, to) = [0.5, 0.5)");
 }
 
+// An interval on a physical group was ignored: {"physical": "contact", "from": 100, "to": 200}
+// selected the whole group and certified. It is refused, naming the key, on every
+// boundary part and on the rollers.
+TEST(SceneSchemaErrors, IntervalOnAPhysicalSelectorIsRefused) {
+  for (const char* part : {"gamma1", "gamma3", "rollers"}) {
+    SCOPED_TRACE(part);
+    json s = paper_scene();
+    json sel = {{"physical", "contact"}, {"from", 100}, {"to", 200}};
+    if (std::string(part) == "rollers") sel["components"] = {"x"};
+    s["boundary"][part] = json::array({sel});
+    EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                    std::string("scene key 'boundary.") + part + "[0].from': an interval [from, to) restricts a 'side'");
+    s["boundary"][part][0].erase("from");
+    EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                    std::string("scene key 'boundary.") + part + "[0].to'");
+  }
+  // The rollers are checked as the three parts are (they were not before).
+  json s = paper_scene();
+  s["boundary"]["rollers"] = json::array({{{"side", "left"}, {"physical", "x"}, {"components", {"x"}}}});
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                  "'boundary.rollers[0]': set exactly one of 'side' and 'physical', not both");
+}
+
+// A key of one mesh type on a scene of another changed nothing: refused, naming it.
+TEST(SceneSchemaErrors, MeshKeysOfAnotherMeshTypeAreRefused) {
+  json s = paper_scene();
+  s["mesh"]["file"] = "m.msh";  // a rectangle
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                  "scene key 'mesh.file': is read for mesh.type = \"gmsh\" only (mesh.type is 'rectangle')");
+  s = paper_scene();
+  s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}, {"n", 8}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.n': refines a generated mesh");
+  s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}, {"perturb", 0.1}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.perturb'");
+  s["mesh"] = {{"type", "box"}, {"grading", {{"x", "low"}}}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                  "scene key 'mesh.grading': grades a rectangle's grid lines only (mesh.type is 'box')");
+  s["mesh"] = {{"type", "box"}, {"diagonal", "crossed"}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                  "scene key 'mesh.diagonal': is not read for this mesh (mesh.type is 'box')");
+  s["mesh"] = {{"type", "rectangle"}, {"pattern", "symmetric"}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.pattern'");
+  s["mesh"] = {{"type", "rectangle"}, {"z", {0, 2}}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.z'");
+  s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}, {"x", {0, 4}}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.x'");
+  s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}};
+  EXPECT_NO_THROW(validate_scene(s));
+  // An effective scene (every default filled in) validates again: the defaults are not "set".
+  for (const char* type : {"rectangle", "box"}) {
+    json e = paper_scene();
+    e["mesh"] = {{"type", type}, {"n", 4}};
+    EXPECT_NO_THROW(validate_scene(validate_scene(e))) << type;
+  }
+}
+
+// A NUL byte in mesh.file ended the name early in every system call (and cut the messages short).
+TEST(SceneSchemaErrors, NulByteInMeshFileIsRefused) {
+  json s = paper_scene();
+  s["mesh"] = {{"type", "gmsh"}, {"file", std::string("m.msh\0.txt", 11)}};
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                  "scene key 'mesh.file': the file name holds a NUL byte (\\u0000) at character 6");
+}
+
 TEST(SceneSchemaErrors, Gap) {
   json s = minimal_scene();
   for (const json& ok : {json(0.15), json(0), json("inf"), json(nullptr)}) {

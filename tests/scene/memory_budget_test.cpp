@@ -64,3 +64,12 @@ TEST_F(CgroupBudget, V1MemoryControllerAndNoLimit) {
   fs::remove(root / "proc" / "self" / "cgroup");
   EXPECT_LT(cgroup_memory_budget(root.string()).bytes, 0);
 }
+
+// A refusal said "needs about 1.1 GB ... 1.1 GB are available": the two amounts get the
+// digits that tell them apart, and no more than two where two suffice.
+TEST(MemoryRefusal, AmountsShowTheDigitsThatTellThemApart) {
+  using hemicontact::distinct_gigabytes;
+  EXPECT_EQ(distinct_gigabytes(1.14e9, 1.12e9), std::make_pair(std::string("1.14 GB"), std::string("1.12 GB")));
+  EXPECT_EQ(distinct_gigabytes(1.1234e9, 1.1231e9), std::make_pair(std::string("1.1234 GB"), std::string("1.1231 GB")));
+  EXPECT_EQ(distinct_gigabytes(2.1e9, 0.5e9), std::make_pair(std::string("2.1 GB"), std::string("0.5 GB")));
+}

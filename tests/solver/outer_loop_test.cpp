@@ -49,15 +49,11 @@ struct AffineStepper : OuterStepper {
     rec.backend.message = "fake backend";
     return rec;
   }
-  void relax_lambda(OuterIteration& rec, bool measure, double& prev_delta) override {
+  LambdaChange relax_lambda() override {
     const double l = (1 - opt.relaxation) * lambda + opt.relaxation * mu * u;
-    const double delta = std::abs(l - lambda), s = std::max(std::abs(l), std::abs(lambda));
-    rec.change_lambda = s > 0 ? delta / s : 0.0;
-    rec.delta_lambda = delta;
-    const double noise = opt.contraction_floor * s;
-    if (measure && prev_delta > noise && delta > noise) rec.contraction = delta / prev_delta;
-    prev_delta = delta;
+    const LambdaChange c{std::abs(l - lambda), std::max(std::abs(l), std::abs(lambda))};
     lambda = l;
+    return c;
   }
   bool polish_exists() const override { return has_polish; }
   std::optional<Solution> certified_copy() override {

@@ -25,6 +25,10 @@ const char* to_string(SolveStatus s);
 /// was not compiled in; the petsc engine: ssn), whose stage the solve may skip where it cannot
 /// change the answer (SolveOptions::exact_start).
 inline constexpr const char* AUTO_BACKEND = "auto";
+/// solver.backend = "ssn": the semismooth Newton method on the unsmoothed conditions in the full
+/// space, in both engines (solver/ssn.hpp with CHOLMOD; the petsc engine's with CG + AMG). No NLP
+/// backend: ContactSolver (and the petsc engine) run it themselves.
+inline constexpr const char* SSN_BACKEND = "ssn";
 
 /// Statistics and verdict of one backend run.
 struct SolveResult {

@@ -36,7 +36,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <map>
 #include <string>
+#include <vector>
 
 namespace hemicontact {
 
@@ -76,6 +78,22 @@ void write_report(const std::string& path, const nlohmann::json& report);
 /// @param md the model @param sol the solution
 /// @return several lines, each ending in '\n'
 std::string summary_table(const Model& md, const Solution& sol);
+
+/// What the summary says of the mesh and Γ3, from one process's model (summary_facts) or from the
+/// petsc engine's pieces (their reduced sizes and the Γ3 rows gathered to rank 0).
+struct SummaryFacts {
+  std::string origin;                 ///< the mesh's origin ("" if none)
+  long nodes = 0, cells = 0, dofs = 0;
+  double h = 0;                       ///< the longest edge
+  int dim = 2;
+  bool linear = true;                 ///< linear material (the elastic energy is a(u,u)/2)
+  std::vector<std::string> statuses;  ///< every Γ3 node's status, in ContactNodes' order
+  std::map<std::string, double> timings;
+};
+/// @return the facts of @p md and @p sol (one process).
+SummaryFacts summary_facts(const Model& md, const Solution& sol);
+/// The summary from @p facts and the solution's records (energies, counts, certificate, verdict).
+std::string summary_table(const SummaryFacts& facts, const Solution& sol);
 
 /// @brief The per-node statuses in Γ3 order, run-length compressed: consecutive equal statuses
 /// become "status xN", e.g. "compliance/slip- x2, contact/slip- x28, contact/stick x1".

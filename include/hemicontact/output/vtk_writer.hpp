@@ -39,6 +39,17 @@
 
 namespace hemicontact {
 
+/// The VTU's cell fields of a solution (constant per cell on P1 elements), one row per cell.
+struct CellFields {
+  RowMat strain;  ///< Voigt: ε11, ε22, 2ε12 in 2D; ε11, ε22, ε33, 2ε23, 2ε13, 2ε12 in 3D
+  RowMat stress;  ///< Voigt, md.material->stress(strain)
+  Vec von_mises;  ///< the von Mises stress of each row of stress
+};
+
+/// @return the strain, stress and von Mises stress per cell that write_vtu writes (the Python
+/// module's Result.strain and Result.stress are these arrays too).
+CellFields cell_fields(const Model& md, const Solution& sol);
+
 /// How the arrays are stored.
 enum class VtuFormat { BINARY, ASCII };
 

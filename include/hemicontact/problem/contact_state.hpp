@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include <array>
+#include <map>
 #include <string>
 
 namespace hemicontact {
@@ -54,5 +56,15 @@ struct ContactState {
   RowMat slip_dir;
   Vec slip_angle_deg;  ///< 3D: the angle of slip_dir in the tangent plane (SlipDirection::angle_deg)
 };
+
+/// Status counts in the order separated, compliance, contact, stick, slip+, slip-, slip: summed
+/// over the nodes a process owns, then over processes (check/judge.hpp).
+using StatusCounts = std::array<long, 7>;
+/// @return the names of StatusCounts' entries.
+const std::array<const char*, 7>& status_count_names();
+/// Add @p s to @p c.
+void count_status(StatusCounts& c, const NodeStatus& s);
+/// @return @p c keyed by name, as report.json's status_counts: "slip" only where a node slips in 3D.
+std::map<std::string, int> count_map(const StatusCounts& c);
 
 }  // namespace hemicontact

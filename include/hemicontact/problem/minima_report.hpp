@@ -17,6 +17,13 @@ namespace hemicontact {
 
 struct MinimaRun;
 
+/// The ranges of the minima search's counts, the CLI's (`minima --starts ...`) and the Python
+/// module's alike. Each start is a full solve, so 10 000 starts are hours at n = 64 already, and
+/// 10 000 load-path steps per unit load as many solves: more is an effective hang, not a study.
+inline constexpr long MINIMA_MAX_STARTS = 10000;
+inline constexpr long MINIMA_MAX_LOAD_PATH_STEPS = 10000;
+inline constexpr long MINIMA_MAX_SEED = 4294967295L;  ///< std::mt19937's seed: 32 bits
+
 /// What find_minima() does; defaults are the ones `hemicontact minima` documents.
 struct MinimaOptions {
   int starts = 8;                     ///< random starts per backend (≥ 0)

@@ -57,6 +57,9 @@ struct Solution {
   Vec u;                           ///< full displacement
   ContactState state;              ///< Γ3 quantities
   std::vector<NodeStatus> status;  ///< per Γ3 node
+  /// The statuses counted over the whole model (on the petsc engine's pieces: over every rank's
+  /// owned nodes, where `status` holds the piece's nodes only).
+  StatusCounts counts{};
   CertificateReport certificate;   ///< docs/model.md §4
   double energy = 0;  ///< Π = ∫W(ε(u)) − f(u) + Σ w j_ν(u_ν) + Σ w F_b(u_ν)|u_τ| (unsmoothed; ∫W = ½a(u,u) if linear)
   double energy_norm = 0;                                   ///< sqrt(a(u,u))
@@ -94,7 +97,7 @@ struct Solution {
   /// "ipopt+polish" (the backend, then the polish on its statuses), "ipopt" (the backend alone),
   /// "linear".
   std::string solved_by() const;
-  /// @return status counts keyed separated, compliance, contact, stick, slip+, slip- (and slip in 3D).
+  /// @return `counts` keyed separated, compliance, contact, stick, slip+, slip- (and slip in 3D).
   std::map<std::string, int> status_counts() const;
 };
 

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <utility>
 
 namespace hemicontact {
 
@@ -62,6 +63,10 @@ MemoryBudget cgroup_memory_budget(const std::string& root);
 /// @param petsc the estimate of the petsc engine (no factorization) instead of the cholmod engine's.
 /// @param gamma3_nodes Γ3 nodes (the cholmod engine's dense condensed matrices); 0 before the mesh exists.
 void check_memory(double nodes, int dim, const std::string& size_keys, bool petsc = false, double gamma3_nodes = 0);
+
+/// @return @p need and @p have bytes as GB texts with as many significant digits (2 to 6) as it
+/// takes for them to differ, for a memory refusal ("needs about 1.14 GB ... 1.12 GB are available").
+std::pair<std::string, std::string> distinct_gigabytes(double need, double have);
 
 /// @brief Estimated peak memory (bytes, all ranks) of the petsc engine on @p nodes nodes.
 double estimate_petsc_memory(double nodes, int dim);

@@ -20,6 +20,12 @@
 
 namespace hemicontact {
 
+/// What one λ update moved, reduced over the engine's processes: max_i |λ_new − λ_old| and
+/// max_i max(|λ_new|, |λ_old|). The outer loop turns them into the relative change and ρ_k.
+struct LambdaChange {
+  double delta = 0, scale = 0;
+};
+
 /// The steps one engine performs; run_outer() calls them.
 class OuterStepper {
  public:
@@ -37,9 +43,8 @@ class OuterStepper {
   /// z ← argmin Π_λ,ε from the current iterate (warm start), λ and ε frozen; the record carries the
   /// backend's result, the relative change of the Γ3 unknowns and the first-order residual.
   virtual OuterIteration minimize(std::size_t stage) = 0;
-  /// λ ← (1−θ)λ + θ F_b(u_ν): sets rec.change_lambda and rec.delta_lambda, and rec.contraction (ρ_k,
-  /// from two successive updates above check's contraction floor) when @p measure_contraction.
-  virtual void relax_lambda(OuterIteration& rec, bool measure_contraction, double& prev_delta) = 0;
+  /// λ ← (1−θ)λ + θ F_b(u_ν) (θ = solver.fixed_point.relaxation). @return what it moved.
+  virtual LambdaChange relax_lambda() = 0;
   /// The exact polish exists (the CHOLMOD engine's condensed formulation; the PETSc engine's).
   virtual bool polish_exists() const = 0;
   /// A copy of the current answer, polished and certified; nothing when the polish was rejected
@@ -70,6 +75,13 @@ bool run_stage(OuterStepper& s, const SolveOptions& opt, std::size_t stage);
 /// Worth an early polish: the last minimization moved Γ3 (and λ) by at most
 /// solver.continuation.certify_below, the fixed point has not failed, and the polish exists.
 bool settled(OuterStepper& s, const SolveOptions& opt);
+
+/// The record of a λ update @p c: rec.change_lambda = delta/scale, rec.delta_lambda = delta, and,
+/// when @p measure (the final stage, after its first update), ρ_k = delta/prev_delta where both
+/// updates lie above the inner solves' round-off (solver.fixed_point.contraction_floor × scale):
+/// ρ of λ rather than u, because λ is the variable the map λ ↦ F_b(u_ν(λ)) iterates.
+void record_lambda_change(OuterIteration& rec, const LambdaChange& c, const SolveOptions& opt, bool measure,
+                          double& prev_delta);
 
 /// The geometric mean of the measured contraction factors ρ_k (NaN where none was measured).
 double contraction_estimate(const std::vector<OuterIteration>& history);

@@ -1,0 +1,240 @@
+#include <hemicontact/solver/ssn.hpp>
+
+#include <hemicontact/check/status_equations.hpp>
+#include <hemicontact/core/clock.hpp>
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
+#include <hemicontact/core/log.hpp>
+#include <hemicontact/fem/sparse_cholesky.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace hemicontact {
+
+namespace {
+
+// One run: the iterate, the Newton matrix (K's pattern, its values rewritten at each step) and
+// what one step passes to the next. The steps are the petsc engine's (petsc_ssn.cpp) with
+// CHOLMOD for CG + AMG.
+struct SsnRun {
+  const Model& md;
+  SsnLimits lim;
+  int d;
+  Vec x, R, rhs, diag;
+  SpMat J;
+  SparseCholesky chol;
+  double diag_scale = 1, F_s = 1;
+  bool factored = false;     // chol holds a factorization of an earlier step's J
+  std::vector<char> pinned;  // per unknown, this step
+  Vec pin_step;              // a pinned unknown's prescribed step
+  std::vector<int> code, prev_code;
+  std::vector<Eigen::Vector2d> slip_dir;
+  std::vector<char> hold_stick;
+  int unchanged = 0;
+  double prev_step = INF;
+  bool cold;  // started from zero: the first reading puts every node in contact (ssn_reading)
+
+  SsnRun(const Model& m, const SsnLimits& l, const Vec* x0);
+  long linearize(int k);
+  void add_node(Index q, int k);
+  double right_hand_side();
+  bool step(int k, long changed, double res, SsnOutcome& out);
+  bool newton_direction(long changed, Vec& dx, int& cg_its);
+  bool preconditioned_cg(Vec& dx, int& its) const;
+  long stop_reversals();
+};
+
+SsnRun::SsnRun(const Model& m, const SsnLimits& l, const Vec* x0)
+    : md(m), lim(l), d(m.dim()), x(x0 ? *x0 : Vec::Zero(m.dofs.n_free())), J(m.Kx), cold(x0 == nullptr) {
+  if (x.size() != md.dofs.n_free()) throw Error("ssn: start vector of the wrong size", EXIT_INTERNAL);
+  diag = md.Kx.diagonal();
+  // A fixed unknown's row keeps a diagonal of K's own size (the mean K_ii), as in the petsc engine:
+  // the matrix's conditioning does not see it as an outlier.
+  diag_scale = diag.size() && diag.sum() > 0 ? diag.sum() / static_cast<double>(diag.size()) : 1.0;
+  F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
+  const auto nc = static_cast<size_t>(md.contact.size());
+  code.assign(nc, -1);
+  prev_code.assign(nc, -2);
+  slip_dir.assign(nc, Eigen::Vector2d::Zero());
+  hold_stick.assign(nc, 0);
+  chol.analyze(J);  // once: every step's J has K's pattern
+}
+
+// Node q's reading at step k: its forces into R, its block into J, its pinned unknowns.
+void SsnRun::add_node(Index q, int k) {
+  const Index iv = md.dofs.contact_dof(q, 0);
+  Eigen::Vector3d xl = Eigen::Vector3d::Zero(), rl = Eigen::Vector3d::Zero(), dl = Eigen::Vector3d::Zero();
+  for (int c = 0; c < d; ++c) xl[c] = x[iv + c], rl[c] = R[iv + c], dl[c] = diag[iv + c];
+  const auto qs = static_cast<size_t>(q);
+  const SsnReading rd =
+      ssn_reading(node_data(md, q), xl, rl, dl, cold && k == 1, hold_stick[qs] != 0, roller_components(md, q));
+  code[qs] = rd.code;
+  slip_dir[qs] = rd.slip_dir;
+  for (int c = 0; c < d; ++c) {
+    if (rd.rows.is_pinned(c)) {
+      pinned[static_cast<size_t>(iv + c)] = 1;
+      pin_step[iv + c] = rd.rows.pin[c] - xl[c];
+    } else {
+      R[iv + c] += rd.rows.force[c];
+    }
+    for (int j = 0; j < d; ++j)
+      if (rd.rows.block(c, j) != 0) J.coeffRef(iv + c, iv + j) += rd.rows.block(c, j);
+  }
+}
+
+// Step k's statuses and linearization at the iterate: R = K x − f plus the Γ3 forces, J = K plus
+// the Γ3 blocks. @return the number of status changes.
+long SsnRun::linearize(int k) {
+  R = md.Kx * x - md.fx;
+  std::copy(md.Kx.valuePtr(), md.Kx.valuePtr() + md.Kx.nonZeros(), J.valuePtr());
+  pinned.assign(static_cast<size_t>(x.size()), 0);
+  pin_step = Vec::Zero(x.size());
+  long changed = 0;
+  for (Index q = 0; q < md.contact.size(); ++q) {
+    add_node(q, k);
+    if (code[static_cast<size_t>(q)] != prev_code[static_cast<size_t>(q)]) ++changed;
+  }
+  prev_code = code;
+  unchanged = changed == 0 ? unchanged + 1 : 0;
+  return changed;
+}
+
+// rhs = −R on free rows, diag_scale × the prescribed step on pinned ones; the pinned rows and
+// columns of J zeroed (their diagonal diag_scale), the columns' part moved to the right-hand side,
+// so that J stays symmetric positive definite. @return the semismooth residual ‖rhs‖∞.
+double SsnRun::right_hand_side() {
+  rhs = -R;
+  for (Index c = 0; c < J.outerSize(); ++c)
+    for (SpMat::InnerIterator it(J, c); it; ++it) {
+      const bool pr = pinned[static_cast<size_t>(it.row())] != 0, pc = pinned[static_cast<size_t>(c)] != 0;
+      if (!pr && !pc) continue;
+      if (it.row() == c) {
+        it.valueRef() = diag_scale;
+        continue;
+      }
+      if (pc && !pr) rhs[it.row()] -= it.value() * pin_step[c];
+      it.valueRef() = 0;
+    }
+  for (Index i = 0; i < x.size(); ++i)
+    if (pinned[static_cast<size_t>(i)]) rhs[i] = diag_scale * pin_step[i];
+  return rhs.size() ? rhs.cwiseAbs().maxCoeff() : 0.0;
+}
+
+// The reversal rule (status_equations.hpp's ssn_reversed) on every sliding node.
+long SsnRun::stop_reversals() {
+  long projected = 0;
+  for (Index q = 0; q < md.contact.size(); ++q) {
+    const auto qs = static_cast<size_t>(q);
+    const Index iv = md.dofs.contact_dof(q, 0);
+    Eigen::Vector3d xl = Eigen::Vector3d::Zero();
+    for (int c = 0; c < d; ++c) xl[c] = x[iv + c];
+    hold_stick[qs] = ssn_reversed(slip_dir[qs], d, xl);  // one step only
+    if (hold_stick[qs]) {
+      for (int c = 1; c < d; ++c) x[iv + c] = 0;
+      ++projected;
+    }
+  }
+  return projected;
+}
+
+// CG on J dx = rhs preconditioned by the last factorization (of a J with the same statuses, so
+// M⁻¹J is near I: a few iterations). @return whether it reached rtol within MAX_ITS.
+bool SsnRun::preconditioned_cg(Vec& dx, int& its) const {
+  constexpr int MAX_ITS = 20;  // more means the factor no longer fits J: refactorize instead
+  dx = Vec::Zero(rhs.size());
+  Vec r = rhs, z = chol.solve(r), p = z;
+  double rz = r.dot(z);
+  const double stop = lim.rtol * rhs.norm();
+  for (its = 1; its <= MAX_ITS; ++its) {
+    const Vec Jp = J * p;
+    const double alpha = rz / p.dot(Jp);
+    dx += alpha * p;
+    r -= alpha * Jp;
+    if (!(r.norm() > stop)) return true;
+    z = chol.solve(r);
+    const double rz_next = r.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+  }
+  return false;
+}
+
+// The Newton step: CG on the last factor where the statuses held, else (or if that stalls) a
+// numeric factorization of J. @return false when J is not positive definite.
+bool SsnRun::newton_direction(long changed, Vec& dx, int& cg_its) {
+  cg_its = 0;
+  if (factored && changed == 0 && preconditioned_cg(dx, cg_its)) return true;
+  try {
+    chol.factorize(J);
+  } catch (const Error&) {
+    return false;
+  }
+  factored = true;
+  dx = chol.solve(rhs);
+  return true;
+}
+
+// Step k: the Newton direction, the update, the reversals and the record.
+// @return true when ssn has converged (ssn_step_settled).
+bool SsnRun::step(int k, long changed, double res, SsnOutcome& out) {
+  const auto t0 = clk::now();
+  Vec dx;
+  int cg_its = 0;
+  if (!newton_direction(changed, dx, cg_its)) {
+    out.message = "ssn: the Newton matrix at step " + std::to_string(k) +
+                  " is not positive definite (a softening branch of p_nu steeper than the body holds: the inner "
+                  "problem is not convex there); the design's path (--backend ipopt) handles it";
+    return false;
+  }
+  x += dx;
+  const long projected = stop_reversals();
+  const double step = dx.cwiseAbs().maxCoeff(), scale = x.cwiseAbs().maxCoeff();
+  const double rel = scale > 0 ? step / scale : 0.0;
+  out.record.push_back({{"step", k}, {"status_changes", changed}, {"slip_reversals", projected}, {"cg", cg_its},
+                        {"residual", res / F_s}, {"dx_rel", rel}, {"seconds", since(t0)}});
+  log_info() << "ssn " << k << ": " << changed << " status changes, residual " << fmt(res / F_s, 3)
+             << (cg_its > 0 ? ", CG " + std::to_string(cg_its) + " it on the last factor" : ", factorized")
+             << ", |dx|/|x| " << fmt(rel, 3)
+             << (projected > 0 ? ", " + std::to_string(projected) + " slip reversals set to 0" : "");
+  const bool settled = ssn_step_settled(unchanged, rel, step, prev_step);
+  prev_step = unchanged >= 1 ? step : INF;
+  return settled;
+}
+
+}  // namespace
+
+SsnOutcome ssn_full(const Model& md, const SsnLimits& limits, const Vec* x0) {
+  if (!md.material->is_linear()) throw Error("ssn: needs a linear material (K_x is its stiffness)", EXIT_INPUT);
+  const auto t0 = clk::now();
+  SsnRun run(md, limits, x0);
+  SsnOutcome out;
+  int k = 1;
+  for (; k <= limits.max_iters && out.message.empty(); ++k) {
+    const long changed = run.linearize(k);
+    const double res = run.right_hand_side();
+    // Converged at this iterate: its statuses are the last step's and the semismooth residual is
+    // at most ssn_tol of the load scale; no step is taken (petsc_ssn.cpp's rule).
+    if (k > 1 && changed == 0 && res / run.F_s <= limits.tol) {
+      out.converged = true;
+      log_info() << "ssn " << k << ": statuses held, residual " << fmt(res / run.F_s, 3) << " <= ssn_tol: converged";
+      break;
+    }
+    if (run.step(k, changed, res, out)) {
+      out.converged = true;
+      ++k;
+      break;
+    }
+  }
+  out.steps = k - 1;
+  if (!out.converged && out.message.empty())
+    out.message = "ssn: no convergence in " + std::to_string(limits.max_iters) +
+                  " Newton steps (solver.petsc.ssn_max_iters; the statuses still changed or the step did not reach "
+                  "round-off)";
+  out.x = std::move(run.x);
+  out.seconds = since(t0);
+  return out;
+}
+
+}  // namespace hemicontact
