@@ -377,7 +377,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "scene's numbers before any numeric work (solver.method_choice): condensed for a "
                   "linear material whose factorization and dense Γ3 work cost at most the full "
                   "formulation's factorizations and fit in memory, full otherwise (then solver.backend = auto "
-                  "means newton). report.json method_choice says what was chosen and why.",
+                  "means ssn, the full space's exact solver). report.json method_choice says what was chosen and why.",
                   {"auto", "full", "condensed"}));
   const MethodChoiceOptions MC;  // the defaults' one home
   t.push_back(section("/solver/method_choice",

@@ -1,6 +1,7 @@
 #include <hemicontact/solver/method_choice.hpp>
 
 #include <hemicontact/core/format.hpp>
+#include <hemicontact/solver/ssn.hpp>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -113,11 +114,11 @@ MethodChoice choose_method(const SceneNumbers& n, const SolveOptions& opt, const
     c.automatic = true;
     decide(n, opt.method_choice, full_flops, c);
   }
-  // The faster backend of the full space (method_choice.hpp) where auto chose it for a linear material.
+  // The full space's exact solver (method_choice.hpp) where auto chose it for a linear material.
   if (backend_named(opt))
     c.backend = opt.backend;
   else if (c.automatic && c.chosen == "full" && n.linear_material && n.gamma3_unknowns > 0)
-    c.backend = "newton";
+    c.backend = SSN_BACKEND;
   return c;
 }
 

@@ -200,7 +200,8 @@ struct ContactSolver::Impl {
   bool lagged = false;                              // λ = F_b(u_ν) depends on the answer: the outer fixed point runs
   InnerConvexity convexity;                         // of Φ_λ, decided once at set-up
   mutable std::optional<Gamma3Spectrum> spectrum_;  // k_1, k_1ν by Lanczos (large Γ3 only), once
-  Impl(const Model& m, const SolveOptions& o) : model(&m), opt(o) {}
+  std::string requested_backend;  // solver.backend as given (opt.backend may become the choice's ssn)
+  Impl(const Model& m, const SolveOptions& o) : model(&m), opt(o), requested_backend(o.backend) {}
 
   /// More Γ3 unknowns than check.dense_max_unknowns: no dense Γ3 matrix for the checks.
   bool dense_checks_too_large() const { return model->dim() * model->contact.size() > opt.dense_max_unknowns; }
@@ -404,6 +405,10 @@ void ContactSolver::Impl::take_choice_backend() {
   if (!opt.backend_options.extra.empty()) {
     F.choice.reason += "; backend " + backend->name() + " kept: solver.options are passed to it";
     F.choice.backend = backend->name();
+    return;
+  }
+  if (F.choice.backend == SSN_BACKEND) {
+    opt.backend = SSN_BACKEND;  // solve() runs ssn_answer; report.json still says "auto" was asked
     return;
   }
   backend = make_backend(F.choice.backend);
@@ -628,7 +633,7 @@ Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_star
 Solution ContactSolver::Impl::header() const {
   Solution sol;
   sol.backend = backend ? backend->name() : opt.backend;
-  sol.backend_use.requested = opt.backend;
+  sol.backend_use.requested = requested_backend;
   sol.skipped = skipped;
   sol.smallness = smallness;
   sol.inner_convexity = convexity;

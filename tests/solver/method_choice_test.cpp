@@ -68,15 +68,16 @@ std::pair<double, double> dense_k(const Mat& S, const Vec& w, int d) {
 namespace mct = method_choice_test;
 
 // A long strip: Γ3 is a third of the nodes and its dense work (m³) dwarfs the sparse factorization,
-// so auto takes the full formulation with the newton backend, and says why with its numbers.
+// so auto takes the full formulation with its exact solver ssn, and says why with its numbers.
 TEST(MethodChoice, LongStripPicksFull) {
   const mct::Solved r = mct::run("sofonea2017-fig2", mct::strip());
   const MethodChoice& c = r.sol.method_choice;
   EXPECT_EQ(c.chosen, "full");
   EXPECT_EQ(r.sol.formulation, "full");
   EXPECT_TRUE(c.automatic);
-  EXPECT_EQ(c.backend, "newton");
-  EXPECT_EQ(r.sol.backend, "newton");
+  EXPECT_EQ(c.backend, "ssn");
+  EXPECT_NE(r.sol.backend.find("ssn"), std::string::npos) << r.sol.backend;
+  EXPECT_EQ(r.sol.backend_use.requested, "auto");
   EXPECT_EQ(c.numbers.at("gamma3_unknowns"), 1202);
   ASSERT_GT(c.numbers.at("factor_flops"), 0);
   EXPECT_GT(c.numbers.at("condensed_flops"), c.numbers.at("full_flops"));
@@ -149,14 +150,14 @@ TEST(MethodChoice, ReportCarriesTheReason) {
   const json j = solve_records(r.sol, r.opt, true);
   ASSERT_TRUE(j.contains("method_choice"));
   EXPECT_EQ(j["method_choice"]["chosen"], "full");
-  EXPECT_EQ(j["method_choice"]["backend"], "newton");
+  EXPECT_EQ(j["method_choice"]["backend"], "ssn");
   EXPECT_EQ(j["method_choice"]["reason"], r.sol.method_choice.reason);
   EXPECT_EQ(j["method_choice"]["numbers"]["gamma3_unknowns"], 1202);
   EXPECT_TRUE(j.contains("formulation") && j.contains("smallness") && j.contains("inner_convexity"));
   EXPECT_NE(summary_table(r.md, r.sol).find("method        full (auto)"), std::string::npos);
 }
 
-// The strip solved by auto (full, newton) and by the condensed path: both certified, same energy.
+// The strip solved by auto (full, ssn) and by the condensed path: both certified, same energy.
 TEST(MethodChoice, AutoStripCertifiesWithTheCondensedEnergy) {
   const mct::Solved a = mct::run("sofonea2017-fig2", mct::strip());
   const mct::Solved c = mct::run("sofonea2017-fig2", mct::strip({"solver.formulation=condensed"}));

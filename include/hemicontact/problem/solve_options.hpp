@@ -115,8 +115,8 @@ struct MethodChoiceOptions {
   /// polish. Measured on the fig2 strip 1000 × 1 (m = 4002; Schur 9 s + exact 9 s + polish 6 s at
   /// the Schur's 2.4 GFlop/s): 0.9 m³.
   double dense_work = 1.0;
-  /// The full path's numeric factorizations per solve: the newton backend's steps over the
-  /// continuation stages and the fixed point.
+  /// The full path's numeric factorizations per solve: ssn's, one per status change; the newton
+  /// backend's, one per step over the continuation stages and the fixed point.
   double full_factorizations = 10;
   /// Where the dense Γ3 work is at most this fraction of the condensation's factorization, condensed
   /// is taken at once (the full path factorizes many times): no second analysis. Above, the full
