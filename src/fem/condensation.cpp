@@ -156,12 +156,17 @@ struct Condensation::Impl {
 };
 
 Condensation::Condensation(const SpMat& K, const Vec& f, Index m, const std::string& ordering)
-    : m_impl(std::make_unique<Impl>()) {
+    : Condensation(K, m, ordering) {
+  factorize(K, f);
+}
+
+Condensation::Condensation(const SpMat& K, Index m, const std::string& ordering) : m_impl(std::make_unique<Impl>()) {
   const Index n = K.rows(), nI = n - m;
   if (m < 0 || m > n) throw Error("condensation: bad number of condensed unknowns", EXIT_INTERNAL);
+  m_m = m;
   cholmod_common& c = m_impl->c;
   c.supernodal = CHOLMOD_SUPERNODAL;
-  auto t0 = clk::now();
+  const auto t0 = clk::now();
 
   // 1. Fill-reducing ordering of the interior block alone, on its node graph.
   // K is read in place (a view): a compressed copy only if the caller's K is not compressed.
@@ -203,9 +208,24 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m, const std::str
   c.method[0].ordering = saved_ordering;
   check_condensation_status(c, "analysis", n);
   if (!m_impl->L) throw Error("condensation: CHOLMOD analysis failed", EXIT_INTERNAL);
+  // The analysis's own prediction of the numeric factorization (CHOLMOD Common: lnz, fl).
+  m_nnz = static_cast<double>(c.lnz);
+  m_flops = static_cast<double>(c.fl);
   m_t_analyze = since(t0);
+}
 
-  t0 = clk::now();
+void Condensation::factorize(const SpMat& K, const Vec& f) {
+  const Index n = K.rows(), m = m_m, nI = n - m;
+  if (!m_impl->L || m_impl->L->n != static_cast<size_t>(n) || m_y.size() > 0)
+    throw Error("condensation: factorize() needs the analysis of this matrix, once", EXIT_INTERNAL);
+  cholmod_common& c = m_impl->c;
+  SpMat K_compressed;
+  if (!K.isCompressed()) {
+    K_compressed = K;
+    K_compressed.makeCompressed();
+  }
+  cholmod_sparse A = view_lower(K.isCompressed() ? K : K_compressed);
+  auto t0 = clk::now();
   cholmod_factorize(&A, m_impl->L, &c);
   cholmod_factor* L = m_impl->L;
   check_condensation_status(c, "factorization", n);
@@ -216,10 +236,17 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m, const std::str
   // CHOLMOD's factorization cannot be stopped from outside (no callback): a host's interrupt
   // (core/interrupt.hpp) takes effect as soon as it returns, before the Schur complement.
   check_interrupt();
-
-  // 3. S = L_CC L_CCᵀ from the trailing block of the supernodal factor. Supernode s holds columns
-  //    super[s]..super[s+1]−1 as a dense column-major block with rows s[pi[s]..pi[s+1]) stored at x[px[s]].
   t0 = clk::now();
+  extract_schur(nI, m);
+  m_t_schur = since(t0);
+  m_y = m_impl->solve(f);
+  m_const = -0.5 * f.dot(m_y);
+}
+
+// 3. S = L_CC L_CCᵀ from the trailing block of the supernodal factor. Supernode s holds columns
+//    super[s]..super[s+1]−1 as a dense column-major block with rows s[pi[s]..pi[s+1]) stored at x[px[s]].
+void Condensation::extract_schur(Index nI, Index m) {
+  const cholmod_factor* L = m_impl->L;
   if (!L->is_super) throw Error("condensation: expected a supernodal factor", EXIT_INTERNAL);
   Mat& LCC = m_impl->LCC;
   // The two dense m × m blocks (L_CC and S) are what a long Γ3 costs: named when they do not fit.
@@ -246,16 +273,21 @@ Condensation::Condensation(const SpMat& K, const Vec& f, Index m, const std::str
       }
   }
   m_S.noalias() = LCC.triangularView<Eigen::Lower>() * LCC.transpose();  // no third m × m temporary
-  m_t_schur = since(t0);
-  m_nnz = static_cast<double>(c.lnz);
-
-  m_y = m_impl->solve(f);
-  m_const = -0.5 * f.dot(m_y);
 }
 
 Condensation::~Condensation() = default;
 
-Vec Condensation::solve(const Vec& b) const { return m_impl->solve(b); }
+Vec Condensation::solve(const Vec& b) const {
+  if (m_y.size() == 0) throw Error("condensation: solve() before factorize()", EXIT_INTERNAL);
+  return m_impl->solve(b);
+}
+
+Vec Condensation::solve_schur(const Vec& b) const {
+  const Mat& L = m_impl->LCC;
+  Vec x = L.triangularView<Eigen::Lower>().solve(b);
+  L.transpose().triangularView<Eigen::Upper>().solveInPlace(x);
+  return x;
+}
 
 Vec Condensation::recover(const Vec& x_C, double load_scale) const {
   // x = s y + K⁻¹ [0; S d], d = x_C − s y_C. With L Lᵀ = P K Pᵀ, P leaving the trailing block in

@@ -208,6 +208,18 @@ json inner_json(const HandoverReport& h) {
             {"note", h.note}}}};
 }
 
+// How the formulation (and the auto backend) was chosen: the numbers it read and why (method_choice.hpp).
+json method_choice_json(const MethodChoice& c) {
+  if (c.chosen.empty()) return nullptr;  // a linear solve: nothing was chosen
+  json numbers = json::object();
+  for (const auto& [k, v] : c.numbers) numbers[k] = finite_or_null(v);
+  return {{"chosen", c.chosen},
+          {"automatic", c.automatic},
+          {"backend", c.backend.empty() ? json(nullptr) : json(c.backend)},
+          {"reason", c.reason},
+          {"numbers", numbers}};
+}
+
 // Whether the inner problem (λ frozen) is strongly convex.
 json inner_convexity_json(const InnerConvexity& c) {
   return {{"checked", c.checked},
@@ -265,13 +277,14 @@ json solve_records(const Solution& sol, const SolveOptions& opt, bool lagged) {
   r["options"] = options_json(opt);
   r["skipped"] = sol.skipped;
   r["formulation"] = sol.formulation;
+  r["method_choice"] = method_choice_json(sol.method_choice);
   const SmallnessReport& q = sol.smallness;
   r["smallness"] = {{"computed", q.computed}, {"m_F", q.m_F},
                     {"L_Fb", q.L_Fb},         {"alpha_j", q.alpha_j},
                     {"lambda_1", q.lambda_1}, {"lambda_1nu", q.lambda_1nu},
                     {"lhs", q.lhs},           {"uniqueness_guaranteed", q.computed && q.holds},
                     {"method", q.method},     {"lhs_bracket", {q.lhs_lower, q.lhs_upper}},
-                    {"seconds", q.seconds}};
+                    {"seconds", q.seconds},   {"note", q.note}};
   r["polish"] = {{"attempted", sol.polish.attempted},     {"accepted", sol.polish.accepted},
                  {"iterations", sol.polish.iterations},   {"certificate_before", sol.polish.before},
                  {"certificate_after", sol.polish.after}, {"note", sol.polish.note}};
@@ -384,6 +397,8 @@ std::string summary_table(const SummaryFacts& md, const Solution& sol) {
   out += row("mesh", (md.origin.empty() ? std::string() : md.origin + ": ") + std::to_string(md.nodes) + " nodes, " +
                          std::to_string(md.cells) + " cells, " + std::to_string(nc) + " gamma3 nodes, h = " + fmt(md.h));
   out += row("dofs", std::to_string(md.dofs));
+  if (const MethodChoice& c = sol.method_choice; !c.chosen.empty())
+    out += row("method", c.chosen + (c.automatic ? " (auto): " : ": ") + c.reason);
   out += row("backend", backend_line(sol));
   if (const std::string e = exact_line(sol); !e.empty()) out += row("exact solver", e);
   if (const std::string p = polish_line(sol); !p.empty()) out += row("polish", p);

@@ -572,6 +572,15 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.status_tol = scene.at("check").at("status_tol").get<double>();
   o.smallness = scene.at("check").at("smallness").get<bool>();
   o.smallness_method = scene.at("check").at("smallness_method").get<std::string>();
+  o.dense_max_unknowns = scene.at("check").at("dense_max_unknowns").get<Index>();
+  o.lanczos_tol = scene.at("check").at("lanczos_tol").get<double>();
+  o.lanczos_max_iter = scene.at("check").at("lanczos_max_iter").get<int>();
+  const auto& mc = s.at("method_choice");
+  o.method_choice.dense_work = mc.at("dense_work").get<double>();
+  o.method_choice.full_factorizations = mc.at("full_factorizations").get<double>();
+  o.method_choice.memory_fraction = mc.at("memory_fraction").get<double>();
+  o.method_choice.small_fraction = mc.at("small_fraction").get<double>();
+  o.method_choice.condensed_below = mc.at("condensed_below").get<double>();
   o.certify_below = s.at("continuation").at("certify_below").get<double>();
   o.anderson_memory = s.at("fixed_point").at("anderson_memory").get<int>();
   const auto& ex = s.at("exact");

@@ -373,9 +373,40 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(key("/solver/formulation", "string", D.formulation,
                   "Unknowns the NLP sees: full = all free dofs; condensed = interior dofs "
                   "eliminated onto Γ3 by static condensation (one sparse factorization, a dense "
-                  "problem on the Γ3 unknowns; exact for linear materials); auto = condensed for "
-                  "a linear material with a Γ3, full otherwise.",
+                  "problem on the Γ3 unknowns; exact for linear materials); auto = chosen from the "
+                  "scene's numbers before any numeric work (solver.method_choice): condensed for a "
+                  "linear material whose factorization and dense Γ3 work cost at most the full "
+                  "formulation's factorizations and fit in memory, full otherwise (then solver.backend = auto "
+                  "means ssn, the full space's exact solver). report.json method_choice says what was chosen and why.",
                   {"auto", "full", "condensed"}));
+  const MethodChoiceOptions MC;  // the defaults' one home
+  t.push_back(section("/solver/method_choice",
+                      "The cost model of solver.formulation = auto (solver/method_choice.hpp), in flops "
+                      "of CHOLMOD's symbolic analysis of the condensation."));
+  t.push_back(above(key("/solver/method_choice/dense_work", "number", MC.dense_work,
+                        "The condensed path's dense Γ3 work in units of m³ flops (m Γ3 unknowns): the "
+                        "Schur complement, the exact solver's dense factorizations, the polish."),
+                    0));
+  t.push_back(at_least(key("/solver/method_choice/full_factorizations", "number", MC.full_factorizations,
+                           "The full formulation's numeric factorizations per solve (newton steps); "
+                           "condensed where one factorization with the dense Γ3 block plus dense_work·m³ "
+                           "is at most this × one factorization without it."),
+                       1));
+  t.push_back(at_least(key("/solver/method_choice/condensed_below", "number", MC.condensed_below,
+                           "Condensed whatever the full formulation costs where the condensed path's whole "
+                           "work (factorization + dense Γ3 work) is at most this many flops: its exact "
+                           "solver answers to round-off at no real cost."),
+                       0));
+  t.push_back(at_least(key("/solver/method_choice/small_fraction", "number", MC.small_fraction,
+                           "Condensed at once where the dense Γ3 work is at most this fraction of the "
+                           "condensation's factorization; above, the full formulation's factorization is "
+                           "analysed too and the two works compared."),
+                       0));
+  t.push_back(at_most(above(key("/solver/method_choice/memory_fraction", "number", MC.memory_fraction,
+                                "The condensed path's dense Γ3 matrices (7 of m × m doubles) may use at "
+                                "most this fraction of the memory available; above, full."),
+                            0),
+                      1));
   t.push_back(key("/solver/ordering", "string", D.ordering,
                   "Fill-reducing ordering of the condensation's sparse factorization, computed on "
                   "the node graph: amd (cheapest to compute), metis or nesdis (nested dissection: "
@@ -516,6 +547,21 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "bracket cannot decide; exact: always compute them (one extra sparse "
                   "factorization of the ε:ε Gram matrix). report.json smallness.method says which.",
                   {"auto", "exact"}));
+  t.push_back(at_least(key("/check/dense_max_unknowns", "integer", D.dense_max_unknowns,
+                           "Above this many Γ3 unknowns the checks form no dense Γ3 matrix: (21) and the "
+                           "inner-convexity test take their eigenvalues from Lanczos on the solve's own "
+                           "factor (no extra factorization), and (21) is decided by its bracket alone "
+                           "(undecided: reported as not computed, with the reason)."),
+                       0));
+  t.push_back(at_most(above(key("/check/lanczos_tol", "number", D.lanczos_tol,
+                                "Relative Ritz residual at which Lanczos stops (check.dense_max_unknowns); "
+                                "the eigenvalues are known to this relative accuracy and the bracket of "
+                                "(21) is widened by it."),
+                            0),
+                      1e-2));
+  t.push_back(at_least(key("/check/lanczos_max_iter", "integer", D.lanczos_max_iter,
+                           "Lanczos steps at most (memory: Γ3 unknowns × this doubles)."),
+                       1));
 
   // ------------------------------------------------------------------ adapt
   const AdaptOptions A;  // the defaults' one home

@@ -16,14 +16,17 @@
 #include <hemicontact/fem/condensation.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
 #include <hemicontact/solver/exact_inner.hpp>
+#include <hemicontact/solver/method_choice.hpp>
 #include <hemicontact/solver/outer_loop.hpp>
 #include <hemicontact/solver/polish.hpp>
 #include <hemicontact/solver/ssn.hpp>
 #include <hemicontact/solver/run_messages.hpp>
+#include <hemicontact/solver/sparse_checks.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <thread>
 
 namespace hemicontact {
 namespace {
@@ -49,11 +52,17 @@ struct Formulation {
   std::shared_ptr<CondensedElasticEnergy> condensed_elastic;  // condensed: holds y_C = (K⁻¹f)_C
   std::shared_ptr<LoadEnergy> load;                           // full: holds f
   double load_scale = 1;                                      // loads are load_scale × the model's
+  MethodChoice choice;                                        // how name was chosen, and why
+  // Full formulation: the elastic factor, kept only until the set-up's checks have read it (S⁻¹ by
+  // solves for their Lanczos: sparse_checks.hpp); released before the backend factorizes its own.
+  std::shared_ptr<SparseCholesky> elastic_factor;
   // x from z; with scaled loads the interior is recovered for the scaled f (y scales linearly).
   Vec to_x(const Vec& z) const { return cond ? cond->recover(z, load_scale) : z; }
 };
 
-std::string choose_formulation(const Model& md, const SolveOptions& opt) {
+// The method (solver/method_choice.hpp) from the scene's numbers, before any numeric work; the
+// condensation's symbolic analysis it reads is returned in @p plan, to be factorized if condensed.
+MethodChoice choose_formulation(const Model& md, const SolveOptions& opt, std::shared_ptr<Condensation>& plan) {
   // Static condensation eliminates the interior through K⁻¹, exact only when F is linear; for a
   // nonlinear F the interior equilibrium is itself nonlinear, so the problem is solved in full.
   if (opt.formulation == "condensed" && !md.material->is_linear())
@@ -66,23 +75,45 @@ std::string choose_formulation(const Model& md, const SolveOptions& opt) {
                   md.material->describe() + "); use the design's path (solver.backend = auto)");
     if (opt.formulation == "condensed")
       input_error("solver.backend = ssn runs in the full space: use solver.formulation = full or auto");
-    return "full";
+    MethodChoice c;
+    c.chosen = "full";
+    c.backend = SSN_BACKEND;
+    c.reason = "solver.backend = ssn runs in the full space (set explicitly)";
+    return c;
   }
-  if (opt.formulation != "auto") return opt.formulation;
-  // Condensation is exact for a linear material and pays whenever Γ3 is a small part of the mesh.
-  return md.material->is_linear() && md.contact.size() > 0 ? "condensed" : "full";
+  SceneNumbers n;
+  n.dim = md.dim();
+  n.dofs = md.dofs.n_free();
+  n.gamma3_unknowns = md.dim() * md.contact.size();
+  n.linear_material = md.material->is_linear();
+  n.memory_bytes = available_memory_bytes();
+  n.cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (n.linear_material && n.gamma3_unknowns > 0 && opt.formulation != "full") {
+    plan = std::make_shared<Condensation>(md.Kx, n.gamma3_unknowns, opt.ordering);
+    n.factor_nnz = plan->factor_nnz();
+    n.factor_flops = plan->predicted_flops();
+  }
+  // The full formulation's factorization: the same analysis with no Γ3 block, only when asked.
+  const auto full_flops = [&] { return Condensation(md.Kx, 0, opt.ordering).predicted_flops(); };
+  MethodChoice c = choose_method(n, opt, full_flops);
+  if (c.chosen != "condensed") plan.reset();
+  return c;
 }
 
 Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<std::string, double>& timings) {
   Formulation F;
-  F.name = choose_formulation(md, opt);
+  std::shared_ptr<Condensation> plan;
+  F.choice = choose_formulation(md, opt, plan);
+  F.name = F.choice.chosen;
+  log_info() << "method: " << describe(F.choice);
   const Index nc = md.contact.size();
   const int d = md.dim();
   F.nd.dim = d;
   F.nd.w = md.contact.w;
   auto t0 = clk::now();
   if (F.name == "condensed") {
-    F.cond = std::make_shared<const Condensation>(md.Kx, md.fx, d * nc, opt.ordering);
+    plan->factorize(md.Kx, md.fx);  // the analysis the choice read, not a second one
+    F.cond = plan;
     timings["condensation_analyze"] = F.cond->analyze_seconds();
     timings["condensation_factorize"] = F.cond->factorize_seconds();
     timings["condensation_schur"] = F.cond->schur_seconds();
@@ -98,7 +129,8 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
     // ssn factorizes its own Newton matrices and needs no scales: no elastic solve here.
     F.z_free = Vec::Zero(md.dofs.n_free());
   } else {
-    SparseCholesky chol;
+    F.elastic_factor = std::make_shared<SparseCholesky>();
+    SparseCholesky& chol = *F.elastic_factor;
     chol.compute(md.Kx);
     F.z_free = chol.solve(md.fx);
     timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
@@ -167,7 +199,23 @@ struct ContactSolver::Impl {
   std::vector<std::pair<double, double>> schedule;  // (eps_tau, eps_nu), relative
   bool lagged = false;                              // λ = F_b(u_ν) depends on the answer: the outer fixed point runs
   InnerConvexity convexity;                         // of Φ_λ, decided once at set-up
-  Impl(const Model& m, const SolveOptions& o) : model(&m), opt(o) {}
+  mutable std::optional<Gamma3Spectrum> spectrum_;  // k_1, k_1ν by Lanczos (large Γ3 only), once
+  std::string requested_backend;  // solver.backend as given (opt.backend may become the choice's ssn)
+  Impl(const Model& m, const SolveOptions& o) : model(&m), opt(o), requested_backend(o.backend) {}
+
+  /// More Γ3 unknowns than check.dense_max_unknowns: no dense Γ3 matrix for the checks.
+  bool dense_checks_too_large() const { return model->dim() * model->contact.size() > opt.dense_max_unknowns; }
+  /// Full formulation chosen by auto for a linear material (Γ3 large against the interior): (21)
+  /// from its elastic factor by Lanczos too, not a second factorization (the Gram matrix's).
+  bool automatic_full() const {
+    return F.choice.automatic && F.name == "full" && model->material->is_linear() && model->contact.size() > 0;
+  }
+  /// The Lanczos spectrum from the factor at hand (the condensation's L_CC, or the elastic factor
+  /// while the set-up holds it); null when neither is there.
+  const Gamma3Spectrum* spectrum() const;
+  SmallnessReport sparse_smallness() const;
+  void report_smallness(SmallnessReport r, double& t_smallness);
+  void take_choice_backend();
 
   /// One solve from a start: the answer being built and the iterate in scaled unknowns zs = z/U_s.
   struct Run {
@@ -229,25 +277,22 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   // check/smallness.hpp), and only when that bracket cannot decide is the ε:ε Gram matrix
   // factorized. In 3D the bracket is rarely decisive (L_F/m_F = 1 + 3λ/(2μ) = 3.25 at ν = 0.3),
   // so there, as with method = exact, the exact evaluation comes first, before the solve's own
-  // factorization exists: one factor in memory at a time, not two.
+  // factorization exists: one factor in memory at a time, not two. Above check.dense_max_unknowns
+  // Γ3 unknowns no dense Γ3 matrix and no extra factorization: the bracket from Lanczos on the
+  // solve's own factor decides, or the report says why it could not (sparse_checks.hpp).
   double t_smallness = 0;
-  const auto report_smallness = [&](SmallnessReport r) {
-    I.smallness = std::move(r);
-    t_smallness += I.smallness.seconds;
-    I.setup_timings["smallness"] = t_smallness;
-    const SmallnessReport& q = I.smallness;
-    if (q.computed)
-      log_info() << "smallness (21), " << q.method << ": L_Fb/lambda_1 + alpha_j/lambda_1nu = " << q.L_Fb << "/"
-                 << q.lambda_1 << " + " << q.alpha_j << "/" << q.lambda_1nu << " = " << q.lhs
-                 << (q.holds ? " < " : " >= ") << "m_F = " << q.m_F << ": uniqueness guaranteed: "
-                 << (q.holds ? "yes" : "no");
-  };
-  const bool exact_first = opt.smallness && (opt.smallness_method == "exact" || md.dim() == 3);
-  if (exact_first) report_smallness(evaluate_smallness(md));
+  const bool exact_first =
+      opt.smallness && (opt.smallness_method == "exact" || (md.dim() == 3 && !I.dense_checks_too_large()));
+  if (exact_first) I.report_smallness(evaluate_smallness(md), t_smallness);
 
   I.F = make_formulation(md, opt, I.setup_timings);
   Formulation& F = I.F;
-  if (opt.smallness && !exact_first) report_smallness(smallness());
+  I.take_choice_backend();
+  if (opt.smallness && !exact_first) I.report_smallness(smallness(), t_smallness);
+  // A caller that asks for (21) only after the solve (the adaptive loop's final mesh) finds the
+  // spectrum already read from the elastic factor, which is released now.
+  if (!opt.smallness && F.elastic_factor && (I.automatic_full() || I.dense_checks_too_large())) I.spectrum();
+  F.elastic_factor.reset();  // the checks have read it; the backend factorizes its own matrices
   I.lagged = md.friction && md.friction->depends_on_u_nu();
   I.note_skipped();
 
@@ -308,10 +353,16 @@ void ContactSolver::Impl::check_inner_convexity() {
   const Model& md = *model;
   if (F.cond) {
     const auto t_cvx = clk::now();
-    convexity = inner_convexity(F.cond->S(), md.contact.w, md.dim(), md.normal_law.get(), opt.convexity_max_unknowns);
+    // Above check.dense_max_unknowns from k_1ν (sparse_checks.hpp), not a dense Cholesky of S − αW_ν.
+    convexity = dense_checks_too_large()
+                    ? convexity_from_spectrum(*spectrum(), md.normal_law.get())
+                    : inner_convexity(F.cond->S(), md.contact.w, md.dim(), md.normal_law.get(),
+                                      opt.convexity_max_unknowns);
     setup_timings["inner_convexity"] = since(t_cvx);
     if (convexity.checked)
-      log_info() << "inner problem (lambda frozen): smallest eigenvalue of S - alpha W_nu = " << convexity.min_eigenvalue
+      log_info() << "inner problem (lambda frozen): "
+                 << (dense_checks_too_large() ? "k_1nu - alpha (Lanczos)" : "smallest eigenvalue of S - alpha W_nu")
+                 << " = " << convexity.min_eigenvalue
                  << " (alpha = " << convexity.softening
                  << "): strongly convex: " << (convexity.strongly_convex ? "yes" : "no");
   } else {
@@ -332,12 +383,80 @@ void ContactSolver::Impl::make_schedule() {
 
 ContactSolver::~ContactSolver() = default;
 
+void ContactSolver::Impl::report_smallness(SmallnessReport r, double& t_smallness) {
+  smallness = std::move(r);
+  t_smallness += smallness.seconds;
+  setup_timings["smallness"] = t_smallness;
+  const SmallnessReport& q = smallness;
+  if (q.computed)
+    log_info() << "smallness (21), " << q.method << ": L_Fb/lambda_1 + alpha_j/lambda_1nu = " << q.L_Fb << "/"
+               << q.lambda_1 << " + " << q.alpha_j << "/" << q.lambda_1nu << " = " << q.lhs
+               << (q.holds ? " < " : " >= ") << "m_F = " << q.m_F << ": uniqueness guaranteed: "
+               << (q.holds ? "yes" : "no") << (q.note.empty() ? "" : " (" + q.note + ")");
+  else if (!q.note.empty())
+    log_info() << "smallness (21): " << q.note;
+}
+
+// The backend the method choice resolved solver.backend = auto to (method_choice.hpp), unless the
+// scene passes options through to the engine's default backend (solver.options), which another
+// backend would refuse.
+void ContactSolver::Impl::take_choice_backend() {
+  if (!backend || F.choice.backend.empty() || F.choice.backend == backend->name()) return;  // ssn: no NLP backend
+  if (!opt.backend_options.extra.empty()) {
+    F.choice.reason += "; backend " + backend->name() + " kept: solver.options are passed to it";
+    F.choice.backend = backend->name();
+    return;
+  }
+  if (F.choice.backend == SSN_BACKEND) {
+    opt.backend = SSN_BACKEND;  // solve() runs ssn_answer; report.json still says "auto" was asked
+    return;
+  }
+  backend = make_backend(F.choice.backend);
+  backend->check_options(opt.backend_options);
+}
+
+const Gamma3Spectrum* ContactSolver::Impl::spectrum() const {
+  if (spectrum_) return &*spectrum_;
+  const Model& md = *model;
+  const int d = md.dim();
+  const Index m = d * md.contact.size(), n = md.dofs.n_free();
+  std::function<Vec(const Vec&)> apply;
+  std::string what;
+  if (F.cond) {
+    apply = [this](const Vec& b) { return F.cond->solve_schur(b); };
+    what = "S^-1 = L_CC^-T L_CC^-1 (the condensation's factor)";
+  } else if (F.elastic_factor) {
+    // The Γ3 unknowns are the trailing m of x (the condensation's layout): S⁻¹ = (K⁻¹)_CC.
+    apply = [this, m, n](const Vec& b) {
+      Vec x = Vec::Zero(n);
+      x.tail(m) = b;
+      return Vec(F.elastic_factor->solve(x).tail(m));
+    };
+    what = "S^-1 = (K^-1)_CC (solves with the elastic factor)";
+  } else {
+    return nullptr;
+  }
+  spectrum_ = gamma3_spectrum(apply, md.contact.w, d, opt, what);
+  return &*spectrum_;
+}
+
+// (21) above check.dense_max_unknowns: the bracket from the Lanczos spectrum, or why there is none.
+SmallnessReport ContactSolver::Impl::sparse_smallness() const {
+  if (const Gamma3Spectrum* s = spectrum()) return smallness_from_spectrum(*model, *s);
+  SmallnessReport r;
+  r.note = "not evaluated: more than check.dense_max_unknowns Gamma3 unknowns and no factor at hand (the full "
+           "formulation releases its elastic factor after the set-up; check.smallness = true evaluates (21) there)";
+  return r;
+}
+
 SmallnessReport ContactSolver::smallness() const {
   const Impl& I = *m;
   const Model& md = *I.model;
   // The constructor's choice too: the bracket from the condensation where there is one (2D, method
-  // auto), the exact evaluation otherwise.
-  if (I.opt.smallness_method == "exact" || md.dim() == 3 || !I.F.cond) return evaluate_smallness(md);
+  // auto), the exact evaluation otherwise; above check.dense_max_unknowns the bracket by Lanczos.
+  if (I.opt.smallness_method == "exact") return evaluate_smallness(md);
+  if (I.dense_checks_too_large() || I.automatic_full()) return I.sparse_smallness();
+  if (md.dim() == 3 || !I.F.cond) return evaluate_smallness(md);
   return evaluate_smallness(md, I.F.cond->S());
 }
 
@@ -514,10 +633,11 @@ Solution ContactSolver::Impl::continuation(const Vec* z0, clk::time_point t_star
 Solution ContactSolver::Impl::header() const {
   Solution sol;
   sol.backend = backend ? backend->name() : opt.backend;
-  sol.backend_use.requested = opt.backend;
+  sol.backend_use.requested = requested_backend;
   sol.skipped = skipped;
   sol.smallness = smallness;
   sol.inner_convexity = convexity;
+  sol.method_choice = F.choice;
   sol.timings = setup_timings;
   return sol;
 }
@@ -706,7 +826,8 @@ std::string ContactSolver::Impl::exact_first() const {
   // The backend's stage is skipped only where it cannot change the answer: Φ_λ strongly convex has
   // one minimizer, which the exact solver's monotone sweeps reach from any start.
   if (convexity.checked && convexity.strongly_convex)
-    return "the inner problem is strongly convex (smallest eigenvalue of S - alpha W_nu " +
+    return std::string("the inner problem is strongly convex (") +
+           (dense_checks_too_large() ? "k_1nu - alpha, Lanczos, " : "smallest eigenvalue of S - alpha W_nu ") +
            fmt(convexity.min_eigenvalue, 3) + " > 0): its minimizer is unique and the exact solver "
            "reaches it from any start";
   return "";

@@ -27,11 +27,18 @@ class Condensation {
   /// "nesdis" or "auto" (amd for 2D up to 200 000 nodes, nesdis for 3D and larger 2D).
   /// @throws Error if K is not positive definite.
   Condensation(const SpMat& K, const Vec& f, Index m, const std::string& ordering = "auto");
+  /// The analysis alone (ordering + symbolic factorization, no numbers): predicted_flops() and
+  /// factor_nnz() are then known, and factorize() finishes the condensation with the same analysis.
+  /// The method choice (solver/method_choice.hpp) reads the prediction before any numeric work.
+  Condensation(const SpMat& K, Index m, const std::string& ordering = "auto");
+  /// Numeric factorization of @p K (the matrix analysed), S, y = K⁻¹f: after the analysis-only
+  /// constructor, once. @throws Error if K is not positive definite.
+  void factorize(const SpMat& K, const Vec& f);
   ~Condensation();
   Condensation(const Condensation&) = delete;
   Condensation& operator=(const Condensation&) = delete;
   /// @return the number of condensed unknowns m.
-  Index m() const { return m_S.rows(); }
+  Index m() const { return m_m; }
   /// @return the ordering used ("amd", "metis" or "nesdis"; "none" without interior unknowns).
   const std::string& ordering() const { return m_ordering; }
   /// @return the Schur complement S (dense, symmetric positive definite).
@@ -47,21 +54,28 @@ class Condensation {
   Vec recover(const Vec& x_C, double load_scale = 1.0) const;
   /// @return K⁻¹ b with the stored factor.
   Vec solve(const Vec& b) const;
+  /// @return S⁻¹ b for @p b on the m condensed unknowns: two dense triangular solves with L_CC
+  /// (S = L_CC L_CCᵀ), m² flops and no m × m temporary (the checks' Lanczos, solver/sparse_checks.hpp).
+  Vec solve_schur(const Vec& b) const;
   /// @return seconds spent in: ordering+symbolic analysis, numeric factorization, extracting S.
   double analyze_seconds() const { return m_t_analyze; }
   /// @copydoc analyze_seconds
   double factorize_seconds() const { return m_t_factor; }
   /// @copydoc analyze_seconds
   double schur_seconds() const { return m_t_schur; }
-  /// @return nonzeros of the factor L.
+  /// @return nonzeros of the factor L (known after the analysis).
   double factor_nnz() const { return m_nnz; }
+  /// @return CHOLMOD's flop count of the numeric factorization, predicted by the analysis.
+  double predicted_flops() const { return m_flops; }
 
  private:
+  void extract_schur(Index nI, Index m);
   struct Impl;
   std::unique_ptr<Impl> m_impl;
   Mat m_S;
   Vec m_y;
-  double m_const = 0, m_t_analyze = 0, m_t_factor = 0, m_t_schur = 0, m_nnz = 0;
+  Index m_m = 0;
+  double m_const = 0, m_t_analyze = 0, m_t_factor = 0, m_t_schur = 0, m_nnz = 0, m_flops = 0;
   std::string m_ordering = "none";
 };
 

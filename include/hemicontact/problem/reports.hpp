@@ -5,6 +5,7 @@
 
 #include <hemicontact/core/types.hpp>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,9 @@ struct SmallnessReport {
   std::string method;
   double lhs_lower = 0;  ///< bracket of lhs from the condensed stiffness (equal to lhs when exact)
   double lhs_upper = 0;  ///< (see lhs_lower)
+  /// How the eigenvalues were obtained when not from a dense matrix (Lanczos on the solver's own
+  /// factor above check.dense_max_unknowns), or why (21) was not decided; empty otherwise.
+  std::string note;
 };
 
 /// What the exact polish (solver/polish.hpp) did.
@@ -64,8 +68,21 @@ struct InnerConvexity {
   bool checked = false;         ///< false: not evaluated (note says why)
   bool strongly_convex = false;  ///< min_eigenvalue > 0
   double softening = 0;         ///< α_jν (+inf for a downward jump of p_ν)
-  double min_eigenvalue = 0;    ///< λ_min(S − α W_ν) (−inf for a downward jump)
+  /// λ_min(S − α W_ν) (−inf for a downward jump). Above check.dense_max_unknowns (note says
+  /// "Lanczos") it is λ_min(W^-1/2 S_ν W^-1/2) − α instead, S_ν the Schur complement of S onto the
+  /// normal unknowns: the same sign (S − αW_ν ≻ 0 ⟺ S_ν − αW ≻ 0), without a dense matrix.
+  double min_eigenvalue = 0;
   std::string note;             ///< how it was decided
+};
+
+/// How solver.formulation (and, with it, the backend under solver.backend = auto) was chosen:
+/// from the scene's own numbers before any numeric work (solver/method_choice.hpp), or as given.
+struct MethodChoice {
+  std::string chosen;   ///< "condensed" or "full" (empty: a linear solve, nothing to choose)
+  std::string backend;  ///< the backend auto resolves to with this choice ("" : the engine's default)
+  bool automatic = false;  ///< chosen by solver.formulation = auto (false: set explicitly)
+  std::string reason;      ///< why, with the deciding numbers in words
+  std::map<std::string, double> numbers;  ///< what it decided on (dofs, Γ3 unknowns, flops, bytes, ...)
 };
 
 /// The hand-over from the smoothed continuation to the exact inner solver (solver/exact_inner.hpp).

@@ -79,6 +79,7 @@ struct Solution {
   BackendUse backend_use;                 ///< requested, ran, why not
   std::vector<std::string> skipped;       ///< what was not needed and not done
   std::string formulation;                ///< "full" or "condensed" (empty for a linear solve)
+  MethodChoice method_choice;             ///< how formulation (and the auto backend) was chosen, and why
   PolishResult polish;                    ///< what the exact polish did
   HandoverReport handover;                ///< the exact solver's part
   InnerConvexity inner_convexity;         ///< is the inner problem (λ frozen) strongly convex?

@@ -103,6 +103,40 @@ struct ExactInnerOptions {
 };
 
 
+/// The cost model of solver.formulation = auto (solver/method_choice.hpp; scene keys
+/// solver.method_choice.*). Work is counted in flops of CHOLMOD's symbolic analysis: the condensed
+/// path is one factorization (with the dense Γ3 block) plus dense Γ3 work ~ m³ (m Γ3 unknowns),
+/// the full path a factorization (without it) per Newton step; condensed is taken where its dense
+/// work is a small fraction of its factorization, or its work is at most the full path's, and its
+/// dense matrices fit in memory.
+struct MethodChoiceOptions {
+  /// The condensed path's dense Γ3 work after the factorization, in units of m³ flops: S = L_CC L_CCᵀ
+  /// (m³/3), the exact solver's reduced-Hessian factorizations (m³/3 each, a few per solve) and the
+  /// polish. Measured on the fig2 strip 1000 × 1 (m = 4002; Schur 9 s + exact 9 s + polish 6 s at
+  /// the Schur's 2.4 GFlop/s): 0.9 m³.
+  double dense_work = 1.0;
+  /// The full path's numeric factorizations per solve: ssn's, one per status change; the newton
+  /// backend's, one per step over the continuation stages and the fixed point.
+  double full_factorizations = 10;
+  /// Where the dense Γ3 work is at most this fraction of the condensation's factorization, condensed
+  /// is taken at once (the full path factorizes many times): no second analysis. Above, the full
+  /// formulation's factorization is analysed too (same ordering rule, no Γ3 block) and the two works
+  /// compared. 0.1: the paper's 2D scenes (fig2 n = 64..1024) stay on the first test.
+  double small_fraction = 0.1;
+  /// Condensed whatever the full path would cost where the condensed path's whole work (its
+  /// factorization and dense_work · m³) is at most this many flops (~0.3 s on the 2-core machine):
+  /// there the exact solver and its polish answer to round-off, where the full formulation has the
+  /// continuation alone, and the difference in time is a few milliseconds. Measured: the 1000-scene
+  /// random study and the minima scenes (a 16 × 2 laminate: 6.6e4 flops) stay on the exact path;
+  /// the fig2 strip 300 × 1 (2.9e9 flops) goes to the comparison.
+  double condensed_below = 1e9;
+  /// The condensed path's dense Γ3 matrices (L_CC, S, the condensed energy's dense Hessian and the
+  /// solvers' copies: 7 · 8 m² bytes, from the strip's 940 MB peak at m = 4002) may use at most this
+  /// fraction of the memory available to the process (physical memory free, or the address-space
+  /// limit where lower); above, the full formulation.
+  double memory_fraction = 0.5;
+};
+
 /// Solver settings, read from the scene's "solver", "check" blocks (defaults: this struct).
 struct SolveOptions {
   /// NLP backend name (nlp/backend.hpp: make_backend). "auto", the default, is the engine's own:
@@ -114,7 +148,10 @@ struct SolveOptions {
   /// distributed unknowns and assembly, semismooth Newton (ssn) or TAO, CG + GAMG; run under mpirun).
   std::string engine = "cholmod";
   PetscEngineOptions petsc;          ///< the petsc engine's settings
-  std::string formulation = "auto";  ///< "full", "condensed" or "auto" (condensed for linear materials)
+  /// "full", "condensed" or "auto": from the scene's numbers before any numeric work
+  /// (solver/method_choice.hpp; report.json method_choice says what and why).
+  std::string formulation = "auto";
+  MethodChoiceOptions method_choice;  ///< the cost model of formulation = auto
   /// Fill-reducing ordering of the condensation ("auto", "amd", "metis", "nesdis"; fem/condensation.hpp).
   std::string ordering = "auto";
   bool polish = true;                ///< exact polish on identified statuses (condensed formulation)
@@ -144,6 +181,21 @@ struct SolveOptions {
   /// of the solver's own condensed stiffness (free: no factorization) and computes them exactly
   /// (one more sparse factorization) only when the bracket cannot decide; "exact" always does.
   std::string smallness_method = "auto";
+  /// Above this many Γ3 unknowns (d per Γ3 node) no dense matrix of Γ3 size is formed for the checks:
+  /// the eigenvalues of (21) and of the inner-convexity test come from Lanczos on the solver's own
+  /// factor (solver/sparse_checks.hpp: triangular solves with L_CC when condensed, solves with the
+  /// elastic factor in the full formulation; never an extra factorization), and (21) is decided by
+  /// the bracket alone (undecided: not computed, and the report says why). The dense eigensolvers
+  /// cost ~m³ (9 s at m = 4002); Lanczos ~m² per step with L_CC. 1000: fig2 up to n = 256 and the
+  /// 3D box up to n = 16 keep the dense path's numbers exactly.
+  Index dense_max_unknowns = 1000;
+  /// Lanczos stops when the Ritz residual of the largest eigenvalue θ of the inverse operator is at
+  /// most this × θ; the eigenvalue 1/θ is then known to this relative accuracy, and the bracket of
+  /// (21) is widened by it (some eigenvalue lies within the residual of θ).
+  double lanczos_tol = 1e-10;
+  /// Lanczos steps at most (full reorthogonalization: memory m × this); not converged: the check is
+  /// reported undecided with the residual reached.
+  int lanczos_max_iter = 300;
 
   // The exact inner solver (solver/exact_inner.hpp) and the hand-over to it.
   /// Hand the condensed problem to the exact solver after the continuation stage whose statuses

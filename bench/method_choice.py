@@ -1,0 +1,205 @@
+#!/usr/bin/env python3
+"""The method-choice benchmark (solver.formulation = auto, src/solver/method_choice.cpp): for each
+scene shape, every method of the project as a whole `hemicontact solve` process, and which one auto
+took.
+
+Methods, each its own process (wall time and peak RSS from /usr/bin/time -v; the petsc engine is
+exec'd by `hemicontact solve` into build/hemicontact-mpi, one process, and measured the same way):
+  auto        the default: nothing set
+  condensed   --set solver.formulation=condensed (linear materials only)
+  full+newton --set solver.formulation=full --backend newton
+  full+ipopt  --set solver.formulation=full --backend ipopt
+  petsc       --set solver.engine=petsc (its own default backend, ssn)
+Scenes: fig2 (problems/sofonea2017-fig2.json) at n = 64..1024, fig2's conditions on strips of
+aspect 10..1000 (x = [0, A], 2A x 2 cells), the 3D box (problems/sofonea2017-3d.json) at
+n = 8..32, and the shipped 2D Hencky scene (problems/sofonea2017-fig2-hencky.json).
+Each row: wall time (CPU seconds, user + system, in parentheses: less sensitive to a loaded
+machine) and peak memory of every method, the fastest, what auto chose, auto's time over the
+fastest's, whether each run was certified, and the largest relative energy difference to auto's.
+A run past --timeout seconds is killed and shown as "> T". Writes DIR/method_choice.md and .json.
+
+  python3 bench/method_choice.py --build build --repeats 2 --out /tmp/method-choice
+  python3 bench/method_choice.py --build build --only strip --out /tmp/mc   # one family
+
+Timings on a shared 2-core machine are noisy: run the committed table on an idle machine.
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+FIG2 = os.path.join(ROOT, "problems", "sofonea2017-fig2.json")
+BOX = os.path.join(ROOT, "problems", "sofonea2017-3d.json")
+HENCKY = os.path.join(ROOT, "problems", "sofonea2017-fig2-hencky.json")
+
+METHODS = {
+    "auto": [],
+    "condensed": ["--set", "solver.formulation=\"condensed\""],
+    "full+newton": ["--set", "solver.formulation=\"full\"", "--backend", "newton"],
+    "full+ipopt": ["--set", "solver.formulation=\"full\"", "--backend", "ipopt"],
+    "petsc": ["--set", "solver.engine=\"petsc\""],
+}
+
+
+def sets(*pairs):
+    out = []
+    for p in pairs:
+        out += ["--set", p]
+    return out
+
+
+def scenes(only):
+    """(family, name, scene file, overrides, linear material)."""
+    rows = []
+    for n in (64, 128, 256, 512, 1024):
+        rows.append(("fig2", f"fig2 n={n}", FIG2, sets(f"mesh.n={n}"), True))
+    for a in (10, 30, 100, 300, 1000):
+        rows.append(("strip", f"strip {a}x1", FIG2,
+                     sets("mesh.n=null", f"mesh.x=[0,{a}]", f"mesh.nx={2 * a}", "mesh.ny=2"), True))
+    for n in (8, 16, 24, 32):
+        rows.append(("box3d", f"3D box n={n}", BOX, sets(f"mesh.n={n}"), True))
+    for n in (64, 128):
+        rows.append(("hencky", f"hencky 2D n={n}", HENCKY, sets(f"mesh.n={n}"), False))
+    return [r for r in rows if not only or r[0] in only]
+
+
+def run_one(build, scene, overrides, method, timeout, repeats):
+    """The best of @p repeats whole processes by wall time: (seconds, CPU seconds, peak MB, report, note)."""
+    best = None
+    for _ in range(max(1, repeats)):
+        r = run_process(build, scene, overrides, method, timeout)
+        if r[0] is None:
+            return r
+        if best is None or r[0] < best[0]:
+            best = r
+    return best
+
+
+def run_process(build, scene, overrides, method, timeout):
+    """One whole process: (seconds, CPU seconds, peak MB, report dict or None, note)."""
+    with tempfile.TemporaryDirectory() as out:
+        cmd = ["/usr/bin/time", "-v", os.path.join(build, "hemicontact"), "solve", scene, "--out", out, "--force",
+               "--quiet"] + overrides + METHODS[method]
+        try:
+            p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return None, None, None, None, f"> {timeout:g} s"
+        wall = re.search(r"Elapsed \(wall clock\) time.*: (?:(\d+):)?(\d+):([\d.]+)", p.stderr)
+        rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", p.stderr)
+        user = re.search(r"User time \(seconds\): ([\d.]+)", p.stderr)
+        sys_ = re.search(r"System time \(seconds\): ([\d.]+)", p.stderr)
+        cpu = float(user.group(1)) + float(sys_.group(1)) if user and sys_ else None
+        secs = None
+        if wall:
+            h, m, s = wall.groups()
+            secs = (int(h) if h else 0) * 3600 + int(m) * 60 + float(s)
+        mb = int(rss.group(1)) / 1024 if rss else None
+        report = None
+        path = os.path.join(out, "report.json")
+        if os.path.exists(path):
+            with open(path) as f:
+                report = json.load(f)
+        note = "" if p.returncode == 0 else f"exit {p.returncode}"
+        return secs, cpu, mb, report, note
+
+
+def measure(build, scene_rows, timeout, repeats):
+    results = []
+    for family, name, scene, overrides, linear in scene_rows:
+        row = {"family": family, "scene": name, "runs": {}}
+        for method in METHODS:
+            if method == "condensed" and not linear:
+                continue
+            secs, cpu, mb, rep, note = run_one(build, scene, overrides, method, timeout, repeats)
+            r = {"seconds": secs, "cpu_seconds": cpu, "peak_mb": mb, "note": note}
+            if rep:
+                r["certified"] = bool(rep.get("certificate", {}).get("passed"))
+                r["energy"] = rep.get("energy", {}).get("total") if isinstance(rep.get("energy"), dict) else rep.get("energy")
+                r["formulation"] = rep.get("formulation")
+                r["solved_by"] = rep.get("solved_by")
+                mc = rep.get("method_choice") or {}
+                r["chosen"] = mc.get("chosen")
+                r["reason"] = mc.get("reason")
+            row["runs"][method] = r
+            print(f"{name:16s} {method:12s} {secs if secs is not None else '-':>8} s "
+                  f"{mb if mb is not None else '-':>8} MB {note} {r.get('formulation', '')}", file=sys.stderr, flush=True)
+        results.append(row)
+    return results
+
+
+def cell(r):
+    if r.get("seconds") is None:
+        return r.get("note") or "-"
+    mark = "" if r.get("certified") else " (not certified)"
+    return f"{r['seconds']:.2f} s ({r['cpu_seconds']:.2f}), {r['peak_mb']:.0f} MB{mark}"
+
+
+def ratio(runs, key):
+    """auto's value over the smallest certified one's, with that method's name."""
+    vals = {m: r[key] for m, r in runs.items() if r.get(key) is not None and r.get("certified")}
+    auto = runs.get("auto", {}).get(key)
+    if not vals or auto is None or min(vals.values()) <= 0:  # /usr/bin/time's 0.01 s resolution
+        return "-"
+    best = min(vals, key=vals.get)
+    return f"{auto / vals[best]:.2f} ({best})"
+
+
+def table(results):
+    head = "| scene | " + " | ".join(METHODS) + " | auto chose | auto / fastest, wall | auto / fastest, CPU |"
+    lines = [head, "|" + "---|" * (len(METHODS) + 4)]
+    for row in results:
+        runs = row["runs"]
+        auto = runs.get("auto", {})
+        chose = (auto.get("chosen") or auto.get("formulation") or "-") + (
+            f" + {auto.get('solved_by')}" if auto.get("solved_by") else "")
+        cells = [cell(runs[m]) if m in runs else "n/a" for m in METHODS]
+        lines.append(f"| {row['scene']} | " + " | ".join(cells) +
+                     f" | {chose} | {ratio(runs, 'seconds')} | {ratio(runs, 'cpu_seconds')} |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--only", default="", help="comma-separated families: fig2,strip,box3d,hencky")
+    ap.add_argument("--timeout", type=float, default=120)
+    ap.add_argument("--repeats", type=int, default=1, help="best of this many processes by wall time")
+    ap.add_argument("--methods", default="", help="comma-separated subset of: " + ",".join(METHODS))
+    ap.add_argument("--max-n", type=int, default=0, help="leave out fig2 and 3D boxes above this mesh.n")
+    ap.add_argument("--table", default="", help="only print the table of an earlier run's method_choice.json")
+    a = ap.parse_args()
+    if a.table:
+        with open(a.table) as f:
+            results = json.load(f)
+        for m in list(METHODS):
+            if not any(m in row["runs"] for row in results):
+                del METHODS[m]
+        print(table(results))
+        return 0
+    only = [s for s in a.only.split(",") if s]
+    for m in [m for m in a.methods.split(",") if m]:
+        if m not in METHODS:
+            ap.error(f"unknown method {m}")
+    keep = [m for m in a.methods.split(",") if m]
+    for m in list(METHODS):
+        if keep and m not in keep:
+            del METHODS[m]
+    rows = [r for r in scenes(only) if not a.max_n or "n=" not in r[1] or int(r[1].split("n=")[1]) <= a.max_n]
+    results = measure(a.build, rows, a.timeout, a.repeats)
+    os.makedirs(a.out, exist_ok=True)
+    with open(os.path.join(a.out, "method_choice.json"), "w") as f:
+        json.dump(results, f, indent=1)
+    md = table(results)
+    with open(os.path.join(a.out, "method_choice.md"), "w") as f:
+        f.write(md)
+    print(md)
+    return 0 if results else 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,277 @@
+// solver.formulation = auto chooses the method from the scene's numbers (solver/method_choice.hpp),
+// and the checks above check.dense_max_unknowns take their eigenvalues from Lanczos on the solve's
+// own factor (solver/sparse_checks.hpp) instead of a dense Γ3 matrix.
+#include <hemicontact/check/smallness.hpp>
+#include <hemicontact/fem/condensation.hpp>
+#include <hemicontact/fem/sparse_cholesky.hpp>
+#include <hemicontact/output/report.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/method_choice.hpp>
+#include <hemicontact/solver/solve.hpp>
+#include <hemicontact/solver/sparse_checks.hpp>
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace hemicontact;
+using json = nlohmann::json;
+
+namespace method_choice_test {
+
+struct Solved {
+  Model md;
+  SolveOptions opt;
+  Solution sol;
+};
+
+Solved run(const std::string& scene, const std::vector<std::string>& overrides) {
+  const json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/" + scene + ".json", overrides);
+  Solved r{build_model(s, HEMICONTACT_SOURCE_DIR "/problems"), solve_options_from_scene(s), {}};
+  r.sol = solve(r.md, r.opt);
+  return r;
+}
+
+// fig2's conditions on the strip [0, 300] × [0, 1], 600 × 2 cells: 601 Γ3 nodes over 1 803 nodes.
+std::vector<std::string> strip(std::vector<std::string> more = {}) {
+  std::vector<std::string> o = {"mesh.n=null", "mesh.x=[0,300]", "mesh.nx=600", "mesh.ny=2"};
+  o.insert(o.end(), more.begin(), more.end());
+  return o;
+}
+
+Model model_of(const std::string& scene, const std::vector<std::string>& overrides) {
+  const json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/" + scene + ".json", overrides);
+  return build_model(s, HEMICONTACT_SOURCE_DIR "/problems");
+}
+
+// k_1, k_1ν of a dense S (sparse_checks.hpp), by Eigen's dense solver: the reference.
+std::pair<double, double> dense_k(const Mat& S, const Vec& w, int d) {
+  const Index nc = w.size();
+  Vec s(d * nc);
+  for (Index k = 0; k < nc; ++k) s.segment(d * k, d).setConstant(1 / std::sqrt(w[k]));
+  const Mat A = s.asDiagonal() * S * s.asDiagonal();
+  const double k1 = Eigen::SelfAdjointEigenSolver<Mat>(A, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
+  // S_ν⁻¹ = (S⁻¹)_νν, and (W^-1/2 S_ν W^-1/2)⁻¹ = W^1/2 S_ν⁻¹ W^1/2.
+  const Mat Si = S.inverse();
+  Mat Sn_inv(nc, nc);
+  for (Index i = 0; i < nc; ++i)
+    for (Index j = 0; j < nc; ++j) Sn_inv(i, j) = Si(d * i, d * j) * std::sqrt(w[i] * w[j]);
+  const double top = Eigen::SelfAdjointEigenSolver<Mat>(Sn_inv, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+  return {k1, 1 / top};
+}
+
+}  // namespace method_choice_test
+
+namespace mct = method_choice_test;
+
+// A long strip: Γ3 is a third of the nodes and its dense work (m³) dwarfs the sparse factorization,
+// so auto takes the full formulation with its exact solver ssn, and says why with its numbers.
+TEST(MethodChoice, LongStripPicksFull) {
+  const mct::Solved r = mct::run("sofonea2017-fig2", mct::strip());
+  const MethodChoice& c = r.sol.method_choice;
+  EXPECT_EQ(c.chosen, "full");
+  EXPECT_EQ(r.sol.formulation, "full");
+  EXPECT_TRUE(c.automatic);
+  EXPECT_EQ(c.backend, "ssn");
+  EXPECT_NE(r.sol.backend.find("ssn"), std::string::npos) << r.sol.backend;
+  EXPECT_EQ(r.sol.backend_use.requested, "auto");
+  EXPECT_EQ(c.numbers.at("gamma3_unknowns"), 1202);
+  ASSERT_GT(c.numbers.at("factor_flops"), 0);
+  EXPECT_GT(c.numbers.at("condensed_flops"), c.numbers.at("full_flops"));
+  EXPECT_NE(c.reason.find(" > "), std::string::npos) << c.reason;
+  EXPECT_TRUE(r.sol.ok()) << r.sol.message;
+  // (21) from the elastic factor the full formulation has anyway: no Gram factorization.
+  EXPECT_EQ(r.sol.smallness.method, "bound");
+  EXPECT_NE(r.sol.smallness.note.find("elastic factor"), std::string::npos) << r.sol.smallness.note;
+}
+
+// The paper's square: few Γ3 unknowns against a large interior, condensed as before.
+TEST(MethodChoice, Fig2PicksCondensed) {
+  const mct::Solved r = mct::run("sofonea2017-fig2", {"mesh.n=32"});
+  const MethodChoice& c = r.sol.method_choice;
+  EXPECT_EQ(c.chosen, "condensed");
+  EXPECT_EQ(r.sol.formulation, "condensed");
+  EXPECT_TRUE(c.automatic);
+  EXPECT_TRUE(c.backend.empty()) << c.backend;
+  EXPECT_LE(c.numbers.at("dense_flops"), 0.1 * c.numbers.at("factor_flops"));
+  EXPECT_NE(c.reason.find(" <= "), std::string::npos) << c.reason;
+  EXPECT_TRUE(r.sol.ok()) << r.sol.message;
+}
+
+// Every explicit setting wins: a condensed strip stays condensed, a named backend stays named.
+TEST(MethodChoice, ExplicitSettingsWin) {
+  const mct::Solved c = mct::run("sofonea2017-fig2", mct::strip({"solver.formulation=condensed"}));
+  EXPECT_EQ(c.sol.formulation, "condensed");
+  EXPECT_FALSE(c.sol.method_choice.automatic);
+  EXPECT_NE(c.sol.method_choice.reason.find("set explicitly"), std::string::npos);
+  const mct::Solved b = mct::run("sofonea2017-fig2", mct::strip({"solver.backend=ipopt"}));
+  EXPECT_EQ(b.sol.formulation, "full");
+  EXPECT_EQ(b.sol.backend, "ipopt");
+  const mct::Solved f = mct::run("sofonea2017-fig2", {"mesh.n=8", "solver.formulation=full"});
+  EXPECT_EQ(f.sol.formulation, "full");
+  EXPECT_EQ(f.sol.backend, c.sol.backend);  // the engine's default, as before the choice existed
+}
+
+// A stricter cost model moves the same scene: the numbers, not the scene's name, decide.
+TEST(MethodChoice, TheCostModelDecides) {
+  SceneNumbers n;
+  n.dim = 2;
+  n.dofs = 10000;
+  n.gamma3_unknowns = 100;  // dense work 1e6 flops
+  n.factor_flops = 2e6;
+  n.memory_bytes = 1e10;
+  SolveOptions opt;
+  int analyses = 0;
+  const auto full = [&] { return ++analyses, 1e6; };
+  EXPECT_EQ(choose_method(n, opt, full).chosen, "condensed");  // 3e6 ≤ condensed_below: no comparison
+  EXPECT_EQ(analyses, 0);
+  opt.method_choice.condensed_below = 0;
+  EXPECT_EQ(choose_method(n, opt, full).chosen, "condensed");  // 2e6 + 1e6 ≤ 10 · 1e6
+  EXPECT_EQ(analyses, 1);
+  opt.method_choice.full_factorizations = 2;
+  EXPECT_EQ(choose_method(n, opt, full).chosen, "full");  // 3e6 > 2 · 1e6
+  n.factor_flops = 2e7;  // dense work ≤ 0.1 × the factorization: condensed, no second analysis
+  EXPECT_EQ(choose_method(n, opt, full).chosen, "condensed");
+  EXPECT_EQ(analyses, 2);
+  n.memory_bytes = 1e6;  // 7 · 8 · 100² = 5.6e5 bytes > 0.5 · 1e6
+  const MethodChoice c = choose_method(n, opt, full);
+  EXPECT_EQ(c.chosen, "full");
+  EXPECT_NE(c.reason.find("memory"), std::string::npos) << c.reason;
+  n.linear_material = false;
+  EXPECT_EQ(choose_method(n, opt, full).chosen, "full");
+}
+
+// report.json carries the choice, its reason and the numbers it decided on.
+TEST(MethodChoice, ReportCarriesTheReason) {
+  const mct::Solved r = mct::run("sofonea2017-fig2", mct::strip());
+  const json j = solve_records(r.sol, r.opt, true);
+  ASSERT_TRUE(j.contains("method_choice"));
+  EXPECT_EQ(j["method_choice"]["chosen"], "full");
+  EXPECT_EQ(j["method_choice"]["backend"], "ssn");
+  EXPECT_EQ(j["method_choice"]["reason"], r.sol.method_choice.reason);
+  EXPECT_EQ(j["method_choice"]["numbers"]["gamma3_unknowns"], 1202);
+  EXPECT_TRUE(j.contains("formulation") && j.contains("smallness") && j.contains("inner_convexity"));
+  EXPECT_NE(summary_table(r.md, r.sol).find("method        full (auto)"), std::string::npos);
+}
+
+// The strip solved by auto (full, ssn) and by the condensed path: both certified, same energy.
+TEST(MethodChoice, AutoStripCertifiesWithTheCondensedEnergy) {
+  const mct::Solved a = mct::run("sofonea2017-fig2", mct::strip());
+  const mct::Solved c = mct::run("sofonea2017-fig2", mct::strip({"solver.formulation=condensed"}));
+  ASSERT_TRUE(a.sol.ok()) << a.sol.message;
+  ASSERT_TRUE(c.sol.ok()) << c.sol.message;
+  EXPECT_EQ(a.sol.formulation, "full");
+  EXPECT_NEAR(a.sol.energy, c.sol.energy, 1e-10 * std::abs(c.sol.energy));
+  ASSERT_EQ(a.sol.status.size(), c.sol.status.size());
+  for (size_t k = 0; k < a.sol.status.size(); ++k) EXPECT_EQ(a.sol.status[k].str(), c.sol.status[k].str()) << k;
+}
+
+// Lanczos on a random SPD matrix: the largest eigenvalue to the relative tolerance it was asked for.
+TEST(SparseChecks, LanczosFindsTheLargestEigenvalue) {
+  const Index n = 150;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g;
+  Mat B(n, n);
+  for (Index i = 0; i < n; ++i)
+    for (Index j = 0; j < n; ++j) B(i, j) = g(rng);
+  const Mat A = B * B.transpose() / n + Mat::Identity(n, n);
+  const double top = Eigen::SelfAdjointEigenSolver<Mat>(A, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+  const double tol = 1e-10;
+  const LanczosResult r = lanczos_largest([&](const Vec& v) { return Vec(A * v); }, n, tol, 150);
+  ASSERT_TRUE(r.converged);
+  EXPECT_LE(r.theta, top * (1 + 1e-14));
+  EXPECT_NEAR(r.theta, top, 2 * tol * top);
+}
+
+// k_1 and k_1ν by Lanczos through the condensation's L_CC and through solves with a factor of the
+// whole K agree with the dense eigenvalues to the Lanczos tolerance, and bracket them.
+TEST(SparseChecks, SpectrumAgreesWithTheDenseOne) {
+  const Model md = mct::model_of("sofonea2017-fig2", {"mesh.n=16"});
+  const int d = md.dim();
+  const Index m = d * md.contact.size(), n = md.dofs.n_free();
+  const Condensation cond(md.Kx, md.fx, m);
+  const auto [k1, k1nu] = mct::dense_k(cond.S(), md.contact.w, d);
+  SolveOptions opt;
+  const double tol = opt.lanczos_tol;
+  const Gamma3Spectrum a = gamma3_spectrum([&](const Vec& b) { return cond.solve_schur(b); }, md.contact.w, d, opt, "L_CC");
+  SparseCholesky chol;
+  chol.compute(md.Kx);
+  const auto full = [&](const Vec& b) {
+    Vec x = Vec::Zero(n);
+    x.tail(m) = b;
+    return Vec(chol.solve(x).tail(m));
+  };
+  const Gamma3Spectrum f = gamma3_spectrum(full, md.contact.w, d, opt, "K");
+  for (const Gamma3Spectrum* s : {&a, &f}) {
+    ASSERT_TRUE(s->converged) << s->how;
+    EXPECT_NEAR(s->k1, k1, 10 * tol * k1) << s->how;
+    EXPECT_NEAR(s->k1nu, k1nu, 10 * tol * k1nu) << s->how;
+    EXPECT_LE(s->k1_low, k1 * (1 + 1e-12));
+    EXPECT_LE(s->k1nu_low, k1nu * (1 + 1e-12));
+  }
+}
+
+// (21) and the inner-convexity test with check.dense_max_unknowns = 0 (Lanczos) decide as the dense
+// ones do, with the same numbers to the Lanczos tolerance, and say how.
+TEST(SparseChecks, SmallnessAndConvexityAgreeWithTheDenseChecks) {
+  const mct::Solved dense = mct::run("sofonea2017-fig2", {"mesh.n=16"});
+  const mct::Solved sparse = mct::run("sofonea2017-fig2", {"mesh.n=16", "check.dense_max_unknowns=0"});
+  const SmallnessReport &p = dense.sol.smallness, &q = sparse.sol.smallness;
+  ASSERT_EQ(p.method, "bound");
+  ASSERT_TRUE(p.computed && q.computed) << q.note;
+  EXPECT_EQ(q.method, "bound");
+  EXPECT_EQ(p.holds, q.holds);
+  const double tol = 10 * sparse.opt.lanczos_tol;
+  EXPECT_NEAR(q.lhs_lower, p.lhs_lower, tol * p.lhs_lower);
+  EXPECT_NEAR(q.lhs_upper, p.lhs_upper, tol * p.lhs_upper);
+  EXPECT_GE(q.lhs_upper, p.lhs_upper * (1 - 1e-13));  // widened, never narrowed
+  EXPECT_NE(q.note.find("Lanczos"), std::string::npos) << q.note;
+  EXPECT_TRUE(p.note.empty()) << p.note;
+  const InnerConvexity &cd = dense.sol.inner_convexity, &cs = sparse.sol.inner_convexity;
+  ASSERT_TRUE(cd.checked && cs.checked) << cs.note;
+  EXPECT_EQ(cd.strongly_convex, cs.strongly_convex);
+  EXPECT_EQ(cd.min_eigenvalue > 0, cs.min_eigenvalue > 0);
+  EXPECT_NEAR(sparse.sol.energy, dense.sol.energy, 1e-12 * std::abs(dense.sol.energy));
+}
+
+// A softening law whose inner problem is not strongly convex: Lanczos says so too.
+TEST(SparseChecks, NotConvexIsFoundByLanczosToo) {
+  const mct::Solved dense = mct::run("minima-softening", {});
+  const mct::Solved sparse = mct::run("minima-softening", {"check.dense_max_unknowns=0"});
+  const InnerConvexity &cd = dense.sol.inner_convexity, &cs = sparse.sol.inner_convexity;
+  ASSERT_TRUE(cd.checked);
+  ASSERT_FALSE(cd.strongly_convex);  // λ_min(S − αW_ν) = −6083 at α = 1e5
+  EXPECT_EQ(cd.checked, cs.checked) << cs.note;
+  EXPECT_EQ(cd.strongly_convex, cs.strongly_convex) << cs.note;
+  EXPECT_EQ(cd.min_eigenvalue > 0, cs.min_eigenvalue > 0);
+}
+
+// Above the threshold in 3D, (21) costs no extra factorization: decided by the bracket or reported
+// undecided with its reason, never the exact evaluation (whose method is "exact").
+TEST(SparseChecks, Large3DSmallnessNeedsNoFactorization) {
+  const mct::Solved r = mct::run("sofonea2017-3d", {"mesh.n=4", "check.dense_max_unknowns=0"});
+  const SmallnessReport& q = r.sol.smallness;
+  EXPECT_EQ(q.method, "bound");
+  EXPECT_NE(q.note.find("Lanczos"), std::string::npos) << q.note;
+  if (!q.computed) {
+    EXPECT_NE(q.note.find("not decided"), std::string::npos) << q.note;
+  }
+  EXPECT_TRUE(r.sol.ok()) << r.sol.message;
+}
+
+// A caller that asks for (21) after the solve (the adaptive loop's final mesh: check.smallness off
+// during the solve) gets it from the spectrum read at set-up, under an automatic full as well.
+TEST(SparseChecks, SmallnessAfterTheSolveUnderAnAutomaticFull) {
+  const json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json",
+                            mct::strip({"check.smallness=false"}));
+  const Model md = build_model(s, HEMICONTACT_SOURCE_DIR "/problems");
+  ContactSolver solver(md, solve_options_from_scene(s));
+  ASSERT_EQ(solver.formulation(), "full");
+  const SmallnessReport q = solver.smallness();
+  EXPECT_TRUE(q.computed) << q.note;
+  EXPECT_EQ(q.method, "bound");
+  EXPECT_NE(q.note.find("elastic factor"), std::string::npos) << q.note;
+}
