@@ -9,6 +9,7 @@ exec'd by `hemicontact solve` into build/hemicontact-mpi, one process, and measu
   condensed   --set solver.formulation=condensed (linear materials only)
   full+newton --set solver.formulation=full --backend newton
   full+ipopt  --set solver.formulation=full --backend ipopt
+  full+ssn    --set solver.formulation=full --backend ssn (the full space's exact solver, CHOLMOD)
   petsc       --set solver.engine=petsc (its own default backend, ssn)
 Scenes: fig2 (problems/sofonea2017-fig2.json) at n = 64..1024, fig2's conditions on strips of
 aspect 10..1000 (x = [0, A], 2A x 2 cells), the 3D box (problems/sofonea2017-3d.json) at
@@ -41,6 +42,7 @@ METHODS = {
     "condensed": ["--set", "solver.formulation=\"condensed\""],
     "full+newton": ["--set", "solver.formulation=\"full\"", "--backend", "newton"],
     "full+ipopt": ["--set", "solver.formulation=\"full\"", "--backend", "ipopt"],
+    "full+ssn": ["--set", "solver.formulation=\"full\"", "--backend", "ssn"],
     "petsc": ["--set", "solver.engine=\"petsc\""],
 }
 
@@ -122,7 +124,9 @@ def measure(build, scene_rows, timeout, repeats):
                 r["formulation"] = rep.get("formulation")
                 r["solved_by"] = rep.get("solved_by")
                 mc = rep.get("method_choice") or {}
-                r["chosen"] = mc.get("chosen")
+                ec = rep.get("engine_choice") or {}
+                # solver.engine = auto may have sent the solve to the petsc engine (engine_choice).
+                r["chosen"] = "petsc engine" if ec.get("engine") == "petsc" else mc.get("chosen")
                 r["reason"] = mc.get("reason")
             row["runs"][method] = r
             print(f"{name:16s} {method:12s} {secs if secs is not None else '-':>8} s "

@@ -12,6 +12,7 @@
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/adapt.hpp>
+#include <hemicontact/solver/engine_choice.hpp>
 #include <hemicontact/solver/solve.hpp>
 #include <hemicontact/studies/adapt_study.hpp>
 #include <hemicontact/studies/minima.hpp>
@@ -182,10 +183,14 @@ int cmd_solve(const std::vector<std::string>& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<std::string> plot_args = solve_plot_args(a);
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
-  // The petsc engine is its own program (before the output folder is locked: it locks it itself).
-  if (scene.at("solver").at("engine").get<std::string>() == "petsc") {
+  // solver.engine = auto: the engine from the scene's numbers (solver/method_choice.hpp). The
+  // petsc engine is its own program (before the output folder is locked: it locks it itself).
+  const EngineChoice engine = choose_engine(scene, HEMICONTACT_HAS_PETSC, adapt_requested(scene));
+  if (engine.automatic) log_info() << "engine " << engine.engine << " (auto): " << engine.reason;
+  if (engine.engine == "petsc") {
     if (adapt_requested(scene))
       input_error("adapt.target_error: adaptive refinement runs on the cholmod engine only (solver.engine = petsc)");
+    std::fflush(nullptr);
     return exec_petsc_engine(args);
   }
   refuse_mpi_ranks("solve");  // before the folder: ranks racing for it is what this prevents
@@ -231,6 +236,7 @@ int cmd_solve(const std::vector<std::string>& args) {
     // An uncertified level is the verdict's own business (exit 3 or 4).
     extra = adapt_solve_extra(adapted, aopt, missed);
   }
+  extra["engine_choice"] = engine_choice_json(engine);
   write_solve_results(a, plot_args, scene, md, sol, opt, extra, adaptive ? &adapted.estimate.eta : nullptr);
   const int verdict = solve_verdict(sol, opt);
   if (verdict == EXIT_OK && !missed.empty()) {

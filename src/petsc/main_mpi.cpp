@@ -29,6 +29,7 @@
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/scene/slab_mesh.hpp>
+#include <hemicontact/solver/engine_choice.hpp>
 
 #include <malloc.h>
 #include <petscsys.h>
@@ -45,6 +46,10 @@
 #include <vector>
 
 namespace {
+
+// report.json's engine_choice (solver/method_choice.hpp): why this engine runs.
+nlohmann::json engine_choice;
+
 
 using namespace hemicontact;
 
@@ -189,6 +194,7 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
   log_info() << "piece built: " << md.mesh.num_nodes() << " nodes, memory " << petsc_engine::current_rss_kb() / 1024
              << " MB (rank 0)";
   petsc_engine::EngineReport er;
+  er.json["engine_choice"] = engine_choice;
   petsc_engine::SlabResult out;
   Solution sol = petsc_engine::solve_slabs(md, slab, opt, comm, er, out);
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -229,6 +235,10 @@ std::optional<OutputLock> lock_output(const cli::SceneArgs& a, int rank, MPI_Com
 void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt) {
   on_every_rank(comm, [&] {
     scene = load_scene(a.scene, a.overrides);
+    const EngineChoice ec = choose_engine(scene, true, false);  // the CLI refuses adapt with petsc before the exec
+    engine_choice = engine_choice_json(
+        ec.engine == "petsc" ? ec
+                             : EngineChoice{"petsc", ec.automatic, "hemicontact-mpi is the petsc engine (" + ec.reason + ")"});
     if (scene.at("solver").at("engine").get<std::string>() != "petsc") {
       log_info() << "hemicontact-mpi is the petsc engine: solver.engine = petsc";
       scene["solver"]["engine"] = "petsc";
@@ -281,6 +291,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   malloc_trim(0);
   log_info() << "model built: memory " << petsc_engine::current_rss_kb() / 1024 << " MB (rank 0)";
   petsc_engine::EngineReport er;
+  er.json["engine_choice"] = engine_choice;
   Solution sol = petsc_engine::solve(md, opt, comm, er);
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   er.json["mesh"] = "replicated";
@@ -288,7 +299,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
 
   if (rank == 0) {
     try {
-      cli::write_solve_results(a, plot_args, scene, md, sol, opt, {{"engine", "petsc"}, {"petsc", er.json}});
+      cli::write_solve_results(a, plot_args, scene, md, sol, opt, {{"engine", "petsc"}, {"engine_choice", engine_choice}, {"petsc", er.json}});
       log_info() << "petsc: " << size << " rank(s), " << er.json.value("newton_iterations", 0L)
                  << " Newton and " << er.json.value("krylov_iterations", 0L) << " Krylov iterations, peak memory "
                  << er.json.value("peak_rss_mb_sum", 0.0) << " MB over the ranks";

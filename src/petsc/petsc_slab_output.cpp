@@ -165,6 +165,7 @@ nlohmann::json slab_report(const nlohmann::json& scene, const Model& md, const S
   for (const auto& [k, v] : sol.timings) t[k] = v;
   r["timings"] = t;
   r["petsc"] = er.json;
+  if (er.json.contains("engine_choice")) r["engine_choice"] = er.json.at("engine_choice");
   std::vector<std::string> vtu, csv;
   for (int q = 0; q < size; ++q) {
     if (scene.at("output").at("vtu").get<bool>()) vtu.push_back(piece_name("solution_rank", q, ".vtu"));

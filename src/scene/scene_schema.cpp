@@ -297,8 +297,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "unsmoothed statuses (backend ssn, what auto means there) or TAO bounded "
                   "Newton with the continuation, fixed point and exact polish (tao:bnls, tao:bntr, "
                   "tao:bntl), CG with algebraic multigrid, the same certificate. Only `solve`; "
-                  "needs a build with PETSc (libpetsc-real-dev).",
-                  {"cholmod", "petsc"}));
+                  "needs a build with PETSc (libpetsc-real-dev). auto: `solve` runs the petsc engine in "
+                  "one process where solver.method_choice.petsc_above says so (a large 3D box), the "
+                  "cholmod engine otherwise and in every other command; report.json engine_choice says "
+                  "which and why.",
+                  {"auto", "cholmod", "petsc"}));
   t.push_back(section("/solver/petsc", "Settings of the petsc engine (solver.engine = petsc)."));
   t.push_back(below(above(key("/solver/petsc/ksp_rtol", "number", D.petsc.ksp_rtol,
                               "Relative residual reduction of each CG solve (ssn: the floor of its "
@@ -401,6 +404,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "Condensed at once where the dense Γ3 work is at most this fraction of the "
                            "condensation's factorization; above, the full formulation's factorization is "
                            "analysed too and the two works compared."),
+                       0));
+  t.push_back(at_least(key("/solver/method_choice/petsc_above", "number", MC.petsc_above,
+                           "solver.engine = auto (`hemicontact solve` only): the petsc engine in one process "
+                           "for a generated 3D box of at least this many unknowns (3 per node), a linear "
+                           "material and no adaptive refinement; the cholmod engine below it and elsewhere."),
                        0));
   t.push_back(at_most(above(key("/solver/method_choice/memory_fraction", "number", MC.memory_fraction,
                                 "The condensed path's dense Γ3 matrices (7 of m × m doubles) may use at "

@@ -257,7 +257,7 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   const auto t_start = clk::now();
   Impl& I = *m;
   // The petsc engine is a program of its own (hemicontact-mpi, exec'd by `hemicontact solve`).
-  if (opt.engine != "cholmod")
+  if (opt.engine == "petsc")
     input_error("solver.engine = " + opt.engine +
                 ": this command runs the cholmod engine only; the petsc engine runs `hemicontact solve` "
                 "(hemicontact-mpi)");

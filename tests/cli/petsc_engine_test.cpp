@@ -190,6 +190,41 @@ TEST(PetscEngine, BackendsListSsnAndTao) {
   fs::remove_all(dir);
 }
 
+// solver.engine = auto (the default): `solve` runs the petsc engine in one process for a 3D box
+// at or above solver.method_choice.petsc_above unknowns (lowered here to keep the test small), the
+// cholmod engine below it, in 2D and where a setting is the cholmod engine's; report.json's
+// engine_choice says which and why, and the answers agree.
+TEST(PetscEngine, AutoChoosesTheEngineFromTheScenesSize) {
+  const fs::path dir = scratch("engine-auto");
+  const std::string box = "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --set output.vtu=false";
+  const auto report = [&](const std::string& args, const std::string& name) {
+    const CliOutcome r = run_cli(dir, args + " --out " + (dir / name).string());
+    EXPECT_EQ(r.code, 0) << name << ": " << r.err;
+    return json::parse(slurp(dir / name / "report.json"));
+  };
+  const json big = report(box + " --set solver.method_choice.petsc_above=300", "big");
+  const json small = report(box, "small");
+  const json named = report(box + " --set solver.method_choice.petsc_above=300 --backend newton", "named");
+  const json flat = report("solve " + problem("sofonea2017-fig2") + " --set mesh.n=8 --set solver.method_choice.petsc_above=1", "flat");
+  EXPECT_EQ(big.at("engine"), "petsc");
+  EXPECT_EQ(big.at("engine_choice").at("engine"), "petsc");
+  EXPECT_EQ(big.at("engine_choice").at("automatic"), true);
+  EXPECT_NE(big.at("engine_choice").at("reason").get<std::string>().find("petsc_above"), std::string::npos);
+  for (const json* r : {&small, &named, &flat}) {
+    EXPECT_EQ(r->at("engine_choice").at("engine"), "cholmod") << r->at("engine_choice").dump();
+    EXPECT_EQ(r->at("engine_choice").at("automatic"), true);
+  }
+  EXPECT_NE(named.at("engine_choice").at("reason").get<std::string>().find("solver.backend = newton"), std::string::npos);
+  EXPECT_NE(flat.at("engine_choice").at("reason").get<std::string>().find("not a generated 3D box"), std::string::npos);
+  const double e = small.at("energy").get<double>();
+  EXPECT_NEAR(big.at("energy").get<double>(), e, 1e-10 * std::abs(e));
+  // An explicit engine wins, and says it was given.
+  const json given = report(box + " --set solver.method_choice.petsc_above=300 --set solver.engine=cholmod", "given");
+  EXPECT_EQ(given.at("engine_choice").at("engine"), "cholmod");
+  EXPECT_EQ(given.at("engine_choice").at("automatic"), false);
+  fs::remove_all(dir);
+}
+
 // Every layout prints the summary (one function, output/report.hpp's summary_table): the pieces'
 // from their reduced records and the Γ3 rows gathered to rank 0, the same lines as the cholmod
 // engine's where the answers agree (statuses, counts, the certificate's verdict).

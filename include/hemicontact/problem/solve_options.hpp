@@ -130,6 +130,12 @@ struct MethodChoiceOptions {
   /// random study and the minima scenes (a 16 × 2 laminate: 6.6e4 flops) stay on the exact path;
   /// the fig2 strip 300 × 1 (2.9e9 flops) goes to the comparison.
   double condensed_below = 1e9;
+  /// solver.engine = auto (`hemicontact solve` only): the petsc engine in one process for a
+  /// generated 3D box of at least this many unknowns (3 per node), the cholmod engine below it.
+  /// Measured (docs/performance.md, one process each): 3D n = 16 (14 739 unknowns) 0.97 s against
+  /// 1.8 s condensed, n = 24 2.7 against 4.7 s, n = 32 4.2 against 21 s; at n = 8 (2 187) the two
+  /// differ by noise. 10 000: from n = 14 on.
+  double petsc_above = 10000;
   /// The condensed path's dense Γ3 matrices (L_CC, S, the condensed energy's dense Hessian and the
   /// solvers' copies: 7 · 8 m² bytes, from the strip's 940 MB peak at m = 4002) may use at most this
   /// fraction of the memory available to the process (physical memory free, or the address-space
@@ -144,9 +150,10 @@ struct SolveOptions {
   /// "auto" the backend's ε-stage is skipped where the inner problem is strongly convex (its
   /// minimizer is unique: see exact_start), and the report says so. A name runs that backend.
   std::string backend = AUTO_BACKEND;
-  /// "cholmod" (this process: CHOLMOD factorization, condensation) or "petsc" (hemicontact-mpi:
-  /// distributed unknowns and assembly, semismooth Newton (ssn) or TAO, CG + GAMG; run under mpirun).
-  std::string engine = "cholmod";
+  /// "cholmod" (this process: CHOLMOD factorization, condensation), "petsc" (hemicontact-mpi:
+  /// distributed unknowns and assembly, semismooth Newton (ssn) or TAO, CG + GAMG; run under mpirun)
+  /// or "auto" (`solve` chooses, solver/method_choice.hpp's choose_engine; cholmod elsewhere).
+  std::string engine = "auto";
   PetscEngineOptions petsc;          ///< the petsc engine's settings
   /// "full", "condensed" or "auto": from the scene's numbers before any numeric work
   /// (solver/method_choice.hpp; report.json method_choice says what and why).
