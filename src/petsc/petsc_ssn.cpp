@@ -2,6 +2,7 @@
 
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/check/status_equations.hpp>
+#include <hemicontact/solver/ssn.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -247,7 +248,7 @@ bool Engine::ssn_step(Ssn& s, int k, long changed_all, double res) {
              << short_number(double(current_rss_kb()) / 1024.0) << " MB (rank 0)";
   // Done when the statuses have held for two steps and the step reached round-off or stopped
   // decreasing there (the λ coupling contracts linearly; round-off ends it).
-  if (s.unchanged >= 2 && (rel <= 1e-14 || (rel <= 1e-10 && step >= s.prev_step))) return true;
+  if (ssn_step_settled(s.unchanged, rel, step, s.prev_step)) return true;
   s.prev_step = s.unchanged >= 1 ? step : INF;
   return false;
 }
