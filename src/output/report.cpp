@@ -290,6 +290,9 @@ json solve_records(const Solution& sol, const SolveOptions& opt, bool lagged) {
                  {"certificate_after", sol.polish.after}, {"note", sol.polish.note}};
   r["inner"] = inner_json(sol.handover);
   r["inner_convexity"] = inner_convexity_json(sol.inner_convexity);
+  const std::string warning = uniqueness_warning(sol);
+  r["uniqueness"] = {{"guaranteed", q.computed && q.holds},
+                     {"warning", warning.empty() ? nlohmann::json(nullptr) : nlohmann::json(warning)}};
   r["scales"] = {{"x_scale", sol.x_scale}, {"f_scale", sol.f_scale}};
   r["message"] = sol.message;
   r["ok"] = report_ok(sol);
@@ -371,6 +374,19 @@ std::vector<std::string> status_strings(const Solution& sol) {
 
 std::string status_runs(const Solution& sol) { return runs_of(status_strings(sol)); }
 
+std::string uniqueness_warning(const Solution& sol) {
+  const SmallnessReport& q = sol.smallness;
+  const InnerConvexity& c = sol.inner_convexity;
+  // (21) decided and failing (an undecided bracket is not computed), and the inner problem (λ
+  // frozen) not known to be strongly convex: Π_λ may have several stationary points.
+  if (!q.computed || q.holds || (c.checked && c.strongly_convex)) return "";
+  return "(21) fails (" + fmt(q.lhs, 4) + " >= m_F = " + fmt(q.m_F, 4) + ") and the inner problem is " +
+         (c.checked ? "not convex (smallest eigenvalue " + fmt(c.min_eigenvalue, 3) + ")"
+                    : "not known to be convex (" + c.note + ")") +
+         ": other certified solutions may exist; `hemicontact minima SCENE` finds them from many starts "
+         "and classifies each (local minimum or saddle)";
+}
+
 SummaryFacts summary_facts(const Model& md, const Solution& sol) {
   SummaryFacts f;
   f.origin = md.mesh.origin;
@@ -448,6 +464,7 @@ std::string summary_table(const SummaryFacts& md, const Solution& sol) {
                            fmt(sol.smallness.m_F, 4) + ": uniqueness guaranteed: " +
                            (sol.smallness.holds ? "yes" : "no") +
                            (sol.smallness.method == "bound" ? " (bound from the condensed stiffness)" : ""));
+  if (const std::string w = uniqueness_warning(sol); !w.empty()) out += row("uniqueness", "NOT guaranteed: " + w);
   out += row("fixed point", std::string(sol.fixed_point_converged ? "converged" : "NOT converged") +
                                 (sol.backend_ok ? "" : "; last minimization FAILED"));
   std::vector<std::string> times;

@@ -79,6 +79,11 @@ void write_report(const std::string& path, const nlohmann::json& report);
 /// @return several lines, each ending in '\n'
 std::string summary_table(const Model& md, const Solution& sol);
 
+/// @return "" where uniqueness is not in doubt; else why other certified solutions may exist:
+/// (21) fails and the inner problem is not (known to be) strongly convex. The summary's
+/// "uniqueness" row and report.json's uniqueness.warning.
+std::string uniqueness_warning(const Solution& sol);
+
 /// What the summary says of the mesh and Γ3, from one process's model (summary_facts) or from the
 /// petsc engine's pieces (their reduced sizes and the Γ3 rows gathered to rank 0).
 struct SummaryFacts {
