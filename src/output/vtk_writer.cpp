@@ -300,25 +300,32 @@ void write_point_data(VtuLayout& L, std::string& xml, const Model& md, const Sol
 }
 
 // Cell fields: strain, stress (the material's), von Mises, and the error indicator when given.
+// The cells written: @p cells (a piece's own), or all.
+struct CellList {
+  const std::vector<Index>* cells;
+  Index all;
+  Index size() const { return cells ? static_cast<Index>(cells->size()) : all; }
+  Index operator[](Index r) const { return cells ? (*cells)[static_cast<size_t>(r)] : r; }
+};
+
 void write_cell_data(VtuLayout& L, std::string& xml, const Model& md, const Solution& sol,
-                     const Vec* error_indicator) {
-  const Index M = md.mesh.num_cells();
+                     const Vec* error_indicator, const CellList& C) {
+  const Index M = C.size();
   const int nv = voigt_size(md.mesh.dim);
   const CellFields f = cell_fields(md, sol);
   const RowMat &strain = f.strain, &stress = f.stress;
   const Vec& vm = f.von_mises;
   xml += "      <CellData Scalars=\"von_mises\">\n";
-  L.array(xml, float_array("strain", M, nv, [&](Index c, int i) { return strain(c, i); }));
-  L.array(xml, float_array("stress", M, nv, [&](Index c, int i) { return stress(c, i); }));
-  L.array(xml, float_array("von_mises", M, 1, [&](Index c, int) { return vm[c]; }));
+  L.array(xml, float_array("strain", M, nv, [&](Index r, int i) { return strain(C[r], i); }));
+  L.array(xml, float_array("stress", M, nv, [&](Index r, int i) { return stress(C[r], i); }));
+  L.array(xml, float_array("von_mises", M, 1, [&](Index r, int) { return vm[C[r]]; }));
   if (error_indicator && error_indicator->size() > 0)
-    L.array(xml, float_array("error_indicator", M, 1, [&](Index c, int) { return (*error_indicator)[c]; }));
+    L.array(xml, float_array("error_indicator", M, 1, [&](Index r, int) { return (*error_indicator)[C[r]]; }));
   xml += "      </CellData>\n";
 }
-
-void write_points_and_cells(VtuLayout& L, std::string& xml, const Mesh& mesh) {
+void write_points_and_cells(VtuLayout& L, std::string& xml, const Mesh& mesh, const CellList& C) {
   const int d = mesh.dim;
-  const Index N = mesh.num_nodes(), M = mesh.num_cells();
+  const Index N = mesh.num_nodes(), M = C.size();
   xml += "      <Points>\n";
   L.array(xml, float_array("Points", N, 3, [&](Index a, int c) { return c < d ? mesh.points(a, c) : 0.0; }));
   xml += "      </Points>\n";
@@ -327,7 +334,7 @@ void write_points_and_cells(VtuLayout& L, std::string& xml, const Mesh& mesh) {
   std::vector<long long> conn, offsets(M), types(M, d == 2 ? 5 : 10);
   conn.reserve(static_cast<size_t>(M) * (d + 1));
   for (Index c = 0; c < M; ++c) {
-    for (int a = 0; a <= d; ++a) conn.push_back(mesh.cells(c, a));
+    for (int a = 0; a <= d; ++a) conn.push_back(mesh.cells(C[c], a));
     offsets[c] = static_cast<long long>((c + 1) * (d + 1));
   }
   L.array(xml, int_array("Int64", "connectivity", conn));
@@ -354,22 +361,23 @@ CellFields cell_fields(const Model& md, const Solution& sol) {
 }
 
 void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format,
-               const Vec* error_indicator) {
+               const Vec* error_indicator, const std::vector<Index>* cells) {
   check_sizes(md, sol);
   if (error_indicator && error_indicator->size() > 0 && error_indicator->size() != md.mesh.num_cells())
     throw Error("write_vtu: " + std::to_string(error_indicator->size()) + " error indicators for " +
                     std::to_string(md.mesh.num_cells()) + " cells",
                 EXIT_INTERNAL);
   const Mesh& mesh = md.mesh;
-  const Index N = mesh.num_nodes(), M = mesh.num_cells();
+  const CellList C{cells, mesh.num_cells()};
   VtuLayout L(format == VtuFormat::BINARY);
   std::string xml;
   xml += "  <UnstructuredGrid>\n";
   write_field_data(L, xml);
-  xml += "    <Piece NumberOfPoints=\"" + std::to_string(N) + "\" NumberOfCells=\"" + std::to_string(M) + "\">\n";
+  xml += "    <Piece NumberOfPoints=\"" + std::to_string(mesh.num_nodes()) + "\" NumberOfCells=\"" +
+         std::to_string(C.size()) + "\">\n";
   write_point_data(L, xml, md, sol);
-  write_cell_data(L, xml, md, sol, error_indicator);
-  write_points_and_cells(L, xml, mesh);
+  write_cell_data(L, xml, md, sol, error_indicator, C);
+  write_points_and_cells(L, xml, mesh, C);
   xml += "    </Piece>\n  </UnstructuredGrid>\n";
   const std::string out = L.finish(xml);
 

@@ -35,6 +35,36 @@
 #include <utility>
 #include <vector>
 
+namespace hemicontact::petsc_engine {
+
+// The request half of every exchange between a piece's ghosts and their owners (the ghost rows,
+// the Γ3 weights): the ghosts grouped by owner, and what each owner was asked.
+struct GhostAsk {
+  std::vector<int> scount, sdispl;  // ghosts asked of each rank, and where each group starts
+  std::vector<int> rcount, rdispl;  // numbers each rank asked of this one
+  std::vector<Index> ghost;         // the local ghost node of request i (grouped by owner)
+  std::vector<Index> answer;        // the local owned node that answers asked number i
+};
+// Collective: the ghosts' global numbers to their owners, and each owner's node of each.
+GhostAsk ask_owners(const Piece& pc, MPI_Comm comm);
+std::vector<Index> owned_nodes_of(const Piece& pc, const std::vector<long>& asked);
+// Per mesh node: its Γ3 index k, or −1.
+std::vector<Index> gamma3_index_of_nodes(const Model& md);
+// The answers (@p m values per asked node, in ask.answer's order) back to the ghosts: @return m
+// values per ghost, in ask.ghost's order. Collective.
+template <class T>
+std::vector<T> answer_ghosts(const GhostAsk& a, const std::vector<T>& answers, int m, MPI_Datatype type, MPI_Comm comm) {
+  const size_t S = a.scount.size();
+  std::vector<int> sc(S), sd(S), rc(S), rd(S);
+  for (size_t q = 0; q < S; ++q)
+    sc[q] = a.rcount[q] * m, sd[q] = a.rdispl[q] * m, rc[q] = a.scount[q] * m, rd[q] = a.sdispl[q] * m;
+  std::vector<T> got(a.ghost.size() * static_cast<size_t>(m));
+  MPI_Alltoallv(answers.data(), sc.data(), sd.data(), type, got.data(), rc.data(), rd.data(), type, comm);
+  return got;
+}
+
+}  // namespace hemicontact::petsc_engine
+
 // PETSc's Vec and Mat are global typedefs; inside namespace hemicontact the names are Eigen's, so
 // PETSc objects are written ::Vec and ::Mat throughout.
 
@@ -111,16 +141,11 @@ void fresh_gamg(KSP ksp);
 // the CHOLMOD engine; backend ssn is its own Newton on the unsmoothed statuses.
 class Engine : private OuterStepper {
  public:
-  Engine(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep);
+  Engine(const Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep);
   // The distributed path: md is this rank's slab; the answer's vectors stay on the ranks (out).
-  Engine(Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep, SlabResult& out);
+  Engine(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep, SlabResult& out);
   ~Engine() {
     if (rigid) MatNullSpaceDestroy(&rigid);
-    // K lives no longer than the engine: after the solve, nothing may apply it.
-    if (owns_apply)
-      md.Kx_apply = [](const Vec&) -> Vec {
-        throw Error("K_x is not kept after the petsc engine's solve (its rows lived on the ranks)", EXIT_INTERNAL);
-      };
   }
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
@@ -151,6 +176,7 @@ class Engine : private OuterStepper {
   // ---- the distributed path (petsc_slab_distribution.cpp, petsc_slab_finish.cpp)
   void distribute_slabs();
   void exchange_ghosts(const std::vector<Index>& sel);
+  void check_same_place(Index v, const double* there) const;  // a ghost is where its owner has it
   void finish_slabs(Solution& s, ::Vec x, clk::time_point t0);
   // A piece's evaluation at x (R = K x − f): its u, Γ3 state (slab_piece), then the judge over the
   // ranks: certificate, statuses read at o.status_tol, Γ3 energies, counts (slab_judge), into p; slab_evaluate
@@ -205,6 +231,7 @@ class Engine : private OuterStepper {
   void finish(Solution& sol, Eigen::VectorXd x, clk::time_point t0);
   // ---- helpers
   Eigen::VectorXd gather(::Vec v) const;  // the whole vector on every rank
+  Eigen::VectorXd apply_K(const Eigen::VectorXd& x) const;  // K_x x on every rank (collective)
   Eigen::VectorXd local_gamma3(::Vec zs) const;
   double first_order_residual(::Vec zs, ::Vec g, ::Vec lo_s, ::Vec up_s) const;
   void scaled_bound(::Vec b, ::Vec out) const;  // b / U_s, ±PETSC_INFINITY kept (no overflow)
@@ -213,7 +240,7 @@ class Engine : private OuterStepper {
   void create_cg(PKsp& ksp, const char* prefix, KSPNormType norm = KSP_NORM_DEFAULT) const;
   Solution evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const;
 
-  Model& md;  // not changed
+  const Model& md;
   SolveOptions opt;
   MPI_Comm comm;
   EngineReport& rep;
@@ -252,7 +279,6 @@ class Engine : private OuterStepper {
   long newton_total = 0, krylov_total = 0, polish_krylov = 0, polish_newton = 0;
   nlohmann::json stages = nlohmann::json::array();
   std::map<std::string, double> timings;
-  bool owns_apply = false;  // md.Kx_apply set by assemble(), reading K and work
   const Piece* slab = nullptr;      // the distributed path: md is this rank's piece
   SlabResult* slab_out = nullptr;   // and its piece goes here
 };

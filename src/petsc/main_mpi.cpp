@@ -190,6 +190,7 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
     md = build_model(scene, std::move(mesh), /*stiffness=*/false, /*piece=*/g3_all > 0);
     md.timings["mesh"] = t_mesh;
   });
+  petsc_engine::complete_ghost_weights(md, slab, comm);
   malloc_trim(0);
   log_info() << "piece built: " << md.mesh.num_nodes() << " nodes, memory " << petsc_engine::current_rss_kb() / 1024
              << " MB (rank 0)";

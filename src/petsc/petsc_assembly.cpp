@@ -64,22 +64,6 @@ void Engine::assemble() {
   HC_PETSC(MatAssemblyEnd(K.m, MAT_FINAL_ASSEMBLY));
   HC_PETSC(MatSetOption(K.m, MAT_SYMMETRIC, PETSC_TRUE));
   own = MovableSpMat();
-  // Without K_x in the model, the certificate's internal force and a(u, u) (evaluate_solution)
-  // apply this rank's rows through PETSc: every rank evaluates the same candidates together.
-  if (md.Kx.size() == 0) {
-    md.Kx_apply = [this](const Vec& x) {
-      PVec xv, y;
-      HC_PETSC(MatCreateVecs(K.m, &xv.v, &y.v));
-      PetscScalar* p;
-      HC_PETSC(VecGetArray(xv.v, &p));
-      for (PetscInt l = 0; l < hi - lo; ++l) p[l] = x[X(l)];
-      HC_PETSC(VecRestoreArray(xv.v, &p));
-      HC_PETSC(MatMult(K.m, xv.v, y.v));
-      return gather(y.v);
-    };
-    owns_apply = true;
-  }
-
   HC_PETSC(MatCreateVecs(K.m, &f.v, nullptr));
   PetscScalar* pf;
   HC_PETSC(VecGetArray(f.v, &pf));
@@ -92,6 +76,19 @@ void Engine::assemble() {
   log_info() << "petsc: " << size << " rank(s), rows " << lo << ".." << hi << " of " << n << " on rank 0, assembled in "
              << short_number(timings["petsc_assembly"]) << " s, memory " << short_number(double(current_rss_kb()) / 1024.0)
              << " MB (rank 0)";
+}
+
+// K_x x for a whole x on every rank (collective): the judge's residual and a(u, u) on the replicated
+// mesh, where the model keeps no K_x (its rows live in PETSc, one rank's each).
+Eigen::VectorXd Engine::apply_K(const Eigen::VectorXd& x) const {
+  PVec xv, y;
+  HC_PETSC(MatCreateVecs(K.m, &xv.v, &y.v));
+  PetscScalar* p;
+  HC_PETSC(VecGetArray(xv.v, &p));
+  for (PetscInt l = 0; l < hi - lo; ++l) p[l] = x[X(l)];
+  HC_PETSC(VecRestoreArray(xv.v, &p));
+  HC_PETSC(MatMult(K.m, xv.v, y.v));
+  return gather(y.v);
 }
 
 void Engine::tao_vectors() {

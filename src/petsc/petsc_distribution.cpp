@@ -14,7 +14,7 @@
 
 namespace hemicontact::petsc_engine::detail {
 
-Engine::Engine(Model& m, const SolveOptions& o, MPI_Comm c, EngineReport& r) : md(m), opt(o), comm(c), rep(r) {
+Engine::Engine(const Model& m, const SolveOptions& o, MPI_Comm c, EngineReport& r) : md(m), opt(o), comm(c), rep(r) {
   init();
   (void)tao_type(opt.backend);  // refuse a non-TAO backend before any work
   // A rank without a cell of its own has no rows to assemble: refused, naming both counts.

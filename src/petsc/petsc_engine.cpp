@@ -116,7 +116,7 @@ void Engine::finish(Solution& s, Eigen::VectorXd x, clk::time_point t0) {
   s.backend_use.requested = opt.backend;
   s.backend_use.ran = !s.history.empty();
   if (!s.backend_use.ran) s.backend_use.not_run = "linear elasticity without contact: one CG solve is the answer";
-  evaluate_solution(md, opt, s);
+  evaluate_solution(md, opt, s, apply_K(s.x));
   close_record(s, t0, t1);
 }
 
@@ -162,12 +162,12 @@ void Engine::close_record(Solution& s, clk::time_point t0, clk::time_point t1) {
 
 }  // namespace detail
 
-Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report) {
+Solution solve(const Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report) {
   detail::Engine e(md, opt, comm, report);
   return e.run();
 }
 
-Solution solve_slabs(Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
+Solution solve_slabs(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
                      SlabResult& out) {
   detail::Engine e(md, slab, opt, comm, report, out);
   return e.run();

@@ -46,14 +46,15 @@ struct EngineReport {
 };
 
 /// Solve @p md on the ranks of @p comm (collective; every rank passes the same model and options).
-/// Each rank copies its rows of md.Kx into PETSc; the model itself is not changed (its K_x, the
-/// only stiffness it keeps, is what the certificate reads).
+/// Each rank copies its rows of md.Kx into PETSc, or assembles them where the model keeps no K_x
+/// (build_model(..., stiffness = false)); the judge's residual K x − f is PETSc's product. The model
+/// is not changed.
 /// @return the same Solution on every rank (x and u gathered).
 /// @throws Error EXIT_INPUT for what the engine cannot do (a nonlinear material, more ranks than
 ///         cells or than node blocks, a non-TAO backend), EXIT_NOT_CONVERGED when a Krylov solve
 ///         outside TAO fails (the message names PETSc's reason, e.g. KSP_DIVERGED_ITS). Collective:
 ///         every rank throws the same error.
-Solution solve(Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report);
+Solution solve(const Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report);
 
 /// A rank's piece of the distributed mesh (the distributed path: solver.petsc.mesh,
 /// docs/petsc-engine.md "Distributed mesh"): the local mesh holds every cell that touches an owned
@@ -134,6 +135,11 @@ Piece make_block(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh);
 /// errors (a missing file, a selector that selects nothing) are thrown on every rank alike.
 Piece make_plex_piece(const nlohmann::json& scene, const std::string& scene_dir, MPI_Comm comm, Mesh& mesh);
 
+/// @brief Complete this rank's piece's model (collective; after build_model(scene, mesh, false) of
+/// the piece's mesh succeeded on every rank): each ghost's Γ3 weight w from its owner, since the
+/// piece holds only some of a ghost's Γ3 facets. The model is not changed after this.
+void complete_ghost_weights(Model& piece, const Piece& pc, MPI_Comm comm);
+
 /// What the distributed path leaves for the writers: this rank's piece (the local nodes' u, the
 /// local Γ3 nodes' state and statuses, read with the global scales), and the report's reductions.
 struct SlabResult {
@@ -145,9 +151,9 @@ struct SlabResult {
 };
 
 /// @brief Solve on the slabs (collective; ssn, or TAO then the polish): as solve(), but @p md is this rank's
-/// slab (make_slab, build_model(scene, mesh, false)) and nothing global is gathered. @return the
+/// slab (make_slab, build_model(scene, mesh, false), complete_ghost_weights) and nothing global is gathered. @return the
 /// scalars of the answer (energies, certificate, verdict; its vectors empty); @p out the piece.
-Solution solve_slabs(Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
+Solution solve_slabs(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
                      SlabResult& out);
 
 /// Replace PETSc's error handler (traceback on every rank) by one that keeps the failure's first

@@ -17,7 +17,7 @@ Solution Engine::evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const
   Solution s;
   s.x = x;
   s.u = md.dofs.to_full(x);
-  evaluate_solution(md, o, s);
+  evaluate_solution(md, o, s, apply_K(x));
   return s;
 }
 

@@ -73,9 +73,85 @@ void count_whole_mesh(Piece& s, MPI_Comm comm) {
   MPI_Allreduce(&cells, &s.global_cells, 1, MPI_LONG, MPI_SUM, comm);
 }
 
+std::vector<Index> gamma3_index_of_nodes(const Model& md) {
+  std::vector<Index> k_of(static_cast<size_t>(md.mesh.num_nodes()), -1);
+  for (Index k = 0; k < md.contact.size(); ++k) k_of[static_cast<size_t>(md.contact.node[k])] = k;
+  return k_of;
+}
+
+// The requests: the ghosts grouped by owner (a counting sort), each group in local order; each rank
+// learns how many it is asked by whom (MPI_Alltoall), receives the numbers (MPI_Alltoallv) and finds
+// its owned node of each number.
+GhostAsk ask_owners(const Piece& pc, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const auto S = static_cast<size_t>(size);
+  GhostAsk a;
+  a.scount.assign(S, 0), a.sdispl.assign(S + 1, 0), a.rcount.assign(S, 0), a.rdispl.assign(S + 1, 0);
+  for (size_t v = 0; v < pc.owner.size(); ++v)
+    if (!pc.owned_node[v]) {
+      const int q = pc.owner[v];
+      if (q < 0 || q >= size || q == rank) throw Error("petsc engine: a ghost node without another owner", EXIT_INTERNAL);
+      ++a.scount[static_cast<size_t>(q)];
+    }
+  for (size_t q = 0; q < S; ++q) a.sdispl[q + 1] = a.sdispl[q] + a.scount[q];
+  std::vector<long> ask(static_cast<size_t>(a.sdispl[S]));
+  a.ghost.resize(ask.size());
+  std::vector<int> at(a.sdispl.begin(), a.sdispl.end() - 1);
+  for (size_t v = 0; v < pc.owner.size(); ++v)
+    if (!pc.owned_node[v]) {
+      const auto i = static_cast<size_t>(at[static_cast<size_t>(pc.owner[v])]++);
+      ask[i] = pc.global_node[v];
+      a.ghost[i] = static_cast<Index>(v);
+    }
+  MPI_Alltoall(a.scount.data(), 1, MPI_INT, a.rcount.data(), 1, MPI_INT, comm);
+  for (size_t q = 0; q < S; ++q) a.rdispl[q + 1] = a.rdispl[q] + a.rcount[q];
+  std::vector<long> asked(static_cast<size_t>(a.rdispl[S]));
+  MPI_Alltoallv(ask.data(), a.scount.data(), a.sdispl.data(), MPI_LONG, asked.data(), a.rcount.data(),
+                a.rdispl.data(), MPI_LONG, comm);
+  a.answer = owned_nodes_of(pc, asked);
+  return a;
+}
+
+// This rank's owned node of each global number asked (an internal error if it owns none).
+std::vector<Index> owned_nodes_of(const Piece& pc, const std::vector<long>& asked) {
+  std::vector<std::pair<long, Index>> by_global;
+  for (size_t v = 0; v < pc.owned_node.size(); ++v)
+    if (pc.owned_node[v]) by_global.emplace_back(pc.global_node[v], static_cast<Index>(v));
+  std::sort(by_global.begin(), by_global.end());
+  std::vector<Index> answer(asked.size());
+  for (size_t i = 0; i < asked.size(); ++i) {
+    const auto it = std::lower_bound(by_global.begin(), by_global.end(), std::make_pair(asked[i], Index(-1)));
+    if (it == by_global.end() || it->first != asked[i])
+      throw Error("petsc engine: a rank asked for the rows of node " + std::to_string(asked[i]) +
+                      ", which its owner does not own", EXIT_INTERNAL);
+    answer[i] = it->second;
+  }
+  return answer;
+}
+
+// A ghost's Γ3 weight w from its owner: the piece holds only some of a ghost's Γ3 facets, so its own
+// w would be partial (the state's tractions σ = R/w of the piece's ghosts, written in its VTU,
+// read it).
+void complete_ghost_weights(Model& md, const Piece& pc, MPI_Comm comm) {
+  const GhostAsk ask = ask_owners(pc, comm);
+  const std::vector<Index> k_of = gamma3_index_of_nodes(md);
+  std::vector<double> wout(ask.answer.size(), -1.0);
+  for (size_t i = 0; i < ask.answer.size(); ++i) {
+    const Index k = k_of[static_cast<size_t>(ask.answer[i])];
+    if (k >= 0) wout[i] = md.contact.w[k];
+  }
+  const std::vector<double> win = answer_ghosts(ask, wout, 1, MPI_DOUBLE, comm);
+  for (size_t i = 0; i < ask.ghost.size(); ++i) {
+    const Index k = k_of[static_cast<size_t>(ask.ghost[i])];
+    if (k >= 0 && win[i] >= 0) md.contact.w[k] = win[i];
+  }
+}
+
 namespace detail {
 
-Engine::Engine(Model& m, const Piece& sl, const SolveOptions& o, MPI_Comm c, EngineReport& r, SlabResult& out)
+Engine::Engine(const Model& m, const Piece& sl, const SolveOptions& o, MPI_Comm c, EngineReport& r, SlabResult& out)
     : md(m), opt(o), comm(c), rep(r), slab(&sl), slab_out(&out) {
   init();
 }
@@ -121,112 +197,69 @@ void Engine::distribute_slabs() {
   timings["petsc_partition"] = since(t0);
 }
 
-// Every ghost's rows from its owner, by the whole mesh's node number: each rank asks the owners of
-// its ghosts (MPI_Alltoallv of the numbers, grouped by owner), each owner answers with the PETSc
+// Every ghost's rows from its owner (ask_owners, answer_ghosts): each owner answers with the PETSc
 // rows of those nodes (d per node, −1 for a component without one), their coordinates (checked
-// against the ghost's: the same node) and their Γ3 weights w (−1 off Γ3), which a ghost's partial
-// set of facets would get wrong (the certificate and the piece's
-// tractions read w). A ghost whose unknowns differ from its owner's is a bug where the piece says
-// it is complete (an outer ghost keeps no row: its rows enter no owned row). Then each received
-// row is checked to lie in its owner's range of rows.
+// against the ghost's: the same node) and whether they are on Γ3 (the ghost's weight itself came
+// from its owner when the piece's model was built: build_piece_model). A ghost whose unknowns
+// differ from its owner's is a bug where the piece says it is complete (an outer ghost keeps no
+// row: its rows enter no owned row). Then each received row is checked to lie in its owner's range.
 void Engine::exchange_ghosts(const std::vector<Index>& sel) {
   const Piece& pc = *slab;
   const auto D = static_cast<size_t>(d);
-  const auto complete = [&](size_t v) { return pc.complete.empty() || pc.complete[v] != 0; };
-  std::vector<Index> k_of(static_cast<size_t>(md.mesh.num_nodes()), -1);
-  for (Index k = 0; k < md.contact.size(); ++k) k_of[static_cast<size_t>(md.contact.node[k])] = k;
-  // The requests: the ghosts grouped by owner (a counting sort), each group in local order.
-  const auto S = static_cast<size_t>(size);
-  std::vector<int> scount(S, 0), sdispl(S + 1, 0), rcount(S, 0), rdispl(S + 1, 0);
-  for (size_t v = 0; v < pc.owner.size(); ++v)
-    if (!pc.owned_node[v]) {
-      const int q = pc.owner[v];
-      if (q < 0 || q >= size || q == rank) throw Error("petsc engine: a ghost node without another owner", EXIT_INTERNAL);
-      ++scount[static_cast<size_t>(q)];
-    }
-  for (size_t q = 0; q < S; ++q) sdispl[q + 1] = sdispl[q] + scount[q];
-  std::vector<long> ask(static_cast<size_t>(sdispl[S]));
-  std::vector<Index> ghost(ask.size());
-  {
-    std::vector<int> at(sdispl.begin(), sdispl.end() - 1);
-    for (size_t v = 0; v < pc.owner.size(); ++v)
-      if (!pc.owned_node[v]) {
-        const auto i = static_cast<size_t>(at[static_cast<size_t>(pc.owner[v])]++);
-        ask[i] = pc.global_node[v];
-        ghost[i] = static_cast<Index>(v);
-      }
-  }
-  MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, comm);
-  for (size_t q = 0; q < S; ++q) rdispl[q + 1] = rdispl[q] + rcount[q];
-  std::vector<long> asked(static_cast<size_t>(rdispl[S]));
-  MPI_Alltoallv(ask.data(), scount.data(), sdispl.data(), MPI_LONG, asked.data(), rcount.data(), rdispl.data(),
-                MPI_LONG, comm);
-  // The answers: this rank's owned nodes by their global numbers.
-  std::vector<std::pair<long, Index>> by_global;
-  for (size_t v = 0; v < pc.owned_node.size(); ++v)
-    if (pc.owned_node[v]) by_global.emplace_back(pc.global_node[v], static_cast<Index>(v));
-  std::sort(by_global.begin(), by_global.end());
-  std::vector<PetscInt> rows(asked.size() * D);
-  std::vector<double> wout(asked.size(), -1.0), xout(asked.size() * D);
-  for (size_t i = 0; i < asked.size(); ++i) {
-    const auto it = std::lower_bound(by_global.begin(), by_global.end(), std::make_pair(asked[i], Index(-1)));
-    if (it == by_global.end() || it->first != asked[i])
-      throw Error("petsc engine: a rank asked for the rows of node " + std::to_string(asked[i]) +
-                      ", which its owner does not own", EXIT_INTERNAL);
-    const auto v = static_cast<size_t>(it->second);
+  const GhostAsk ask = ask_owners(pc, comm);
+  const std::vector<Index> k_of = gamma3_index_of_nodes(md);
+  std::vector<PetscInt> rows(ask.answer.size() * D);
+  std::vector<double> xout(ask.answer.size() * D), on3(ask.answer.size());
+  for (size_t i = 0; i < ask.answer.size(); ++i) {
+    const auto v = static_cast<size_t>(ask.answer[i]);
     for (size_t c = 0; c < D; ++c) {
       const Index x = sel[v * D + c];
       rows[i * D + c] = x < 0 ? -1 : perm[static_cast<size_t>(x)];
+      xout[i * D + c] = md.mesh.points(ask.answer[i], static_cast<Index>(c));
     }
-    if (k_of[v] >= 0) wout[i] = md.contact.w[k_of[v]];
-    for (size_t c = 0; c < D; ++c) xout[i * D + c] = md.mesh.points(it->second, static_cast<Index>(c));
+    on3[i] = k_of[v] >= 0;
   }
-  std::vector<int> sc(S), sd(S), rc(S), rd(S);
-  for (size_t q = 0; q < S; ++q)
-    sc[q] = rcount[q] * d, sd[q] = rdispl[q] * d, rc[q] = scount[q] * d, rd[q] = sdispl[q] * d;
-  std::vector<PetscInt> got(ask.size() * D);
-  std::vector<double> win(ask.size()), xin(ask.size() * D);
-  MPI_Alltoallv(rows.data(), sc.data(), sd.data(), MPIU_INT, got.data(), rc.data(), rd.data(), MPIU_INT, comm);
-  MPI_Alltoallv(xout.data(), sc.data(), sd.data(), MPI_DOUBLE, xin.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
-  MPI_Alltoallv(wout.data(), rcount.data(), rdispl.data(), MPI_DOUBLE, win.data(), scount.data(), sdispl.data(),
-                MPI_DOUBLE, comm);
-  // Each owner's range of rows, to check that a ghost's rows are its owner's.
-  std::vector<PetscInt> first(S), last(S);
+  const std::vector<PetscInt> got = answer_ghosts(ask, rows, d, MPIU_INT, comm);
+  const std::vector<double> xin = answer_ghosts(ask, xout, d, MPI_DOUBLE, comm);
+  const std::vector<double> in3 = answer_ghosts(ask, on3, 1, MPI_DOUBLE, comm);
+  std::vector<PetscInt> first(static_cast<size_t>(size)), last(static_cast<size_t>(size));
   MPI_Allgather(&lo, 1, MPIU_INT, first.data(), 1, MPIU_INT, comm);
   MPI_Allgather(&hi, 1, MPIU_INT, last.data(), 1, MPIU_INT, comm);
   long given = 0;
-  for (size_t i = 0; i < ghost.size(); ++i) {
-    const auto v = static_cast<size_t>(ghost[i]);
-    const auto q = static_cast<size_t>(pc.owner[v]);
-    // The owner's node of that number is this one: at the same place (both pieces made its
-    // coordinates by the same formula, or carried the file's).
-    for (size_t c = 0; c < D; ++c) {
-      const double here = md.mesh.points(static_cast<Index>(v), static_cast<Index>(c)), there = xin[i * D + c];
-      if (!(std::abs(here - there) <= 1e-12 * std::max(1.0, std::abs(here))))
-        throw Error("petsc engine: ghost node " + std::to_string(pc.global_node[v]) + " is not where its owner has it",
-                    EXIT_INTERNAL);
-    }
-    bool same = (k_of[v] >= 0) == (win[i] >= 0);
+  for (size_t i = 0; i < ask.ghost.size(); ++i) {
+    const auto v = static_cast<size_t>(ask.ghost[i]);
+    check_same_place(ask.ghost[i], xin.data() + i * D);
+    bool same = (k_of[v] >= 0) == (in3[i] != 0);
     for (size_t c = 0; c < D; ++c) same = same && ((sel[v * D + c] < 0) == (got[i * D + c] < 0));
     if (!same) {
-      if (complete(v)) throw Error("petsc engine: a ghost node's unknowns differ from its owner's", EXIT_INTERNAL);
+      if (pc.complete.empty() || pc.complete[v]) throw Error("petsc engine: a ghost node's unknowns differ from its owner's", EXIT_INTERNAL);
       continue;  // an outer ghost: no row (its unknowns are not read)
     }
+    const auto q = static_cast<size_t>(pc.owner[v]);
     for (size_t c = 0; c < D; ++c) {
       const Index x = sel[v * D + c];
       const PetscInt p = got[i * D + c];
       if (x < 0) continue;
-      if (p < first[q] || p >= last[q])
-        throw Error("petsc engine: a ghost's row is not in its owner's range", EXIT_INTERNAL);
+      if (p < first[q] || p >= last[q]) throw Error("petsc engine: a ghost's row is not in its owner's range", EXIT_INTERNAL);
       perm[static_cast<size_t>(x)] = p;
     }
-    if (k_of[v] >= 0) md.contact.w[k_of[v]] = win[i];
     ++given;
   }
   for (size_t j = 0; j < sel.size(); ++j)
-    if (sel[j] >= 0 && perm[static_cast<size_t>(sel[j])] < 0 && complete(j / D))
+    if (sel[j] >= 0 && perm[static_cast<size_t>(sel[j])] < 0 && (pc.complete.empty() || pc.complete[j / D]))
       throw Error("petsc engine: a ghost unknown of the piece got no row from its owner", EXIT_INTERNAL);
   MPI_Allreduce(&given, &slab_out->ghosts, 1, MPI_LONG, MPI_SUM, comm);
+}
+
+// The owner's node of that number is this one: at the same place (both pieces made its coordinates
+// by the same formula, or carried the file's).
+void Engine::check_same_place(Index v, const double* there) const {
+  for (int c = 0; c < d; ++c) {
+    const double here = md.mesh.points(v, c);
+    if (!(std::abs(here - there[c]) <= 1e-12 * std::max(1.0, std::abs(here))))
+      throw Error("petsc engine: ghost node " + std::to_string(slab->global_node[static_cast<size_t>(v)]) +
+                      " is not where its owner has it", EXIT_INTERNAL);
+  }
 }
 
 }  // namespace detail

@@ -105,22 +105,15 @@ std::vector<Gamma3Row> gather_rows(const std::vector<Gamma3Row>& mine, int dim, 
 
 // This rank's piece: the VTU of its owned cells (the ghost layer is the rank below's), and the CSV
 // of its owned Γ3 nodes (each node in one piece only), indexed as in the whole list.
-void write_piece(const std::string& dir, const nlohmann::json& scene, Model& md, const Piece& slab,
+void write_piece(const std::string& dir, const nlohmann::json& scene, const Model& md, const Piece& slab,
                  const SlabResult& out, const std::vector<Gamma3Row>& rows, const std::vector<long>& index, int rank) {
   const std::filesystem::path p(dir);
   if (scene.at("output").at("vtu").get<bool>()) {
-    IMat owned(static_cast<Index>(std::count(slab.owned_cell.begin(), slab.owned_cell.end(), 1)), md.mesh.cells.cols());
-    for (Index c = 0, r = 0; c < md.mesh.num_cells(); ++c)
-      if (slab.owned_cell[static_cast<size_t>(c)]) owned.row(r++) = md.mesh.cells.row(c);
-    std::swap(owned, md.mesh.cells);
+    std::vector<Index> owned;
+    for (Index c = 0; c < md.mesh.num_cells(); ++c)
+      if (slab.owned_cell[static_cast<size_t>(c)]) owned.push_back(c);
     const VtuFormat f = scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
-    try {
-      write_vtu((p / piece_name("solution_rank", rank, ".vtu")).string(), md, out.piece, f);
-    } catch (...) {
-      std::swap(owned, md.mesh.cells);
-      throw;
-    }
-    std::swap(owned, md.mesh.cells);
+    write_vtu((p / piece_name("solution_rank", rank, ".vtu")).string(), md, out.piece, f, nullptr, &owned);
   }
   if (scene.at("output").at("csv").get<bool>())
     write_gamma3_csv((p / piece_name("gamma3_rank", rank, ".csv")).string(), md.dim(), rows, index);
@@ -199,7 +192,7 @@ std::vector<OutputNamePattern> slab_output_patterns() {
   return {{"solution_rank", ".vtu"}, {"gamma3_rank", ".csv"}};
 }
 
-void write_slab_results(const std::string& dir, const nlohmann::json& scene, Model& md, const Piece& slab,
+void write_slab_results(const std::string& dir, const nlohmann::json& scene, const Model& md, const Piece& slab,
                         const Solution& sol, const SlabResult& out, const SolveOptions& opt, const EngineReport& er,
                         MPI_Comm comm, const std::function<void()>& before_report) {
   int rank = 0, size = 1;

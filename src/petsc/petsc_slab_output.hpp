@@ -22,7 +22,7 @@ std::vector<OutputNamePattern> slab_output_patterns();
 /// @param before_report run on rank 0 once the pieces and the .pvtu are written, before report.json
 ///        (the picture, whose file the report then lists); may be empty
 /// @throws Error (EXIT_OUTPUT) on every rank when a rank could not write its files
-void write_slab_results(const std::string& dir, const nlohmann::json& scene, Model& md, const Piece& slab,
+void write_slab_results(const std::string& dir, const nlohmann::json& scene, const Model& md, const Piece& slab,
                         const Solution& sol, const SlabResult& out, const SolveOptions& opt, const EngineReport& er,
                         MPI_Comm comm, const std::function<void()>& before_report);
 

@@ -301,7 +301,7 @@ long Engine::ssn_stop_reversals(Ssn& s) {
 
 // K put back, the record of the run, and the certified answer.
 Solution Engine::ssn_finish(Ssn& s, int k, bool converged, clk::time_point t0, clk::time_point t_loop) {
-  restore_band(s.band);  // K as assembled, for the certificate (md.Kx_apply) and the energies
+  restore_band(s.band);  // K as assembled, for the certificate (apply_K) and the energies
   timings["backend"] = since(t_loop);
   U_s = 1;
   sol.x_scale = 1;

@@ -14,6 +14,10 @@ namespace hemicontact {
 /// state, status, certificate and energies).
 void evaluate_solution(const Model& model, const SolveOptions& options, Solution& sol);
 
+/// The same for a linear material with @p Kx_x = K_x x (x the reduced sol.u) given by the caller:
+/// an engine that keeps K itself (the petsc engine's model keeps no K_x).
+void evaluate_solution(const Model& model, const SolveOptions& options, Solution& sol, const Vec& Kx_x);
+
 /// The judge (check/judge.hpp) over @p scope with @p reduce, of sol.u and sol.state (already set),
 /// into sol: certificate, statuses, Γ3 energy terms, max u_ν, status counts.
 void apply_judgement(const Model& model, const SolveOptions& options, Solution& sol, const JudgeScope& scope,

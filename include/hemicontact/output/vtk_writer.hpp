@@ -61,8 +61,9 @@ enum class VtuFormat { BINARY, ASCII };
 ///         Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
 /// @param format binary (appended, compressed with zlib when available; the default) or ASCII
 /// @param error_indicator per-cell η_T written as CellData "error_indicator" (null or empty: none)
+/// @param cells the cells written (a distributed piece's own; its points are all written), null: all
 void write_vtu(const std::string& path, const Model& md, const Solution& sol, VtuFormat format = VtuFormat::BINARY,
-               const Vec* error_indicator = nullptr);
+               const Vec* error_indicator = nullptr, const std::vector<Index>* cells = nullptr);
 
 /// @brief Write a ParaView collection (.pvd) of VTU files: one DataSet per entry, its "timestep"
 /// the entry's number (the mesh level of a convergence study, the index of a distinct solution),

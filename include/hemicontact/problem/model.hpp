@@ -28,12 +28,11 @@ struct Model {
   ContactNodes contact;                                  ///< Γ3 nodes, weights, frames, g_i
   DofMap dofs;                                           ///< full ↔ reduced unknowns
   Vec f;                                                 ///< full load vector, eq. (17)
-  MovableSpMat Kx;  ///< reduced stiffness Tᵀ K T (nonlinear F: tangent at u = 0); the only copy of K
+  /// reduced stiffness Tᵀ K T (nonlinear F: tangent at u = 0); the only copy of K. Empty in the
+  /// petsc engine's models (build_model(..., stiffness = false)): each rank assembles its rows into
+  /// PETSc, and internal_force, a and elastic_energy of a linear material refuse (EXIT_INTERNAL).
+  MovableSpMat Kx;
   Vec fx;                                                ///< reduced load Tᵀ f
-  /// y = K_x x when this process does not keep K_x (Kx empty): the petsc engine's distributed model,
-  /// where each rank holds only its rows of K_x, inside PETSc. Collective there: the
-  /// certificate (internal_force) and a(u, u) call it on every rank at once.
-  std::function<Vec(const Vec&)> Kx_apply;
   std::shared_ptr<const PiecewiseLinearLaw> normal_law;  ///< exact p_ν; null: no soft layer
   std::shared_ptr<const FrictionBound> friction;         ///< F_b; null: frictionless
   std::map<std::string, double> timings;                 ///< seconds: mesh, assembly, ...
