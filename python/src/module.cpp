@@ -2,8 +2,8 @@
 // package python/hemicontact/__init__.py wraps it (Result's properties, meshio export, docs).
 //
 // Every call goes through the same library functions as the CLI (src/cli): load_scene /
-// load_scene_text with --set assignments, build_model + solve or run_adaptive, make_report, the
-// writers of output/solve_files.hpp, find_minima + minima_json, run_convergence +
+// load_scene_text with --set assignments, solve_scene and write_scene_solve (studies/scene_solve.hpp,
+// the CLI's and hemicontact-mpi's solve too), find_minima + minima_json, run_convergence +
 // convergence_json. What differs is the host's side:
 //  - the GIL is released for the whole solve or study (build, solve, report), so solves in Python
 //    threads run side by side;
@@ -22,6 +22,7 @@
 #include <hemicontact/output/solve_files.hpp>
 #include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
+#include <hemicontact/studies/scene_solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/adapt.hpp>
@@ -259,19 +260,11 @@ void refuse_petsc(const json& scene, const char* what) {
 // ------------------------------------------------------------------ results
 // One solve's model, solution and what its report needs; shared by the Result and, for minima,
 // by each distinct solution's Result (one model).
-struct Solved {
-  std::shared_ptr<const Model> model;
-  Solution sol;
-  SolveOptions opt;
-  json scene;
-  json extra = json::object();  // report keys beside make_report's (the adaptive history)
-  std::optional<Vec> indicators;  // adaptive: the final mesh's error indicators (VTU)
-  std::optional<AdaptOptions> adapt;
-  std::vector<AdaptLevel> adapt_levels;
+struct Solved : SceneSolve {
   std::optional<json> report_cache;
 
   const json& report() {
-    if (!report_cache) report_cache = solve_report(*model, sol, opt, extra);
+    if (!report_cache) report_cache = scene_solve_report(*this);
     return *report_cache;
   }
 };
@@ -295,34 +288,16 @@ py::array_t<std::int64_t> int_matrix(const IMat& m) {
   return a;
 }
 
-std::shared_ptr<Solved> solve_scene(const Scene& s, const std::vector<std::string>& extra) {
+std::shared_ptr<Solved> py_solve(const Scene& s, const std::vector<std::string>& extra) {
   const json scene = s.with(extra);
   refuse_petsc(scene, "solve");
-  const SolveOptions opt = solve_options_from_scene(scene);
-  const std::string dir = s.directory;
+  (void)solve_options_from_scene(scene);  // its input errors before the GIL is released
   return run_released([&] {
     auto out = std::make_shared<Solved>();
-    out->opt = opt;
-    out->scene = scene;
-    const auto t0 = std::chrono::steady_clock::now();
-    if (adapt_requested(scene)) {
-      // As `hemicontact solve` with adapt.target_error: the final mesh's model and solution, the
-      // loop's history in the report.
-      const AdaptOptions aopt = adapt_options_from_scene(scene);
-      AdaptResult adapted = run_adaptive(scene, build_mesh(scene, dir), aopt, opt);
-      std::string missed;
-      out->extra = adapt_solve_extra(adapted, aopt, missed);
-      if (!missed.empty()) log_warn() << missed;
-      out->indicators = adapted.estimate.eta;
-      out->adapt = aopt;
-      out->adapt_levels = adapted.history;
-      out->model = std::make_shared<const Model>(std::move(adapted.model));
-      out->sol = std::move(adapted.solution);
-    } else {
-      out->model = std::make_shared<const Model>(build_model(scene, dir));
-      out->sol = solve(*out->model, opt);
-    }
-    out->sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // As `hemicontact solve` (studies/scene_solve.hpp); with adapt.target_error the final mesh's
+    // model and solution, the loop's history in the report.
+    static_cast<SceneSolve&>(*out) = solve_scene(scene, s.directory);
+    if (!out->missed.empty()) log_warn() << out->missed;
     return out;
   });
 }
@@ -336,19 +311,14 @@ void write_result(Solved& r, const std::string& folder, bool force) {
     static std::mutex write_mutex;
     const std::lock_guard<std::mutex> serial(write_mutex);
     const OutputLock lock = prepare_output_dir(folder, force, solve_output_names());
-    if (r.adapt) {
-      const json levels = adapt_levels_json(r.adapt_levels, *r.adapt, false);
-      write_text_file(folder + "/" + ADAPT_LEVELS_FILE, levels.dump(2) + "\n");
-    }
-    write_solution_files(folder, r.scene, *r.model, r.sol, r.indicators ? &*r.indicators : nullptr);
-    write_final_report(folder, report);
+    write_scene_solve(folder, r, report);
     return 0;
   });
 }
 
 py::dict gamma3_arrays(const Solved& r) {
   const Model& md = *r.model;
-  const ContactState& st = r.sol.state;
+  const ContactState& st = r.solution.state;
   py::array_t<std::int64_t> nodes(static_cast<py::ssize_t>(md.contact.node.size()));
   std::copy(md.contact.node.begin(), md.contact.node.end(), nodes.mutable_data());
   RowMat x(md.contact.size(), md.dim());
@@ -371,7 +341,7 @@ py::dict gamma3_arrays(const Solved& r) {
 // The strain, stress and von Mises stress per cell: the VTU writer's own computation
 // (output/vtk_writer.hpp), not a copy of it.
 py::dict cell_field_arrays(const Solved& r) {
-  const CellFields f = cell_fields(*r.model, r.sol);
+  const CellFields f = cell_fields(*r.model, r.solution);
   py::dict d;
   d["strain"] = matrix(f.strain.data(), f.strain.rows(), f.strain.cols());
   d["stress"] = matrix(f.stress.data(), f.stress.rows(), f.stress.cols());
@@ -414,7 +384,7 @@ py::object minima_study(const Scene& s, const std::vector<std::string>& extra, M
     for (const auto& d : r.solutions) {
       auto one = std::make_shared<Solved>();
       one->model = md;
-      one->sol = d.solution;
+      one->solution = d.solution;
       one->opt = opt;
       one->scene = scene;
       sols.push_back(one);
@@ -505,20 +475,20 @@ PYBIND11_MODULE(_hemicontact, m) {
       .def_property_readonly("overrides", [](const Scene& s) { return s.overrides; });
 
   py::class_<Solved, std::shared_ptr<Solved>>(m, "_Solved")
-      .def_property_readonly("energy", [](const Solved& r) { return r.sol.energy; })
-      .def_property_readonly("energy_norm", [](const Solved& r) { return r.sol.energy_norm; })
+      .def_property_readonly("energy", [](const Solved& r) { return r.solution.energy; })
+      .def_property_readonly("energy_norm", [](const Solved& r) { return r.solution.energy_norm; })
       .def_property_readonly("ok", [](Solved& r) { return r.report().value("ok", false); })
       .def_property_readonly("message", [](Solved& r) { return r.report().value("message", std::string()); })
-      .def_property_readonly("solved_by", [](const Solved& r) { return r.sol.solved_by(); })
+      .def_property_readonly("solved_by", [](const Solved& r) { return r.solution.solved_by(); })
       .def_property_readonly("dim", [](const Solved& r) { return r.model->dim(); })
-      .def_property_readonly("certificate", [](const Solved& r) { return certificate_dict(r.sol.certificate); })
+      .def_property_readonly("certificate", [](const Solved& r) { return certificate_dict(r.solution.certificate); })
       .def_property_readonly("statuses",
                              [](const Solved& r) {
                                std::vector<std::string> s;
-                               for (const NodeStatus& n : r.sol.status) s.push_back(n.str());
+                               for (const NodeStatus& n : r.solution.status) s.push_back(n.str());
                                return s;
                              })
-      .def_property_readonly("status_counts", [](const Solved& r) { return r.sol.status_counts(); })
+      .def_property_readonly("status_counts", [](const Solved& r) { return r.solution.status_counts(); })
       .def_property_readonly("points",
                              [](const Solved& r) {
                                const RowMat& p = r.model->mesh.points;
@@ -528,17 +498,17 @@ PYBIND11_MODULE(_hemicontact, m) {
       .def_property_readonly("u",
                              [](const Solved& r) {
                                const Index d = r.model->dim();
-                               return matrix(r.sol.u.data(), r.sol.u.size() / d, d);
+                               return matrix(r.solution.u.data(), r.solution.u.size() / d, d);
                              })
       .def_property_readonly("gamma3", &gamma3_arrays)
       .def_property_readonly("cell_fields", &cell_field_arrays)
-      .def_property_readonly("timings", [](const Solved& r) { return r.sol.timings; })
+      .def_property_readonly("timings", [](const Solved& r) { return r.solution.timings; })
       .def_property_readonly("scene", [](const Solved& r) { return to_py(r.scene); })
       .def("report", [](Solved& r) { return to_py(r.report()); })
-      .def("summary", [](const Solved& r) { return summary_table(*r.model, r.sol); })
+      .def("summary", [](const Solved& r) { return summary_table(*r.model, r.solution); })
       .def("write", &write_result, py::arg("folder"), py::arg("force") = false);
 
-  m.def("solve", &solve_scene, py::arg("scene"), py::arg("assignments"));
+  m.def("solve", &py_solve, py::arg("scene"), py::arg("assignments"));
   m.def(
       "minima",
       [](const Scene& s, const std::vector<std::string>& extra, int starts, unsigned seed,

@@ -13,6 +13,7 @@
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/adapt.hpp>
 #include <hemicontact/solver/engine_choice.hpp>
+#include <hemicontact/studies/scene_solve.hpp>
 #include <hemicontact/solver/solve.hpp>
 #include <hemicontact/studies/adapt_study.hpp>
 #include <hemicontact/studies/minima.hpp>
@@ -188,62 +189,31 @@ int cmd_solve(const std::vector<std::string>& args) {
   const EngineChoice engine = choose_engine(scene, HEMICONTACT_HAS_PETSC, adapt_requested(scene));
   if (engine.automatic) log_info() << "engine " << engine.engine << " (auto): " << engine.reason;
   if (engine.engine == "petsc") {
-    if (adapt_requested(scene))
-      input_error("adapt.target_error: adaptive refinement runs on the cholmod engine only (solver.engine = petsc)");
+    refuse_adaptive_outside_cholmod(scene);
     std::fflush(nullptr);
     return exec_petsc_engine(args);
   }
   refuse_mpi_ranks("solve");  // before the folder: ranks racing for it is what this prevents
   // Held until the program ends: no other run writes into this folder meanwhile.
   const OutputLock lock = prepare_output_dir(a.out, a.force, solve_output_names());
-  const SolveOptions opt = solve_options_from_scene(scene);
-  // adapt.target_error set: the adaptive loop (solver/adapt.hpp) from the scene's mesh; the final
-  // mesh's model and solution are written as a plain solve's, with the indicators in the VTU.
-  const bool adaptive = adapt_requested(scene);
-  AdaptResult adapted;
-  AdaptOptions aopt;
-  if (adaptive) {
-    aopt = adapt_options_from_scene(scene);
-    // Each certified level is kept as it ends (adapt_levels.json, rewritten whole and atomically,
-    // labelled partial until the loop ends): an interrupted or failed run keeps its certified
-    // levels.
-    std::vector<AdaptLevel> levels_so_far;
-    const auto write_levels = [&](bool partial) {
-      const nlohmann::json j = adapt_levels_json(levels_so_far, aopt, partial);
-      write_text_file((std::filesystem::path(a.out) / ADAPT_LEVELS_FILE).string(), j.dump(2) + "\n");
-    };
-    const auto keep_level = [&](const AdaptLevel& L, const Model&, const Solution&, const ErrorEstimate&) {
-      levels_so_far.push_back(L);
-      write_levels(true);
-    };
-    adapted = run_adaptive(scene, build_mesh(scene, scene_directory(a.scene)), aopt, opt, keep_level);
-    write_levels(false);  // the loop has ended: the same levels, no longer partial
-  } else {
-    adapted.model = build_model(scene, scene_directory(a.scene));
-    adapted.solution = solve(adapted.model, opt);
-  }
-  const Model& md = adapted.model;
-  Solution& sol = adapted.solution;
-  sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  nlohmann::json extra = nlohmann::json::object();
-  std::string missed;  // why a requested target was not met (empty: met, or nothing requested)
-  if (adaptive) {
-    const AdaptLevel& last = adapted.history.back();
-    std::printf("adapt: %zu levels, %lld dofs, estimate %.3g (target %.3g, %s), %.3g s\n", adapted.history.size(),
-                static_cast<long long>(last.dofs), last.estimate, aopt.target_error, adapted.stop_reason.c_str(),
+  // adapt.target_error set: the adaptive loop from the scene's mesh (solve_scene). Each certified
+  // level is kept as it ends (adapt_levels.json, rewritten whole and atomically, labelled partial
+  // until the loop ends): an interrupted or failed run keeps its certified levels.
+  const auto keep_levels = [&](const std::vector<AdaptLevel>& levels) {
+    const nlohmann::json j = adapt_levels_json(levels, adapt_options_from_scene(scene), /*partial=*/true);
+    write_text_file((std::filesystem::path(a.out) / ADAPT_LEVELS_FILE).string(), j.dump(2) + "\n");
+  };
+  SceneSolve r = solve_scene(scene, scene_directory(a.scene), keep_levels);
+  r.solution.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (r.adapt) {
+    const AdaptLevel& last = r.adapt_levels.back();
+    std::printf("adapt: %zu levels, %lld dofs, estimate %.3g (target %.3g, %s), %.3g s\n", r.adapt_levels.size(),
+                static_cast<long long>(last.dofs), last.estimate, r.adapt->target_error, r.stop_reason.c_str(),
                 last.cumulative_seconds);
-    // A cap that stops the loop above the target is not success (it once exited 0, "ok": true).
-    // An uncertified level is the verdict's own business (exit 3 or 4).
-    extra = adapt_solve_extra(adapted, aopt, missed);
   }
-  extra["engine_choice"] = engine_choice_json(engine);
-  write_solve_results(a, plot_args, scene, md, sol, opt, extra, adaptive ? &adapted.estimate.eta : nullptr);
-  const int verdict = solve_verdict(sol, opt);
-  if (verdict == EXIT_OK && !missed.empty()) {
-    log_warn() << missed;
-    return EXIT_NOT_CONVERGED;
-  }
-  return verdict;
+  r.extra["engine_choice"] = engine_choice_json(engine);
+  write_solve_results(a, plot_args, r, scene_solve_report(r));
+  return solve_exit_code(r);
 }
 
 int cmd_backends(const std::vector<std::string>& args) {

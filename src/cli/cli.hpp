@@ -1,6 +1,7 @@
 #pragma once
 // Command-line front end: argument parsing and the commands (private to the program).
 
+#include <hemicontact/studies/scene_solve.hpp>
 #include <hemicontact/output/solve_files.hpp>
 #include <hemicontact/problem/minima_report.hpp>
 #include <hemicontact/problem/model.hpp>
@@ -53,19 +54,15 @@ int cmd_solve(const std::vector<std::string>& args);
 int exec_petsc_engine(const std::vector<std::string>& args);
 /// The plotting script's arguments of `solve` (its --magnification checked). @throws UsageError
 std::vector<std::string> solve_plot_args(const SceneArgs& a);
-/// Write solution.vtu, gamma3.csv, the summary on stdout, the picture (--plot) and report.json
-/// (with the keys of @p extra added, e.g. the petsc engine's record or the adaptive history) into
-/// the locked folder a.out; @p cell_indicators (adaptive runs) become the VTU's error_indicator.
-void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
-                         const Model& md, const Solution& sol, const SolveOptions& opt, const nlohmann::json& extra,
-                         const Vec* cell_indicators = nullptr);
+/// Write @p r's files (write_scene_solve), the summary on stdout, the picture (--plot) and
+/// @p report as report.json into the locked folder a.out.
+void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plot_args, const SceneSolve& r,
+                         const nlohmann::json& report);
 /// With --plot or output.plot: draw the solve's picture into a.out (2D fig2.png from the VTU, 3D
 /// status3d.png from the Γ3 CSV; the petsc engine's slabs: from their pieces) and list it in the
 /// folder's manifest; a picture that could not be drawn is a warning, not an error.
 void draw_solve_picture(const SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
                         int dim);
-/// The exit code of a solve: the certificate decides (EXIT_OK, EXIT_NOT_CONVERGED, EXIT_CERTIFICATE).
-int solve_verdict(const Solution& sol, const SolveOptions& opt);
 /// The options every scene command takes (args.cpp), for the commands' help texts; the defaults
 /// it states come from the scene schema.
 std::string scene_options_help();

@@ -1,13 +1,13 @@
 // What `hemicontact solve` does after the solve, shared by both engines (the cholmod engine in
-// cli.cpp, the petsc engine's rank 0 in src/petsc/main_mpi.cpp): the result files, the summary and
-// the exit code.
+// cli.cpp, the petsc engine's rank 0 in src/petsc/main_mpi.cpp): the result files (write_scene_solve),
+// the summary on stdout and the picture.
 #include "cli.hpp"
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/output/report.hpp>
-#include <hemicontact/output/solve_files.hpp>
+#include <hemicontact/studies/scene_solve.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -29,14 +29,12 @@ std::vector<std::string> solve_plot_args(const SceneArgs& a) {
   return plot_args;
 }
 
-void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
-                         const Model& md, const Solution& sol, const SolveOptions& opt, const nlohmann::json& extra,
-                         const Vec* cell_indicators) {
-  // report.json comes last: it lists every file of the set ("files") and marks it complete.
-  write_solution_files(a.out, scene, md, sol, cell_indicators);
-  std::fputs(summary_table(md, sol).c_str(), stdout);
-  draw_solve_picture(a, plot_args, scene, md.dim());
-  write_final_report(a.out, solve_report(md, sol, opt, extra));
+void write_solve_results(const SceneArgs& a, const std::vector<std::string>& plot_args, const SceneSolve& r,
+                         const nlohmann::json& report) {
+  write_scene_solve(a.out, r, report, [&] {
+    std::fputs(summary_table(*r.model, r.solution).c_str(), stdout);
+    draw_solve_picture(a, plot_args, r.scene, r.model->dim());
+  });
   std::printf("results in %s\n", a.out.c_str());
 }
 
@@ -50,28 +48,6 @@ void draw_solve_picture(const SceneArgs& a, const std::vector<std::string>& plot
   if (run_plot_script(d3 ? "plot_status3d.py" : "plot_fig2.py", plot_args, (out / picture).string()) != 0)
     log_warn() << "--plot: " << (out / picture).string() << " was not written (the solve's results are)";
   if (std::filesystem::exists(out / picture)) record_output_file((out / picture).string());
-}
-
-int solve_verdict(const Solution& sol, const SolveOptions& opt) {
-  // The certificate decides: a backend that reports failure but whose (polished) answer is certified
-  // is accepted with a warning; an uncertified answer fails, as "not converged" when the backend or
-  // the fixed point said so, as "certificate failed" otherwise.
-  if (!sol.fixed_point_converged || (!sol.backend_ok && !sol.certificate.passed)) {
-    log_warn() << sol.message;
-    // allow_not_converged accepts an unconverged fixed point only when its answer is certified:
-    // an answer that fails the certificate never exits 0, since exit 0 promises a solution.
-    if (opt.allow_not_converged && sol.certificate.passed) {
-      log_warn() << "solver.fixed_point.allow_not_converged: accepted, the certificate passed";
-      return EXIT_OK;
-    }
-    return EXIT_NOT_CONVERGED;
-  }
-  if (!sol.certificate.passed) {
-    log_warn() << "certificate failed: max residual " << sol.certificate.max_residual << " > " << sol.certificate.tol;
-    return EXIT_CERTIFICATE;
-  }
-  if (!sol.backend_ok) log_warn() << sol.message;
-  return EXIT_OK;
 }
 
 }  // namespace hemicontact::cli

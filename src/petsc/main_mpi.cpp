@@ -26,6 +26,7 @@
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/mesh/boundary.hpp>
 #include <hemicontact/output/output_dir.hpp>
+#include <hemicontact/studies/scene_solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/scene/slab_mesh.hpp>
@@ -206,7 +207,7 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
              << er.json.value("krylov_iterations", 0L) << " Krylov iterations, peak memory "
              << er.json.value("peak_rss_mb_sum", 0.0) << " MB over the ranks, certificate "
              << sol.certificate.max_residual;
-  return cli::solve_verdict(sol, opt);
+  return solve_exit_code(sol, opt);
 }
 
 // The output folder: rank 0 locks it (held until the end, the returned lock) and tells the others
@@ -236,7 +237,8 @@ std::optional<OutputLock> lock_output(const cli::SceneArgs& a, int rank, MPI_Com
 void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt) {
   on_every_rank(comm, [&] {
     scene = load_scene(a.scene, a.overrides);
-    const EngineChoice ec = choose_engine(scene, true, false);  // the CLI refuses adapt with petsc before the exec
+    refuse_adaptive_outside_cholmod(scene);  // as the CLI does before it runs this program
+    const EngineChoice ec = choose_engine(scene, true, false);
     engine_choice = engine_choice_json(
         ec.engine == "petsc" ? ec
                              : EngineChoice{"petsc", ec.automatic, "hemicontact-mpi is the petsc engine (" + ec.reason + ")"});
@@ -252,6 +254,49 @@ void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, S
     }
     (void)petsc_engine::tao_type(opt.backend);  // a non-TAO backend is refused before any work
   });
+}
+
+// The replicated mesh (solver.petsc.mesh = replicated, @p why): every rank builds the whole model
+// without K_x and solves it with the engine (solve_scene with the petsc engine); rank 0 writes.
+int run_replicated(const cli::SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
+                   MPI_Comm comm, std::chrono::steady_clock::time_point t0, const std::string& why) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  int code = 0;
+  std::string message;
+  log_info() << "petsc: the whole mesh on every rank (" << why << ")";
+
+  petsc_engine::EngineReport er;
+  er.json["engine_choice"] = engine_choice;
+  // No K_x in the model: each rank assembles its own rows into PETSc (petsc_assembly.cpp).
+  const auto engine = [&](const Model& md, const SolveOptions& o) {
+    // The mesh checks and the boundary extraction free ~0.5 KB per unknown of small blocks that
+    // glibc keeps in the heap: returned to the system here, since every rank holds the model
+    // (measured: 586 -> ~100 MB per rank on the 70^3 box).
+    malloc_trim(0);
+    log_info() << "model built: memory " << petsc_engine::current_rss_kb() / 1024 << " MB (rank 0)";
+    return petsc_engine::solve(md, o, comm, er);
+  };
+  SceneSolve r = solve_scene_with(scene, scene_directory(a.scene), engine, /*keep_stiffness=*/false);
+  r.solution.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  er.json["mesh"] = "replicated";
+  er.json["mesh_reason"] = why;
+  r.extra = {{"engine", "petsc"}, {"engine_choice", engine_choice}, {"petsc", er.json}};
+  if (rank == 0) {
+    try {
+      cli::write_solve_results(a, plot_args, r, scene_solve_report(r));
+      log_info() << "petsc: " << size << " rank(s), " << er.json.value("newton_iterations", 0L)
+                 << " Newton and " << er.json.value("krylov_iterations", 0L) << " Krylov iterations, peak memory "
+                 << er.json.value("peak_rss_mb_sum", 0.0) << " MB over the ranks";
+    } catch (const Error& e) {
+      code = e.code();
+      message = e.what();
+    }
+  }
+  share(code, message, comm);
+  if (code != 0) throw SharedError(message, static_cast<ExitCode>(code));
+  return solve_exit_code(r);
 }
 
 int run(const std::vector<std::string>& args, MPI_Comm comm) {
@@ -277,41 +322,10 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   read_scene(a, comm, scene, opt);
 
   const std::optional<OutputLock> lock = lock_output(a, rank, comm);
-  int code = 0;
-  std::string message;
   std::string replicated;
   const std::string layout = distributed_layout(scene, opt, comm, replicated);
   if (!layout.empty()) return run_slabs(a, plot_args, scene, opt, comm, t0, layout);
-  log_info() << "petsc: the whole mesh on every rank (" << replicated << ")";
-
-  // No K_x in the model: each rank assembles its own rows into PETSc (petsc_assembly.cpp).
-  Model md = build_model(scene, scene_directory(a.scene), /*stiffness=*/false);
-  // The mesh checks and the boundary extraction free ~0.5 KB per unknown of small blocks that glibc
-  // keeps in the heap: returned to the system here, since every rank holds the model (measured:
-  // 586 -> ~100 MB per rank on the 70^3 box).
-  malloc_trim(0);
-  log_info() << "model built: memory " << petsc_engine::current_rss_kb() / 1024 << " MB (rank 0)";
-  petsc_engine::EngineReport er;
-  er.json["engine_choice"] = engine_choice;
-  Solution sol = petsc_engine::solve(md, opt, comm, er);
-  sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  er.json["mesh"] = "replicated";
-  er.json["mesh_reason"] = replicated;
-
-  if (rank == 0) {
-    try {
-      cli::write_solve_results(a, plot_args, scene, md, sol, opt, {{"engine", "petsc"}, {"engine_choice", engine_choice}, {"petsc", er.json}});
-      log_info() << "petsc: " << size << " rank(s), " << er.json.value("newton_iterations", 0L)
-                 << " Newton and " << er.json.value("krylov_iterations", 0L) << " Krylov iterations, peak memory "
-                 << er.json.value("peak_rss_mb_sum", 0.0) << " MB over the ranks";
-    } catch (const Error& e) {
-      code = e.code();
-      message = e.what();
-    }
-  }
-  share(code, message, comm);
-  if (code != 0) throw SharedError(message, static_cast<ExitCode>(code));
-  return cli::solve_verdict(sol, opt);
+  return run_replicated(a, plot_args, scene, comm, t0, replicated);
 }
 
 // The end of a job after an error that may be this rank's alone: the message printed once (rank

@@ -45,10 +45,6 @@ class ScopedBlasThreads {
 };
 }  // namespace
 
-bool adapt_requested(const nlohmann::json& scene) {
-  return scene.contains("adapt") && !scene.at("adapt").at("target_error").is_null();
-}
-
 AdaptOptions adapt_options_from_scene(const nlohmann::json& scene) {
   const auto& a = scene.at("adapt");
   AdaptOptions o;

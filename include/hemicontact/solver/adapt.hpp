@@ -31,7 +31,10 @@
 namespace hemicontact {
 
 /// @return true when the scene asks for adaptation (adapt.target_error is set).
-bool adapt_requested(const nlohmann::json& scene);
+/// (Inline: hemicontact-mpi, which links no adaptive loop, asks it too to refuse the key.)
+inline bool adapt_requested(const nlohmann::json& scene) {
+  return scene.contains("adapt") && !scene.at("adapt").at("target_error").is_null();
+}
 /// @return the options of the scene's `adapt` block. @throws Error naming the key for a bad value.
 AdaptOptions adapt_options_from_scene(const nlohmann::json& scene);
 

@@ -1,0 +1,51 @@
+// The cholmod engine's side of studies/scene_solve.hpp: solve_scene, with the adaptive loop.
+#include <hemicontact/studies/scene_solve.hpp>
+
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/solver/solve.hpp>
+
+#include <chrono>
+
+namespace hemicontact {
+
+namespace {
+
+// The adaptive loop from the scene's own mesh: the final mesh's model and solution, the loop's
+// record in the report ("adapt") and in adapt_levels.json, each certified level handed to
+// @p level_done as it ends.
+SceneSolve solve_adaptive(const nlohmann::json& scene, const std::string& scene_dir,
+                          const std::function<void(const std::vector<AdaptLevel>&)>& level_done) {
+  SceneSolve r;
+  r.scene = scene;
+  r.opt = solve_options_from_scene(scene);
+  const AdaptOptions aopt = adapt_options_from_scene(scene);
+  std::vector<AdaptLevel> so_far;
+  const auto keep = [&](const AdaptLevel& L, const Model&, const Solution&, const ErrorEstimate&) {
+    so_far.push_back(L);
+    if (level_done) level_done(so_far);
+  };
+  AdaptResult adapted = run_adaptive(scene, build_mesh(scene, scene_dir), aopt, r.opt, keep);
+  r.extra = adapt_solve_extra(adapted, aopt, r.missed);
+  r.indicators = adapted.estimate.eta;
+  r.adapt = aopt;
+  r.adapt_levels = std::move(adapted.history);
+  r.adapt_levels_file = adapt_levels_json(r.adapt_levels, aopt, /*partial=*/false);
+  r.stop_reason = adapted.stop_reason;
+  r.model = std::make_shared<const Model>(std::move(adapted.model));
+  r.solution = std::move(adapted.solution);
+  return r;
+}
+
+}  // namespace
+
+SceneSolve solve_scene(const nlohmann::json& scene, const std::string& scene_dir,
+                       const std::function<void(const std::vector<AdaptLevel>&)>& level_done) {
+  if (!adapt_requested(scene))
+    return solve_scene_with(scene, scene_dir, [](const Model& md, const SolveOptions& o) { return solve(md, o); });
+  const auto t0 = std::chrono::steady_clock::now();
+  SceneSolve r = solve_adaptive(scene, scene_dir, level_done);
+  r.solution.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace hemicontact
