@@ -132,9 +132,9 @@ std::string wrap(const std::vector<std::string>& words, size_t indent, size_t wi
   return out + line;
 }
 
-json certificate_json(const CertificateReport& c) {
+json certificate_json(const CertificateReport& c, const char* worst_name = "worst") {
   json residuals = json::object();
-  for (const auto& e : c.residuals) residuals[e.name] = {{"value", e.value}, {"worst", e.worst}};
+  for (const auto& e : c.residuals) residuals[e.name] = {{"value", e.value}, {worst_name, e.worst}};
   return {{"passed", c.passed},
           {"tol", c.tol},
           {"max_residual", c.max_residual},
@@ -300,19 +300,19 @@ json solve_records(const Solution& sol, const SolveOptions& opt, bool lagged) {
 }
 
 json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) {
-  const ContactNodes& cn = md.contact;
-  const ContactState& s = sol.state;
-  const Index nc = cn.size();
-  const int d = md.dim();
-  if (s.u_nu.size() != nc || static_cast<Index>(sol.status.size()) != nc)
+  if (sol.state.u_nu.size() != md.contact.size() || static_cast<Index>(sol.status.size()) != md.contact.size())
     throw Error("make_report: the solution does not match the model (was evaluate_solution() called?)", EXIT_INTERNAL);
+  return make_report(md, summary_facts(md, sol), sol, opt);
+}
 
+json make_report(const Model& md, const SummaryFacts& f, const Solution& sol, const SolveOptions& opt,
+                 const char* worst_name) {
   json r = solve_records(sol, opt, md.friction && md.friction->depends_on_u_nu());
   r["scene"] = md.scene;
   r["version"] = HEMICONTACT_VERSION;
-  r["mesh"] = {{"origin", md.mesh.origin},     {"dim", d},           {"nodes", md.mesh.num_nodes()},
-               {"cells", md.mesh.num_cells()}, {"gamma3_nodes", nc}, {"h", md.mesh.max_edge_length()}};
-  r["dofs"] = md.dofs.n_free();
+  r["mesh"] = {{"origin", f.origin}, {"dim", f.dim},          {"nodes", f.nodes},
+               {"cells", f.cells},   {"gamma3_nodes", static_cast<long>(f.rows.size())}, {"h", f.h}};
+  r["dofs"] = f.dofs;
   r["material"] = material_json(md);
   r["laws"] = laws_json(md);
   r["energy"] = sol.energy;
@@ -324,10 +324,11 @@ json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) 
   r["friction_term"] = sol.friction_term;
   r["max_u_nu"] = sol.max_u_nu;
   r["status_counts"] = sol.status_counts();
+  r["certificate"] = certificate_json(sol.certificate, worst_name);
   json nodes = json::array();
-  for (Index k = 0; k < nc; ++k) nodes.push_back(gamma3_row_json(gamma3_row(md, sol, k), d));
+  for (const Gamma3Row& row : f.rows) nodes.push_back(gamma3_row_json(row, f.dim));
   r["nodes"] = std::move(nodes);
-  r["timings"] = merged_timings(md, sol);
+  r["timings"] = f.timings;
   return r;
 }
 
@@ -396,7 +397,7 @@ SummaryFacts summary_facts(const Model& md, const Solution& sol) {
   f.h = md.mesh.max_edge_length();
   f.dim = md.dim();
   f.linear = md.material->is_linear();
-  f.statuses = status_strings(sol);
+  for (Index k = 0; k < md.contact.size(); ++k) f.rows.push_back(gamma3_row(md, sol, k));
   f.timings = merged_timings(md, sol);
   return f;
 }
@@ -409,7 +410,9 @@ std::string summary_table(const SummaryFacts& md, const Solution& sol) {
     return label + std::string(indent > label.size() ? indent - label.size() : 1, ' ') + text + "\n";
   };
   std::string out;
-  const size_t nc = md.statuses.size();
+  std::vector<std::string> statuses;
+  for (const Gamma3Row& r : md.rows) statuses.push_back(r.status.str());
+  const size_t nc = statuses.size();
   out += row("mesh", (md.origin.empty() ? std::string() : md.origin + ": ") + std::to_string(md.nodes) + " nodes, " +
                          std::to_string(md.cells) + " cells, " + std::to_string(nc) + " gamma3 nodes, h = " + fmt(md.h));
   out += row("dofs", std::to_string(md.dofs));
@@ -443,9 +446,9 @@ std::string summary_table(const SummaryFacts& md, const Solution& sol) {
   out += row("", vals);
   if (nc > 0) {
     if (nc <= 33)
-      out += row("gamma3 nodes", wrap(md.statuses, indent, 100));
+      out += row("gamma3 nodes", wrap(statuses, indent, 100));
     else
-      out += row("gamma3 runs", runs_of(md.statuses));
+      out += row("gamma3 runs", runs_of(statuses));
   }
 
   const CertificateReport& c = sol.certificate;

@@ -119,44 +119,30 @@ void write_piece(const std::string& dir, const nlohmann::json& scene, const Mode
     write_gamma3_csv((p / piece_name("gamma3_rank", rank, ".csv")).string(), md.dim(), rows, index);
 }
 
-nlohmann::json certificate_record(const CertificateReport& c) {
-  nlohmann::json residuals = nlohmann::json::object();
-  for (const auto& e : c.residuals) residuals[e.name] = {{"value", e.value}, {"worst_petsc_row", e.worst}};
-  return {{"passed", c.passed},           {"tol", c.tol},
-          {"max_residual", c.max_residual}, {"length_scale", c.length_scale},
-          {"force_scale", c.force_scale},   {"traction_scale", c.traction_scale},
-          {"residuals", std::move(residuals)}};
+// The whole mesh's facts from the pieces: the summed sizes, the reduced h and the Γ3 rows gathered
+// to rank 0 (in ContactNodes' order), as one process's model gives them (summary_facts).
+SummaryFacts slab_facts(const Model& md, const Piece& slab, const Solution& sol, const EngineReport& er, double h,
+                        std::vector<Gamma3Row> nodes) {
+  SummaryFacts f;
+  f.origin = md.mesh.origin;
+  f.nodes = slab.global_nodes;
+  f.cells = slab.global_cells;
+  f.dofs = er.json.value("unknowns", 0L);
+  f.h = h;
+  f.dim = md.dim();
+  f.linear = md.material->is_linear();
+  f.rows = std::move(nodes);
+  f.timings = md.timings;  // rank 0's slab
+  for (const auto& [k, v] : sol.timings) f.timings[k] = v;
+  return f;
 }
 
-// report.json of the distributed path: make_report's keys, its scalars from reductions and its
-// "nodes" from the Γ3 rows gathered to rank 0 (@p nodes, in ContactNodes' order); "pieces" names
-// the ranks' files. The certificate's worst places are PETSc rows (the slabs have no global x).
-nlohmann::json slab_report(const nlohmann::json& scene, const Model& md, const Solution& sol, const SlabResult& out,
-                           const Piece& slab, const SolveOptions& opt, const EngineReport& er, double h, int size,
-                           const std::vector<Gamma3Row>& nodes) {
-  nlohmann::json r = solve_records(sol, opt, md.friction && md.friction->depends_on_u_nu());
-  r["scene"] = scene;
-  r["version"] = HEMICONTACT_VERSION;
+// report.json of the distributed path: make_report from the pieces' facts; the certificate's worst
+// places are PETSc rows (the slabs have no global x); "pieces" names the ranks' files.
+nlohmann::json slab_report(const nlohmann::json& scene, const Model& md, const Solution& sol,
+                           const SummaryFacts& facts, const SolveOptions& opt, const EngineReport& er, int size) {
+  nlohmann::json r = make_report(md, facts, sol, opt, "worst_petsc_row");
   r["engine"] = "petsc";
-  r["mesh"] = {{"origin", md.mesh.origin}, {"dim", md.dim()}, {"nodes", slab.global_nodes},
-               {"cells", slab.global_cells}, {"gamma3_nodes", out.gamma3_nodes}, {"h", h}};
-  r["dofs"] = er.json.value("unknowns", 0L);
-  r["material"] = material_json(md);
-  r["laws"] = laws_json(md);
-  for (const auto& [k, v] : std::vector<std::pair<const char*, double>>{
-           {"energy", sol.energy}, {"energy_norm", sol.energy_norm}, {"a_uu", sol.a_uu},
-           {"elastic_energy", sol.elastic_energy}, {"f_u", sol.f_u}, {"j_term", sol.j_term},
-           {"friction_term", sol.friction_term}, {"max_u_nu", sol.max_u_nu}})
-    r[k] = v;
-  r["status_counts"] = out.status_counts;
-  nlohmann::json list = nlohmann::json::array();
-  for (const Gamma3Row& row : nodes) list.push_back(gamma3_row_json(row, md.dim()));
-  r["nodes"] = std::move(list);
-  r["certificate"] = certificate_record(sol.certificate);
-  nlohmann::json t = nlohmann::json::object();
-  for (const auto& [k, v] : md.timings) t[k] = v;  // rank 0's slab
-  for (const auto& [k, v] : sol.timings) t[k] = v;
-  r["timings"] = t;
   r["petsc"] = er.json;
   if (er.json.contains("engine_choice")) r["engine_choice"] = er.json.at("engine_choice");
   std::vector<std::string> vtu, csv;
@@ -166,24 +152,6 @@ nlohmann::json slab_report(const nlohmann::json& scene, const Model& md, const S
   }
   r["pieces"] = {{"vtu", vtu}, {"gamma3_csv", csv}};
   return r;
-}
-
-// The summary's facts from the pieces: the whole mesh's sizes, the reduced h and the Γ3 rows
-// gathered to rank 0 (every node's status in ContactNodes' order), as one process's model gives them.
-SummaryFacts slab_summary_facts(const Model& md, const Piece& slab, const Solution& sol, const EngineReport& er,
-                                double h, const std::vector<Gamma3Row>& nodes) {
-  SummaryFacts f;
-  f.origin = md.mesh.origin;
-  f.nodes = slab.global_nodes;
-  f.cells = slab.global_cells;
-  f.dofs = er.json.value("unknowns", 0L);
-  f.h = h;
-  f.dim = md.dim();
-  f.linear = md.material->is_linear();
-  for (const Gamma3Row& row : nodes) f.statuses.push_back(row.status.str());
-  f.timings = md.timings;  // rank 0's slab
-  for (const auto& [k, v] : sol.timings) f.timings[k] = v;
-  return f;
 }
 
 }  // namespace
@@ -241,8 +209,9 @@ void write_slab_results(const std::string& dir, const nlohmann::json& scene, con
         pieces.push_back(piece_name("solution_rank", q, ".vtu"));
       if (!pieces.empty()) write_pvtu((p / "solution.pvtu").string(), md.dim(), pieces);
       if (before_report) before_report();
-      write_final_report(dir, slab_report(scene, md, sol, out, slab, opt, er, h, size, nodes));
-      std::fputs(summary_table(slab_summary_facts(md, slab, sol, er, h, nodes), sol).c_str(), stdout);
+      const SummaryFacts facts = slab_facts(md, slab, sol, er, h, nodes);
+      write_final_report(dir, slab_report(scene, md, sol, facts, opt, er, size));
+      std::fputs(summary_table(facts, sol).c_str(), stdout);
       std::printf("results in %s (%d pieces)\n", dir.c_str(), size);
     });
   MPI_Bcast(&code, 1, MPI_INT, 0, comm);

@@ -50,6 +50,28 @@ namespace hemicontact {
 /// @throws Error (EXIT_INTERNAL) if @p sol does not match @p md (sizes)
 nlohmann::json make_report(const Model& md, const Solution& sol, const SolveOptions& opt);
 
+/// What the summary and report.json say of the whole mesh and Γ3, from one process's model
+/// (summary_facts) or from the petsc engine's pieces (their reduced sizes and the Γ3 rows gathered
+/// to rank 0).
+struct SummaryFacts {
+  std::string origin;                 ///< the mesh's origin ("" if none)
+  long nodes = 0, cells = 0, dofs = 0;
+  double h = 0;                       ///< the longest edge
+  int dim = 2;
+  bool linear = true;                 ///< linear material (the elastic energy is a(u,u)/2)
+  std::vector<Gamma3Row> rows;        ///< every Γ3 node's row, in ContactNodes' order
+  std::map<std::string, double> timings;
+};
+/// @return the facts of @p md and @p sol (one process).
+SummaryFacts summary_facts(const Model& md, const Solution& sol);
+
+/// @brief The report from @p facts: @p md gives only what every piece of a model shares (the
+/// scene, the material, the laws); the sizes, the Γ3 rows and the timings are the facts'.
+/// @param worst_name the certificate's key for a residual's worst place ("worst": the node or
+/// unknown; the petsc engine's pieces: "worst_petsc_row")
+nlohmann::json make_report(const Model& md, const SummaryFacts& facts, const Solution& sol, const SolveOptions& opt,
+                           const char* worst_name = "worst");
+
 /// @return a Γ3 row's entry in "nodes" (the keys listed above) for a mesh of dimension @p dim.
 nlohmann::json gamma3_row_json(const Gamma3Row& r, int dim);
 
@@ -84,19 +106,6 @@ std::string summary_table(const Model& md, const Solution& sol);
 /// "uniqueness" row and report.json's uniqueness.warning.
 std::string uniqueness_warning(const Solution& sol);
 
-/// What the summary says of the mesh and Γ3, from one process's model (summary_facts) or from the
-/// petsc engine's pieces (their reduced sizes and the Γ3 rows gathered to rank 0).
-struct SummaryFacts {
-  std::string origin;                 ///< the mesh's origin ("" if none)
-  long nodes = 0, cells = 0, dofs = 0;
-  double h = 0;                       ///< the longest edge
-  int dim = 2;
-  bool linear = true;                 ///< linear material (the elastic energy is a(u,u)/2)
-  std::vector<std::string> statuses;  ///< every Γ3 node's status, in ContactNodes' order
-  std::map<std::string, double> timings;
-};
-/// @return the facts of @p md and @p sol (one process).
-SummaryFacts summary_facts(const Model& md, const Solution& sol);
 /// The summary from @p facts and the solution's records (energies, counts, certificate, verdict).
 std::string summary_table(const SummaryFacts& facts, const Solution& sol);
 
