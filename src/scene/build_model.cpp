@@ -574,6 +574,7 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.smallness_method = scene.at("check").at("smallness_method").get<std::string>();
   o.dense_max_unknowns = scene.at("check").at("dense_max_unknowns").get<Index>();
   o.lanczos_tol = scene.at("check").at("lanczos_tol").get<double>();
+  o.lanczos_decide_tol = scene.at("check").at("lanczos_decide_tol").get<double>();
   o.lanczos_max_iter = scene.at("check").at("lanczos_max_iter").get<int>();
   const auto& mc = s.at("method_choice");
   o.method_choice.dense_work = mc.at("dense_work").get<double>();

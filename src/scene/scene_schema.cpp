@@ -567,6 +567,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                                 "(21) is widened by it."),
                             0),
                       1e-2));
+  t.push_back(at_most(above(key("/check/lanczos_decide_tol", "number", D.lanczos_decide_tol,
+                                "Relative Ritz residual at which Lanczos may stop early where its bracket "
+                                "already decides (21) and the inner-convexity test (check.lanczos_tol "
+                                "otherwise)."),
+                            0),
+                      1e-2));
   t.push_back(at_least(key("/check/lanczos_max_iter", "integer", D.lanczos_max_iter,
                            "Lanczos steps at most (memory: Γ3 unknowns × this doubles)."),
                        1));

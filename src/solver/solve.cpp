@@ -436,7 +436,11 @@ const Gamma3Spectrum* ContactSolver::Impl::spectrum() const {
   } else {
     return nullptr;
   }
-  spectrum_ = gamma3_spectrum(apply, md.contact.w, d, opt, what);
+  // Enough digits once (21) and the inner-convexity test are both decided by the brackets.
+  const auto decided = [this](const Gamma3Spectrum& s) {
+    return smallness_from_spectrum(*model, s).computed && convexity_from_spectrum(s, model->normal_law.get()).checked;
+  };
+  spectrum_ = gamma3_spectrum(apply, md.contact.w, d, opt, what, decided);
   return &*spectrum_;
 }
 

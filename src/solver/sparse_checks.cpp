@@ -21,42 +21,71 @@ std::pair<double, double> ritz_top(const Vec& alpha, const Vec& beta, Index k) {
   return {t.eigenvalues()[k], beta[k] * std::abs(t.eigenvectors()(k, k))};  // ascending: the top is k
 }
 
+// k_1, k_1ν and their lower bounds 1/(θ + r) from the two runs' Ritz pairs.
+Gamma3Spectrum spectrum_of(const LanczosResult& r1, const LanczosResult& rn) {
+  Gamma3Spectrum S;
+  S.k1 = 1 / r1.theta;
+  S.k1_low = 1 / (r1.theta + r1.residual);
+  S.k1nu = 1 / rn.theta;
+  S.k1nu_low = 1 / (rn.theta + rn.residual);
+  S.converged = r1.converged && rn.converged;
+  S.iterations = r1.iterations + rn.iterations;
+  return S;
+}
+
 // 0·∞ is 0 here: a term whose constant is zero contributes nothing (as in check/smallness.cpp).
 double term(double c, double lam) { return c == 0 ? 0.0 : c / lam; }
 
 }  // namespace
 
-LanczosResult lanczos_largest(const std::function<Vec(const Vec&)>& apply, Index n, double tol, int max_iter) {
-  LanczosResult R;
-  if (n == 0) return R;
-  const Index kmax = std::min<Index>(n, std::max(1, max_iter));
-  Mat Q(n, kmax + 1);
+LanczosRun::LanczosRun(std::function<Vec(const Vec&)> apply, Index n, int max_iter)
+    : apply_(std::move(apply)), kmax_(std::min<Index>(n, std::max(1, max_iter))) {
+  if (n == 0) {
+    done_ = true;
+    return;
+  }
+  Q_.resize(n, kmax_ + 1);
+  alpha_.resize(kmax_);
+  beta_.resize(kmax_);
   std::mt19937 rng(12345);  // a fixed start: the same answer on every run
   std::uniform_real_distribution<double> unif(-1.0, 1.0);
-  for (Index i = 0; i < n; ++i) Q(i, 0) = unif(rng);
-  Q.col(0).normalize();
-  Vec alpha(kmax), beta(kmax);
-  for (Index k = 0; k < kmax; ++k) {
-    Vec w = apply(Q.col(k));
-    R.iterations = static_cast<int>(k + 1);
-    alpha[k] = Q.col(k).dot(w);
+  for (Index i = 0; i < n; ++i) Q_(i, 0) = unif(rng);
+  Q_.col(0).normalize();
+}
+
+// Up to @p steps more steps (the Ritz pair read after the last); stops where the Krylov space is
+// exhausted or max_iter is reached (done()).
+void LanczosRun::advance(int steps, double tol) {
+  for (int s = 0; s < steps && !done_; ++s) {
+    const Index k = k_;
+    Vec w = apply_(Q_.col(k));
+    R_.iterations = static_cast<int>(k + 1);
+    alpha_[k] = Q_.col(k).dot(w);
     // Full reorthogonalization, twice: the Ritz residual bound below holds only for an orthonormal Q.
-    for (int pass = 0; pass < 2; ++pass) w -= Q.leftCols(k + 1) * (Q.leftCols(k + 1).transpose() * w);
-    beta[k] = w.norm();
-    const bool exhausted = beta[k] <= 1e-300 || k + 1 == kmax;
-    if ((k + 1) % 5 == 0 || exhausted) {
-      std::tie(R.theta, R.residual) = ritz_top(alpha, beta, k);
-      if (beta[k] <= 1e-300) R.residual = 0;  // an invariant subspace: θ is an eigenvalue
-      R.converged = R.theta > 0 && R.residual <= tol * R.theta;
-      if (R.converged || exhausted) return R;
+    for (int pass = 0; pass < 2; ++pass) w -= Q_.leftCols(k + 1) * (Q_.leftCols(k + 1).transpose() * w);
+    beta_[k] = w.norm();
+    const bool invariant = beta_[k] <= 1e-300;
+    done_ = invariant || k + 1 == kmax_;
+    if (s + 1 == steps || done_) {
+      std::tie(R_.theta, R_.residual) = ritz_top(alpha_, beta_, k);
+      if (invariant) R_.residual = 0;  // an invariant subspace: θ is an eigenvalue
     }
-    Q.col(k + 1) = w / beta[k];
+    if (!done_) Q_.col(k + 1) = w / beta_[k];
+    ++k_;
   }
-  return R;
+  R_.converged = R_.theta > 0 && R_.residual <= tol * R_.theta;
+  done_ = done_ || R_.converged;
+}
+
+LanczosResult lanczos_largest(const std::function<Vec(const Vec&)>& apply, Index n, double tol, int max_iter) {
+  LanczosRun run(apply, n, max_iter);
+  while (!run.done()) run.advance(LANCZOS_READ_EVERY, tol);
+  return run.result();
 }
 
 Gamma3Spectrum gamma3_spectrum(const std::function<Vec(const Vec&)>& apply_Sinv, const Vec& w, int d,
-                               const SolveOptions& opt, const std::string& what) {
+                               const SolveOptions& opt, const std::string& what,
+                               const std::function<bool(const Gamma3Spectrum&)>& decided) {
   const auto t0 = clk::now();
   const Index nc = w.size(), m = d * nc;
   // (W^-1/2 S W^-1/2)⁻¹ = W^1/2 S⁻¹ W^1/2: the scaling of the inverse operator is by diag(w)^1/2.
@@ -78,18 +107,28 @@ Gamma3Spectrum gamma3_spectrum(const std::function<Vec(const Vec&)>& apply_Sinv,
     for (Index k = 0; k < nc; ++k) y[k] = s[k] * x[d * k];
     return y;
   };
-  const LanczosResult r1 = lanczos_largest(op1, m, opt.lanczos_tol, opt.lanczos_max_iter);
-  const LanczosResult rn = lanczos_largest(opn, nc, opt.lanczos_tol, opt.lanczos_max_iter);
+  // Both runs side by side, read every LANCZOS_READ_EVERY steps: they stop at check.lanczos_tol, or
+  // once both are within check.lanczos_decide_tol and their brackets decide what the caller asks
+  // (@p decided): a bracket that decides needs no more digits.
+  LanczosRun r1(op1, m, opt.lanczos_max_iter), rn(opn, nc, opt.lanczos_max_iter);
   Gamma3Spectrum S;
-  S.k1 = 1 / r1.theta;
-  S.k1_low = 1 / (r1.theta + r1.residual);
-  S.k1nu = 1 / rn.theta;
-  S.k1nu_low = 1 / (rn.theta + rn.residual);
-  S.converged = r1.converged && rn.converged;
-  S.iterations = r1.iterations + rn.iterations;
-  S.how = "Lanczos on " + what + ": " + std::to_string(r1.iterations) + " + " + std::to_string(rn.iterations) +
-          " steps, relative Ritz residuals " + fmt(r1.residual / r1.theta, 2) + ", " + fmt(rn.residual / rn.theta, 2) +
-          (S.converged ? "" : " (not converged in check.lanczos_max_iter steps)");
+  do {
+    r1.advance(LANCZOS_READ_EVERY, opt.lanczos_tol);
+    rn.advance(LANCZOS_READ_EVERY, opt.lanczos_tol);
+    S = spectrum_of(r1.result(), rn.result());
+    Gamma3Spectrum final_now = S;  // what the caller would read were the runs to stop here
+    final_now.decided = true;
+    const auto close = [&](const LanczosResult& r) {
+      return r.theta > 0 && r.residual <= opt.lanczos_decide_tol * r.theta;
+    };
+    S.decided = decided && close(r1.result()) && close(rn.result()) && decided(final_now);
+  } while (!(r1.done() && rn.done()) && !S.decided);
+  const LanczosResult &a = r1.result(), &b = rn.result();
+  S.how = "Lanczos on " + what + ": " + std::to_string(a.iterations) + " + " + std::to_string(b.iterations) +
+          " steps, relative Ritz residuals " + fmt(a.residual / a.theta, 2) + ", " + fmt(b.residual / b.theta, 2) +
+          (S.decided && !S.converged ? " (stopped once the brackets decided)"
+           : S.converged             ? ""
+                                     : " (not converged in check.lanczos_max_iter steps)");
   S.seconds = since(t0);
   return S;
 }
@@ -102,7 +141,7 @@ SmallnessReport smallness_from_spectrum(const Model& md, const Gamma3Spectrum& s
   r.seconds = s.seconds;
   r.method = "bound";
   r.note = s.how;
-  if (!s.converged) return r;
+  if (!s.converged && !s.decided) return r;
   const double m_F = md.material->m_F(), L_F = md.material->L_F();
   // λ(S_G) ∈ [λ(S_K)/L_F, λ(S_K)/m_F] (check/smallness.hpp), λ(S_K) ∈ [k_low, k] (Lanczos).
   const double lo_1 = s.k1_low / L_F, hi_1 = s.k1 / m_F, lo_1nu = s.k1nu_low / L_F, hi_1nu = s.k1nu / m_F;
@@ -133,7 +172,7 @@ InnerConvexity convexity_from_spectrum(const Gamma3Spectrum& s, const PiecewiseL
   // S − αW_ν ≻ 0 ⟺ k_1ν > α (sparse_checks.hpp); k_1ν ∈ [k1nu_low, k1nu].
   c.min_eigenvalue = s.k1nu - c.softening;
   const bool convex = s.k1nu_low > c.softening, not_convex = s.k1nu <= c.softening;
-  c.checked = s.converged && (convex || not_convex);
+  c.checked = (s.converged || s.decided) && (convex || not_convex);
   c.strongly_convex = c.checked && convex;
   c.note = s.how + "; k_1nu - alpha = lambda_min(W^-1/2 S_nu W^-1/2) - alpha, the sign of lambda_min(S - alpha W_nu)" +
            (c.checked ? "" : "; not decided within the Lanczos residual");

@@ -225,10 +225,10 @@ TEST(SparseChecks, SmallnessAndConvexityAgreeWithTheDenseChecks) {
   ASSERT_TRUE(p.computed && q.computed) << q.note;
   EXPECT_EQ(q.method, "bound");
   EXPECT_EQ(p.holds, q.holds);
-  const double tol = 10 * sparse.opt.lanczos_tol;
-  EXPECT_NEAR(q.lhs_lower, p.lhs_lower, tol * p.lhs_lower);
-  EXPECT_NEAR(q.lhs_upper, p.lhs_upper, tol * p.lhs_upper);
-  EXPECT_GE(q.lhs_upper, p.lhs_upper * (1 - 1e-13));  // widened, never narrowed
+  // The runs stop once the brackets decide (sparse_checks.hpp): the Lanczos bracket holds the
+  // dense one (Ritz values from below, widened by the residual), never narrows it.
+  EXPECT_LE(q.lhs_lower, p.lhs_lower * (1 + 1e-13));
+  EXPECT_GE(q.lhs_upper, p.lhs_upper * (1 - 1e-13));
   EXPECT_NE(q.note.find("Lanczos"), std::string::npos) << q.note;
   EXPECT_TRUE(p.note.empty()) << p.note;
   const InnerConvexity &cd = dense.sol.inner_convexity, &cs = sparse.sol.inner_convexity;
@@ -236,6 +236,49 @@ TEST(SparseChecks, SmallnessAndConvexityAgreeWithTheDenseChecks) {
   EXPECT_EQ(cd.strongly_convex, cs.strongly_convex);
   EXPECT_EQ(cd.min_eigenvalue > 0, cs.min_eigenvalue > 0);
   EXPECT_NEAR(sparse.sol.energy, dense.sol.energy, 1e-12 * std::abs(dense.sol.energy));
+}
+
+// The spectrum on a known operator: to check.lanczos_tol without a question, and stopped early,
+// with a bracket that holds the exact values, where the question is decided.
+TEST(SparseChecks, SpectrumRunsToTheToleranceOrUntilTheQuestionIsDecided) {
+  const int d = 2;
+  const Index nc = 40, m = d * nc;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.5, 2.0);
+  Mat B(m, m);
+  for (Index i = 0; i < m; ++i)
+    for (Index j = 0; j < m; ++j) B(i, j) = u(rng) - 1.25;
+  const Mat S = B * B.transpose() + 5.0 * Mat::Identity(m, m);  // SPD, well separated from 0
+  Vec w(nc);
+  for (Index k = 0; k < nc; ++k) w[k] = u(rng);
+  const Eigen::LLT<Mat> llt(S);
+  const auto apply = [&](const Vec& b) { return Vec(llt.solve(b)); };
+  // Exact k_1 = λ_min(W^-1/2 S W^-1/2) and k_1ν = λ_min of the same for S_ν = ((S⁻¹)_νν)⁻¹.
+  Vec s_inv(m);
+  for (Index k = 0; k < nc; ++k) s_inv.segment(d * k, d).setConstant(1 / std::sqrt(w[k]));
+  const double k1 = Eigen::SelfAdjointEigenSolver<Mat>(s_inv.asDiagonal() * S * s_inv.asDiagonal()).eigenvalues()[0];
+  const Mat Sinv = S.inverse();
+  Mat Snu_inv(nc, nc);
+  for (Index a = 0; a < nc; ++a)
+    for (Index b = 0; b < nc; ++b) Snu_inv(a, b) = std::sqrt(w[a] * w[b]) * Sinv(d * a, d * b);
+  const double k1nu = 1 / Eigen::SelfAdjointEigenSolver<Mat>(Snu_inv).eigenvalues()[nc - 1];
+  SolveOptions opt;
+  const Gamma3Spectrum full = gamma3_spectrum(apply, w, d, opt, "dense S");
+  ASSERT_TRUE(full.converged);
+  EXPECT_FALSE(full.decided);
+  EXPECT_NEAR(full.k1, k1, 10 * opt.lanczos_tol * k1);
+  EXPECT_NEAR(full.k1nu, k1nu, 10 * opt.lanczos_tol * k1nu);
+  // A question the first readings decide: is k_1 above half its value?
+  const Gamma3Spectrum early = gamma3_spectrum(apply, w, d, opt, "dense S", [&](const Gamma3Spectrum& g) {
+    return g.k1_low > 0.5 * k1;
+  });
+  EXPECT_TRUE(early.decided);
+  EXPECT_LT(early.iterations, full.iterations);
+  EXPECT_LE(early.k1_low, k1 * (1 + 1e-12));  // the bracket holds the exact value
+  EXPECT_GE(early.k1, k1 * (1 - 1e-12));
+  EXPECT_LE(early.k1nu_low, k1nu * (1 + 1e-12));
+  EXPECT_GE(early.k1nu, k1nu * (1 - 1e-12));
+  EXPECT_NE(early.how.find("stopped once the brackets decided"), std::string::npos) << early.how;
 }
 
 // A softening law whose inner problem is not strongly convex: Lanczos says so too.

@@ -200,6 +200,12 @@ struct SolveOptions {
   /// most this × θ; the eigenvalue 1/θ is then known to this relative accuracy, and the bracket of
   /// (21) is widened by it (some eigenvalue lies within the residual of θ).
   double lanczos_tol = 1e-10;
+  /// A bracket that decides both (21) and the inner-convexity test ends Lanczos before
+  /// lanczos_tol, once both relative Ritz residuals are at most this: the verdict needs no more
+  /// digits, and a residual this small already rules out the early steps' Ritz values far below
+  /// the largest eigenvalue (the bracket's upper end is sound only for a converged Ritz value).
+  /// Measured: the strip 1000 × 1, 55 + 40 steps (28 ms) at lanczos_tol, 25 + 15 here.
+  double lanczos_decide_tol = 1e-4;
   /// Lanczos steps at most (full reorthogonalization: memory m × this); not converged: the check is
   /// reported undecided with the residual reached.
   int lanczos_max_iter = 300;

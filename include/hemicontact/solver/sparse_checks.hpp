@@ -32,8 +32,32 @@ struct LanczosResult {
   bool converged = false;  ///< residual ≤ tol·θ (or the Krylov space exhausted)
 };
 
+/// Lanczos steps between two readings of the Ritz pair (a reading is an eigensolve of T_k).
+inline constexpr int LANCZOS_READ_EVERY = 5;
+
 /// Lanczos with full reorthogonalization from a fixed pseudo-random start (the result does not
-/// depend on the run). @param apply v ↦ A v @param n size @param tol relative Ritz residual
+/// depend on the run), run in portions (advance) so that a caller can stop it once the bracket
+/// [θ, θ + r] answers its question.
+class LanczosRun {
+ public:
+  /// @param apply v ↦ A v @param n size @param max_iter operator applications at most
+  LanczosRun(std::function<Vec(const Vec&)> apply, Index n, int max_iter);
+  /// Up to @p steps more steps; then the Ritz pair, converged at relative residual @p tol.
+  void advance(int steps, double tol);
+  /// Converged, the Krylov space exhausted, or max_iter reached.
+  bool done() const { return done_; }
+  const LanczosResult& result() const { return R_; }
+
+ private:
+  std::function<Vec(const Vec&)> apply_;
+  Index kmax_ = 0, k_ = 0;
+  Mat Q_;
+  Vec alpha_, beta_;
+  LanczosResult R_;
+  bool done_ = false;
+};
+
+/// LanczosRun to @p tol. @param apply v ↦ A v @param n size @param tol relative Ritz residual
 /// @param max_iter operator applications at most.
 LanczosResult lanczos_largest(const std::function<Vec(const Vec&)>& apply, Index n, double tol, int max_iter);
 
@@ -42,6 +66,7 @@ struct Gamma3Spectrum {
   double k1 = 0, k1_low = 0;      ///< λ_min(S_K, diag(w)) and a lower bound of it
   double k1nu = 0, k1nu_low = 0;  ///< λ_min(S_ν, diag(w)) and a lower bound of it
   bool converged = false;         ///< both Lanczos runs converged
+  bool decided = false;           ///< stopped before that: the caller's question was decided
   int iterations = 0;             ///< S⁻¹ applications, both runs
   double seconds = 0;             ///< wall time
   std::string how;                ///< "Lanczos on <what applied S^-1>: N steps, residual r"
@@ -49,8 +74,11 @@ struct Gamma3Spectrum {
 
 /// @param apply_Sinv b ↦ S_K⁻¹ b on the Γ3 unknowns @param w Γ3 weights @param d dimension
 /// @param what how S⁻¹ is applied, for the report.
+/// @param decided where given, the runs stop once both are within check.lanczos_decide_tol and it
+/// is true of the brackets so far, else at check.lanczos_tol.
 Gamma3Spectrum gamma3_spectrum(const std::function<Vec(const Vec&)>& apply_Sinv, const Vec& w, int d,
-                               const SolveOptions& opt, const std::string& what);
+                               const SolveOptions& opt, const std::string& what,
+                               const std::function<bool(const Gamma3Spectrum&)>& decided = {});
 
 /// (21) decided by the bracket of check/smallness.hpp from the spectrum: method "bound", computed
 /// only when the bracket (widened by the Lanczos residuals) decides; the note says how, or why not.
