@@ -41,21 +41,34 @@ bool gamma3_precedes(const double* a, long ia, const double* b, long ib, int dim
   return ia < ib;
 }
 
-ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamped, const Gap& gap) {
+Gamma3Sums gamma3_sums(const Mesh& mesh) {
   const int d = mesh.dim;
-  const Index N = mesh.num_nodes();
-  Vec w = Vec::Zero(N);
-  RowMat nsum = RowMat::Zero(N, d);
+  Gamma3Sums s{Vec::Zero(mesh.num_nodes()), RowMat::Zero(mesh.num_nodes(), d)};
   for (Index f = 0; f < mesh.num_facets(); ++f) {
     if (mesh.facet_part[f] != Part::GAMMA3) continue;
     const double a = mesh.facet_measure(f);
     const Vec n = mesh.facet_normal(f);
     for (int k = 0; k < d; ++k) {
       const int v = mesh.facets(f, k);
-      w[v] += a / d;
-      nsum.row(v) += (a / d) * n.transpose();
+      s.w[v] += a / d;
+      s.normal.row(v) += (a / d) * n.transpose();
     }
   }
+  return s;
+}
+
+ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamped, const Gap& gap,
+                                const GivenBoundary* given) {
+  const int d = mesh.dim;
+  const Index N = mesh.num_nodes();
+  Gamma3Sums sums = gamma3_sums(mesh);
+  if (given)
+    for (size_t i = 0; i < given->node.size(); ++i) {
+      sums.w[given->node[i]] = given->w[static_cast<Index>(i)];
+      sums.normal.row(given->node[i]) = given->normal.row(static_cast<Index>(i));
+    }
+  const Vec& w = sums.w;
+  const RowMat& nsum = sums.normal;
   std::vector<int> nodes;
   for (Index v = 0; v < N; ++v)
     if (w[v] > 0 && !clamped[v]) nodes.push_back(static_cast<int>(v));

@@ -187,11 +187,11 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
   // over the ranks (none anywhere: build_model's own error, on every rank alike).
   long g3 = free_gamma3_nodes(mesh), g3_all = 0;
   MPI_Allreduce(&g3, &g3_all, 1, MPI_LONG, MPI_SUM, comm);
+  const GivenBoundary given = petsc_engine::ghost_boundary_from_owners(mesh, slab, comm);
   on_every_rank(comm, [&] {
-    md = build_model(scene, std::move(mesh), /*stiffness=*/false, /*piece=*/g3_all > 0);
+    md = build_model(scene, std::move(mesh), /*stiffness=*/false, /*piece=*/g3_all > 0, &given);
     md.timings["mesh"] = t_mesh;
   });
-  petsc_engine::complete_ghost_weights(md, slab, comm);
   malloc_trim(0);
   log_info() << "piece built: " << md.mesh.num_nodes() << " nodes, memory " << petsc_engine::current_rss_kb() / 1024
              << " MB (rank 0)";

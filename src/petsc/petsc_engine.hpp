@@ -135,10 +135,12 @@ Piece make_block(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh);
 /// errors (a missing file, a selector that selects nothing) are thrown on every rank alike.
 Piece make_plex_piece(const nlohmann::json& scene, const std::string& scene_dir, MPI_Comm comm, Mesh& mesh);
 
-/// @brief Complete this rank's piece's model (collective; after build_model(scene, mesh, false) of
-/// the piece's mesh succeeded on every rank): each ghost's Γ3 weight w from its owner, since the
-/// piece holds only some of a ghost's Γ3 facets. The model is not changed after this.
-void complete_ghost_weights(Model& piece, const Piece& pc, MPI_Comm comm);
+/// @brief Each ghost node's boundary data from its owner (collective), for build_model of this
+/// rank's piece (@p mesh, @p pc): its Γ3 weight and normal sum, its clamping and rollers. A piece
+/// holds only some of a ghost's facets, or none where Γ3 or Γ1 ends on its ghost layer, and its own
+/// data would give the ghost another frame, membership or clamping, and so other unknowns, than its
+/// owner does.
+GivenBoundary ghost_boundary_from_owners(const Mesh& mesh, const Piece& pc, MPI_Comm comm);
 
 /// What the distributed path leaves for the writers: this rank's piece (the local nodes' u, the
 /// local Γ3 nodes' state and statuses, read with the global scales), and the report's reductions.
@@ -151,7 +153,7 @@ struct SlabResult {
 };
 
 /// @brief Solve on the slabs (collective; ssn, or TAO then the polish): as solve(), but @p md is this rank's
-/// slab (make_slab, build_model(scene, mesh, false), complete_ghost_weights) and nothing global is gathered. @return the
+/// slab (make_slab, ghost_boundary_from_owners, build_model(scene, mesh, false, ..., &given)) and nothing global is gathered. @return the
 /// scalars of the answer (energies, certificate, verdict; its vectors empty); @p out the piece.
 Solution solve_slabs(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
                      SlabResult& out);

@@ -1,6 +1,7 @@
 #include "engine_impl.hpp"
 
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/mesh/boundary.hpp>
 #include <hemicontact/scene/slab_mesh.hpp>
 
 #include <algorithm>
@@ -131,22 +132,38 @@ std::vector<Index> owned_nodes_of(const Piece& pc, const std::vector<long>& aske
   return answer;
 }
 
-// A ghost's Γ3 weight w from its owner: the piece holds only some of a ghost's Γ3 facets, so its own
-// w would be partial (the state's tractions σ = R/w of the piece's ghosts, written in its VTU,
-// read it).
-void complete_ghost_weights(Model& md, const Piece& pc, MPI_Comm comm) {
+// Each ghost's boundary data from its owner, which holds all of the node's facets: its Γ3 sums
+// (weight, normal sum), its clamping and its rollers. A piece holding only some of a ghost's
+// facets, or none (a Γ3 or Γ1 that ends on the ghost layer), would give it another weight, frame,
+// membership or clamping, and so other unknowns, than its owner does.
+GivenBoundary ghost_boundary_from_owners(const Mesh& mesh, const Piece& pc, MPI_Comm comm) {
+  const int d = mesh.dim, m = d + 3;  // per node: w, normal sum, clamped, held
   const GhostAsk ask = ask_owners(pc, comm);
-  const std::vector<Index> k_of = gamma3_index_of_nodes(md);
-  std::vector<double> wout(ask.answer.size(), -1.0);
+  const Gamma3Sums mine = gamma3_sums(mesh);
+  const std::vector<bool> clamped = clamped_nodes(mesh);
+  std::vector<double> out(ask.answer.size() * static_cast<size_t>(m));
   for (size_t i = 0; i < ask.answer.size(); ++i) {
-    const Index k = k_of[static_cast<size_t>(ask.answer[i])];
-    if (k >= 0) wout[i] = md.contact.w[k];
+    const Index v = ask.answer[i];
+    double* o = out.data() + i * m;
+    o[0] = mine.w[v];
+    for (int c = 0; c < d; ++c) o[1 + c] = mine.normal(v, c);
+    o[d + 1] = clamped[static_cast<size_t>(v)] ? 1 : 0;
+    o[d + 2] = mesh.held(v);
   }
-  const std::vector<double> win = answer_ghosts(ask, wout, 1, MPI_DOUBLE, comm);
-  for (size_t i = 0; i < ask.ghost.size(); ++i) {
-    const Index k = k_of[static_cast<size_t>(ask.ghost[i])];
-    if (k >= 0 && win[i] >= 0) md.contact.w[k] = win[i];
+  const std::vector<double> in = answer_ghosts(ask, out, m, MPI_DOUBLE, comm);
+  GivenBoundary g;
+  g.node = ask.ghost;
+  const auto n = static_cast<Index>(ask.ghost.size());
+  g.w.resize(n);
+  g.normal.resize(n, d);
+  for (Index i = 0; i < n; ++i) {
+    const double* r = in.data() + i * m;
+    g.w[i] = r[0];
+    for (int c = 0; c < d; ++c) g.normal(i, c) = r[1 + c];
+    g.clamped.push_back(r[d + 1] != 0);
+    g.held.push_back(static_cast<unsigned char>(r[d + 2]));
   }
+  return g;
 }
 
 namespace detail {

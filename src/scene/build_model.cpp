@@ -475,7 +475,7 @@ Model build_model(const json& scene, const std::string& scene_dir, bool stiffnes
   return md;
 }
 
-Model build_model(const json& scene, Mesh mesh, bool stiffness, bool piece) {
+Model build_model(const json& scene, Mesh mesh, bool stiffness, bool piece, const GivenBoundary* given) {
   Model md;
   md.scene = scene;
   md.mesh = std::move(mesh);
@@ -493,7 +493,15 @@ Model build_model(const json& scene, Mesh mesh, bool stiffness, bool piece) {
   md.friction = make_friction_bound(scene.at("contact").at("friction"), md.normal_law);
 
   md.clamped = clamped_nodes(md.mesh);
-  md.contact = make_contact_nodes(md.mesh, md.clamped, md.gap);
+  if (given)  // a piece's ghosts: their owners' clamping and rollers
+    for (size_t i = 0; i < given->node.size(); ++i) {
+      md.clamped[static_cast<size_t>(given->node[i])] = given->clamped[i] != 0;
+      if (given->held[i] != 0 || !md.mesh.node_fixed.empty()) {
+        if (md.mesh.node_fixed.empty()) md.mesh.node_fixed.assign(static_cast<size_t>(md.mesh.num_nodes()), 0);
+        md.mesh.node_fixed[static_cast<size_t>(given->node[i])] = given->held[i];
+      }
+    }
+  md.contact = make_contact_nodes(md.mesh, md.clamped, md.gap, given);
   const bool has_contact_law = md.normal_law || md.friction || !md.gap.is_infinite();
   if (md.contact.size() == 0 && has_contact_law && !piece)
     input_error("boundary.gamma3: the scene defines a contact law but Γ3 has no free node");

@@ -746,7 +746,17 @@ INSTANTIATE_TEST_SUITE_P(PaperScenes, PetscSlabs,
                                            // layers: 2 x 3), TAO on them too
                                            Case{"sofonea2017-3d", "--set mesh.n=8 --set solver.petsc.mesh='\"blocks\"'", 4, "", "blocks"},
                                            Case{"sofonea2017-3d", "--set mesh.n=4", 6, "", "blocks"},
-                                           Case{"sofonea2017-3d", "--set mesh.n=8 --set solver.petsc.mesh='\"blocks\"'", 4, "tao:bntr", "blocks"}));
+                                           Case{"sofonea2017-3d", "--set mesh.n=8 --set solver.petsc.mesh='\"blocks\"'", 4, "tao:bntr", "blocks"},
+                                           // Γ3 that ends on a rank's ghost layer (the ghost then
+                                           // has no Γ3 facet of its own: its weight, frame and
+                                           // unknowns are its owner's), or covers only some ranks;
+                                           // each failed with an internal error before
+                                           Case{"sofonea2017-fig2", "--set mesh.n=16 --set boundary.gamma3='[{\"side\":\"bottom\",\"from\":0,\"to\":0.4375}]'", 2},
+                                           Case{"sofonea2017-fig2", "--set mesh.n=16 --set boundary.gamma3='[{\"side\":\"bottom\",\"from\":0.5,\"to\":1}]'", 3},
+                                           // Γ1 that ends on a ghost layer: the ghost is clamped as its owner says
+                                           Case{"sofonea2017-fig2", "--set mesh.n=16 --set boundary.gamma1='[{\"side\":\"top\",\"from\":0,\"to\":0.4375}]'", 2},
+                                           Case{"sofonea2017-3d", "--set mesh.n=null --set mesh.nx=4 --set mesh.ny=4 --set mesh.nz=2 --set boundary.gamma3='[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'", 3},
+                                           Case{"sofonea2017-3d", "--set mesh.n=null --set mesh.nx=4 --set mesh.ny=2 --set mesh.nz=2 --set solver.petsc.mesh='\"blocks\"' --set boundary.gamma3='[{\"side\":\"bottom\",\"from\":0,\"to\":0.25}]'", 4, "", "blocks"}));
 
 // A Gmsh file (mesh.file) on the petsc engine's default mesh: rank 0 reads it, DMPlex distributes it
 // (docs/petsc-engine.md, "Distributed mesh"), and on 1, 2 and 3 ranks the answer is the cholmod

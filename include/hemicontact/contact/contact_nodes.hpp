@@ -49,9 +49,32 @@ struct ContactNodes {
 /// ContactNodes' order: lexicographic by the @p dim coordinates, then by node index.
 bool gamma3_precedes(const double* a, long ia, const double* b, long ib, int dim);
 
-/// Collect the Γ3 nodes of @p mesh that are not clamped (a node on Γ1 ∩ Γ3 is clamped).
+/// Per mesh node, its Γ3 facets' sums: the weight w = Σ |f|/d (eq. (24)'s quadrature) and the
+/// normal sum Σ (|f|/d) n_f, whose direction is the node's ν.
+struct Gamma3Sums {
+  Vec w;          ///< one per mesh node (0: on no Γ3 facet)
+  RowMat normal;  ///< one row per mesh node
+};
+/// @return the sums over the Γ3 facets of @p mesh.
+Gamma3Sums gamma3_sums(const Mesh& mesh);
+
+/// The boundary data of nodes whose facets a mesh holds only in part: a distributed piece's ghost
+/// nodes, each with what its owner computed from all of its facets (otherwise the piece would give
+/// a ghost another Γ3 weight, frame, membership or clamping than its owner does, and so other
+/// unknowns).
+struct GivenBoundary {
+  std::vector<Index> node;           ///< mesh nodes
+  Vec w;                             ///< their Γ3 weights (Gamma3Sums)
+  RowMat normal;                     ///< their Γ3 normal sums
+  std::vector<char> clamped;         ///< on Γ1
+  std::vector<unsigned char> held;   ///< roller mask (Mesh::held)
+};
+
+/// Collect the Γ3 nodes of @p mesh that are not clamped (a node on Γ1 ∩ Γ3 is clamped); the Γ3
+/// sums of the nodes in @p given (if any) are the given ones.
 /// @throws Error if a Γ3 gap value is negative (thickness g ≥ 0, eq. (14)), or if a roller holds a
 /// Γ3 node along a direction that is not tangent to Γ3 (it would fight the contact law).
-ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamped, const Gap& gap);
+ContactNodes make_contact_nodes(const Mesh& mesh, const std::vector<bool>& clamped, const Gap& gap,
+                                const GivenBoundary* given = nullptr);
 
 }  // namespace hemicontact

@@ -28,7 +28,10 @@ void assign_scene_boundary(Mesh& mesh, const nlohmann::json& scene);
 /// @param piece true: @p mesh is one rank's piece of a distributed mesh (the petsc engine's), which
 /// may hold no Γ3 node although the whole mesh has some: the check that a contact law has Γ3 nodes
 /// is then the caller's, over the ranks.
-Model build_model(const nlohmann::json& scene, Mesh mesh, bool stiffness = true, bool piece = false);
+/// @param given a piece's ghost nodes' boundary data from their owners (Γ3 sums, clamping,
+/// rollers), or null.
+Model build_model(const nlohmann::json& scene, Mesh mesh, bool stiffness = true, bool piece = false,
+                  const GivenBoundary* given = nullptr);
 
 /// @brief Estimated peak memory (bytes) of a default solve on a mesh of @p nodes nodes in
 /// dimension @p dim with @p gamma3_nodes Γ3 nodes: estimate_sparse_memory + dense_gamma3_memory.
