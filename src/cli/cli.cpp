@@ -232,6 +232,9 @@ int cmd_solve(const std::vector<std::string>& args) {
     std::printf("adapt: %zu levels, %lld dofs, estimate %.3g (target %.3g, %s), %.3g s\n", adapted.history.size(),
                 static_cast<long long>(last.dofs), last.estimate, aopt.target_error, adapted.stop_reason.c_str(),
                 last.cumulative_seconds);
+    if (std::isfinite(last.reference_error))
+      std::printf("adapt: error against the reference energy %.3g (efficiency index %.3g)\n", last.reference_error,
+                  last.estimate / last.reference_error);
     // A cap that stops the loop above the target is not success (it once exited 0, "ok": true).
     // An uncertified level is the verdict's own business (exit 3 or 4).
     extra = adapt_solve_extra(adapted, aopt, missed);

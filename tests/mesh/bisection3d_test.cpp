@@ -199,6 +199,8 @@ TEST(Bisection3d, UniformRefinementHasFinitelyManyShapes) {
   expect_conforming_tets(m);
   EXPECT_EQ(m.num_cells(), 6 << 12);
   EXPECT_NEAR(box_volume(m), 1.0, 1e-12);
+  RecordProperty("similarity_classes", std::to_string(seen.back()));
+  RecordProperty("min_dihedral_deg", std::to_string(min_simplex_angle(m) * 180 / M_PI));
   EXPECT_EQ(seen.back(), seen[2]) << "new shapes after level 3";
   EXPECT_LE(seen.back(), 3u);
   EXPECT_NEAR(min_simplex_angle(m), angle0, 1e-9);
@@ -222,6 +224,9 @@ TEST(Bisection3d, LocalRefinementTowardsAnEdgeStaysRegular) {
     EXPECT_NEAR(box_volume(m), 1.0, 1e-12);
     EXPECT_NEAR(box_part_area(m, Part::GAMMA3), 1.0, 1e-12);
     EXPECT_GE(min_simplex_angle(m), 0.5 * angle0);
+    RecordProperty(std::string("min_dihedral_deg_") + to_string(pattern), std::to_string(min_simplex_angle(m) * 180 / M_PI));
+    RecordProperty(std::string("initial_min_dihedral_deg_") + to_string(pattern), std::to_string(angle0 * 180 / M_PI));
+    RecordProperty(std::string("cells_") + to_string(pattern), std::to_string(m.num_cells()));
     // 20 bisections: the edge's cells are 2^(−20/3) ≈ 1/100 of the initial size; the rest is coarse.
     EXPECT_LT(m.min_edge_length(), 0.5 / 64);
     EXPECT_LT(m.num_cells(), 200000);
