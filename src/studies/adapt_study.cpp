@@ -22,6 +22,7 @@ json with_mesh(json scene, int n) {
   scene["mesh"]["n"] = n;
   scene["mesh"]["nx"] = n;
   scene["mesh"]["ny"] = n;
+  if (scene["mesh"].contains("nz")) scene["mesh"]["nz"] = n;
   return scene;
 }
 
@@ -136,8 +137,10 @@ void structured_family(const json& scene, const std::string& scene_dir, const So
 }  // namespace
 
 WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scene_dir, const WorkPrecisionRequest& req) {
-  if (scene.at("mesh").at("type") != "rectangle")
-    input_error("converge --adaptive: the scene's mesh must be a generated rectangle (mesh.type = rectangle)");
+  const std::string type = scene.at("mesh").at("type").get<std::string>();
+  if (type != "rectangle" && type != "box")
+    input_error("converge --adaptive: the scene's mesh must be a generated rectangle or box (mesh.type = rectangle "
+                "or box)");
   SolveOptions opt = solve_options_from_scene(scene);
   opt.smallness = false;  // a diagnostic, not part of the work measured
   WorkPrecisionStudy st;
@@ -189,7 +192,9 @@ WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scen
   st.reference_dofs = ref.dofs.n_free();
   const ReferenceError err{ref, sref, st.reference_estimate, std::sqrt(std::max(0.0, ref.a(sref.u, sref.u)))};
   structured_family(scene, scene_dir, opt, req, err, "uniform", req.uniform_levels, false, st);
-  structured_family(scene, scene_dir, opt, req, err, "graded", req.graded_levels, true, st);
+  // mesh.grading grades rectangles only: a box has no graded family.
+  if (type == "rectangle") structured_family(scene, scene_dir, opt, req, err, "graded", req.graded_levels, true, st);
+  else if (!req.graded_levels.empty()) log_info() << "converge --adaptive: no graded family for a box (mesh.grading grades rectangles)";
   for (Kept& k : adaptive) {
     err.measure(k.mesh, k.u, k.p);
     st.points.push_back(k.p);
