@@ -12,8 +12,8 @@ namespace {
 
 void require_2d(const Mesh& m, const char* what) {
   if (m.dim != 2)
-    input_error(std::string(what) + ": newest-vertex bisection is implemented for triangles (2D) only; a " +
-                std::to_string(m.dim) + "D mesh cannot be adapted");
+    input_error(std::string(what) + ": this is the triangles' (2D) bisection; a " + std::to_string(m.dim) +
+                "D mesh is refined with its tagged tetrahedra (label_tetrahedra, bisect with labels)");
 }
 
 }  // namespace

@@ -134,6 +134,22 @@ void structured_family(const json& scene, const std::string& scene_dir, const So
   }
 }
 
+// An adaptive level as the study keeps it: its mesh, solution and point.
+Kept kept_level(const AdaptLevel& L, const Model& md, const Solution& sol, const ErrorEstimate& e) {
+  Kept k;
+  k.mesh = md.mesh;
+  k.u = sol.u;
+  k.p.family = "adaptive";
+  k.p.level = L.level;
+  k.p.dofs = L.dofs;
+  k.p.seconds = L.cumulative_seconds;
+  k.p.estimate = L.estimate;
+  k.p.certificate = L.certificate;
+  k.p.ok = L.ok;
+  k.estimate_abs = e.total;
+  return k;
+}
+
 }  // namespace
 
 WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scene_dir, const WorkPrecisionRequest& req) {
@@ -152,18 +168,7 @@ WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scen
   // The adaptive sequence, kept level by level (its meshes and solutions).
   std::vector<Kept> adaptive;
   const auto keep = [&](const AdaptLevel& L, const Model& md, const Solution& sol, const ErrorEstimate& e) {
-    Kept k;
-    k.mesh = md.mesh;
-    k.u = sol.u;
-    k.p.family = "adaptive";
-    k.p.level = L.level;
-    k.p.dofs = L.dofs;
-    k.p.seconds = L.cumulative_seconds;
-    k.p.estimate = L.estimate;
-    k.p.certificate = L.certificate;
-    k.p.ok = L.ok;
-    k.estimate_abs = e.total;
-    adaptive.push_back(std::move(k));
+    adaptive.push_back(kept_level(L, md, sol, e));
   };
 
   Model ref;
