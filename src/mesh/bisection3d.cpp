@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <unordered_map>
 
 namespace hemicontact {
 namespace {
@@ -29,16 +28,6 @@ struct Tet {
   int parent;
 };
 
-// A mixing hash for the 64-bit edge and face keys (splitmix64's finalizer): the identity hash of
-// std::hash put keys that differ in their high bits into long bucket chains.
-struct MixHash {
-  size_t operator()(std::uint64_t x) const {
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return static_cast<size_t>(x ^ (x >> 31));
-  }
-};
-
 // One key per face (its three nodes, unordered).
 struct FaceKey {
   std::array<int, 3> v;
@@ -54,7 +43,7 @@ FaceKey face_key(int a, int b, int c) {
 struct Refinement {
   std::vector<Tet> cells;
   std::vector<Eigen::Vector3d> points;
-  std::unordered_map<std::uint64_t, int, MixHash> midpoint;
+  EdgeMap midpoint;
   std::vector<std::array<int, 2>> parents;  // of each new node
   // Per node, the last closure pass in which an edge at it was split (−1: never; the marking is
   // pass 0): a cell needs a look in pass p only if two of its nodes were stamped in pass p − 1 or
@@ -64,14 +53,14 @@ struct Refinement {
   int n_coarse = 0;
 
   int split(int a, int b) {
-    auto [it, fresh] = midpoint.emplace(edge_key(a, b), static_cast<int>(points.size()));
+    const auto [m, fresh] = midpoint.emplace(edge_key(a, b), static_cast<int>(points.size()));
     if (fresh) {
       points.push_back(0.5 * (points[static_cast<size_t>(a)] + points[static_cast<size_t>(b)]));
       parents.push_back({a, b});
       stamp.push_back(-1);
       stamp[static_cast<size_t>(a)] = stamp[static_cast<size_t>(b)] = pass;
     }
-    return it->second;
+    return m;
   }
   bool has_split_edge(const Tet& t) const {
     int hot = 0;
@@ -79,7 +68,7 @@ struct Refinement {
     if (hot < 2) return false;
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j)
-        if (midpoint.count(edge_key(t.x[static_cast<size_t>(i)], t.x[static_cast<size_t>(j)]))) return true;
+        if (midpoint.find(edge_key(t.x[static_cast<size_t>(i)], t.x[static_cast<size_t>(j)])) >= 0) return true;
     return false;
   }
 };
