@@ -19,6 +19,12 @@ void require_3d(const Mesh& m, const char* what) {
                 "D)");
 }
 
+// Why a closure can fail: the labelling (label_tetrahedra) is compatible on Kuhn meshes only.
+const std::string NOT_KUHN =
+    ": the cells' labelling is not compatible. 3D refinement needs a mesh of Kuhn cubes whose cube "
+    "diagonals are the cells' longest edges (mesh.type = box without mesh.perturb, or an imported mesh "
+    "of that kind)";
+
 // A cell during refinement: Maubach order and tag, the coarse boundary facet each face lies in
 // (face[i] is the face opposite x[i]; −1 inside), and the coarse cell it descends from.
 struct Tet {
@@ -140,9 +146,7 @@ void close_and_bisect(Refinement& R) {
   const int max_passes = 64;
   for (int& pass = R.pass;; ++pass) {
     if (pass == max_passes)
-      throw Error("bisect: the closure did not end after " + std::to_string(max_passes) +
-                      " passes (a labelling that is not compatible)",
-                  EXIT_INTERNAL);
+      input_error("bisect: the closure did not end after " + std::to_string(max_passes) + " passes" + NOT_KUHN);
     bool changed = false;
     for (size_t i = 0; i < R.cells.size();) {
       if (!R.has_split_edge(R.cells[i])) {
@@ -251,14 +255,13 @@ void check_conforming(const Mesh& fine) {
   for (size_t k = 0; k < faces.size();) {
     size_t e = k + 1;
     while (e < faces.size() && faces[e] == faces[k]) ++e;
-    if (e - k > 2) throw Error("bisect: a face shared by " + std::to_string(e - k) + " cells", EXIT_INTERNAL);
+    if (e - k > 2) input_error("bisect: a face shared by " + std::to_string(e - k) + " cells" + NOT_KUHN);
     boundary += e - k == 1;
     k = e;
   }
   if (boundary != fine.num_facets())
-    throw Error("bisect: " + std::to_string(boundary) + " one-cell faces for " + std::to_string(fine.num_facets()) +
-                    " boundary facets (hanging nodes: the labelling is not compatible)",
-                EXIT_INTERNAL);
+    input_error("bisect: " + std::to_string(boundary) + " one-cell faces for " + std::to_string(fine.num_facets()) +
+                " boundary facets (hanging nodes)" + NOT_KUHN);
 }
 
 }  // namespace

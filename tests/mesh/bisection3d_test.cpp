@@ -233,6 +233,31 @@ TEST(Bisection3d, LocalRefinementTowardsAnEdgeStaysRegular) {
   }
 }
 
+// A box perturbed by 0.3 h: the longest edges are no longer the cube diagonals, the labelling is
+// not compatible, and refining everything must fail as an input error naming the mesh it needs, not
+// leave a hanging node.
+TEST(Bisection3d, IncompatibleLabellingIsAnInputError) {
+  BoxSpec s;
+  s.nx = s.ny = s.nz = 4;
+  s.perturb = 0.3;
+  const Mesh m = make_box(s);
+  TetLabels labels = label_tetrahedra(m);
+  Mesh cur = m;
+  try {
+    for (int level = 0; level < 6; ++level) {
+      Bisection b = bisect(cur, labels, std::vector<char>(static_cast<size_t>(cur.num_cells()), 1),
+                           BisectionRule::NEWEST_VERTEX);
+      expect_conforming_tets(b.mesh);  // whatever is returned is conforming
+      cur = std::move(b.mesh);
+      labels = std::move(b.labels);
+    }
+    ADD_FAILURE() << "expected the incompatible labelling to be refused";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), EXIT_INPUT);
+    EXPECT_NE(std::string(e.what()).find("Kuhn"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Bisection3d, RejectsBadInput) {
   Mesh box = unit_box(1, BoxPattern::KUHN);
   const TetLabels labels = label_tetrahedra(box);

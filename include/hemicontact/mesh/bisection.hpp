@@ -94,8 +94,9 @@ TetLabels label_tetrahedra(const Mesh& mesh);
 /// @p labels, by Maubach bisection with the conforming closure (file comment). NEWEST_VERTEX marks
 /// a cell's refinement edge, BISEC3 all six edges (at least eight children). New nodes, parents,
 /// boundary facets and rollers as in 2D; Bisection::labels labels the fine mesh.
-/// @throws Error (EXIT_INTERNAL) if the closure does not end or leaves a face shared by more than
-/// two cells or a mismatched boundary (a labelling that is not compatible).
+/// @throws Error (EXIT_INPUT, naming the kind of mesh needed) if the closure does not end or leaves a
+/// face shared by more than two cells or a mismatched boundary (a labelling that is not compatible:
+/// a perturbed box, an imported mesh whose cells are not Kuhn paths).
 Bisection bisect(const Mesh& coarse, const TetLabels& labels, const std::vector<char>& marked,
                  BisectionRule rule = BisectionRule::BISEC3);
 
