@@ -82,6 +82,7 @@ void record_level(AdaptLevel& L, int level, const Model& md, const Solution& sol
   L.estimate_abs = est.total;
   L.energy_norm = sol.energy_norm;
   L.energy = sol.energy;
+  L.method = sol.method_choice.chosen;
   L.certificate = sol.certificate.max_residual;
   L.ok = sol.ok();
   // Π(u_h) − Π(u) ≈ ½‖u − u_h‖²_E (AdaptOptions::reference_energy); a level below the reference
@@ -319,6 +320,7 @@ nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt) {
                  {"ok", L.ok},
                  {"marked", L.marked},
                  {"steps", L.steps},
+                 {"method", L.method},
                  {"landed", L.landed}});
   if (std::isfinite(aopt.reference_energy))
     for (size_t k = 0; k < r.history.size(); ++k) h[k]["reference_error"] = r.history[k].reference_error;

@@ -251,6 +251,8 @@ TEST(Adapt3d, TargetReachedEveryLevelCertified) {
     SCOPED_TRACE("level " + std::to_string(L.level));
     EXPECT_TRUE(L.ok);
     EXPECT_LE(L.certificate, 1e-8);
+    // Each level's method is its own model's choice: a plain solve of that mesh picks the same.
+    EXPECT_TRUE(L.method == "condensed" || L.method == "full") << L.method;
   }
   for (size_t k = 1; k < r.history.size(); ++k) {
     EXPECT_GT(r.history[k].dofs, r.history[k - 1].dofs);
@@ -268,6 +270,7 @@ TEST(Adapt3d, TargetReachedEveryLevelCertified) {
   }
   EXPECT_EQ(r.estimate.eta.size(), r.model.mesh.num_cells());
   EXPECT_EQ(r.model.mesh.dim, 3);
+  EXPECT_EQ(solve(r.model, solve_options_from_scene(scene)).method_choice.chosen, r.history.back().method);
 }
 
 // The stored reference (tests/data/sofonea2017-3d-reference.json, bench/reference3d.py) belongs to

@@ -45,6 +45,9 @@ struct AdaptLevel {
   double estimate_abs = 0;       ///< η
   double energy_norm = 0;        ///< ‖u_h‖_E
   double energy = 0;             ///< Π(u_h) (Solution::energy)
+  /// The formulation this level's solve chose ("condensed", "full"; solver/method_choice.hpp): each
+  /// level chooses from its own model, as a plain solve of that mesh would.
+  std::string method;
   /// sqrt(2 (Π(u_h) − Π(u))) / ‖u_h‖_E against AdaptOptions::reference_energy (NaN without one)
   double reference_error = std::numeric_limits<double>::quiet_NaN();
   double seconds = 0;            ///< this level: model build + solve + estimate (+ refinement after it)
