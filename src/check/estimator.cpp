@@ -2,51 +2,72 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/fem/p1.hpp>
-#include <hemicontact/mesh/edge_key.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
+#include <array>
+#include <map>
 #include <numeric>
-#include <unordered_map>
 
 namespace hemicontact {
 namespace {
 
-using P = P1<2>;
-
-// Cell strains (Voigt, engineering shear) and areas.
-void cell_strains(const Model& md, const Vec& u, RowMat& eps, Vec& area) {
+// Cell strains (Voigt, engineering shears) and measures, for P1 in dimension D.
+template <int D>
+void cell_strains(const Model& md, const Vec& u, RowMat& eps, Vec& measure) {
+  using P = P1<D>;
   const Mesh& m = md.mesh;
-  eps.resize(m.num_cells(), 3);
-  area.resize(m.num_cells());
+  eps.resize(m.num_cells(), P::NVOIGT);
+  measure.resize(m.num_cells());
   for (Index c = 0; c < m.num_cells(); ++c) {
     double meas = 0;
-    const P::Grad G = P::gradients(m, c, meas);
-    Eigen::Matrix<double, 6, 1> ue;
-    for (int a = 0; a < 3; ++a) ue.segment<2>(2 * a) = u.segment<2>(2 * m.cells(c, a));
+    const typename P::Grad G = P::gradients(m, c, meas);
+    Eigen::Matrix<double, P::NDOF, 1> ue;
+    for (int a = 0; a < P::NV; ++a) ue.template segment<D>(D * a) = u.segment<D>(D * m.cells(c, a));
     eps.row(c) = (P::strain_matrix(G) * ue).transpose();
-    area[c] = meas;
+    measure[c] = meas;
   }
 }
 
-// The traction σ_T n of a constant Voigt stress s = (σ11, σ22, σ12) on a unit normal n.
-Eigen::Vector2d traction(const Vec& s, const Eigen::Vector2d& n) {
-  return {s[0] * n[0] + s[2] * n[1], s[2] * n[0] + s[1] * n[1]};
+// The traction σ n of a constant Voigt stress s on a unit normal n (2D: (σ11, σ22, σ12); 3D:
+// (σ11, σ22, σ33, σ23, σ13, σ12)).
+template <int D>
+Eigen::Matrix<double, D, 1> traction(const Vec& s, const Eigen::Matrix<double, D, 1>& n) {
+  Eigen::Matrix<double, D, D> S;
+  if constexpr (D == 2) S << s[0], s[2], s[2], s[1];
+  else S << s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2];
+  return S * n;
 }
 
+// ∫ over a simplex of measure @p meas with D_s + 1 vertices of δᵀ A δ, δ affine with vertex values
+// d_i: ∫ λ_i λ_j = meas (1 + δ_ij) / ((D_s + 1)(D_s + 2)), so the integral is
+// meas / ((D_s + 1)(D_s + 2)) · (Σ_i d_iᵀ A d_i + (Σ_i d_i)ᵀ A (Σ_i d_i)), exact.
+template <class Vecs, class A>
+double affine_square_integral(const Vecs& d, int n, const A& a, double meas) {
+  double diag = 0;
+  auto sum = d[0];
+  sum.setZero();
+  for (int i = 0; i < n; ++i) {
+    diag += d[i].dot(a * d[i]);
+    sum += d[i];
+  }
+  return meas / (n * (n + 1)) * (diag + sum.dot(a * sum));
+}
+
+template <int D>
 ErrorEstimate zz(const Model& md, const Solution& sol) {
+  constexpr int NV = D + 1, NS = P1<D>::NVOIGT;
   const Mesh& m = md.mesh;
   RowMat eps;
-  Vec area;
-  cell_strains(md, sol.u, eps, area);
-  // Area-weighted nodal averages ε*(x_a) = Σ_{T∋a} |T| ε_T / Σ |T|.
-  RowMat rec = RowMat::Zero(m.num_nodes(), 3);
+  Vec meas;
+  cell_strains<D>(md, sol.u, eps, meas);
+  // Measure-weighted nodal averages ε*(x_a) = Σ_{T∋a} |T| ε_T / Σ |T|.
+  RowMat rec = RowMat::Zero(m.num_nodes(), NS);
   Vec wsum = Vec::Zero(m.num_nodes());
   for (Index c = 0; c < m.num_cells(); ++c)
-    for (int a = 0; a < 3; ++a) {
-      rec.row(m.cells(c, a)) += area[c] * eps.row(c);
-      wsum[m.cells(c, a)] += area[c];
+    for (int a = 0; a < NV; ++a) {
+      rec.row(m.cells(c, a)) += meas[c] * eps.row(c);
+      wsum[m.cells(c, a)] += meas[c];
     }
   for (Index v = 0; v < m.num_nodes(); ++v)
     if (wsum[v] > 0) rec.row(v) /= wsum[v];
@@ -56,88 +77,115 @@ ErrorEstimate zz(const Model& md, const Solution& sol) {
   // A linear law's tangent is the same in every cell: evaluated once, not per cell (a heap-allocated
   // matrix per cell was a third of the estimator's time at 120k cells).
   const bool linear = md.material->is_linear();
-  const Mat C_linear = linear ? md.material->tangent(Vec::Zero(3)) : Mat();
-  Mat C_cell;
+  const Eigen::Matrix<double, NS, NS> C_linear =
+      linear ? Eigen::Matrix<double, NS, NS>(md.material->tangent(Vec::Zero(NS))) : Eigen::Matrix<double, NS, NS>::Zero();
+  std::array<Eigen::Matrix<double, NS, 1>, NV> d;
   for (Index c = 0; c < m.num_cells(); ++c) {
-    const Mat& C = linear ? C_linear : (C_cell = md.material->tangent(eps.row(c).transpose()));
-    // δ = ε* − ε_h is affine on T: its values at the edge midpoints are the means of the vertex
-    // values, and the midpoint rule (weights |T|/3) integrates the quadratic δᵀ C δ exactly.
-    double s = 0;
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d d = (0.5 * (rec.row(m.cells(c, k)) + rec.row(m.cells(c, (k + 1) % 3))) - eps.row(c)).transpose();
-      s += d.dot(C * d);
-    }
-    e.eta[c] = std::sqrt(std::max(0.0, s * area[c] / 3.0));
+    const Eigen::Matrix<double, NS, NS> C =
+        linear ? C_linear : Eigen::Matrix<double, NS, NS>(md.material->tangent(eps.row(c).transpose()));
+    // δ = ε* − ε_h is affine on T: η_T² = ∫_T δᵀ C δ, exactly.
+    for (int a = 0; a < NV; ++a) d[static_cast<size_t>(a)] = (rec.row(m.cells(c, a)) - eps.row(c)).transpose();
+    e.eta[c] = std::sqrt(std::max(0.0, affine_square_integral(d, NV, C, meas[c])));
   }
   return e;
 }
 
+// The longest edge of a cell or a facet (h_T, h_F).
+double diameter(const Mesh& m, const Eigen::Ref<const Eigen::VectorXi>& v) {
+  double h = 0;
+  for (Index i = 0; i < v.size(); ++i)
+    for (Index j = i + 1; j < v.size(); ++j) h = std::max(h, (m.points.row(v[i]) - m.points.row(v[j])).norm());
+  return h;
+}
 
+// Per cell: h_T² ‖f0‖²_T, the element residual (σ_h constant on P1 cells: div σ_h = 0).
+template <int D>
+void element_residuals(const Model& md, const Vec& meas, Vec& eta2) {
+  const Mesh& m = md.mesh;
+  const auto f0v = md.scene.at("loads").at("body_force").get<std::vector<double>>();
+  const double scale = md.scene.at("loads").at("scale").get<double>();
+  Eigen::Matrix<double, D, 1> f0;
+  for (int i = 0; i < D; ++i) f0[i] = scale * f0v.at(static_cast<size_t>(i));
+  for (Index c = 0; c < m.num_cells(); ++c) {
+    const double hT = diameter(m, m.cells.row(c).transpose());
+    eta2[c] += hT * hT * meas[c] * f0.squaredNorm();
+  }
+}
+
+// Interior jumps: each facet seen from its two cells; ½ h_F ‖[σn]‖²_F to each (‖·‖²_F = |F|·|J|²).
+// @return per boundary facet (sorted nodes) its cell.
+template <int D>
+std::map<std::vector<int>, Index> jump_residuals(const Mesh& m, const std::vector<Vec>& sigma, Vec& eta2) {
+  std::map<std::vector<int>, Index> first;
+  for (Index c = 0; c < m.num_cells(); ++c)
+    for (int k = 0; k <= D; ++k) {
+      std::vector<int> f;
+      for (int j = 0; j <= D; ++j)
+        if (j != k) f.push_back(m.cells(c, j));
+      std::sort(f.begin(), f.end());
+      auto [it, fresh] = first.emplace(f, c);
+      if (fresh) continue;
+      const Index o = it->second;
+      // The facet's unit normal from c's barycentric gradient of its opposite vertex (outward of c).
+      double meas = 0;
+      const auto G = P1<D>::gradients(m, c, meas);
+      const Eigen::Matrix<double, D, 1> n = -G.row(k).transpose().normalized();
+      const Eigen::Matrix<double, D, 1> J = traction<D>(sigma[static_cast<size_t>(c)], n) - traction<D>(sigma[static_cast<size_t>(o)], n);
+      // |F| = D |T| |∇λ_k| / ... : the height of vertex k over F is 1/|∇λ_k|, |T| = |F| h / D.
+      const double area = D * std::abs(meas) * G.row(k).norm();
+      const Eigen::VectorXi fv = Eigen::Map<const Eigen::VectorXi>(f.data(), D);
+      const double q = 0.5 * diameter(m, fv) * area * J.squaredNorm();
+      eta2[c] += q;
+      eta2[o] += q;
+      first.erase(it);
+    }
+  return first;
+}
+
+template <int D>
 ErrorEstimate residual(const Model& md, const Solution& sol) {
+  using V = Eigen::Matrix<double, D, 1>;
   const Mesh& m = md.mesh;
   const double mF = md.material->m_F();
   if (!(mF > 0)) input_error("adapt.estimator: 'residual' needs a strongly monotone material (m_F > 0)");
   RowMat eps;
-  Vec area;
-  cell_strains(md, sol.u, eps, area);
+  Vec meas;
+  cell_strains<D>(md, sol.u, eps, meas);
   std::vector<Vec> sigma(static_cast<size_t>(m.num_cells()));
   for (Index c = 0; c < m.num_cells(); ++c) sigma[static_cast<size_t>(c)] = md.material->stress(eps.row(c).transpose());
-
   Vec eta2 = Vec::Zero(m.num_cells());
-  // Element residual: f0 + div σ_h = f0 (σ_h constant on each P1 cell); h_T = longest edge.
-  const auto f0v = md.scene.at("loads").at("body_force").get<std::vector<double>>();
-  const double scale = md.scene.at("loads").at("scale").get<double>();
-  const Eigen::Vector2d f0(scale * f0v.at(0), scale * f0v.at(1));
-  for (Index c = 0; c < m.num_cells(); ++c) {
-    double hT = 0;
-    for (int k = 0; k < 3; ++k)
-      hT = std::max(hT, (m.points.row(m.cells(c, k)) - m.points.row(m.cells(c, (k + 1) % 3))).norm());
-    eta2[c] += hT * hT * area[c] * f0.squaredNorm();
-  }
-  // Interior jumps: each edge seen from its two cells; ½ h_E ‖[σn]‖²_E to each (‖·‖²_E = |E|·|J|²).
-  std::unordered_map<std::uint64_t, std::pair<Index, int>> first;  // edge → (cell, local edge)
-  first.reserve(static_cast<size_t>(2 * m.num_cells()));
-  for (Index c = 0; c < m.num_cells(); ++c)
-    for (int k = 0; k < 3; ++k) {
-      const int a = m.cells(c, k), b = m.cells(c, (k + 1) % 3);
-      auto [it, fresh] = first.emplace(edge_key(a, b), std::make_pair(c, k));
-      if (fresh) continue;
-      const Index o = it->second.first;
-      const Eigen::Vector2d t = (m.points.row(b) - m.points.row(a)).transpose();
-      const double hE = t.norm();
-      const Eigen::Vector2d n(t[1] / hE, -t[0] / hE);  // outward of c (c is counter-clockwise)
-      const Eigen::Vector2d J = traction(sigma[static_cast<size_t>(c)], n) - traction(sigma[static_cast<size_t>(o)], n);
-      const double q = 0.5 * hE * hE * J.squaredNorm();
-      eta2[c] += q;
-      eta2[o] += q;
-    }
-  // Boundary facets: the cell each belongs to.
+  element_residuals<D>(md, meas, eta2);
+  const std::map<std::vector<int>, Index> boundary = jump_residuals<D>(m, sigma, eta2);
   std::vector<Index> node_contact(static_cast<size_t>(m.num_nodes()), -1);
   for (Index k = 0; k < md.contact.size(); ++k) node_contact[static_cast<size_t>(md.contact.node[k])] = k;
-  const auto nodal_traction = [&](int v, const Eigen::Vector2d& fallback) -> Eigen::Vector2d {
+  // On Γ3 the nodal contact traction t_i (a Γ3 node that is clamped has none: σn itself).
+  const auto nodal_traction = [&](int v, const V& fallback) -> V {
     const Index k = node_contact[static_cast<size_t>(v)];
-    if (k < 0) return fallback;  // a Γ3 end that is clamped: no contact term there
+    if (k < 0) return fallback;
     return sol.state.sigma_nu[k] * md.contact.normal.row(k).transpose() + sol.state.sigma_tau_vec.row(k).transpose();
   };
   for (Index f = 0; f < m.num_facets(); ++f) {
     const Part part = m.facet_part[static_cast<size_t>(f)];
     if (part == Part::GAMMA1) continue;
-    const int a = m.facets(f, 0), b = m.facets(f, 1);
-    const auto it = first.find(edge_key(a, b));
-    if (it == first.end()) continue;
-    const Index c = it->second.first;
-    const Eigen::Vector2d n = m.facet_normal(f);
-    const double hE = m.facet_measure(f);
-    const Eigen::Vector2d s = traction(sigma[static_cast<size_t>(c)], n);
+    std::vector<int> fv(static_cast<size_t>(D));
+    for (int j = 0; j < D; ++j) fv[static_cast<size_t>(j)] = m.facets(f, j);
+    std::sort(fv.begin(), fv.end());
+    const auto it = boundary.find(fv);
+    if (it == boundary.end()) continue;
+    const Index c = it->second;
+    const V n = m.facet_normal(f);
+    const double area = m.facet_measure(f), hF = diameter(m, m.facets.row(f).transpose());
+    const V s = traction<D>(sigma[static_cast<size_t>(c)], n);
     if (part == Part::GAMMA3) {
-      // t_h − σn is affine along E: ‖·‖²_E = |E|/3 (d_a² + d_a·d_b + d_b²).
-      const Eigen::Vector2d da = nodal_traction(a, s) - s, db = nodal_traction(b, s) - s;
-      eta2[c] += hE * hE / 3.0 * (da.squaredNorm() + da.dot(db) + db.squaredNorm());
+      // t_h − σn is affine on F: exact integral of its square.
+      std::array<V, D> d;
+      for (int j = 0; j < D; ++j) d[static_cast<size_t>(j)] = nodal_traction(m.facets(f, j), s) - s;
+      eta2[c] += hF * affine_square_integral(d, D, Eigen::Matrix<double, D, D>::Identity(), area);
     } else {
       const int load = m.facet_load[static_cast<size_t>(f)];
-      Eigen::Vector2d g = Eigen::Vector2d::Zero();
-      if (load >= 0) g = m.tractions[static_cast<size_t>(load)].head<2>();
-      eta2[c] += hE * hE * (g - s).squaredNorm();
+      V g = V::Zero();
+      if (load >= 0) g = m.tractions[static_cast<size_t>(load)].head<D>();
+      eta2[c] += hF * area * (g - s).squaredNorm();
     }
   }
   ErrorEstimate e;
@@ -157,8 +205,9 @@ EstimatorKind parse_estimator(const std::string& name) {
 const char* to_string(EstimatorKind k) { return k == EstimatorKind::ZZ ? "zz" : "residual"; }
 
 ErrorEstimate estimate_error(const Model& md, const Solution& sol, EstimatorKind kind) {
-  if (md.dim() != 2) input_error("adapt: error estimation is implemented for 2D meshes only");
-  ErrorEstimate e = kind == EstimatorKind::ZZ ? zz(md, sol) : residual(md, sol);
+  ErrorEstimate e;
+  if (md.dim() == 2) e = kind == EstimatorKind::ZZ ? zz<2>(md, sol) : residual<2>(md, sol);
+  else e = kind == EstimatorKind::ZZ ? zz<3>(md, sol) : residual<3>(md, sol);
   e.total = e.eta.norm();
   e.relative = sol.energy_norm > 0 ? e.total / sol.energy_norm : 0.0;
   return e;

@@ -210,6 +210,9 @@ int cmd_solve(const std::vector<std::string>& args) {
     std::printf("adapt: %zu levels, %lld dofs, estimate %.3g (target %.3g, %s), %.3g s\n", r.adapt_levels.size(),
                 static_cast<long long>(last.dofs), last.estimate, r.adapt->target_error, r.stop_reason.c_str(),
                 last.cumulative_seconds);
+    if (std::isfinite(last.reference_error))
+      std::printf("adapt: error against the reference energy %.3g (efficiency index %.3g)\n", last.reference_error,
+                  last.estimate / last.reference_error);
   }
   r.extra["engine_choice"] = engine_choice_json(engine);
   write_solve_results(a, plot_args, r, scene_solve_report(r));

@@ -5,15 +5,14 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <unordered_map>
 
 namespace hemicontact {
 namespace {
 
 void require_2d(const Mesh& m, const char* what) {
   if (m.dim != 2)
-    input_error(std::string(what) + ": newest-vertex bisection is implemented for triangles (2D) only; a " +
-                std::to_string(m.dim) + "D mesh cannot be adapted");
+    input_error(std::string(what) + ": this is the triangles' (2D) bisection; a " + std::to_string(m.dim) +
+                "D mesh is refined with its tagged tetrahedra (label_tetrahedra, bisect with labels)");
 }
 
 }  // namespace
@@ -50,26 +49,25 @@ struct CoarseEdges {
 };
 
 // The midpoint node of each marked edge, by edge_key.
-using EdgeMidpoints = std::unordered_map<std::uint64_t, int>;
+using EdgeMidpoints = EdgeMap;
 
 CoarseEdges coarse_edges(const Mesh& coarse) {
   const Index M = coarse.num_cells();
   CoarseEdges E;
-  std::unordered_map<std::uint64_t, int> edge_id;
-  edge_id.reserve(static_cast<size_t>(2 * M + coarse.num_facets()));
+  EdgeMap edge_id(static_cast<size_t>(2 * M + coarse.num_facets()));
   E.cell_edges.resize(static_cast<size_t>(M));
   for (Index c = 0; c < M; ++c) {
     const int v0 = coarse.cells(c, 0), v1 = coarse.cells(c, 1), v2 = coarse.cells(c, 2);
     const int ends[3][2] = {{v1, v2}, {v2, v0}, {v0, v1}};
     for (int k = 0; k < 3; ++k) {
-      auto [it, fresh] = edge_id.emplace(edge_key(ends[k][0], ends[k][1]), static_cast<int>(E.edge_nodes.size()));
+      const auto [id, fresh] = edge_id.emplace(edge_key(ends[k][0], ends[k][1]), static_cast<int>(E.edge_nodes.size()));
       if (fresh) {
         E.edge_nodes.push_back({ends[k][0], ends[k][1]});
         E.edge_cells.push_back({static_cast<int>(c), -1});
       } else {
-        E.edge_cells[static_cast<size_t>(it->second)][1] = static_cast<int>(c);
+        E.edge_cells[static_cast<size_t>(id)][1] = static_cast<int>(c);
       }
-      E.cell_edges[static_cast<size_t>(c)][static_cast<size_t>(k)] = it->second;
+      E.cell_edges[static_cast<size_t>(c)][static_cast<size_t>(k)] = id;
     }
   }
   return E;
@@ -109,13 +107,12 @@ void bisect_cells(const Mesh& coarse, const EdgeMidpoints& midpoint, Bisection& 
   std::vector<std::array<int, 3>> cells;
   cells.reserve(static_cast<size_t>(M) + 3 * midpoint.size());
   const auto refine = [&](auto&& self, int a0, int a1, int a2, int parent) -> void {
-    const auto it = midpoint.find(edge_key(a1, a2));
-    if (it == midpoint.end()) {
+    const int m = midpoint.find(edge_key(a1, a2));
+    if (m < 0) {
       cells.push_back({a0, a1, a2});
       out.cell_parent.push_back(parent);
       return;
     }
-    const int m = it->second;
     self(self, m, a0, a1, parent);
     self(self, m, a2, a0, parent);
   };
@@ -133,16 +130,16 @@ void split_facets(const Mesh& coarse, const EdgeMidpoints& midpoint, Mesh& fine)
   std::vector<std::array<int, 2>> facets;
   for (Index f = 0; f < coarse.num_facets(); ++f) {
     const int a = coarse.facets(f, 0), b = coarse.facets(f, 1);
-    const auto it = midpoint.find(edge_key(a, b));
+    const int m = midpoint.find(edge_key(a, b));
     auto& ch = children[static_cast<size_t>(f)];
-    if (it == midpoint.end()) {
+    if (m < 0) {
       ch.push_back(static_cast<Index>(facets.size()));
       facets.push_back({a, b});
     } else {
       ch.push_back(static_cast<Index>(facets.size()));
-      facets.push_back({a, it->second});
+      facets.push_back({a, m});
       ch.push_back(static_cast<Index>(facets.size()));
-      facets.push_back({it->second, b});
+      facets.push_back({m, b});
     }
   }
   fine.facets.resize(static_cast<Index>(facets.size()), 2);
@@ -171,9 +168,9 @@ void inherit_rollers(const Mesh& coarse, const EdgeMidpoints& midpoint, Mesh& fi
   std::copy(coarse.node_fixed.begin(), coarse.node_fixed.end(), fine.node_fixed.begin());
   for (Index f = 0; f < coarse.num_facets(); ++f) {
     const int a = coarse.facets(f, 0), b = coarse.facets(f, 1);
-    const auto it = midpoint.find(edge_key(a, b));
-    if (it != midpoint.end())
-      fine.node_fixed[static_cast<size_t>(it->second)] =
+    const int m = midpoint.find(edge_key(a, b));
+    if (m >= 0)
+      fine.node_fixed[static_cast<size_t>(m)] =
           coarse.node_fixed[static_cast<size_t>(a)] & coarse.node_fixed[static_cast<size_t>(b)];
   }
 }

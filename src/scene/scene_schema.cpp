@@ -580,7 +580,7 @@ std::vector<SchemaEntry> build_scene_schema() {
   // ------------------------------------------------------------------ adapt
   const AdaptOptions A;  // the defaults' one home
   t.push_back(section("/adapt",
-                      "Adaptive refinement (2D): solve, estimate, Dörfler-mark, bisect, until the "
+                      "Adaptive refinement (2D and 3D): solve, estimate, Dörfler-mark, bisect, until the "
                       "estimated relative energy-norm error is below target_error (docs/adaptivity.md)."));
   // The estimate is relative to ‖u_h‖_E; below 1e-6 the estimator itself is round-off dominated.
   t.push_back(below(above(key("/adapt/target_error", "number|null", nullptr,
@@ -588,8 +588,12 @@ std::vector<SchemaEntry> build_scene_schema() {
                               "(the scene's mesh is solved as it is)."),
                           1e-6),
                     1));
+  t.push_back(key("/adapt/reference_energy", "number|null", nullptr,
+                  "The energy Π(u) of the exact solution when it is known (extrapolated from uniform "
+                  "meshes, docs/adaptivity.md §6); each level then also reports the reference-measured "
+                  "error sqrt(2 (Π(u_h) − Π(u))) / ‖u_h‖_E. null: none."));
   t.push_back(at_least(key("/adapt/max_dofs", "integer", A.max_dofs,
-                           "No mesh with more free unknowns (2 per node) is solved: the loop stops "
+                           "No mesh with more free unknowns (d per node) is solved: the loop stops "
                            "before it."),
                        1));
   t.push_back(at_least(key("/adapt/max_levels", "integer", A.max_levels, "At most this many meshes, the first included."), 1));
@@ -601,10 +605,17 @@ std::vector<SchemaEntry> build_scene_schema() {
                       1));
   t.push_back(at_least(key("/adapt/landing", "number", A.landing,
                            "The last step: when the Dörfler step would overshoot landing × N* nodes, "
-                           "N* = N (η/target)² the need predicted by the optimal rate η ∝ N^(-1/2), "
+                           "N* = N (η/target)^d the need predicted by the optimal rate η ∝ N^(-1/d), "
                            "only the largest indicators are marked, about as many as reach it; 0: off, "
                            "else >= 1 (the margin, against a step that falls short of the target)."),
                        0));
+  t.push_back(at_most(at_least(key("/adapt/lookahead", "integer", A.lookahead,
+                                   "At most this many refinement steps between two solves: the steps after the "
+                                   "first mark indicators predicted from the last solve, while the mesh is "
+                                   "predicted to miss the target (1: a solve after every step; only with "
+                                   "landing on)."),
+                               1),
+                      8));
   // OpenBLAS's thread table is fixed when it is built (Debian: 64): 64 and more hung the loop.
   t.push_back(at_most(at_least(key("/adapt/blas_threads", "integer", A.blas_threads,
                                    "OpenBLAS threads during the adaptive loop, restored after it (0: leave the "
@@ -617,7 +628,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "jumps, Γ2 traction and Γ3 contact-traction mismatch.",
                   {"zz", "residual"}));
   t.push_back(key("/adapt/bisection", "string", to_string(A.bisection),
-                  "bisec3: every edge of a marked cell is bisected (4 children); newest_vertex: only "
+                  "bisec3: every edge of a marked cell is bisected (2D: 4 children, 3D: 8); newest_vertex: only "
                   "its refinement edge (2 children). Both with the conforming closure.",
                   {"bisec3", "newest_vertex"}));
 

@@ -53,7 +53,9 @@ AdaptOptions adapt_options_from_scene(const nlohmann::json& scene) {
   o.max_levels = a.at("max_levels").get<int>();
   o.theta = a.at("theta").get<double>();
   o.landing = a.at("landing").get<double>();
+  o.lookahead = a.at("lookahead").get<int>();
   o.blas_threads = a.at("blas_threads").get<int>();
+  if (!a.at("reference_energy").is_null()) o.reference_energy = a.at("reference_energy").get<double>();
   if (o.landing > 0 && o.landing < 1)
     input_error("adapt.landing: " + std::to_string(o.landing) +
                 " aims below the predicted need; use 0 (off) or a factor >= 1");
@@ -65,7 +67,8 @@ AdaptOptions adapt_options_from_scene(const nlohmann::json& scene) {
 namespace {
 
 // The level's record from its model, answer and estimate (the timings apart).
-void record_level(AdaptLevel& L, int level, const Model& md, const Solution& sol, const ErrorEstimate& est) {
+void record_level(AdaptLevel& L, int level, const Model& md, const Solution& sol, const ErrorEstimate& est,
+                  double reference_energy) {
   L.level = level;
   L.nodes = md.mesh.num_nodes();
   L.cells = md.mesh.num_cells();
@@ -74,46 +77,117 @@ void record_level(AdaptLevel& L, int level, const Model& md, const Solution& sol
   L.estimate = est.relative;
   L.estimate_abs = est.total;
   L.energy_norm = sol.energy_norm;
+  L.energy = sol.energy;
+  L.method = sol.method_choice.chosen;
   L.certificate = sol.certificate.max_residual;
   L.ok = sol.ok();
+  // Π(u_h) − Π(u) ≈ ½‖u − u_h‖²_E (AdaptOptions::reference_energy); a level below the reference
+  // (round-off, or a reference not fine enough) reads 0.
+  if (std::isfinite(reference_energy) && sol.energy_norm > 0)
+    L.reference_error = std::sqrt(2 * std::max(0.0, sol.energy - reference_energy)) / sol.energy_norm;
 }
 
-// The next mesh: Dörfler marking, cut by the landing, then bisection; sets L.marked and L.landed.
-// Empty (with @p stop = "max_dofs") when the next mesh would exceed max_dofs; else @p u_start is
-// this level's u carried to it.
-std::optional<Bisection> refine_level(const Model& md, const Solution& sol, const ErrorEstimate& est,
-                                      const AdaptOptions& aopt, int level, AdaptLevel& L, std::string& stop,
-                                      Vec& u_start) {
-  std::optional<Bisection> next;
-  std::vector<char> marked = dorfler_mark(est.eta, aopt.theta);
-  next = bisect(md.mesh, marked, aopt.bisection);
-  // Landing (AdaptOptions::landing): the nodes the target needs at the rate N^(−1/2), with the
-  // margin; a bigger Dörfler step is cut to the largest indicators, in proportion to the new
-  // nodes it would have made (the closure makes the count approximate, hence the margin).
-  const double ratio = L.estimate / aopt.target_error;  // > 1: the target is not reached
-  const double need = aopt.landing * ratio * ratio * static_cast<double>(L.nodes);
-  const Index n_next = next->mesh.num_nodes();
-  if (aopt.landing > 0 && need < static_cast<double>(n_next)) {
+// The refinement state the loop carries: the mesh and, in 3D, its tagged tetrahedra.
+struct Refinable {
+  Mesh mesh;
+  TetLabels labels;  // 3D only
+};
+
+Bisection bisect_any(const Refinable& r, const std::vector<char>& marked, BisectionRule rule) {
+  return r.mesh.dim == 3 ? bisect(r.mesh, r.labels, marked, rule) : bisect(r.mesh, marked, rule);
+}
+
+// One step: Dörfler's marking of @p eta, cut to the largest indicators when its mesh would have more
+// than @p need nodes (AdaptOptions::landing; the closure makes the count approximate, hence the
+// margin in need). @p marked and @p landed report what was done.
+Bisection refine_once(const Refinable& r, const Vec& eta, double need, const AdaptOptions& aopt, Index& marked,
+                      bool& landed) {
+  std::vector<char> mark = dorfler_mark(eta, aopt.theta);
+  Bisection next = bisect_any(r, mark, aopt.bisection);
+  const Index n0 = r.mesh.num_nodes(), n_next = next.mesh.num_nodes();
+  landed = aopt.landing > 0 && need < static_cast<double>(n_next);
+  if (landed) {
     Index k = 0;
-    for (char c : marked) k += c;
-    const double share = (need - static_cast<double>(L.nodes)) / static_cast<double>(n_next - L.nodes);
+    for (char c : mark) k += c;
+    const double share = (need - static_cast<double>(n0)) / static_cast<double>(n_next - n0);
     const Index k_land = std::max<Index>(1, std::llround(share * static_cast<double>(k)));
-    marked = mark_largest(est.eta, k_land);
-    next = bisect(md.mesh, marked, aopt.bisection);
-    L.landed = true;
-    log_info() << "adapt level " << level << ": landing, the target needs about " << std::llround(need)
-               << " nodes (margin " << aopt.landing << "): " << k_land << " of Dörfler's " << k
-               << " cells marked, " << next->mesh.num_nodes() << " nodes instead of " << n_next;
+    mark = mark_largest(eta, k_land);
+    next = bisect_any(r, mark, aopt.bisection);
+    log_info() << "adapt: landing, the target needs about " << std::llround(need) << " nodes (margin " << aopt.landing
+               << "): " << k_land << " of Dörfler's " << k << " cells marked, " << next.mesh.num_nodes()
+               << " nodes instead of " << n_next;
   }
-  for (char c : marked) L.marked += c;
-  // The next mesh's free unknowns are at most 2 per node: refuse it beyond max_dofs.
-  if (2 * next->mesh.num_nodes() > aopt.max_dofs) {
+  marked = 0;
+  for (char c : mark) marked += c;
+  return next;
+}
+
+// The indicators predicted on the refined mesh of @p b before it is solved: a child of measure
+// ratio r to its parent gets η_parent² r^(1 + 2/d), the decrease of η_T² = O(|T| h_T²) for a smooth
+// solution (the cells at a singularity decrease less, so the predicted step under-refines them
+// rather than over-refines; the solve that follows measures what it reached).
+Vec predicted_indicators(const Mesh& coarse, const Bisection& b, const Vec& eta) {
+  const Mesh& fine = b.mesh;
+  const double power = 1.0 + 2.0 / fine.dim;
+  Vec pred(fine.num_cells());
+  for (Index c = 0; c < fine.num_cells(); ++c) {
+    const Index p = b.cell_parent[static_cast<size_t>(c)];
+    const double ratio = fine.cell_measure(c) / coarse.cell_measure(p);
+    pred[c] = eta[p] * std::pow(ratio, 0.5 * power);
+  }
+  return pred;
+}
+
+// The next mesh (file comment of adapt.hpp): up to AdaptOptions::lookahead Dörfler steps, the ones
+// after the first on predicted indicators without a solve in between, while the mesh is predicted
+// to miss the target; a step cut by the landing is the last. Empty (with @p stop =
+// "max_dofs") when the next mesh would exceed max_dofs; else @p u_start is this level's u carried
+// to it. Sets L.marked, L.landed, L.steps.
+std::optional<Refinable> refine_level(const Refinable& cur, const Solution& sol, const ErrorEstimate& est,
+                                      const AdaptOptions& aopt, AdaptLevel& L, std::string& stop, Vec& u_start) {
+  const int d = cur.mesh.dim;
+  // The nodes the target needs at the optimal rate η ∝ N^(−1/d), with the landing's margin; a
+  // need beyond max_dofs (d unknowns per node at most) is cut to 90 % of it (the cut's node count
+  // is approximate), once: from a mesh of less than half that, so the loop ends on the largest mesh
+  // it may solve instead of the one before it.
+  const double ratio = L.estimate / aopt.target_error;  // > 1: the target is not reached
+  const double target_need = aopt.landing * std::pow(ratio, d) * static_cast<double>(L.nodes);
+  const double cap = 0.9 * static_cast<double>(aopt.max_dofs) / d;
+  const double need = static_cast<double>(L.nodes) < 0.5 * cap ? std::min(target_need, cap) : target_need;
+  Refinable next;
+  Vec eta = est.eta;
+  Vec u = sol.u;
+  const Refinable* from = &cur;
+  for (int step = 1; step <= aopt.lookahead; ++step) {
+    Index marked = 0;
+    bool landed = false;
+    Bisection b = refine_once(*from, eta, need, aopt, marked, landed);
+    // A predicted step beyond max_dofs is not taken: the mesh before it is solved.
+    if (step > 1 && d * b.mesh.num_nodes() > aopt.max_dofs) break;
+    L.steps = step;
+    L.marked += marked;
+    L.landed = L.landed || landed;
+    u = prolongate_bisection(b, u, d);
+    // Another step on predicted indicators while this mesh is predicted to miss the target (its N
+    // below N (η/target)^d, the need without the margin) and the lookahead allows one.
+    // A step that would grow past max_dofs at this step's growth is not tried.
+    const double n_next = static_cast<double>(b.mesh.num_nodes());
+    const double growth = n_next / static_cast<double>(from->mesh.num_nodes());
+    const bool predict = aopt.landing > 0 && !landed && n_next < target_need / aopt.landing &&
+                         d * n_next * growth <= static_cast<double>(aopt.max_dofs);
+    if (predict && step < aopt.lookahead) eta = predicted_indicators(from->mesh, b, eta);
+    next.mesh = std::move(b.mesh);
+    next.labels = std::move(b.labels);
+    from = &next;
+    if (!predict) break;
+  }
+  // The next mesh's free unknowns are at most d per node: refuse it beyond max_dofs.
+  if (d * next.mesh.num_nodes() > aopt.max_dofs) {
     stop = "max_dofs";
     L.marked = 0;
-    next.reset();
-  } else {
-    u_start = prolongate_bisection(*next, sol.u, 2);
+    return std::nullopt;
   }
+  u_start = std::move(u);
   return next;
 }
 
@@ -131,13 +205,24 @@ void final_smallness(const ContactSolver& solver, Solution& sol) {
                << ": uniqueness guaranteed: " << (q.holds ? "yes" : "no");
 }
 
+// The level's solve, from the previous level's u carried to this mesh when there is one.
+Solution solve_from(ContactSolver& solver, const Model& md, const Vec& u_start) {
+  if (u_start.size() != md.mesh.num_nodes() * md.dim()) return solver.solve();
+  // Warm start: the interpolated u in the solver's unknowns (reduced, local Γ3 frames).
+  const Vec z0 = solver.to_unknowns(md.dofs.to_reduced(u_start));
+  return solver.solve(&z0);
+}
+
 }  // namespace
 
 AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOptions& aopt, const SolveOptions& sopt,
                          const AdaptLevelSolved& on_level) {
   const auto t_start = clk::now();
-  if (mesh.dim != 2) input_error("adapt: adaptive refinement is implemented for 2D meshes only (mesh.type = box is 3D)");
-  label_longest_edges(mesh);
+  const int d = mesh.dim;
+  Refinable cur;
+  if (d == 2) label_longest_edges(mesh);
+  else cur.labels = label_tetrahedra(mesh);
+  cur.mesh = std::move(mesh);
   const ScopedBlasThreads blas_threads(aopt.blas_threads);
   SolveOptions level_opt = sopt;
   level_opt.smallness = false;  // evaluated once, on the final mesh (file comment)
@@ -145,19 +230,12 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
   Vec u_start;  // the previous level's displacement carried to the current mesh
   for (int level = 0;; ++level) {
     const auto t_level = clk::now();
-    Model md = build_model(scene, mesh);
+    Model md = build_model(scene, cur.mesh);
     const auto t_solve = clk::now();
     const double build_seconds = since(t_level);
     ContactSolver solver(md, level_opt);
     const double setup_seconds = since(t_solve);
-    Solution sol;
-    if (u_start.size() == md.mesh.num_nodes() * 2) {
-      // Warm start: the interpolated u in the solver's unknowns (reduced, local Γ3 frames).
-      const Vec z0 = solver.to_unknowns(md.dofs.to_reduced(u_start));
-      sol = solver.solve(&z0);
-    } else {
-      sol = solver.solve();
-    }
+    Solution sol = solve_from(solver, md, u_start);
     AdaptLevel L;
     L.solve_seconds = since(t_solve);
     L.build_seconds = build_seconds;
@@ -166,17 +244,18 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
     const auto t_estimate = clk::now();
     ErrorEstimate est = estimate_error(md, sol, aopt.estimator);
     L.estimate_seconds = since(t_estimate);
-    record_level(L, level, md, sol, est);
+    record_level(L, level, md, sol, est, aopt.reference_energy);
     log_info() << "adapt level " << level << ": " << L.dofs << " dofs, estimate " << L.estimate << " ("
-               << to_string(aopt.estimator) << "), certificate " << L.certificate;
+               << to_string(aopt.estimator) << "), certificate " << L.certificate
+               << (std::isfinite(L.reference_error) ? ", error against the reference energy " + std::to_string(L.reference_error) : "");
 
     std::string stop;
     if (!L.ok) stop = "not certified";
     else if (L.estimate <= aopt.target_error) stop = "target reached";
     else if (level + 1 >= aopt.max_levels) stop = "max_levels";
-    std::optional<Bisection> next;
+    std::optional<Refinable> next;
     const auto t_refine = clk::now();
-    if (stop.empty()) next = refine_level(md, sol, est, aopt, level, L, stop, u_start);
+    if (stop.empty()) next = refine_level(cur, sol, est, aopt, L, stop, u_start);
     L.refine_seconds = since(t_refine);
     L.seconds = since(t_level);
     L.cumulative_seconds = since(t_start);
@@ -191,7 +270,7 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
       r.estimate = std::move(est);
       return r;
     }
-    mesh = std::move(next->mesh);
+    cur = std::move(*next);
   }
 }
 
@@ -201,6 +280,7 @@ nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt) {
   j["estimator"] = to_string(aopt.estimator);
   j["theta"] = aopt.theta;
   j["landing"] = aopt.landing;
+  j["lookahead"] = aopt.lookahead;
   j["blas_threads"] = aopt.blas_threads;
   j["bisection"] = aopt.bisection == BisectionRule::BISEC3 ? "bisec3" : "newest_vertex";
   j["max_dofs"] = aopt.max_dofs;
@@ -208,6 +288,10 @@ nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt) {
   j["reached"] = r.reached;
   j["stop_reason"] = r.stop_reason;
   j["final_estimate"] = r.history.empty() ? 0.0 : r.history.back().estimate;
+  if (std::isfinite(aopt.reference_energy)) {
+    j["reference_energy"] = aopt.reference_energy;
+    if (!r.history.empty()) j["final_reference_error"] = r.history.back().reference_error;
+  }
   j["seconds"] = r.history.empty() ? 0.0 : r.history.back().cumulative_seconds;
   nlohmann::json h = nlohmann::json::array();
   for (const AdaptLevel& L : r.history)
@@ -219,6 +303,7 @@ nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt) {
                  {"estimate", L.estimate},
                  {"estimate_abs", L.estimate_abs},
                  {"energy_norm", L.energy_norm},
+                 {"energy", L.energy},
                  {"seconds", L.seconds},
                  {"solve_seconds", L.solve_seconds},
                  {"build_seconds", L.build_seconds},
@@ -230,7 +315,11 @@ nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt) {
                  {"certificate", L.certificate},
                  {"ok", L.ok},
                  {"marked", L.marked},
+                 {"steps", L.steps},
+                 {"method", L.method},
                  {"landed", L.landed}});
+  if (std::isfinite(aopt.reference_energy))
+    for (size_t k = 0; k < r.history.size(); ++k) h[k]["reference_error"] = r.history[k].reference_error;
   j["history"] = h;
   return j;
 }

@@ -22,6 +22,7 @@ json with_mesh(json scene, int n) {
   scene["mesh"]["n"] = n;
   scene["mesh"]["nx"] = n;
   scene["mesh"]["ny"] = n;
+  if (scene["mesh"].contains("nz")) scene["mesh"]["nz"] = n;
   return scene;
 }
 
@@ -133,11 +134,29 @@ void structured_family(const json& scene, const std::string& scene_dir, const So
   }
 }
 
+// An adaptive level as the study keeps it: its mesh, solution and point.
+Kept kept_level(const AdaptLevel& L, const Model& md, const Solution& sol, const ErrorEstimate& e) {
+  Kept k;
+  k.mesh = md.mesh;
+  k.u = sol.u;
+  k.p.family = "adaptive";
+  k.p.level = L.level;
+  k.p.dofs = L.dofs;
+  k.p.seconds = L.cumulative_seconds;
+  k.p.estimate = L.estimate;
+  k.p.certificate = L.certificate;
+  k.p.ok = L.ok;
+  k.estimate_abs = e.total;
+  return k;
+}
+
 }  // namespace
 
 WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scene_dir, const WorkPrecisionRequest& req) {
-  if (scene.at("mesh").at("type") != "rectangle")
-    input_error("converge --adaptive: the scene's mesh must be a generated rectangle (mesh.type = rectangle)");
+  const std::string type = scene.at("mesh").at("type").get<std::string>();
+  if (type != "rectangle" && type != "box")
+    input_error("converge --adaptive: the scene's mesh must be a generated rectangle or box (mesh.type = rectangle "
+                "or box)");
   SolveOptions opt = solve_options_from_scene(scene);
   opt.smallness = false;  // a diagnostic, not part of the work measured
   WorkPrecisionStudy st;
@@ -149,18 +168,7 @@ WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scen
   // The adaptive sequence, kept level by level (its meshes and solutions).
   std::vector<Kept> adaptive;
   const auto keep = [&](const AdaptLevel& L, const Model& md, const Solution& sol, const ErrorEstimate& e) {
-    Kept k;
-    k.mesh = md.mesh;
-    k.u = sol.u;
-    k.p.family = "adaptive";
-    k.p.level = L.level;
-    k.p.dofs = L.dofs;
-    k.p.seconds = L.cumulative_seconds;
-    k.p.estimate = L.estimate;
-    k.p.certificate = L.certificate;
-    k.p.ok = L.ok;
-    k.estimate_abs = e.total;
-    adaptive.push_back(std::move(k));
+    adaptive.push_back(kept_level(L, md, sol, e));
   };
 
   Model ref;
@@ -189,7 +197,9 @@ WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scen
   st.reference_dofs = ref.dofs.n_free();
   const ReferenceError err{ref, sref, st.reference_estimate, std::sqrt(std::max(0.0, ref.a(sref.u, sref.u)))};
   structured_family(scene, scene_dir, opt, req, err, "uniform", req.uniform_levels, false, st);
-  structured_family(scene, scene_dir, opt, req, err, "graded", req.graded_levels, true, st);
+  // mesh.grading grades rectangles only: a box has no graded family.
+  if (type == "rectangle") structured_family(scene, scene_dir, opt, req, err, "graded", req.graded_levels, true, st);
+  else if (!req.graded_levels.empty()) log_info() << "converge --adaptive: no graded family for a box (mesh.grading grades rectangles)";
   for (Kept& k : adaptive) {
     err.measure(k.mesh, k.u, k.p);
     st.points.push_back(k.p);

@@ -67,3 +67,34 @@ TEST_F(AdaptCli, BadAdaptKeysNameTheKey) {
     EXPECT_NE(r.err.find(bad.substr(0, bad.find('='))), std::string::npos) << r.err;
   }
 }
+
+// The 3D scene end to end: the adaptive solve (cholmod engine: auto sends adaptive scenes there)
+// reports the estimate and, from the scene's adapt.reference_energy, the error per level and at the
+// end; converge --adaptive runs the uniform and adaptive families on boxes (no graded family).
+TEST_F(AdaptCli, ThreeDimensionalSceneReportsTheReferenceError) {
+  const std::string scene3d = HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-3d.json";
+  const fs::path out = dir / "s";
+  auto r = cli("solve " + scene3d + " --set mesh.n=4 --set adapt.target_error=0.3 --set check.smallness=false --out " +
+               out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json a = json::parse(slurp(out / "report.json")).at("adapt");
+  EXPECT_TRUE(a.at("reached").get<bool>());
+  EXPECT_EQ(a.at("history").back().at("reference_error"), a.at("final_reference_error"));
+  EXPECT_GT(a.at("final_reference_error").get<double>(), 0);
+  EXPECT_NE(r.out.find("error against the reference energy"), std::string::npos) << r.out;
+  EXPECT_EQ(json::parse(slurp(out / "report.json")).at("engine_choice").at("engine"), "cholmod");
+  const fs::path conv = dir / "c";
+  r = cli("converge " + scene3d + " --adaptive --set mesh.n=2 --levels 2,4 --reference adaptive:0.2 " +
+          "--set adapt.target_error=0.3 --quiet --out " + conv.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json wp = json::parse(slurp(conv / "work_precision.json"));
+  int uniform = 0, adaptive = 0, graded = 0;
+  for (const json& p : wp.at("points")) {
+    uniform += p.at("family") == "uniform";
+    adaptive += p.at("family") == "adaptive";
+    graded += p.at("family") == "graded";
+  }
+  EXPECT_EQ(uniform, 2);
+  EXPECT_GE(adaptive, 1);
+  EXPECT_EQ(graded, 0);
+}

@@ -1,19 +1,20 @@
 #pragma once
-/// @file estimator.hpp  A posteriori error indicators for a P1 solution of (P_V^h) in 2D, and
-/// Dörfler marking. The mathematics, and what is known about reliability and efficiency for
+/// @file estimator.hpp  A posteriori error indicators for a P1 solution of (P_V^h) in 2D and 3D
+/// (one implementation over the dimension d), and Dörfler marking. The mathematics, and what is known about reliability and efficiency for
 /// contact problems, is in docs/adaptivity.md.
 ///
 /// Both estimators measure the error in the energy norm ‖v‖_E² = a(v, v) and return one
 /// indicator η_T per cell, with η² = Σ_T η_T²:
 ///
 /// - ZZ (Zienkiewicz–Zhu recovery): the cell strains ε_h|_T are averaged to the nodes with area
-///   weights, ε* is their P1 interpolant, and η_T² = ∫_T (ε* − ε_h) : C_T (ε* − ε_h) (C_T the
-///   material's tangent at ε_h|_T; the constant C for linear elasticity). ε* − ε_h is affine on T,
-///   the integrand quadratic: the three-edge-midpoint rule is exact.
+///   (volume) weights, ε* is their P1 interpolant, and η_T² = ∫_T (ε* − ε_h) : C_T (ε* − ε_h) (C_T
+///   the material's tangent at ε_h|_T; the constant C for linear elasticity). ε* − ε_h is affine on
+///   T with vertex values δ_i, so η_T² = |T| / ((d+1)(d+2)) (Σ δ_iᵀCδ_i + (Σδ_i)ᵀC(Σδ_i)), exact.
 /// - RESIDUAL (Babuška–Miller / Verfürth, with Hild–Nicaise's contact term):
 ///     η_T² = (1/m_F) [ h_T² ‖f0 + div σ_h‖²_T + ½ Σ_{E⊂∂T interior} h_E ‖[σ_h n]‖²_E
 ///                       + Σ_{E⊂∂T∩(Γ2 ∪ free)} h_E ‖f2 − σ_h n‖²_E + Σ_{E⊂∂T∩Γ3} h_E ‖t_h − σ_h n‖²_E ]
-///   with div σ_h = 0 on P1 cells (σ_h constant per cell), f2 = 0 on traction-free facets, and on
+///   (E the cell's facets, edges in 2D and faces in 3D, h_E their diameter; ‖·‖²_E integrals over
+///   them) with div σ_h = 0 on P1 cells (σ_h constant per cell), f2 = 0 on traction-free facets, and on
 ///   Γ3 t_h the P1 interpolant of the nodal tractions t_i = (K u − f)_i / w_i (docs/model.md §4); at a
 ///   certified solution t_i equals the contact terms −(ξ_i + rigid reaction) ν_i − friction within
 ///   the certificate tolerance, so the last term is the mismatch between the computed stress and
@@ -46,7 +47,7 @@ struct ErrorEstimate {
 };
 
 /// @brief Compute the indicators of @p sol on @p md (file comment).
-/// @throws Error if the mesh is not 2D, or (RESIDUAL) the material has m_F ≤ 0.
+/// @throws Error if (RESIDUAL) the material has m_F ≤ 0.
 ErrorEstimate estimate_error(const Model& md, const Solution& sol, EstimatorKind kind);
 
 /// @brief Dörfler (bulk) marking: the fewest cells, largest indicators first, whose η_T² sum to at

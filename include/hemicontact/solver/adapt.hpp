@@ -1,7 +1,8 @@
 #pragma once
 /// @file adapt.hpp  The adaptive loop SOLVE → ESTIMATE → MARK → REFINE (docs/adaptivity.md).
 ///
-///   mesh ← the scene's mesh, cells labelled for newest-vertex bisection (longest edge)
+///   mesh ← the scene's mesh, cells labelled for newest-vertex bisection (2D: longest edge; 3D:
+///          tagged tetrahedra, label_tetrahedra) — the same loop in 2D and 3D
 ///   loop:
 ///     model ← build_model(scene, mesh)        Γ3 nodes, weights, frames, K, f: rebuilt from the mesh
 ///     u     ← ContactSolver(model).solve(z0)   factorization and condensation redone on each mesh;
@@ -9,7 +10,8 @@
 ///     η     ← estimate_error(model, u)         per cell; relative η / ‖u‖_E
 ///     stop when η/‖u‖_E ≤ target_error, the level cap is reached, or the next mesh would exceed max_dofs
 ///     mesh  ← bisect(mesh, dorfler_mark(η, θ))  conforming, no hanging nodes; the marking cut to the
-///                                              largest η_T when it overshoots the predicted need (landing)
+///                                              largest η_T when it overshoots the predicted need (landing);
+///                                              up to `lookahead` steps on predicted η_T when they reach it
 ///
 /// The smallness diagnostic (21) is not evaluated on the intermediate levels (it says nothing about
 /// the adaptive choice and costs an extra eigenvalue computation): only on the final mesh when the
@@ -45,6 +47,12 @@ struct AdaptLevel {
   double estimate = 0;           ///< η/‖u_h‖_E
   double estimate_abs = 0;       ///< η
   double energy_norm = 0;        ///< ‖u_h‖_E
+  double energy = 0;             ///< Π(u_h) (Solution::energy)
+  /// The formulation this level's solve chose ("condensed", "full"; solver/method_choice.hpp): each
+  /// level chooses from its own model, as a plain solve of that mesh would.
+  std::string method;
+  /// sqrt(2 (Π(u_h) − Π(u))) / ‖u_h‖_E against AdaptOptions::reference_energy (NaN without one)
+  double reference_error = std::numeric_limits<double>::quiet_NaN();
   double seconds = 0;            ///< this level: model build + solve + estimate (+ refinement after it)
   double cumulative_seconds = 0; ///< from the start of run_adaptive (mesh generation included)
   double solve_seconds = 0;      ///< the solve alone (factorization and condensation included)
@@ -55,8 +63,9 @@ struct AdaptLevel {
   double build_seconds = 0, setup_seconds = 0, contact_seconds = 0, estimate_seconds = 0, refine_seconds = 0;
   double certificate = 0;        ///< certificate max residual
   bool ok = false;               ///< converged and certified
-  Index marked = 0;              ///< cells marked by Dörfler (0 on the last level)
-  bool landed = false;           ///< the marking was cut to the predicted need (AdaptOptions::landing)
+  Index marked = 0;              ///< cells marked by Dörfler, over all steps (0 on the last level)
+  int steps = 0;                 ///< refinement steps to the next level (> 1: AdaptOptions::lookahead)
+  bool landed = false;           ///< the marking was cut to the predicted need (AdaptOptions::landing) or to max_dofs
 };
 
 /// The result of run_adaptive.

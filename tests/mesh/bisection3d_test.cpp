@@ -1,0 +1,268 @@
+// Maubach bisection of tagged tetrahedra (mesh/bisection.hpp): the refined mesh is conforming
+// (every interior face shared by exactly two cells, no hanging node), nested (the coarse P1 space
+// embeds exactly), carries the boundary parts, tractions and groups, conserves the volume, and stays
+// shape-regular over many levels (finitely many similarity classes; the smallest dihedral angle of
+// the Kuhn cells, 45°, is kept).
+#include <hemicontact/core/error.hpp>
+#include <hemicontact/fem/assembly.hpp>
+#include <hemicontact/fem/prolongation.hpp>
+#include <hemicontact/mesh/bisection.hpp>
+#include <hemicontact/mesh/boundary.hpp>
+#include <hemicontact/mesh/generators.hpp>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+
+using namespace hemicontact;
+
+namespace {
+
+Mesh unit_box(int n, BoxPattern pattern) {
+  BoxSpec s;
+  s.nx = s.ny = s.nz = n;
+  s.pattern = pattern;
+  Mesh m = make_box(s);
+  BoundarySpec b;
+  BoundarySelector top, left_hi, bottom;
+  top.side = "top";
+  left_hi.side = "left";
+  left_hi.from = 0.5;
+  left_hi.traction = Vec::Constant(3, 3.0);
+  bottom.side = "bottom";
+  b.gamma1 = {top};
+  b.gamma2 = {left_hi};
+  b.gamma3 = {bottom};
+  assign_boundary(m, b);
+  for (Index f = 0; f < m.num_facets(); ++f)
+    if (m.facet_part[static_cast<size_t>(f)] == Part::GAMMA3) m.facet_groups["bottom"].push_back(f);
+  return m;
+}
+
+std::array<int, 3> sorted_tet_face(const Mesh& m, Index c, int i) {
+  std::array<int, 3> f{m.cells(c, (i + 1) % 4), m.cells(c, (i + 2) % 4), m.cells(c, (i + 3) % 4)};
+  std::sort(f.begin(), f.end());
+  return f;
+}
+
+// Every face is shared by two cells, or by one and then it is a stored boundary facet, oriented as
+// extract_boundary_facets orients it; every cell positively oriented.
+void expect_conforming_tets(const Mesh& m) {
+  std::map<std::array<int, 3>, int> count;
+  for (Index c = 0; c < m.num_cells(); ++c)
+    for (int i = 0; i < 4; ++i) count[sorted_tet_face(m, c, i)]++;
+  std::set<std::array<int, 3>> stored;
+  for (Index f = 0; f < m.num_facets(); ++f) {
+    std::array<int, 3> v{m.facets(f, 0), m.facets(f, 1), m.facets(f, 2)};
+    std::sort(v.begin(), v.end());
+    stored.insert(v);
+  }
+  EXPECT_EQ(stored.size(), static_cast<size_t>(m.num_facets()));
+  for (const auto& [face, k] : count) {
+    ASSERT_LE(k, 2);
+    EXPECT_EQ(k == 1, stored.count(face) == 1);
+  }
+  for (Index f = 0; f < m.num_facets(); ++f) {
+    // Outward: the normal points away from the centroid of the body's nearest cell side.
+    const Vec n = m.facet_normal(f);
+    const Eigen::RowVectorXd mid = (m.points.row(m.facets(f, 0)) + m.points.row(m.facets(f, 1)) + m.points.row(m.facets(f, 2))) / 3;
+    const Eigen::RowVectorXd centre = Eigen::RowVectorXd::Constant(3, 0.5);
+    EXPECT_GT((mid - centre).dot(n.transpose()), 0);
+  }
+  for (Index c = 0; c < m.num_cells(); ++c) EXPECT_GT(m.cell_measure(c), 0);
+}
+
+double box_volume(const Mesh& m) {
+  double v = 0;
+  for (Index c = 0; c < m.num_cells(); ++c) v += m.cell_measure(c);
+  return v;
+}
+
+double box_part_area(const Mesh& m, Part p) {
+  double a = 0;
+  for (Index f = 0; f < m.num_facets(); ++f)
+    if (m.facet_part[static_cast<size_t>(f)] == p) a += m.facet_measure(f);
+  return a;
+}
+
+// A cell's shape up to similarity: its six edge lengths sorted, over the longest, rounded.
+std::array<long long, 6> tet_shape(const Mesh& m, Index c) {
+  std::array<double, 6> len{};
+  int n = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) len[static_cast<size_t>(n++)] = (m.points.row(m.cells(c, i)) - m.points.row(m.cells(c, j))).norm();
+  std::sort(len.begin(), len.end());
+  std::array<long long, 6> key{};
+  for (int k = 0; k < 6; ++k) key[static_cast<size_t>(k)] = std::llround(1e8 * len[static_cast<size_t>(k)] / len[5]);
+  return key;
+}
+
+}  // namespace
+
+class Bisection3dPatterns : public ::testing::TestWithParam<std::tuple<BoxPattern, BisectionRule>> {};
+
+// Rounds of random marking (20 % of the cells): conforming, volume, Γ3 area and the Γ2 force kept,
+// marked cells split (twice at least for one bisection, eight children for all six edges).
+TEST_P(Bisection3dPatterns, RandomMarkingStaysConforming) {
+  const auto [pattern, rule] = GetParam();
+  Mesh m = unit_box(2, pattern);
+  TetLabels labels = label_tetrahedra(m);
+  std::mt19937 rng(11);
+  const Vec F0 = assemble_tractions(m);
+  const int rounds = rule == BisectionRule::BISEC3 ? 3 : 8;
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<char> marked(static_cast<size_t>(m.num_cells()));
+    for (auto& f : marked) f = std::uniform_real_distribution<double>(0, 1)(rng) < 0.2;
+    const Bisection b = bisect(m, labels, marked, rule);
+    expect_conforming_tets(b.mesh);
+    // A sum of M cell volumes, each to a few ulps: (M + 10) ε.
+    const double sum_tol = (static_cast<double>(b.mesh.num_cells()) + 10) * 2.2e-16;
+    EXPECT_NEAR(box_volume(b.mesh), 1.0, sum_tol);
+    EXPECT_NEAR(box_part_area(b.mesh, Part::GAMMA3), 1.0, sum_tol);
+    EXPECT_NEAR(box_part_area(b.mesh, Part::GAMMA1), 1.0, sum_tol);
+    EXPECT_NEAR(box_part_area(b.mesh, Part::GAMMA2), 0.5, sum_tol);
+    double group = 0;
+    for (Index f : b.mesh.facet_groups.at("bottom")) group += b.mesh.facet_measure(f);
+    EXPECT_NEAR(group, 1.0, sum_tol);
+    const Vec F1 = assemble_tractions(b.mesh);
+    EXPECT_NEAR(F1.sum(), F0.sum(), 1e-12);
+    std::vector<int> children(static_cast<size_t>(m.num_cells()), 0);
+    for (int p : b.cell_parent) children[static_cast<size_t>(p)]++;
+    for (size_t c = 0; c < marked.size(); ++c)
+      if (marked[c]) {
+        EXPECT_GE(children[c], rule == BisectionRule::BISEC3 ? 8 : 2);
+      }
+    ASSERT_EQ(b.labels.size(), b.mesh.num_cells());
+    m = b.mesh;
+    labels = b.labels;
+  }
+  EXPECT_GT(m.num_cells(), 2 * 2 * 2 * 6 * 4);
+}
+
+INSTANTIATE_TEST_SUITE_P(Boxes, Bisection3dPatterns,
+                         ::testing::Combine(::testing::Values(BoxPattern::KUHN, BoxPattern::SYMMETRIC),
+                                            ::testing::Values(BisectionRule::NEWEST_VERTEX, BisectionRule::BISEC3)));
+
+// Nested spaces: carrying a P1 field by midpoint averaging equals evaluating it by point location;
+// an affine field is reproduced exactly.
+TEST(Bisection3d, ProlongationIsTheExactEmbedding) {
+  Mesh m = unit_box(2, BoxPattern::SYMMETRIC);
+  TetLabels labels = label_tetrahedra(m);
+  std::mt19937 rng(3);
+  Vec u(3 * m.num_nodes());
+  for (Index i = 0; i < u.size(); ++i) u[i] = std::normal_distribution<double>(0, 1)(rng);
+  for (int round = 0; round < 4; ++round) {
+    std::vector<char> marked(static_cast<size_t>(m.num_cells()), 0);
+    marked[0] = marked[static_cast<size_t>(m.num_cells() / 2)] = 1;
+    const Bisection b = bisect(m, labels, marked, BisectionRule::NEWEST_VERTEX);
+    const Vec by_parents = prolongate_bisection(b, u, 3);
+    const Vec by_location = prolongate(m, u, b.mesh);
+    EXPECT_LT((by_parents - by_location).cwiseAbs().maxCoeff(), 1e-12);
+    m = b.mesh;
+    labels = b.labels;
+    u = by_parents;
+  }
+  Vec affine(3 * m.num_nodes());
+  for (Index v = 0; v < m.num_nodes(); ++v)
+    for (int i = 0; i < 3; ++i) affine[3 * v + i] = 1 + (i + 1) * m.points(v, i) - m.points(v, (i + 1) % 3);
+  const Bisection b = bisect(m, labels, std::vector<char>(static_cast<size_t>(m.num_cells()), 1));
+  const Vec fine = prolongate_bisection(b, affine, 3);
+  for (Index v = 0; v < b.mesh.num_nodes(); ++v)
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(fine[3 * v + i], 1 + (i + 1) * b.mesh.points(v, i) - b.mesh.points(v, (i + 1) % 3), 1e-13);
+}
+
+// 20 levels of refinement, uniform (every cell bisected once per level: 2^20 times the cells would
+// not fit, so one Kuhn cube's six cells, 12 levels = 4 generations of eight) and local (the cells
+// at the edge x = 0, z = 0 where Γ3 meets a side, 20 levels): the smallest dihedral angle stays at
+// least half the initial mesh's (the Kuhn tetrahedron's dihedral angles are 45°, 60° and 90°), and
+// the similarity classes stop growing (Maubach 1995, Traxler 1997: finitely many; counted here).
+TEST(Bisection3d, UniformRefinementHasFinitelyManyShapes) {
+  Mesh m = unit_box(1, BoxPattern::KUHN);
+  TetLabels labels = label_tetrahedra(m);
+  const double angle0 = min_simplex_angle(m);
+  std::set<std::array<long long, 6>> classes;
+  std::vector<size_t> seen;
+  for (int level = 0; level < 12; ++level) {
+    const Bisection b = bisect(m, labels, std::vector<char>(static_cast<size_t>(m.num_cells()), 1),
+                               BisectionRule::NEWEST_VERTEX);
+    m = b.mesh;
+    labels = b.labels;
+    for (Index c = 0; c < m.num_cells(); ++c) classes.insert(tet_shape(m, c));
+    seen.push_back(classes.size());
+    EXPECT_GE(min_simplex_angle(m), 0.5 * angle0) << "level " << level;
+  }
+  expect_conforming_tets(m);
+  EXPECT_EQ(m.num_cells(), 6 << 12);
+  EXPECT_NEAR(box_volume(m), 1.0, 1e-12);
+  RecordProperty("similarity_classes", std::to_string(seen.back()));
+  RecordProperty("min_dihedral_deg", std::to_string(min_simplex_angle(m) * 180 / M_PI));
+  EXPECT_EQ(seen.back(), seen[2]) << "new shapes after level 3";
+  EXPECT_LE(seen.back(), 3u);
+  EXPECT_NEAR(min_simplex_angle(m), angle0, 1e-9);
+}
+
+TEST(Bisection3d, LocalRefinementTowardsAnEdgeStaysRegular) {
+  for (BoxPattern pattern : {BoxPattern::KUHN, BoxPattern::SYMMETRIC}) {
+    Mesh m = unit_box(2, pattern);
+    TetLabels labels = label_tetrahedra(m);
+    const double angle0 = min_simplex_angle(m);
+    for (int level = 0; level < 20; ++level) {
+      std::vector<char> marked(static_cast<size_t>(m.num_cells()), 0);
+      for (Index c = 0; c < m.num_cells(); ++c)
+        for (int k = 0; k < 4; ++k)
+          if (m.points(m.cells(c, k), 0) == 0 && m.points(m.cells(c, k), 2) == 0) marked[static_cast<size_t>(c)] = 1;
+      const Bisection b = bisect(m, labels, marked, BisectionRule::NEWEST_VERTEX);
+      m = b.mesh;
+      labels = b.labels;
+    }
+    expect_conforming_tets(m);
+    EXPECT_NEAR(box_volume(m), 1.0, 1e-12);
+    EXPECT_NEAR(box_part_area(m, Part::GAMMA3), 1.0, 1e-12);
+    EXPECT_GE(min_simplex_angle(m), 0.5 * angle0);
+    RecordProperty(std::string("min_dihedral_deg_") + to_string(pattern), std::to_string(min_simplex_angle(m) * 180 / M_PI));
+    RecordProperty(std::string("initial_min_dihedral_deg_") + to_string(pattern), std::to_string(angle0 * 180 / M_PI));
+    RecordProperty(std::string("cells_") + to_string(pattern), std::to_string(m.num_cells()));
+    // 20 bisections: the edge's cells are 2^(−20/3) ≈ 1/100 of the initial size; the rest is coarse.
+    EXPECT_LT(m.min_edge_length(), 0.5 / 64);
+    EXPECT_LT(m.num_cells(), 200000);
+  }
+}
+
+// A box perturbed by 0.3 h: the longest edges are no longer the cube diagonals, the labelling is
+// not compatible, and refining everything must fail as an input error naming the mesh it needs, not
+// leave a hanging node.
+TEST(Bisection3d, IncompatibleLabellingIsAnInputError) {
+  BoxSpec s;
+  s.nx = s.ny = s.nz = 4;
+  s.perturb = 0.3;
+  const Mesh m = make_box(s);
+  TetLabels labels = label_tetrahedra(m);
+  Mesh cur = m;
+  try {
+    for (int level = 0; level < 6; ++level) {
+      Bisection b = bisect(cur, labels, std::vector<char>(static_cast<size_t>(cur.num_cells()), 1),
+                           BisectionRule::NEWEST_VERTEX);
+      expect_conforming_tets(b.mesh);  // whatever is returned is conforming
+      cur = std::move(b.mesh);
+      labels = std::move(b.labels);
+    }
+    ADD_FAILURE() << "expected the incompatible labelling to be refused";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), EXIT_INPUT);
+    EXPECT_NE(std::string(e.what()).find("Kuhn"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Bisection3d, RejectsBadInput) {
+  Mesh box = unit_box(1, BoxPattern::KUHN);
+  const TetLabels labels = label_tetrahedra(box);
+  EXPECT_THROW(bisect(box, labels, std::vector<char>(3, 1)), Error);
+  RectangleSpec s;
+  const Mesh square = make_rectangle(s);
+  EXPECT_THROW(label_tetrahedra(square), Error);
+}
