@@ -36,6 +36,7 @@ std::string usage() {
          "  hemicontact solve SCENE.json [options]      solve a scene (report.json, solution.vtu, gamma3.csv)\n"
          "  hemicontact converge SCENE.json [options]   mesh-convergence study (the paper's Fig. 3)\n"
          "  hemicontact minima SCENE.json [options]     distinct solutions when (21) fails\n"
+         "  hemicontact path SCENE.json [options]       a quasi-static load history: jumps, hysteresis\n"
          "  hemicontact backends                        list the NLP backends compiled in\n"
          "  hemicontact --help | --version\n"
          "  hemicontact COMMAND --help                  the command's options, defaults and an example\n"
@@ -132,6 +133,7 @@ std::string command_help(const std::string& command) {
            "example:\n"
            "  hemicontact minima problems/minima-softening.json --starts 16 --seed 3 --backends ipopt,newton\n";
   }
+  if (command == "path") return path_help();
   if (command == "backends")
     return "usage: hemicontact backends\n"
            "List the NLP backends compiled in, one per line with a description; pass one to\n"
