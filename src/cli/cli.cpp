@@ -110,7 +110,8 @@ std::string command_help(const std::string& command) {
     const MinimaOptions mo;
     return std::string(
                "usage: hemicontact minima SCENE.json [--starts N] [--seed S] [--backends a,b,...] [--start FILE]...\n"
-               "                          [--group-tol T] [--load-path-steps N] [--box B] [--out DIR]\n"
+               "                          [--group-tol T] [--load-path-steps N] [--box B] [--until-complete\n"
+               "                          [--max-starts M]] [--out DIR]\n"
                "                          [--set path=value]... [--force] [--quiet]\n"
                "Distinct solutions when the smallness condition (21) fails: solves from zero, all at g, all\n"
                "separated, N random starts, a load path up and down and each --start, with each backend;\n"
@@ -129,7 +130,12 @@ std::string command_help(const std::string& command) {
            "                     (repeatable)\n"
            "  --group-tol T      relative energy-norm distance below which two results are one (default " +
            help_number(mo.group_tol) + ")\n  --load-path-steps N  load path steps per unit load, up and down (default " +
-           std::to_string(mo.load_path_steps) + "; 0: none)\n" + scene_options_help() +
+           std::to_string(mo.load_path_steps) + "; 0: none)\n" +
+           "  --until-complete   random starts in batches of N until the Chao1 estimate of distinct\n"
+           "                     solutions no random start reached is below one (stdout and minima.json\n"
+           "                     'unseen' report it in every run: seen once f1, twice f2, estimate, interval)\n"
+           "  --max-starts M     the cap of --until-complete (default " + std::to_string(mo.max_starts) + ")\n" +
+           scene_options_help() +
            "example:\n"
            "  hemicontact minima problems/minima-softening.json --starts 16 --seed 3 --backends ipopt,newton\n";
   }

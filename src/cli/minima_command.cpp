@@ -57,6 +57,8 @@ void parse_minima_options(const SceneArgs& a, MinimaOptions& mo, std::vector<std
       mo.box = parse_positive_option(key, value);
     else if (key == "--load-path-steps")
       mo.load_path_steps = static_cast<int>(parse_integer_option(key, value, 0, MINIMA_MAX_LOAD_PATH_STEPS));
+    else if (key == "--max-starts")
+      mo.max_starts = static_cast<int>(parse_integer_option(key, value, 1, MAX_STARTS));
     else if (key == "--start")
       start_files.push_back(value);
     else if (key == "--backends") {
@@ -121,18 +123,62 @@ void draw_minima_plot(const std::filesystem::path& out, const std::string& name,
   if (std::filesystem::exists(out / "minima.png")) record_output_file((out / "minima.png").string());
 }
 
+// The unseen-solutions estimate (UnseenEstimate) for minima.json.
+nlohmann::json unseen_json(const UnseenEstimate& e, const MinimaOptions& mo) {
+  return {{"estimator", "Chao1 (bias-corrected), 95% log-normal interval; samples: certified random-start runs"},
+          {"samples", e.samples},
+          {"observed", e.observed},
+          {"f1", e.f1},
+          {"f2", e.f2},
+          {"chao1", e.chao1},
+          {"interval", {e.lo, e.hi}},
+          {"unseen", e.unseen},
+          {"random_starts", e.random_starts},
+          {"until_complete", mo.until_complete},
+          {"max_starts", mo.max_starts},
+          {"complete", e.complete}};
+}
+
+// One line on stdout: how many distinct solutions the random starts have not reached yet.
+void print_unseen(const UnseenEstimate& e, const MinimaOptions& mo) {
+  if (e.samples == 0) {
+    std::printf("unseen solutions: no certified random start, no estimate (--starts N)\n");
+    return;
+  }
+  std::printf("random starts: %d certified reached %d distinct solution(s), %d of them once, %d twice; "
+              "Chao1 estimate %.2f [%.2f, %.2f] (95%%): %.2f unseen\n",
+              e.samples, e.observed, e.f1, e.f2, e.chao1, e.lo, e.hi, e.unseen);
+  if (mo.until_complete)
+    std::printf("--until-complete: %s after %d random starts per backend\n",
+                e.complete ? "fewer than one unseen solution estimated" : "stopped at --max-starts, estimate not below one",
+                e.random_starts);
+}
+
 }  // namespace
 
-int cmd_minima(const std::vector<std::string>& args) {
+int cmd_minima(const std::vector<std::string>& all_args) {
   refuse_mpi_ranks("minima");
-  SceneArgs a = parse_scene_args(
-      args, {"--starts", "--seed", "--backends", "--start", "--group-tol", "--load-path-steps", "--box"});
+  // --until-complete is a flag (no value); every other option goes to the scene parser.
+  std::vector<std::string> args;
+  bool until_complete = false;
+  for (size_t i = 0; i < all_args.size(); ++i) {
+    if (all_args[i] == "--until-complete")
+      until_complete = true;
+    else
+      args.push_back(all_args[i]);
+    if (all_args[i] == "--set" && i + 1 < all_args.size()) args.push_back(all_args[++i]);  // a value, never a flag
+  }
+  SceneArgs a = parse_scene_args(args, {"--starts", "--seed", "--backends", "--start", "--group-tol",
+                                        "--load-path-steps", "--box", "--max-starts"});
   const std::string name = std::filesystem::path(a.scene).stem().string();
   if (std::find(args.begin(), args.end(), "--out") == args.end()) a.out = "out/" + name + "-minima";
   if (a.quiet) set_log_level(LogLevel::WARN);
   MinimaOptions mo;
   std::vector<std::string> start_files;
   parse_minima_options(a, mo, start_files);
+  mo.until_complete = until_complete;
+  if (until_complete && mo.max_starts < mo.starts)
+    throw UsageError("--max-starts: must be at least --starts (" + std::to_string(mo.starts) + "), the batch size");
 
   require_utf8_scene_name(a.scene, "minima.json");
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
@@ -153,6 +199,7 @@ int cmd_minima(const std::vector<std::string>& args) {
   const MinimaReport r = find_minima(md, opt, mo);
 
   nlohmann::json js = minima_json(md, r);
+  js["unseen"] = unseen_json(r.unseen, r.options);
   js["name"] = name;
   js["scene_file"] = a.scene;
   js["scene"] = scene;
@@ -162,6 +209,7 @@ int cmd_minima(const std::vector<std::string>& args) {
   write_text_file((out / "minima.json").string(), js.dump(2) + '\n');
   std::printf("%s: distinct solutions (lowest energy first)\n", name.c_str());
   std::fputs(minima_table(r).c_str(), stdout);
+  print_unseen(r.unseen, r.options);
   std::printf("results in %s\n", a.out.c_str());
   draw_minima_plot(out, name, md, r);
 

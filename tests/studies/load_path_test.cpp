@@ -234,6 +234,29 @@ TEST(LoadPath, SofteningCycleShowsHysteresisEveryStateCertified) {
               b->solution.energy);
 }
 
+// A 3D nonconvex scene: the paper's 3D body (n = 6) on minima-softening's layer at half the loads;
+// a load-unload cycle of 20 steps, every state certified and a local minimum, with jumps both ways.
+TEST(LoadPath, ThreeDimensionalCycleIsCertifiedAtEveryState) {
+  const std::string path = std::string(HEMICONTACT_SOURCE_DIR) + "/problems/sofonea2017-3d.json";
+  const nlohmann::json scene = load_scene(
+      path, {"mesh.n=6", R"(contact.normal_law={"type":"paper","c1":20000,"c2":-100000,"c3":400,"r1":0.05,"r2":0.06})",
+             "loads.scale=0.5"});
+  const Model md = build_model(scene, scene_directory(path));
+  PathOptions po;
+  po.loads = {0, 2, 0};
+  po.steps = 10;
+  const PathReport R = follow_load_path(md, solve_options_from_scene(scene), po);
+  ASSERT_TRUE(R.complete) << R.failure;
+  EXPECT_EQ(R.certified(), static_cast<int>(R.states.size()));
+  EXPECT_GE(R.states.size(), 21u);
+  for (const PathState& s : R.states) EXPECT_EQ(s.second_order.verdict, "local minimum") << "at load " << s.load;
+  const auto up = std::count_if(R.jumps.begin(), R.jumps.end(), [](const PathJump& J) { return J.direction > 0; });
+  EXPECT_GE(up, 1);
+  EXPECT_GE(static_cast<long>(R.jumps.size()) - up, 1);
+  std::printf("3D n = 6: %zu states, %d solves, %zu jumps, %.2f s\n", R.states.size(), R.solves, R.jumps.size(),
+              R.seconds);
+}
+
 TEST(LoadPath, RefusesBadOptions) {
   const Loaded L = load("minima-one-node.json");
   const auto refused = [&](PathOptions po) {
