@@ -15,6 +15,7 @@
 #include <hemicontact/solver/engine_choice.hpp>
 #include <hemicontact/solver/solve.hpp>
 #include <hemicontact/studies/adapt_study.hpp>
+#include <hemicontact/studies/barriers.hpp>
 #include <hemicontact/studies/minima.hpp>
 
 #include <algorithm>
@@ -111,7 +112,7 @@ std::string command_help(const std::string& command) {
     return std::string(
                "usage: hemicontact minima SCENE.json [--starts N] [--seed S] [--backends a,b,...] [--start FILE]...\n"
                "                          [--group-tol T] [--load-path-steps N] [--box B] [--until-complete\n"
-               "                          [--max-starts M]] [--out DIR]\n"
+               "                          [--max-starts M]] [--barriers] [--out DIR]\n"
                "                          [--set path=value]... [--force] [--quiet]\n"
                "Distinct solutions when the smallness condition (21) fails: solves from zero, all at g, all\n"
                "separated, N random starts, a load path up and down and each --start, with each backend;\n"
@@ -135,6 +136,9 @@ std::string command_help(const std::string& command) {
            "                     solutions no random start reached is below one (stdout and minima.json\n"
            "                     'unseen' report it in every run: seen once f1, twice f2, estimate, interval)\n"
            "  --max-starts M     the cap of --until-complete (default " + std::to_string(mo.max_starts) + ")\n" +
+           "  --barriers         energy barriers between the lowest " + std::to_string(BarrierOptions{}.minima) +
+           " local minima (2D): string method, saddle refined\n"
+           "                     and verified; DIR/barriers.csv, DIR/saddle_<k>.vtu, DIR/barriers.png\n" +
            scene_options_help() +
            "example:\n"
            "  hemicontact minima problems/minima-softening.json --starts 16 --seed 3 --backends ipopt,newton\n";

@@ -19,6 +19,7 @@
 #include "cli.hpp"
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/core/options.hpp>
 #include <hemicontact/core/text.hpp>
@@ -27,6 +28,7 @@
 #include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/studies/barriers.hpp>
 #include <hemicontact/studies/minima.hpp>
 
 #include <algorithm>
@@ -123,6 +125,67 @@ void draw_minima_plot(const std::filesystem::path& out, const std::string& name,
   if (std::filesystem::exists(out / "minima.png")) record_output_file((out / "minima.png").string());
 }
 
+nlohmann::json side_json(const BarrierSide& s) {
+  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  return {{"minimum", s.minimum}, {"lambda", s.lambda}, {"neighbours", s.neighbours}, {"verified", s.verified},
+          {"intermediate_minima", s.intermediate}, {"saddle_energies", s.saddles},
+          {"energy_min", num(s.energy_min)}, {"energy_saddle", num(s.energy_saddle)}, {"barrier", num(s.barrier)},
+          {"residual", num(s.residual)}, {"negative_eigenvalues", s.negative}, {"string_steps", s.steps},
+          {"profile", s.profile}, {"note", s.note}};
+}
+
+// barriers.csv, saddle_<k>.vtu per verified saddle (k: the row), and the JSON for minima.json.
+nlohmann::json write_barriers(const std::filesystem::path& out, const nlohmann::json& scene, const Model& md,
+                              const SolveOptions& opt, const std::vector<Barrier>& bars) {
+  const VtuFormat fmt_vtu =
+      scene.at("output").at("vtu_format").get<std::string>() == "ascii" ? VtuFormat::ASCII : VtuFormat::BINARY;
+  std::ostringstream csv;
+  csv << "k,a,b,side,lambda,neighbours,verified,energy_min,energy_saddle,barrier,residual,negative_eigenvalues,vtu\n";
+  nlohmann::json js = nlohmann::json::array();
+  for (size_t k = 0; k < bars.size(); ++k) {
+    const Barrier& b = bars[k];
+    std::string vtu;
+    if (b.from_a.verified) {
+      vtu = "saddle_" + std::to_string(k) + ".vtu";
+      write_vtu((out / vtu).string(), md, state_of_gamma3(md, opt, b.from_a.saddle), fmt_vtu);
+    }
+    for (const BarrierSide* s : {&b.from_a, &b.from_b})
+      csv << k << ',' << b.a << ',' << b.b << ',' << s->minimum << ",\"" << s->lambda << "\"," << s->neighbours << ','
+          << s->verified << ',' << round_trip(s->energy_min) << ',' << round_trip(s->energy_saddle) << ','
+          << round_trip(s->barrier) << ',' << round_trip(s->residual) << ',' << s->negative << ',' << vtu << '\n';
+    js.push_back({{"a", b.a}, {"b", b.b}, {"from_a", side_json(b.from_a)}, {"from_b", side_json(b.from_b)}, {"vtu", vtu}});
+  }
+  write_text_file((out / "barriers.csv").string(), csv.str());
+  return js;
+}
+
+// The barrier table on stdout.
+void print_barriers(const std::vector<Barrier>& bars) {
+  std::printf("barriers (string method on the condensed Gamma3 unknowns, lambda frozen; saddles refined and verified):\n");
+  std::printf("  %-6s %-18s %-10s %-14s %-14s %s\n", "pair", "saddle energy", "verified", "barrier from a",
+              "barrier from b", "lambda");
+  for (const Barrier& b : bars) {
+    const std::string pair = std::to_string(b.a) + "-" + std::to_string(b.b);
+    const bool ok = b.from_a.verified && b.from_b.verified;
+    std::printf("  %-6s %-18s %-10s %-14s %-14s %s\n", pair.c_str(), fmt(b.from_a.energy_saddle, 10).c_str(),
+                ok ? "yes" : "NO", fmt(b.from_a.barrier, 6).c_str(), fmt(b.from_b.barrier, 6).c_str(),
+                b.from_a.lambda == b.from_b.lambda ? b.from_a.lambda.c_str() : "each side at its own minimum's lambda");
+    if (!ok) std::printf("         %s %s\n", b.from_a.note.c_str(), b.from_b.note.c_str());
+    if (!b.from_a.neighbours)
+      std::printf("         not neighbours: the path runs through %d intermediate minimum/minima; %zu saddle(s) on it, "
+                  "the highest is the barrier\n", b.from_a.intermediate, b.from_a.saddles.size());
+    if (b.from_a.energy_saddle != b.from_b.energy_saddle)
+      std::printf("         saddle energy from b's side: %s\n", fmt(b.from_b.energy_saddle, 10).c_str());
+  }
+}
+
+void draw_barrier_plot(const std::filesystem::path& out, const std::string& name) {
+  const std::string png = (out / "barriers.png").string();
+  const int code = run_plot_script("plot_barriers.py", {(out / "minima.json").string(), "--out", png, "--title", name}, png);
+  if (code != 0) log_warn() << "minima: " << png << " was not drawn; barriers.csv and minima.json have the profiles";
+  if (std::filesystem::exists(out / "barriers.png")) record_output_file(png);
+}
+
 // The unseen-solutions estimate (UnseenEstimate) for minima.json.
 nlohmann::json unseen_json(const UnseenEstimate& e, const MinimaOptions& mo) {
   return {{"estimator", "Chao1 (bias-corrected), 95% log-normal interval; samples: certified random-start runs"},
@@ -160,10 +223,12 @@ int cmd_minima(const std::vector<std::string>& all_args) {
   refuse_mpi_ranks("minima");
   // --until-complete is a flag (no value); every other option goes to the scene parser.
   std::vector<std::string> args;
-  bool until_complete = false;
+  bool until_complete = false, barriers = false;
   for (size_t i = 0; i < all_args.size(); ++i) {
     if (all_args[i] == "--until-complete")
       until_complete = true;
+    else if (all_args[i] == "--barriers")
+      barriers = true;
     else
       args.push_back(all_args[i]);
     if (all_args[i] == "--set" && i + 1 < all_args.size()) args.push_back(all_args[++i]);  // a value, never a flag
@@ -186,8 +251,9 @@ int cmd_minima(const std::vector<std::string>& all_args) {
   read_start_files(start_files, md, mo);
   // solution_<k>.vtu: one per distinct solution, how many is known at the end.
   const OutputLock lock = prepare_output_dir(a.out, a.force,
-                                             {"minima.csv", "minima.json", "minima.png", "minima.pvd", "minima-runs.csv"},
-                                             {{"solution_", ".vtu"}});
+                                             {"minima.csv", "minima.json", "minima.png", "minima.pvd", "minima-runs.csv",
+                                              "barriers.csv", "barriers.png"},
+                                             {{"solution_", ".vtu"}, {"saddle_", ".vtu"}});
   const std::filesystem::path out(a.out);
 
   const SolveOptions opt = solve_options_from_scene(scene);
@@ -200,6 +266,11 @@ int cmd_minima(const std::vector<std::string>& all_args) {
 
   nlohmann::json js = minima_json(md, r);
   js["unseen"] = unseen_json(r.unseen, r.options);
+  std::vector<Barrier> bars;
+  if (barriers) {
+    bars = find_barriers(md, opt, r, BarrierOptions{});
+    js["barriers"] = write_barriers(out, scene, md, opt, bars);
+  }
   js["name"] = name;
   js["scene_file"] = a.scene;
   js["scene"] = scene;
@@ -210,8 +281,10 @@ int cmd_minima(const std::vector<std::string>& all_args) {
   std::printf("%s: distinct solutions (lowest energy first)\n", name.c_str());
   std::fputs(minima_table(r).c_str(), stdout);
   print_unseen(r.unseen, r.options);
+  if (barriers) print_barriers(bars);
   std::printf("results in %s\n", a.out.c_str());
   draw_minima_plot(out, name, md, r);
+  if (barriers && !bars.empty()) draw_barrier_plot(out, name);
 
   if (r.solutions.empty()) {
     const bool any_converged =

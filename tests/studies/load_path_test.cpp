@@ -17,6 +17,8 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/studies/load_path.hpp>
 
+#include "support/one_cell_scan.hpp"
+
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
@@ -42,75 +44,10 @@ Loaded load(const std::string& name) {
   return {build_model(scene, scene_directory(path)), solve_options_from_scene(scene)};
 }
 
-struct Piece {
-  double lo, hi, a, s;  // p = a + s r on [lo, hi]
-};
-
-// The pieces of p below g, then (index pieces.size()) the bound x_ν = g.
-std::vector<Piece> pieces_below_gap(const PiecewiseLinearLaw& law, double g) {
-  const auto& r = law.breakpoints();
-  const auto& s = law.slopes();
-  std::vector<Piece> P;
-  P.push_back({-INF, r[0], law.values_left()[0] - s[0] * r[0], s[0]});
-  for (size_t i = 1; i < r.size(); ++i) P.push_back({r[i - 1], r[i], law.values_right()[i - 1] - s[i] * r[i - 1], s[i]});
-  P.push_back({r.back(), INF, law.values_right().back() - s.back() * r.back(), s.back()});
-  for (auto& p : P) p.hi = std::min(p.hi, g);
-  return P;
-}
-
-// The one-cell problem at load factor t on a branch choice: is it a local minimum, where, energy.
-struct Branch {
-  bool minimum = false;
-  Vec x;
-  double energy = 0;
-};
-
-Branch on_branch(const Model& md, const std::vector<Piece>& P, const std::vector<int>& choice, double t) {
-  const Mat K = Mat(md.Kx);
-  const Vec f = t * md.fx;
-  const int contact = static_cast<int>(P.size());
-  Mat A = K, H = K;
-  Vec b = f;
-  std::vector<Index> keep;
-  for (Index k = 0; k < 2; ++k) {
-    const Index i = md.dofs.contact_dof(k, 0);
-    const int c = choice[static_cast<size_t>(k)];
-    if (c == contact) {
-      A.row(i).setZero();
-      A(i, i) = 1;
-      b[i] = md.contact.g[k];
-    } else {
-      A(i, i) += md.contact.w[k] * P[static_cast<size_t>(c)].s;
-      H(i, i) += md.contact.w[k] * P[static_cast<size_t>(c)].s;
-      b[i] -= md.contact.w[k] * P[static_cast<size_t>(c)].a;
-      keep.push_back(i);
-    }
-    keep.push_back(md.dofs.contact_dof(k, 1));
-  }
-  Branch B;
-  Eigen::FullPivLU<Mat> lu(A);
-  if (!lu.isInvertible()) return B;
-  B.x = lu.solve(b);
-  const Vec res = K * B.x - f;
-  bool ok = true;
-  for (Index k = 0; k < 2; ++k) {
-    const Index i = md.dofs.contact_dof(k, 0);
-    const int c = choice[static_cast<size_t>(k)];
-    if (c == contact)
-      ok = ok && -res[i] - md.contact.w[k] * md.normal_law->p(md.contact.g[k]) >= 0;
-    else
-      ok = ok && B.x[i] >= P[static_cast<size_t>(c)].lo && B.x[i] <= P[static_cast<size_t>(c)].hi &&
-           B.x[i] < md.contact.g[k];
-  }
-  std::sort(keep.begin(), keep.end());
-  Mat Hr(static_cast<Index>(keep.size()), static_cast<Index>(keep.size()));
-  for (size_t a = 0; a < keep.size(); ++a)
-    for (size_t c = 0; c < keep.size(); ++c) Hr(Index(a), Index(c)) = H(keep[a], keep[c]);
-  B.minimum = ok && Eigen::SelfAdjointEigenSolver<Mat>(Hr).eigenvalues().minCoeff() > 0;
-  B.energy = 0.5 * B.x.dot(K * B.x) - f.dot(B.x);
-  for (Index k = 0; k < 2; ++k) B.energy += md.contact.w[k] * md.normal_law->j(B.x[md.dofs.contact_dof(k, 0)]);
-  return B;
-}
+using one_cell::Branch;
+using one_cell::on_branch;
+using one_cell::Piece;
+using one_cell::pieces_below_gap;
 
 // The branch choice of a computed state: each node's piece, or the bound.
 std::vector<int> choice_of(const Model& md, const std::vector<Piece>& P, const Solution& sol) {
