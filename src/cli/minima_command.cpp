@@ -217,13 +217,10 @@ void print_unseen(const UnseenEstimate& e, const MinimaOptions& mo) {
                 e.random_starts);
 }
 
-}  // namespace
-
-int cmd_minima(const std::vector<std::string>& all_args) {
-  refuse_mpi_ranks("minima");
-  // --until-complete is a flag (no value); every other option goes to the scene parser.
-  std::vector<std::string> args;
-  bool until_complete = false, barriers = false;
+// The command's flags without a value (--until-complete, --barriers) taken out of @p all_args;
+// the rest, for the scene parser, into @p args.
+void take_minima_flags(const std::vector<std::string>& all_args, std::vector<std::string>& args, bool& until_complete,
+                       bool& barriers) {
   for (size_t i = 0; i < all_args.size(); ++i) {
     if (all_args[i] == "--until-complete")
       until_complete = true;
@@ -233,6 +230,31 @@ int cmd_minima(const std::vector<std::string>& all_args) {
       args.push_back(all_args[i]);
     if (all_args[i] == "--set" && i + 1 < all_args.size()) args.push_back(all_args[++i]);  // a value, never a flag
   }
+}
+
+// The stdout summary: the table, the unseen estimate, the barriers.
+void print_minima_summary(const std::string& name, const MinimaReport& r, const std::vector<Barrier>* bars) {
+  std::printf("%s: distinct solutions (lowest energy first)\n", name.c_str());
+  std::fputs(minima_table(r).c_str(), stdout);
+  print_unseen(r.unseen, r.options);
+  if (bars) print_barriers(*bars);
+}
+
+// 0 when a certified solution was found; else 4 if some run converged, 3 if none did.
+int minima_exit_code(const MinimaReport& r) {
+  if (!r.solutions.empty()) return EXIT_OK;
+  const bool any_converged = std::any_of(r.runs.begin(), r.runs.end(), [](const MinimaRun& run) { return run.converged; });
+  std::fprintf(stderr, "hemicontact: minima: no run gave a certified solution\n");
+  return any_converged ? EXIT_CERTIFICATE : EXIT_NOT_CONVERGED;
+}
+
+}  // namespace
+
+int cmd_minima(const std::vector<std::string>& all_args) {
+  refuse_mpi_ranks("minima");
+  std::vector<std::string> args;
+  bool until_complete = false, barriers = false;
+  take_minima_flags(all_args, args, until_complete, barriers);
   SceneArgs a = parse_scene_args(args, {"--starts", "--seed", "--backends", "--start", "--group-tol",
                                         "--load-path-steps", "--box", "--max-starts"});
   const std::string name = std::filesystem::path(a.scene).stem().string();
@@ -249,11 +271,11 @@ int cmd_minima(const std::vector<std::string>& all_args) {
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
   const Model md = build_model(scene, scene_directory(a.scene));
   read_start_files(start_files, md, mo);
-  // solution_<k>.vtu: one per distinct solution, how many is known at the end.
-  const OutputLock lock = prepare_output_dir(a.out, a.force,
-                                             {"minima.csv", "minima.json", "minima.png", "minima.pvd", "minima-runs.csv",
-                                              "barriers.csv", "barriers.png"},
-                                             {{"solution_", ".vtu"}, {"saddle_", ".vtu"}});
+  if (barriers) require_barrier_scene(md);  // before the search, not after it
+  // solution_<k>.vtu (saddle_<k>.vtu): one per distinct solution (verified saddle), known at the end.
+  const OutputLock lock = prepare_output_dir(
+      a.out, a.force, {"minima.csv", "minima.json", "minima.png", "minima.pvd", "minima-runs.csv", "barriers.csv", "barriers.png"},
+      {{"solution_", ".vtu"}, {"saddle_", ".vtu"}});
   const std::filesystem::path out(a.out);
 
   const SolveOptions opt = solve_options_from_scene(scene);
@@ -278,21 +300,12 @@ int cmd_minima(const std::vector<std::string>& all_args) {
   write_minima_vtus(out, scene, md, r);
   // minima.json last of the set: it marks the search complete (and the picture is drawn from it).
   write_text_file((out / "minima.json").string(), js.dump(2) + '\n');
-  std::printf("%s: distinct solutions (lowest energy first)\n", name.c_str());
-  std::fputs(minima_table(r).c_str(), stdout);
-  print_unseen(r.unseen, r.options);
-  if (barriers) print_barriers(bars);
+  print_minima_summary(name, r, barriers ? &bars : nullptr);
   std::printf("results in %s\n", a.out.c_str());
   draw_minima_plot(out, name, md, r);
   if (barriers && !bars.empty()) draw_barrier_plot(out, name);
 
-  if (r.solutions.empty()) {
-    const bool any_converged =
-        std::any_of(r.runs.begin(), r.runs.end(), [](const MinimaRun& run) { return run.converged; });
-    std::fprintf(stderr, "hemicontact: minima: no run gave a certified solution\n");
-    return any_converged ? EXIT_CERTIFICATE : EXIT_NOT_CONVERGED;
-  }
-  return EXIT_OK;
+  return minima_exit_code(r);
 }
 
 }  // namespace hemicontact::cli

@@ -286,14 +286,18 @@ Barrier barrier_between(const Model& md, const MinimaReport& R, int a, int b, co
 
 }  // namespace
 
+void require_barrier_scene(const Model& md) {
+  if (md.dim() != 2) input_error("minima --barriers: 2D scenes only (3D slip directions make the saddle conditions nonlinear)");
+  if (md.normal_law && md.normal_law->one_sided_lipschitz() == INF)
+    input_error("minima --barriers: p_nu jumps downward, so j_nu has no gradient there and the string method does not apply");
+}
+
 std::vector<Barrier> find_barriers(const Model& md, const SolveOptions& opt, const MinimaReport& R,
                                    const BarrierOptions& bo) {
   (void)opt;
-  if (md.dim() != 2) input_error("minima --barriers: 2D scenes only (3D slip directions make the saddle conditions nonlinear)");
+  require_barrier_scene(md);
   if (bo.minima < 2 || bo.images < 3 || !(bo.string_tol > 0) || bo.max_steps < 1 || !(bo.saddle_tol > 0))
     input_error("minima --barriers: bad options (at least 2 minima, 3 images, positive tolerances)");
-  if (md.normal_law && md.normal_law->one_sided_lipschitz() == INF)
-    input_error("minima --barriers: p_nu jumps, so j_nu has no gradient there and the string method does not apply");
   std::vector<int> minima;
   for (size_t k = 0; k < R.solutions.size() && static_cast<int>(minima.size()) < bo.minima; ++k)
     if (R.solutions[k].second_order.verdict == "local minimum") minima.push_back(static_cast<int>(k));

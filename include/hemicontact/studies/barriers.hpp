@@ -88,6 +88,9 @@ struct Barrier {
   BarrierSide from_a, from_b;
 };
 
+/// @throws Error (EXIT_INPUT) where barriers do not apply: a 3D model, or a p_ν that jumps downward.
+void require_barrier_scene(const Model& md);
+
 /// Every barrier between the lowest BarrierOptions::minima local minima of @p R.
 /// @throws Error (EXIT_INPUT) for a 3D model, or bad options
 std::vector<Barrier> find_barriers(const Model& md, const SolveOptions& opt, const MinimaReport& R,
