@@ -165,7 +165,7 @@ bool saddle_on_signature(const Landscape& E, const Vec& x, const BarrierOptions&
   for (size_t a = 0; a < idx.size(); ++a)
     for (size_t b = 0; b < idx.size(); ++b) Hr(Index(a), Index(b)) = H(idx[a], idx[b]);
   const Vec ev = Eigen::SelfAdjointEigenSolver<Mat>(Hr, Eigen::EigenvaluesOnly).eigenvalues();
-  const double tiny = 1e-12 * std::max(ev.cwiseAbs().maxCoeff(), 1e-300);
+  const double tiny = bo.round_off * std::max(ev.cwiseAbs().maxCoeff(), 1e-300);
   side.negative = static_cast<int>((ev.array() < -tiny).count());
   side.residual = exact_inner_residual(P, z);
   side.saddle = z;
@@ -210,7 +210,7 @@ void chain(const Landscape& E, const Vec& xa, const Vec& xb, const BarrierOption
   side.steps += steps;
   std::vector<double> prof;
   for (const Vec& x : X) prof.push_back(E.energy(x));
-  const double noise = 1e-12 * std::max(std::abs(prof.front()), std::abs(prof.back()));
+  const double noise = bo.round_off * std::max(std::abs(prof.front()), std::abs(prof.back()));
   std::vector<Vec> stops{xa};
   for (size_t i = 1; i + 1 < prof.size() && depth < bo.max_depth; ++i)
     if (prof[i] < prof[i - 1] - noise && prof[i] < prof[i + 1] - noise) {
@@ -296,7 +296,8 @@ std::vector<Barrier> find_barriers(const Model& md, const SolveOptions& opt, con
                                    const BarrierOptions& bo) {
   (void)opt;
   require_barrier_scene(md);
-  if (bo.minima < 2 || bo.images < 3 || !(bo.string_tol > 0) || bo.max_steps < 1 || !(bo.saddle_tol > 0))
+  if (bo.minima < 2 || bo.images < 3 || !(bo.string_tol > 0) || bo.max_steps < 1 || !(bo.saddle_tol > 0) ||
+      !(bo.round_off > 0) || bo.max_depth < 0)
     input_error("minima --barriers: bad options (at least 2 minima, 3 images, positive tolerances)");
   std::vector<int> minima;
   for (size_t k = 0; k < R.solutions.size() && static_cast<int>(minima.size()) < bo.minima; ++k)

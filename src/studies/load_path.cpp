@@ -40,10 +40,6 @@ std::vector<int> branch_signature(const Model& md, const Solution& sol) {
 
 namespace {
 
-/// Round-off of the path's displacements, relative to the largest ‖u‖_E so far: at load factor 0 an
-/// uncertified answer within this of the certified one from u = 0 is that state (solve_from).
-constexpr double ZERO_LOAD_AGREEMENT = 1e-12;
-
 // A state on the way: the load factor and the answer there.
 struct Point {
   double t = 0;
@@ -58,8 +54,8 @@ void check_path_options(const PathOptions& p) {
       input_error("path: neighbouring load factors must differ (" + fmt(p.loads[i], 6) + " twice)");
   }
   if (p.steps < 1) input_error("path: --steps must be >= 1");
-  if (!(p.bisection_tol > 0) || !(p.energy_tol > 0) || !(p.jump_factor > 0))
-    input_error("path: bisection_tol, energy_tol and jump_factor must be > 0");
+  if (!(p.bisection_tol > 0) || !(p.energy_tol > 0) || !(p.jump_factor > 0) || !(p.zero_load_agreement > 0))
+    input_error("path: bisection_tol, energy_tol, jump_factor and zero_load_agreement must be > 0");
   if (p.max_events_per_step < 1) input_error("path: max_events_per_step must be >= 1");
 }
 
@@ -119,14 +115,14 @@ Solution Follower::solve_at(double t, const Vec& z) {
 // The answer at factor t from the state @p from. At t = 0 exactly the certificate's scales are the
 // state's own forces (no load), which a state reached from a loaded one has only at round-off:
 // there the answer from u = 0 stands in for it when the two agree to round-off of the path's
-// displacements (ZERO_LOAD_AGREEMENT · the largest ‖u‖_E so far), and the message says so.
+// displacements (PathOptions::zero_load_agreement · the largest ‖u‖_E so far), and the message says so.
 Solution Follower::solve_from(double t, const Solution& from) {
   Solution s = solve_at(t, S->to_unknowns(from.x));
   if (t != 0 || s.certificate.passed) return s;
   Solution z = solve_at(0, Vec::Zero(S->size()));
   const Vec d = s.u - z.u;
   const double gap = std::sqrt(std::max(0.0, md.a(d, d)));
-  if (!z.certificate.passed || !(gap <= ZERO_LOAD_AGREEMENT * u_scale)) return s;
+  if (!z.certificate.passed || !(gap <= popt.zero_load_agreement * u_scale)) return s;
   z.message = "load factor 0: the certified answer from u = 0, which the branch's own answer (certificate " +
               fmt(s.certificate.max_residual, 3) + " against its round-off forces) equals to " + fmt(gap, 3) +
               " in the energy norm; " + z.message;

@@ -58,6 +58,10 @@ struct BarrierOptions {
   /// units) is at most this: 1e-9, round-off of the linear solve at these condition numbers.
   double saddle_tol = 1e-9;
   int max_depth = 6;  ///< levels of splitting a path at intermediate minima
+  /// Relative round-off of energies and eigenvalues: an interior image counts as a local minimum
+  /// of the profile when it is below both neighbours by more than this × the ends' |Π|, and an
+  /// eigenvalue as negative when below −this × the largest |eigenvalue|. 1e-12: a few hundred ulps.
+  double round_off = 1e-12;
 };
 
 /// One side of a barrier: the energy with λ frozen at that side's minimum.

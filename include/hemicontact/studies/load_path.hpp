@@ -70,6 +70,11 @@ struct PathOptions {
   /// this × the interval × the largest rate seen before (the file comment). Any value between
   /// ~10 (the rate is an estimate) and (step / bisection_tol) / 10 separates the two; 1e3.
   double jump_factor = 1e3;
+  /// At a load factor of exactly 0 the certificate's scales are the state's own forces (no load),
+  /// which a state reached from a loaded one has only at round-off; there the certified answer from
+  /// u = 0 stands in for the branch's when the two differ by at most this × the largest ‖u‖_E of
+  /// the path so far in the energy norm (1e-12: round-off of the exact solver's answers).
+  double zero_load_agreement = 1e-12;
   /// Events in one step at most (each costs a bisection): beyond it the path stops with a message.
   int max_events_per_step = 50;
   /// The second-order check's settings (second_order_tol, max_dense) at every state.
