@@ -7,8 +7,8 @@ Usage:
 Reads minima.json's "barriers" (each pair a, b with "from_a" and "from_b": the energy "profile"
 along the converged string, image by image, "energy_saddle", "verified", "neighbours") and draws
 each pair's profile against the image's position along the string (0 at minimum a, 1 at b); a
-verified saddle is marked with a red star, an unverified highest point with a black x. Pairs that
-are not neighbours (the path passes a third minimum) are drawn dotted.
+path's highest verified saddle is marked with a red star, an unverified highest point with a black
+x. Pairs that are not neighbours (the path runs through intermediate minima) are drawn dotted.
 --out defaults to barriers.png next to the JSON.
 
 Only the Python standard library and matplotlib (Debian: python3-matplotlib) are used.
@@ -60,10 +60,9 @@ def main():
             style = ls if s["neighbours"] else ":"
             label = f"{b['a']}-{b['b']}" + ("" if side == "from_a" else f" (lambda of {b['b']})")
             ax.plot(xs, prof, style, color=f"C{n % 10}", label=label)
-            if s["neighbours"]:
-                top = max(range(len(prof)), key=lambda i: prof[i])
-                mark = "r*" if s["verified"] else "kx"
-                ax.plot(xs[top], s["energy_saddle"] if s["verified"] else prof[top], mark, ms=10)
+            top = max(range(len(prof)), key=lambda i: prof[i])
+            mark = "r*" if s["verified"] else "kx"
+            ax.plot(xs[top], s["energy_saddle"] if s["verified"] else prof[top], mark, ms=10)
     ax.set_xlabel("position along the string (0: minimum a, 1: minimum b)")
     ax.set_ylabel("energy $\\Pi$")
     ax.grid(alpha=0.3)
