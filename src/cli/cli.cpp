@@ -16,6 +16,7 @@
 #include <hemicontact/studies/scene_solve.hpp>
 #include <hemicontact/solver/solve.hpp>
 #include <hemicontact/studies/adapt_study.hpp>
+#include <hemicontact/studies/barriers.hpp>
 #include <hemicontact/studies/minima.hpp>
 
 #include <algorithm>
@@ -37,6 +38,7 @@ std::string usage() {
          "  hemicontact solve SCENE.json [options]      solve a scene (report.json, solution.vtu, gamma3.csv)\n"
          "  hemicontact converge SCENE.json [options]   mesh-convergence study (the paper's Fig. 3)\n"
          "  hemicontact minima SCENE.json [options]     distinct solutions when (21) fails\n"
+         "  hemicontact path SCENE.json [options]       a quasi-static load history: jumps, hysteresis\n"
          "  hemicontact backends                        list the NLP backends compiled in\n"
          "  hemicontact --help | --version\n"
          "  hemicontact COMMAND --help                  the command's options, defaults and an example\n"
@@ -110,7 +112,8 @@ std::string command_help(const std::string& command) {
     const MinimaOptions mo;
     return std::string(
                "usage: hemicontact minima SCENE.json [--starts N] [--seed S] [--backends a,b,...] [--start FILE]...\n"
-               "                          [--group-tol T] [--load-path-steps N] [--box B] [--out DIR]\n"
+               "                          [--group-tol T] [--load-path-steps N] [--box B] [--until-complete\n"
+               "                          [--max-starts M]] [--barriers] [--out DIR]\n"
                "                          [--set path=value]... [--force] [--quiet]\n"
                "Distinct solutions when the smallness condition (21) fails: solves from zero, all at g, all\n"
                "separated, N random starts, a load path up and down and each --start, with each backend;\n"
@@ -129,10 +132,19 @@ std::string command_help(const std::string& command) {
            "                     (repeatable)\n"
            "  --group-tol T      relative energy-norm distance below which two results are one (default " +
            help_number(mo.group_tol) + ")\n  --load-path-steps N  load path steps per unit load, up and down (default " +
-           std::to_string(mo.load_path_steps) + "; 0: none)\n" + scene_options_help() +
+           std::to_string(mo.load_path_steps) + "; 0: none)\n" +
+           "  --until-complete   random starts in batches of N until the Chao1 estimate of distinct\n"
+           "                     solutions no random start reached is below one (stdout and minima.json\n"
+           "                     'unseen' report it in every run: seen once f1, twice f2, estimate, interval)\n"
+           "  --max-starts M     the cap of --until-complete (default " + std::to_string(mo.max_starts) + ")\n" +
+           "  --barriers         energy barriers between the lowest " + std::to_string(BarrierOptions{}.minima) +
+           " local minima (2D): string method, saddle refined\n"
+           "                     and verified; DIR/barriers.csv, DIR/saddle_<k>.vtu, DIR/barriers.png\n" +
+           scene_options_help() +
            "example:\n"
            "  hemicontact minima problems/minima-softening.json --starts 16 --seed 3 --backends ipopt,newton\n";
   }
+  if (command == "path") return path_help();
   if (command == "backends")
     return "usage: hemicontact backends\n"
            "List the NLP backends compiled in, one per line with a description; pass one to\n"

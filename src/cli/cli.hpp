@@ -78,6 +78,10 @@ int cmd_backends(const std::vector<std::string>& args);
 int cmd_converge(const std::vector<std::string>& args);
 /// `minima SCENE [--starts N] [--seed S] [--backends a,b]`: distinct solutions from many starts (src/cli/minima_command.cpp).
 int cmd_minima(const std::vector<std::string>& args);
+/// `path SCENE --load 0,2,0 [--steps N]`: a quasi-static load history (src/cli/path_command.cpp).
+int cmd_path(const std::vector<std::string>& args);
+/// @return `hemicontact path --help` (src/cli/path_command.cpp).
+std::string path_help();
 
 /// @brief Run scripts/@p script with /usr/bin/python3 (or $HEMICONTACT_PYTHON) and @p args
 /// (src/cli/plot.cpp). The script is looked up in $HEMICONTACT_SCRIPTS, the installed

@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
     }
     const std::string cmd = args[0];
     const std::vector<std::string> rest(args.begin() + 1, args.end());
-    const bool known = cmd == "solve" || cmd == "backends" || cmd == "converge" || cmd == "minima";
+    const bool known = cmd == "solve" || cmd == "backends" || cmd == "converge" || cmd == "minima" || cmd == "path";
     if (known && cli::wants_help(rest)) {
       std::fputs(cli::command_help(cmd).c_str(), stdout);
       return EXIT_OK;
@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
     if (cmd == "backends") return cli::cmd_backends(rest);
     if (cmd == "converge") return cli::cmd_converge(rest);
     if (cmd == "minima") return cli::cmd_minima(rest);
+    if (cmd == "path") return cli::cmd_path(rest);
     if (cmd == "--version") {
       std::puts(cli::version().c_str());
       return EXIT_OK;

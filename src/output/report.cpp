@@ -385,7 +385,8 @@ std::string uniqueness_warning(const Solution& sol) {
          (c.checked ? "not convex (smallest eigenvalue " + fmt(c.min_eigenvalue, 3) + ")"
                     : "not known to be convex (" + c.note + ")") +
          ": other certified solutions may exist; `hemicontact minima SCENE` finds them from many starts "
-         "and classifies each (local minimum or saddle)";
+         "and classifies each (local minimum or saddle), `hemicontact path SCENE --load 0,1` says which one a "
+         "load history reaches";
 }
 
 SummaryFacts summary_facts(const Model& md, const Solution& sol) {

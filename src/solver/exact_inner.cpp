@@ -84,6 +84,53 @@ double normal_prox(double a, double x0, double r0, double w, double g, const Pie
   return best;
 }
 
+// The local counterpart of normal_prox (ExactInnerOptions::local_descent): from x0 downhill along
+// the same φ, piece by piece, to the first point where φ stops decreasing: a stationary point inside
+// a piece (curvature a + w s > 0 there), a breakpoint where φ' changes sign, or g. Pieces are
+// numbered as in piece(): the one right of t is the count of breakpoints ≤ t, the one left of t the
+// count of breakpoints < t. NaN where φ decreases without end (an unbounded piece).
+double normal_descent(double a, double x0, double r0, double w, double g, const PiecewiseLinearLaw* law) {
+  if (!law) return std::min(x0 - r0 / a, g);
+  const auto& b = law->breakpoints();
+  const int K = static_cast<int>(b.size());
+  const int right = static_cast<int>(std::upper_bound(b.begin(), b.end(), x0) - b.begin());
+  const int left = static_cast<int>(std::lower_bound(b.begin(), b.end(), x0) - b.begin());
+  const auto dphi = [&](int i, double t) {  // φ' on piece i at t
+    const Piece q = piece(*law, static_cast<size_t>(i));
+    return a * (t - x0) + r0 + w * (q.A + q.s * t);
+  };
+  const auto stationary = [&](int i) {  // φ' = 0 on piece i, or NaN where φ is not convex there
+    const Piece q = piece(*law, static_cast<size_t>(i));
+    const double c = a + w * q.s;
+    return c > 0 ? (a * x0 - r0 - w * q.A) / c : NaN;
+  };
+  const auto up = [&]() -> double {  // φ' < 0 right of x0: walk right
+    for (int i = right; i <= K; ++i) {
+      const double hi = std::min(piece(*law, static_cast<size_t>(i)).hi, g), ts = stationary(i);
+      if (ts < hi) return ts;  // inside the piece (ts > the walk's point: φ' < 0 there and c > 0)
+      if (!std::isfinite(hi)) return NaN;
+      if (hi == g || dphi(i + 1, hi) >= 0) return hi;
+    }
+    return g;
+  };
+  const auto down = [&]() -> double {  // φ' > 0 left of x0: walk left
+    for (int i = left; i >= 0; --i) {
+      const double lo = piece(*law, static_cast<size_t>(i)).lo, ts = stationary(i);
+      if (ts > lo) return ts;
+      if (!std::isfinite(lo)) return NaN;
+      if (dphi(i - 1, lo) <= 0) return lo;
+    }
+    return NaN;
+  };
+  const bool go_up = x0 < g && dphi(right, x0) < 0, go_down = dphi(left, x0) > 0;
+  if (go_up && go_down) {  // a concave kink at x0: the lower of the two descents
+    const double tu = up(), td = down();
+    const auto phi = [&](double t) { return 0.5 * a * (t - x0) * (t - x0) + r0 * (t - x0) + w * law->j(t); };
+    return std::isnan(tu) || std::isnan(td) ? NaN : (phi(tu) <= phi(td) ? tu : td);
+  }
+  return go_up ? up() : go_down ? down() : x0;
+}
+
 // Soft threshold, the exact proximal map of τ ↦ κ|τ|.
 double soft(double v, double kappa) { return v > kappa ? v - kappa : v < -kappa ? v + kappa : 0.0; }
 
@@ -175,6 +222,7 @@ class InnerSolver {
   Vec piece_gradient(const ActiveSet& A, std::vector<std::pair<Index, Eigen::Matrix2d>>& slip_blocks) const;
   bool factor(const ActiveSet& A, const std::vector<std::pair<Index, Eigen::Matrix2d>>& slip_blocks);
   bool line_search(const ActiveSet& A, const Vec& dF);
+  double step_cap(const ActiveSet& A, const Vec& dF) const;
 
   const ExactInnerProblem& P;
   const Mat& S;
@@ -215,7 +263,8 @@ bool InnerSolver::sweep() {
     const Index iv = d * k;
     const double w = P.w[k], lam = P.lambda[k];
     if (!held(P, k, 0)) {
-      const double t = normal_prox(S(iv, iv), x[iv], r[iv], w, P.g[k], P.law);
+      const double t = opt.local_descent ? normal_descent(S(iv, iv), x[iv], r[iv], w, P.g[k], P.law)
+                                         : normal_prox(S(iv, iv), x[iv], r[iv], w, P.g[k], P.law);
       if (std::isnan(t)) return false;
       move(iv, t);
     }
@@ -307,7 +356,7 @@ bool InnerSolver::line_search(const ActiveSet& A, const Vec& dF) {
   // terms' size) and the stationarity residual drops (3D: Newton's quadratic convergence).
   const double res0 = exact_inner_residual(P, x);
   const double E_noise = 1e-14 * (std::abs(E) + std::abs((x - P.y).dot(r)));
-  for (double alpha = 1; alpha >= std::ldexp(1.0, -opt.max_halvings); alpha *= 0.5) {
+  for (double alpha = step_cap(A, dF); alpha >= std::ldexp(1.0, -opt.max_halvings); alpha *= 0.5) {
     for (Index a = 0; a < nf; ++a) xt[A.free[a]] = x[A.free[a]] + alpha * dF[a];
     for (Index k = 0; k < nc; ++k) xt[d * k] = std::min(xt[d * k], P.g[k]);
     const double Et = exact_inner_energy(P, xt);
@@ -320,6 +369,24 @@ bool InnerSolver::line_search(const ActiveSet& A, const Vec& dF) {
     }
   }
   return false;
+}
+
+// The longest step along dF, at most 1: with ExactInnerOptions::local_descent, no free normal
+// unknown leaves its piece of p_ν (or passes g), so the step crosses no barrier; the next sweep
+// goes on from the breakpoint. On one piece Φ_λ is quadratic and dF a Newton descent direction, so
+// Φ_λ decreases all the way to the cap.
+double InnerSolver::step_cap(const ActiveSet& A, const Vec& dF) const {
+  double cap = 1;
+  if (!opt.local_descent || !P.law) return cap;
+  for (size_t a = 0; a < A.free.size(); ++a) {
+    const Index i = A.free[a];
+    if (i % d != 0) continue;
+    const Piece q = piece(*P.law, static_cast<size_t>(A.code[static_cast<size_t>(i)]));
+    const double hi = std::min(q.hi, P.g[i / d]), step = dF[static_cast<Index>(a)];
+    if (step > 0 && std::isfinite(hi)) cap = std::min(cap, (hi - x[i]) / step);
+    if (step < 0 && std::isfinite(q.lo)) cap = std::min(cap, (q.lo - x[i]) / step);
+  }
+  return cap;
 }
 
 // One active-set Newton step with backtracking on Φ_λ (file comment).

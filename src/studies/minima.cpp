@@ -209,7 +209,27 @@ struct MinimaSearch {
   void gamma3_starts(ContactSolver& S, const std::string& name, double Us);
   void load_path(ContactSolver& S, const std::string& name);
   void group();
+  std::vector<int> random_abundances() const;
 };
+
+bool is_random_start(const std::string& label) { return label.rfind("random-", 0) == 0; }
+
+// How many certified random-start runs reached each distinct solution so far, grouped as group()
+// groups (greedy against each group's first member): the provisional counts of until_complete.
+std::vector<int> MinimaSearch::random_abundances() const {
+  double scale = 0;
+  for (const auto& cd : cands) scale = std::max(scale, cd.sol.energy_norm);
+  std::vector<const Solution*> anchors;
+  std::vector<int> count;
+  for (const auto& cd : cands) {
+    if (!is_random_start(R.runs[static_cast<size_t>(cd.run)].start)) continue;
+    size_t q = 0;
+    while (q < anchors.size() && energy_distance(md, cd.sol.u, anchors[q]->u) > R.options.group_tol * scale) ++q;
+    if (q == anchors.size()) anchors.push_back(&cd.sol), count.push_back(0);
+    ++count[q];
+  }
+  return count;
+}
 
 void MinimaSearch::record(const std::string& start, const std::string& backend, Solution sol, double secs) {
   const MinimaOptions& mopt = R.options;
@@ -296,14 +316,29 @@ void MinimaSearch::gamma3_starts(ContactSolver& S, const std::string& name, doub
   run_from("separated", from_gamma3(S, c));
   std::mt19937 rng(mopt.seed);
   const double B = mopt.box * Us;
-  for (int i = 0; i < mopt.starts; ++i) {
-    for (Index k = 0; k < nc; ++k) {
-      const double hi = std::min(B, md.contact.g[k]);
-      c[d * k] = std::uniform_real_distribution<double>(-B, std::max(-B, hi))(rng);
-      for (int a = 1; a < d; ++a) c[d * k + a] = std::uniform_real_distribution<double>(-B, B)(rng);
+  // Batches of `starts` random starts; with until_complete, until fewer than one distinct solution
+  // is estimated unreached (chao1_estimate) or max_starts have run.
+  int done = 0;
+  while (true) {
+    for (int i = 0; i < mopt.starts && (!mopt.until_complete || done < mopt.max_starts); ++i) {
+      for (Index k = 0; k < nc; ++k) {
+        const double hi = std::min(B, md.contact.g[k]);
+        c[d * k] = std::uniform_real_distribution<double>(-B, std::max(-B, hi))(rng);
+        for (int a = 1; a < d; ++a) c[d * k + a] = std::uniform_real_distribution<double>(-B, B)(rng);
+      }
+      run_from("random-" + std::to_string(++done), from_gamma3(S, c));
     }
-    run_from("random-" + std::to_string(i + 1), from_gamma3(S, c));
+    if (!mopt.until_complete) break;
+    const UnseenEstimate e = chao1_estimate(random_abundances());
+    log_info() << "minima: " << done << " random starts: " << e.observed << " distinct, f1 = " << e.f1 << ", f2 = " << e.f2
+               << ", Chao1 " << fmt(e.chao1, 4) << " (unseen " << fmt(e.unseen, 3) << ")";
+    if (e.samples > 0 && e.unseen < 1) {
+      R.unseen.complete = true;
+      break;
+    }
+    if (done >= mopt.max_starts) break;
   }
+  R.unseen.random_starts = done;
 }
 
 // Load path up (1/N … 1), then on to 2 and back down to 1; warm starts all the way.
@@ -392,6 +427,8 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   if (!(mopt.group_tol > 0)) input_error("minima: group_tol must be > 0");
   if (!(mopt.box > 0)) input_error("minima: box must be > 0");
   if (mopt.load_path_steps < 0) input_error("minima: load_path_steps must be >= 0");
+  if (mopt.until_complete && (mopt.starts < 1 || mopt.max_starts < mopt.starts))
+    input_error("minima: --until-complete needs --starts >= 1 (the batch) and --max-starts >= --starts");
 
   MinimaSearch search{md, R, {}};
   // One solver for every backend, start and load step: factored (and condensed) once.
@@ -399,6 +436,13 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   for (const std::string& name : mopt.backends) search.run_backend(solver, opt, name);
   search.group();
   pair_mirror_images(md, R, mopt.group_tol);
+  std::vector<int> abundance;
+  for (const DistinctSolution& ds : R.solutions)
+    abundance.push_back(static_cast<int>(std::count_if(ds.starts.begin(), ds.starts.end(), is_random_start)));
+  const UnseenEstimate so_far = R.unseen;
+  R.unseen = chao1_estimate(abundance);
+  R.unseen.random_starts = so_far.random_starts;
+  R.unseen.complete = so_far.complete;
   for (size_t k = 0; k < R.solutions.size(); ++k) {
     DistinctSolution& ds = R.solutions[k];
     for (int run : ds.runs) R.runs[static_cast<size_t>(run)].group = static_cast<int>(k);
@@ -409,6 +453,36 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   }
   R.seconds = since(t0);
   return R;
+}
+
+UnseenEstimate chao1_estimate(const std::vector<int>& abundances) {
+  UnseenEstimate e;
+  for (int a : abundances) {
+    if (a <= 0) continue;
+    e.samples += a;
+    ++e.observed;
+    e.f1 += a == 1;
+    e.f2 += a == 2;
+  }
+  if (e.samples == 0) return e;
+  const double n = e.samples, S = e.observed, f1 = e.f1, f2 = e.f2, c = (n - 1) / n;
+  double var = 0;
+  if (f2 > 0) {
+    const double r = f1 / f2;
+    e.chao1 = S + c * f1 * f1 / (2 * f2);
+    var = f2 * (0.5 * c * r * r + c * c * r * r * r + 0.25 * c * c * r * r * r * r);
+  } else {
+    e.chao1 = S + c * f1 * (f1 - 1) / 2;
+    var = c * f1 * (f1 - 1) / 2 + c * c * f1 * (2 * f1 - 1) * (2 * f1 - 1) / 4 - c * c * f1 * f1 * f1 * f1 / (4 * e.chao1);
+  }
+  e.unseen = e.chao1 - S;
+  e.lo = e.hi = S;
+  if (e.unseen > 0) {
+    const double K = std::exp(1.96 * std::sqrt(std::log(1 + std::max(var, 0.0) / (e.unseen * e.unseen))));
+    e.lo = S + e.unseen / K;
+    e.hi = S + e.unseen * K;
+  }
+  return e;
 }
 
 std::vector<Vec> read_gamma3_starts(const json& js, const Model& md, const std::string& context) {

@@ -166,3 +166,33 @@ TEST_F(MinimaCli, SceneWithoutGamma3DrawsNothingAndSaysWhy) {
 }
 
 }  // namespace
+
+namespace {
+
+// --barriers and --until-complete end to end on the one-cell scene: the barrier table, the unseen
+// estimate, barriers.csv, a saddle VTU per verified saddle; a law with downward jumps is refused
+// before any solve.
+TEST_F(MinimaCli, BarriersAndUnseenEstimate) {
+  const fs::path out = dir / "b";
+  const MinimaOutcome r =
+      cli("minima " + scene + " --starts 8 --until-complete --max-starts 32 --barriers --out " + out.string() + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("barriers (string method"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Chao1 estimate"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--until-complete: fewer than one unseen solution estimated"), std::string::npos) << r.out;
+  const json js = json::parse(slurp(out / "minima.json"));
+  ASSERT_EQ(js["barriers"].size(), 3u);
+  EXPECT_TRUE(js["barriers"][0]["from_a"]["verified"].get<bool>());
+  EXPECT_TRUE(js["unseen"]["complete"].get<bool>());
+  EXPECT_EQ(lines_of(slurp(out / "barriers.csv")).size(), 7u);  // header + two sides per pair
+  EXPECT_TRUE(fs::exists(out / "saddle_0.vtu"));
+  const std::string laminate = std::string(HEMICONTACT_SOURCE_DIR) + "/problems/minima-laminate.json";
+  const MinimaOutcome refused = cli("minima " + laminate + " --barriers --out " + (dir / "l").string() + " --quiet");
+  EXPECT_EQ(refused.code, hemicontact::EXIT_INPUT);
+  EXPECT_NE(refused.err.find("jumps downward"), std::string::npos) << refused.err;
+  const MinimaOutcome cap = cli("minima " + scene + " --starts 8 --until-complete --max-starts 4 --out " +
+                                (dir / "c").string() + " --quiet");
+  EXPECT_EQ(cap.code, hemicontact::EXIT_USAGE) << cap.err;
+}
+
+}  // namespace

@@ -34,6 +34,7 @@ TEST(UniquenessWarning, EveryShippedNonconvexSceneWarns) {
     const std::string w = uniqueness_warning(s.sol);
     EXPECT_NE(w.find("other certified solutions may exist"), std::string::npos) << name << ": " << w;
     EXPECT_NE(w.find("hemicontact minima"), std::string::npos) << name;
+    EXPECT_NE(w.find("hemicontact path"), std::string::npos) << name;
     EXPECT_NE(summary_table(s.md, s.sol).find("uniqueness    NOT guaranteed"), std::string::npos) << name;
   }
 }

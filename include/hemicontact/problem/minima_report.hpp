@@ -42,6 +42,11 @@ struct MinimaOptions {
   /// Largest number of kept unknowns for which the dense Hessian is formed (full formulation);
   /// beyond it the check is skipped ("unchecked"). The condensed Hessian is dense anyway.
   Index max_dense = 4000;
+  /// Run random starts in batches of `starts` until the estimated number of distinct solutions no
+  /// random start has reached yet (UnseenEstimate::unseen) is below one, or max_starts random starts
+  /// have run (`minima --until-complete`).
+  bool until_complete = false;
+  int max_starts = 1024;  ///< the cap of until_complete (random starts per backend, all batches together)
   /// Called as each run ends, with the runs so far (the last one just finished): the caller keeps
   /// them as they come (the CLI: minima-runs.csv), so that an interrupted search loses only the
   /// run it was in. The driver knows no files.
@@ -105,6 +110,31 @@ struct DistinctSolution {
   int mirror_of = -1;
 };
 
+/// How many distinct solutions the random starts have not reached yet: the bias-corrected Chao1
+/// estimator of species richness (Chao 1987; Chao, Biometrics 61, 2005), with the random starts as
+/// the samples and the distinct solutions they reached as the species. Only random starts are a
+/// random sample of the basins (the others are chosen), so only they count. With n certified
+/// random runs, S_obs distinct solutions among them, f1 reached once and f2 twice, c = (n − 1)/n:
+///   f2 > 0: S = S_obs + c f1²/(2 f2),
+///           var = f2 [½ c (f1/f2)² + c² (f1/f2)³ + ¼ c² (f1/f2)⁴];
+///   f2 = 0: S = S_obs + c f1 (f1 − 1)/2,
+///           var = c f1(f1 − 1)/2 + c² f1 (2 f1 − 1)²/4 − c² f1⁴/(4 S);
+/// the 95 % interval is Chao's log-normal one, [S_obs + T/K, S_obs + T K], T = S − S_obs,
+/// K = exp(1.96 sqrt(ln(1 + var/T²))); for T = 0 (no solution seen once) it is [S_obs, S_obs].
+/// It estimates the basins the start distribution reaches with positive probability, not basins
+/// it cannot reach; a lower bound in that sense.
+struct UnseenEstimate {
+  int samples = 0;   ///< n: certified random-start runs
+  int observed = 0;  ///< S_obs: distinct solutions among them
+  int f1 = 0;        ///< reached by exactly one random start
+  int f2 = 0;        ///< reached by exactly two
+  double chao1 = 0;  ///< S, the estimated number of distinct solutions
+  double lo = 0, hi = 0;  ///< 95 % interval of S
+  double unseen = 0;      ///< S − S_obs
+  int random_starts = 0;  ///< random starts run per backend (until_complete: all batches)
+  bool complete = false;  ///< until_complete: stopped because unseen < 1 (false: at the cap, or not asked)
+};
+
 /// Everything find_minima() found.
 struct MinimaReport {
   std::vector<DistinctSolution> solutions;  ///< sorted by energy, lowest first
@@ -114,6 +144,7 @@ struct MinimaReport {
   double norm_scale = 0;                    ///< max ‖u‖_E over certified results (group_tol is relative to it)
   MinimaOptions options;                    ///< what was asked (backends filled in)
   double seconds = 0;                       ///< total wall time
+  UnseenEstimate unseen;                    ///< how many the random starts have not reached yet
   /// @return the number of distinct solutions judged local minima.
   int local_minima() const;
   /// @return the number of runs whose result was certified.

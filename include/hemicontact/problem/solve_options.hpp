@@ -100,6 +100,13 @@ struct ExactInnerOptions {
   /// costing most of the solve (random study seed 461: 5 ms of an 18 ms solve, rejected). 1e-13:
   /// three orders below tol, a hundred times the round-off of a double at unit scale.
   double polish_above = 1e-13;
+  /// Path following (studies/load_path.hpp sets it; no scene key): each coordinate step goes to the
+  /// nearest local minimizer downhill of the current value along its unknown instead of the global
+  /// one along the line, and an active-set Newton step stops where a normal unknown would leave its
+  /// piece of p_ν. Every move is then a descent that crosses no barrier, so the answer is the
+  /// minimum whose basin holds the start (the branch a quasi-static load step follows), not the
+  /// lowest one along each line (which would re-choose the branch).
+  bool local_descent = false;
 };
 
 

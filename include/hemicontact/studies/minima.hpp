@@ -51,6 +51,11 @@ namespace hemicontact {
 /// @p group_tol (relative). Called by find_minima after sorting.
 void pair_mirror_images(const Model& md, MinimaReport& R, double group_tol);
 
+/// The Chao1 estimate (UnseenEstimate) from how many samples reached each class.
+/// @param abundances per class reached at least once, the number of samples that reached it
+/// @return the estimate (samples, observed, f1, f2, chao1, the interval, unseen); all zero for none
+UnseenEstimate chao1_estimate(const std::vector<int>& abundances);
+
 /// Solve from many starts, group, classify (see the file comment).
 /// @param md      the model; its loads are the ones at load factor 1
 /// @param opt     solver options (backend replaced by each of MinimaOptions::backends)
