@@ -398,7 +398,7 @@ void check_mesh_keys(const json& mesh) {
   if (type != "rectangle" && (g.at("x") != "none" || g.at("y") != "none"))
     key_error("mesh.grading", "grades a rectangle's grid lines only" + is);
   // Keys with a default of their own: refused where set to another value and not read. (nx, ny,
-  // nz are left out: mesh.n copies itself into all three whatever the type.)
+  // nz only on a Gmsh mesh: elsewhere mesh.n copies itself into all three whatever the type.)
   const auto unread = [&](const char* key, bool read) {
     const std::string dotted = std::string("mesh.") + key;
     if (!read && mesh.at(key) != schema_default(dotted))
@@ -409,6 +409,8 @@ void check_mesh_keys(const json& mesh) {
   unread("z", type == "box");
   unread("x", type != "gmsh");
   unread("y", type != "gmsh");
+  // A Gmsh scene refuses mesh.n (above), so a grid size there was set by hand, and dropped.
+  for (const char* k : {"nx", "ny", "nz"}) unread(k, type != "gmsh");
 }
 
 void check_selectors(const json& boundary) {

@@ -336,6 +336,11 @@ TEST(SceneSchemaErrors, MeshKeysOfAnotherMeshTypeAreRefused) {
   EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.z'");
   s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}, {"x", {0, 4}}};
   EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }), "scene key 'mesh.x'");
+  for (const char* k : {"nx", "ny", "nz"}) {  // a grid size on a mesh read as it is
+    s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}, {k, 5}};
+    EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                    std::string("scene key 'mesh.") + k + "': is not read for this mesh (mesh.type is 'gmsh')");
+  }
   s["mesh"] = {{"type", "gmsh"}, {"file", "m.msh"}};
   EXPECT_NO_THROW(validate_scene(s));
   // An effective scene (every default filled in) validates again: the defaults are not "set".
