@@ -38,8 +38,8 @@ from ._hemicontact import HemicontactError, SceneError, __version__
 del annotations  # the __future__ import's name: not part of the API
 
 __all__ = [
-    "Scene", "Result", "Certificate", "MinimaResult", "SceneError", "HemicontactError",
-    "solve", "adapt", "minima", "converge", "backends", "random_scene", "__version__",
+    "Scene", "Result", "Certificate", "MinimaResult", "PathResult", "SceneError", "HemicontactError",
+    "solve", "adapt", "minima", "path", "converge", "backends", "random_scene", "__version__",
 ]
 
 
@@ -109,6 +109,15 @@ def _integer(value: Any, name: str, lo: int, hi: int) -> int:
     if not lo <= int(value) <= hi:
         raise ValueError(f"{name}: expected an integer from {lo} to {hi}, got '{int(value)}'")
     return int(value)
+
+
+def _flag(value: Any, name: str) -> bool:
+    """A bool (NumPy's too); 0, 1 and "yes" are refused rather than read."""
+    if _is_numpy(value) and getattr(value, "ndim", 1) == 0:
+        value = value.tolist()
+    if not isinstance(value, bool):
+        raise TypeError(f"{name}: expected True or False, got {value!r} ({_type_name(value)})")
+    return value
 
 
 def _positive(value: Any, name: str) -> float:
@@ -474,14 +483,77 @@ def adapt(scene: Union[Scene, Mapping[str, Any], str, _os.PathLike], target_erro
 
 class MinimaResult:
     """`hemicontact minima`'s answer: ``report`` is the dict of minima.json, ``solutions`` a
-    :class:`Result` per distinct solution, lowest energy first (as solution_<k>.vtu)."""
+    :class:`Result` per distinct solution, lowest energy first (as solution_<k>.vtu);
+    ``unseen`` the Chao1 estimate of the solutions the random starts missed, ``barriers`` (with
+    ``barriers=True``) the pairs of minima.json's "barriers", each side's saddle verified or not."""
 
     def __init__(self, report: Dict[str, Any], solutions: List[Result]):
         self.report = report
         self.solutions = solutions
+        self.unseen = report.get("unseen", {})
+        self.barriers = report.get("barriers", [])
 
     def __repr__(self) -> str:
         return f"MinimaResult({len(self.solutions)} distinct solutions, {len(self.report.get('runs', []))} runs)"
+
+
+class PathResult:
+    """`hemicontact path`'s answer: ``report`` is the dict of path.json, ``states`` a
+    :class:`Result` per recorded state (as state_<k>.vtu), ``jumps`` its jumps; the per-state
+    columns of path.csv as NumPy arrays: ``load``, ``energy``, ``reaction``, ``mean_u_nu``,
+    ``max_u_nu`` and ``certified``."""
+
+    def __init__(self, report: Dict[str, Any], states: List[Result]):
+        import numpy as np
+
+        self.report = report
+        self.states = states
+        self.jumps = report["jumps"]
+        rows = report["states"]
+        for key in ("load", "energy", "reaction", "mean_u_nu", "max_u_nu"):
+            setattr(self, key, np.array([np.nan if r[key] is None else r[key] for r in rows], dtype=float))
+        self.certified = np.array([r["certified"] for r in rows], dtype=bool)
+
+    def __repr__(self) -> str:
+        return (f"PathResult({len(self.states)} states, {len(self.jumps)} jumps, "
+                f"{'complete' if self.report['complete'] else 'stopped: ' + self.report['failure']})")
+
+
+def _loads(value: Any) -> List[float]:
+    """Load factors: the CLI's "0,2,0" or a sequence of finite numbers (NumPy arrays too)."""
+    import numpy as np
+
+    if isinstance(value, str):
+        parts = [p.strip() for p in value.split(",")]
+        try:
+            value = [float(p) for p in parts]
+        except ValueError:
+            raise ValueError(f"load: expected numbers separated by commas, got {value!r}") from None
+    if isinstance(value, (bytes, _Mapping)) or not hasattr(value, "__iter__"):
+        raise TypeError(f"load: expected a sequence of load factors, got {_type_name(value)}")
+    try:
+        a = np.asarray(list(value), dtype=float).ravel()
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"load: expected a sequence of numbers ({e})") from None
+    if a.size < 2:
+        raise ValueError("load: needs at least two load factors (e.g. [0, 2, 0])")
+    if not np.all(np.isfinite(a)):
+        raise ValueError("load: load factors must be finite numbers")
+    return [float(x) for x in a]
+
+
+def path(scene: Union[Scene, Mapping[str, Any], str, _os.PathLike], load: Any = (0, 1), steps: int = 20,
+         bisection_tol: float = 1e-6) -> PathResult:
+    """A quasi-static load history, as `hemicontact path` (--load, --steps, --bisection-tol):
+    the loads scaled by factors through the corners of ``load``, each step started from the last
+    certified state, every jump located by bisection to ``bisection_tol``."""
+    s = _scene(scene)
+    corners = _loads(load)
+    n_steps = _integer(steps, "steps", 1, _core.limits["path_steps"])
+    tol = _positive(bisection_tol, "bisection_tol")
+    with _Keywords():
+        out = _core.path(s._s, [], corners, n_steps, tol)
+    return PathResult(out["report"], [Result(r) for r in out["states"]])
 
 
 def _starts(user_starts: Any) -> List[Any]:
@@ -507,11 +579,13 @@ def _starts(user_starts: Any) -> List[Any]:
 
 def minima(scene: Union[Scene, Mapping[str, Any], str, _os.PathLike], starts: int = 8, seed: int = 1,
            backends: Optional[Union[str, Sequence[str]]] = None, group_tol: float = 1e-6, box: float = 1.0,
-           load_path_steps: int = 10, user_starts: Iterable[Any] = ()) -> MinimaResult:
+           load_path_steps: int = 10, user_starts: Iterable[Any] = (), barriers: bool = False,
+           until_complete: bool = False, max_starts: int = 1024) -> MinimaResult:
     """Distinct solutions from many starts, as `hemicontact minima` (its options by the same names,
-    with the same ranges: --starts, --seed, --backends, --group-tol, --box, --load-path-steps;
-    ``backends`` is a list of names or one str, comma-separated as the CLI's; ``user_starts`` are
-    --start's vectors: Γ3 unknowns (u_ν, u_τ) node after node, or a full displacement)."""
+    with the same ranges: --starts, --seed, --backends, --group-tol, --box, --load-path-steps,
+    --barriers, --until-complete, --max-starts; ``backends`` is a list of names or one str,
+    comma-separated as the CLI's; ``user_starts`` are --start's vectors: Γ3 unknowns (u_ν, u_τ)
+    node after node, or a full displacement)."""
     s = _scene(scene)
     lim = _core.limits
     n_starts = _integer(starts, "starts", 0, lim["starts"])
@@ -521,8 +595,10 @@ def minima(scene: Union[Scene, Mapping[str, Any], str, _os.PathLike], starts: in
     half_width = _positive(box, "box")
     steps = _integer(load_path_steps, "load_path_steps", 0, lim["load_path_steps"])
     vecs = _starts(user_starts)
+    flags = [_flag(barriers, "barriers"), _flag(until_complete, "until_complete")]
+    cap = _integer(max_starts, "max_starts", n_starts if flags[1] else 1, lim["starts"])
     with _Keywords():
-        out = _core.minima(s._s, [], n_starts, n_seed, names, tol, half_width, steps, vecs)
+        out = _core.minima(s._s, [], n_starts, n_seed, names, tol, half_width, steps, vecs, flags[0], flags[1], cap)
     return MinimaResult(out["report"], [Result(r) for r in out["solutions"]])
 
 

@@ -23,6 +23,7 @@
 #include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/studies/scene_solve.hpp>
+#include <hemicontact/studies/study_json.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/adapt.hpp>
@@ -357,6 +358,7 @@ py::dict option_limits() {
   limits["load_path_steps"] = MINIMA_MAX_LOAD_PATH_STEPS;
   limits["seed"] = MINIMA_MAX_SEED;
   limits["level"] = MAX_LEVEL;  // converge's levels and reference
+  limits["path_steps"] = PATH_MAX_STEPS;
   return limits;
 }
 
@@ -372,14 +374,20 @@ py::dict certificate_dict(const CertificateReport& c) {
 }
 
 // ------------------------------------------------------------------ studies
-py::object minima_study(const Scene& s, const std::vector<std::string>& extra, MinimaOptions mo) {
+py::object minima_study(const Scene& s, const std::vector<std::string>& extra, MinimaOptions mo, bool barriers) {
   const json scene = s.with(extra);
   refuse_petsc(scene, "minima");
   const SolveOptions opt = solve_options_from_scene(scene);
   auto [js, solved] = run_released([&] {
     auto md = std::make_shared<const Model>(build_model(scene, s.directory));
+    if (barriers) require_barrier_scene(*md);  // before the search, as the CLI
     const MinimaReport r = find_minima(*md, opt, mo);
     json j = minima_json(*md, r);
+    j["unseen"] = unseen_json(r.unseen, r.options);
+    if (barriers) {
+      j["barriers"] = json::array();
+      for (const Barrier& b : find_barriers(*md, opt, r, BarrierOptions{})) j["barriers"].push_back(barrier_json(b));
+    }
     std::vector<std::shared_ptr<Solved>> sols;
     for (const auto& d : r.solutions) {
       auto one = std::make_shared<Solved>();
@@ -398,6 +406,35 @@ py::object minima_study(const Scene& s, const std::vector<std::string>& extra, M
   py::dict out;
   out["report"] = to_py(js);
   out["solutions"] = py::cast(solved);
+  return std::move(out);
+}
+
+// `hemicontact path` without its files: path.json's dict and each state's Result.
+py::object path_study(const Scene& s, const std::vector<std::string>& extra, const PathOptions& po) {
+  const json scene = s.with(extra);
+  refuse_petsc(scene, "path");
+  const SolveOptions opt = solve_options_from_scene(scene);
+  auto [js, states] = run_released([&] {
+    auto md = std::make_shared<const Model>(build_model(scene, s.directory));
+    const PathReport R = follow_load_path(*md, opt, po);
+    json j = path_json(*md, R);
+    std::vector<std::shared_ptr<Solved>> sols;
+    for (const PathState& st : R.states) {
+      auto one = std::make_shared<Solved>();
+      one->model = md;
+      one->solution = st.solution;
+      one->opt = opt;
+      one->scene = scene;
+      sols.push_back(one);
+    }
+    return std::make_pair(std::move(j), std::move(sols));
+  });
+  js["name"] = s.path ? std::filesystem::path(*s.path).stem().string() : std::string("dict");
+  js["scene_file"] = s.name();
+  js["scene"] = scene;
+  py::dict out;
+  out["report"] = to_py(js);
+  out["states"] = py::cast(states);
   return std::move(out);
 }
 
@@ -513,7 +550,7 @@ PYBIND11_MODULE(_hemicontact, m) {
       "minima",
       [](const Scene& s, const std::vector<std::string>& extra, int starts, unsigned seed,
          const std::vector<std::string>& backends, double group_tol, double box, int load_path_steps,
-         const std::vector<Vec>& user_starts) {
+         const std::vector<Vec>& user_starts, bool barriers, bool until_complete, int max_starts) {
         MinimaOptions mo;
         mo.starts = starts;
         mo.seed = seed;
@@ -522,10 +559,24 @@ PYBIND11_MODULE(_hemicontact, m) {
         mo.box = box;
         mo.load_path_steps = load_path_steps;
         mo.user_starts = user_starts;
-        return minima_study(s, extra, mo);
+        mo.until_complete = until_complete;
+        mo.max_starts = max_starts;
+        return minima_study(s, extra, mo, barriers);
       },
       py::arg("scene"), py::arg("assignments"), py::arg("starts"), py::arg("seed"), py::arg("backends"),
-      py::arg("group_tol"), py::arg("box"), py::arg("load_path_steps"), py::arg("user_starts"));
+      py::arg("group_tol"), py::arg("box"), py::arg("load_path_steps"), py::arg("user_starts"), py::arg("barriers"),
+      py::arg("until_complete"), py::arg("max_starts"));
+  m.def(
+      "path",
+      [](const Scene& s, const std::vector<std::string>& extra, const std::vector<double>& loads, int steps,
+         double bisection_tol) {
+        PathOptions po;
+        po.loads = loads;
+        po.steps = steps;
+        po.bisection_tol = bisection_tol;
+        return path_study(s, extra, po);
+      },
+      py::arg("scene"), py::arg("assignments"), py::arg("loads"), py::arg("steps"), py::arg("bisection_tol"));
   m.def("converge", &convergence_study, py::arg("scene"), py::arg("assignments"), py::arg("levels"),
         py::arg("reference"));
   m.def("parse_levels", &parse_levels, py::arg("text"));

@@ -29,6 +29,7 @@
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/studies/barriers.hpp>
+#include <hemicontact/studies/study_json.hpp>
 #include <hemicontact/studies/minima.hpp>
 
 #include <algorithm>
@@ -125,15 +126,6 @@ void draw_minima_plot(const std::filesystem::path& out, const std::string& name,
   if (std::filesystem::exists(out / "minima.png")) record_output_file((out / "minima.png").string());
 }
 
-nlohmann::json side_json(const BarrierSide& s) {
-  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
-  return {{"minimum", s.minimum}, {"lambda", s.lambda}, {"neighbours", s.neighbours}, {"verified", s.verified},
-          {"intermediate_minima", s.intermediate}, {"saddle_energies", s.saddles},
-          {"energy_min", num(s.energy_min)}, {"energy_saddle", num(s.energy_saddle)}, {"barrier", num(s.barrier)},
-          {"residual", num(s.residual)}, {"negative_eigenvalues", s.negative}, {"string_steps", s.steps},
-          {"profile", s.profile}, {"note", s.note}};
-}
-
 // barriers.csv, saddle_<k>.vtu per verified saddle (k: the row), and the JSON for minima.json.
 nlohmann::json write_barriers(const std::filesystem::path& out, const nlohmann::json& scene, const Model& md,
                               const SolveOptions& opt, const std::vector<Barrier>& bars) {
@@ -153,7 +145,9 @@ nlohmann::json write_barriers(const std::filesystem::path& out, const nlohmann::
       csv << k << ',' << b.a << ',' << b.b << ',' << s->minimum << ",\"" << s->lambda << "\"," << s->neighbours << ','
           << s->verified << ',' << round_trip(s->energy_min) << ',' << round_trip(s->energy_saddle) << ','
           << round_trip(s->barrier) << ',' << round_trip(s->residual) << ',' << s->negative << ',' << vtu << '\n';
-    js.push_back({{"a", b.a}, {"b", b.b}, {"from_a", side_json(b.from_a)}, {"from_b", side_json(b.from_b)}, {"vtu", vtu}});
+    nlohmann::json j = barrier_json(b);
+    j["vtu"] = vtu;
+    js.push_back(std::move(j));
   }
   write_text_file((out / "barriers.csv").string(), csv.str());
   return js;
@@ -184,22 +178,6 @@ void draw_barrier_plot(const std::filesystem::path& out, const std::string& name
   const int code = run_plot_script("plot_barriers.py", {(out / "minima.json").string(), "--out", png, "--title", name}, png);
   if (code != 0) log_warn() << "minima: " << png << " was not drawn; barriers.csv and minima.json have the profiles";
   if (std::filesystem::exists(out / "barriers.png")) record_output_file(png);
-}
-
-// The unseen-solutions estimate (UnseenEstimate) for minima.json.
-nlohmann::json unseen_json(const UnseenEstimate& e, const MinimaOptions& mo) {
-  return {{"estimator", "Chao1 (bias-corrected), 95% log-normal interval; samples: certified random-start runs"},
-          {"samples", e.samples},
-          {"observed", e.observed},
-          {"f1", e.f1},
-          {"f2", e.f2},
-          {"chao1", e.chao1},
-          {"interval", {e.lo, e.hi}},
-          {"unseen", e.unseen},
-          {"random_starts", e.random_starts},
-          {"until_complete", mo.until_complete},
-          {"max_starts", mo.max_starts},
-          {"complete", e.complete}};
 }
 
 // One line on stdout: how many distinct solutions the random starts have not reached yet.

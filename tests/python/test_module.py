@@ -202,6 +202,45 @@ def test_minima_matches_cli(tmp_path):
         assert res.energy == pytest.approx(a["energy"], rel=1e-12)
 
 
+def test_path_matches_cli(tmp_path):
+    """hc.path is `hemicontact path`: the same states and jumps, arrays of its columns, a Result
+    per state; the softening layer's load-unload cycle leaves a hysteresis loop."""
+    cli("path", SOFTENING, "--load", "0,2,0", "--steps", "10", "--out", tmp_path, "--quiet")
+    expected = json.loads((tmp_path / "path.json").read_text())
+    got = hc.path(hc.Scene.load(SOFTENING), load=np.array([0.0, 2.0, 0.0]), steps=np.int64(10))
+    assert got.report["complete"] and got.certified.all()
+    assert len(got.states) == len(expected["states"]) == got.load.size
+    np.testing.assert_allclose(got.energy, [s["energy"] for s in expected["states"]], rtol=1e-9)
+    assert [j["load_before"] for j in got.jumps] == pytest.approx([j["load_before"] for j in expected["jumps"]],
+                                                                   abs=1e-12)
+    assert got.states[-1].energy == pytest.approx(got.energy[-1], rel=1e-12)
+    # At the same load factor the loading and the unloading branch differ: hysteresis.
+    up = [s for s in got.report["states"] if s["segment"] == 0 and s["load"] == pytest.approx(1.0)]
+    down = [s for s in got.report["states"] if s["segment"] == 1 and s["load"] == pytest.approx(1.0)]
+    assert up and down and abs(up[0]["energy"] - down[0]["energy"]) > 1e-3 * abs(up[0]["energy"])
+    with pytest.raises(ValueError, match="load: needs at least two"):
+        hc.path(hc.Scene.load(SOFTENING), load=[1.0])
+    with pytest.raises(TypeError, match="steps"):
+        hc.path(hc.Scene.load(SOFTENING), steps=2.5)
+
+
+def test_minima_barriers_and_unseen_match_cli(tmp_path):
+    cli("minima", SOFTENING, "--starts", "4", "--barriers", "--out", tmp_path, "--quiet", check=False)
+    expected = json.loads((tmp_path / "minima.json").read_text())
+    got = hc.minima(hc.Scene.load(SOFTENING), starts=4, barriers=True)
+    assert got.unseen["f1"] == expected["unseen"]["f1"] and got.unseen["chao1"] == pytest.approx(
+        expected["unseen"]["chao1"])
+    assert len(got.barriers) == len(expected["barriers"]) > 0
+    for a, b in zip(got.barriers, expected["barriers"]):
+        assert (a["a"], a["b"]) == (b["a"], b["b"])
+        assert a["from_a"]["verified"] == b["from_a"]["verified"]
+        assert a["from_a"]["barrier"] == pytest.approx(b["from_a"]["barrier"], rel=1e-9)
+    with pytest.raises(TypeError, match="barriers: expected True or False"):
+        hc.minima(hc.Scene.load(SOFTENING), starts=1, barriers=1)
+    with pytest.raises(ValueError, match="max_starts"):
+        hc.minima(hc.Scene.load(SOFTENING), starts=8, until_complete=True, max_starts=4)
+
+
 def test_threads_give_the_serial_results():
     # Random scenes, about half of them with Ipopt stages: 4 threads once aborted in MUMPS
     # (DMUMPS_LOAD_INIT) before the Ipopt backend serialized its solves.
