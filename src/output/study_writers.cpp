@@ -50,7 +50,17 @@ nlohmann::json level_json(const ConvergenceLevel& l) {
           {"ok", l.ok},
           {"nested", l.nested},
           {"message", l.message},
-          {"solved_by", l.solved_by}};
+          {"solved_by", l.solved_by},
+          {"unique_in_doubt", l.unique_in_doubt},
+          {"other_branch", l.other_branch.empty() ? nlohmann::json() : nlohmann::json(l.other_branch)}};
+}
+
+// The levels flagged as lying on another branch (left out of the rate fit).
+std::vector<int> left_out(const ConvergenceStudy& study) {
+  std::vector<int> n;
+  for (const auto& l : study.levels)
+    if (!l.other_branch.empty()) n.push_back(l.n);
+  return n;
 }
 
 }  // namespace
@@ -65,6 +75,7 @@ nlohmann::json convergence_json(const ConvergenceStudy& study) {
             {"C", fit.C},
             {"levels_used", fit.levels_used},
             {"max_rel_residual", fit.max_rel_residual},
+            {"left_out", left_out(study)},
             {"model", "error = C * sqrt(h^(2 alpha) - h_ref^(2 alpha))"}};
   return {{"reference", level_json(study.reference)},
           {"levels", levels},
@@ -122,6 +133,8 @@ std::string convergence_table(const ConvergenceStudy& study) {
                   fit.levels_used, fit.alpha, fit.C, 100 * fit.max_rel_residual);
     out += line;
   }
+  for (const auto& l : study.levels)
+    if (!l.other_branch.empty()) out += "n = " + std::to_string(l.n) + ": " + l.other_branch + "\n";
   const auto failed = study.failed();
   if (failed.empty()) {
     out += "all " + std::to_string(study.levels.size() + 1) + " solves converged and certified (solved by " +

@@ -2,9 +2,12 @@
 // (convergence_study.hpp), computed from the record alone.
 #include <hemicontact/problem/convergence_study.hpp>
 
+#include <hemicontact/core/format.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <string>
 
 namespace hemicontact {
 
@@ -22,7 +25,7 @@ RateFit fit_rate(const ConvergenceStudy& study, int max_levels) {
   const double hR = study.reference.h;
   std::vector<double> h, e;
   for (const auto& l : study.levels)
-    if (l.error > 0 && l.h > hR) {
+    if (l.error > 0 && l.h > hR && l.other_branch.empty()) {
       h.push_back(l.h);
       e.push_back(l.error);
     }
@@ -69,6 +72,44 @@ RateFit fit_rate(const ConvergenceStudy& study, int max_levels) {
   }
   fit.valid = true;
   return fit;
+}
+
+namespace {
+
+// Level i's error over the fit of the other unflagged levels (NaN where they do not fit).
+double off_the_others(const ConvergenceStudy& study, size_t i) {
+  const ConvergenceLevel& l = study.levels[i];
+  const double hR = study.reference.h;
+  if (!(l.error > 0 && l.h > hR) || !l.other_branch.empty()) return NaN;
+  ConvergenceStudy others = study;  // leave this level out
+  others.levels.erase(others.levels.begin() + static_cast<std::ptrdiff_t>(i));
+  const RateFit fit = fit_rate(others);
+  if (!fit.valid) return NaN;
+  return l.error / (fit.C * std::sqrt(std::pow(l.h, 2 * fit.alpha) - std::pow(hR, 2 * fit.alpha)));
+}
+
+}  // namespace
+
+std::vector<int> flag_other_branches(ConvergenceStudy& study, const BranchCheck& check) {
+  bool doubt = study.reference.unique_in_doubt;
+  for (const auto& l : study.levels) doubt = doubt || l.unique_in_doubt;
+  std::vector<int> flagged;
+  if (!doubt) return flagged;
+  // One level at a time, the farthest off first: a level on another branch tilts the fit of the
+  // others, and would make a good neighbour look off too.
+  for (;;) {
+    size_t worst = study.levels.size();
+    double worst_off = std::log(check.error_factor), ratio = NaN;
+    for (size_t i = 0; i < study.levels.size(); ++i) {
+      const double r = off_the_others(study, i);
+      if (std::isfinite(r) && std::abs(std::log(r)) > worst_off) worst = i, worst_off = std::abs(std::log(r)), ratio = r;
+    }
+    if (worst == study.levels.size()) return flagged;
+    study.levels[worst].other_branch =
+        "error " + fmt(ratio, 3) + " x the fit of the other levels (beyond a factor " + fmt(check.error_factor, 3) +
+        "): taken to lie on another branch (uniqueness is not guaranteed here); left out of the rate fit";
+    flagged.push_back(study.levels[worst].n);
+  }
 }
 
 }  // namespace hemicontact

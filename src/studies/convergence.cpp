@@ -4,6 +4,7 @@
 #include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/fem/prolongation.hpp>
+#include <hemicontact/output/report.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/solve.hpp>
@@ -93,6 +94,7 @@ ConvergenceLevel solve_level(const Model& md, const SolveOptions& opt, const nlo
   r.ok = sol.ok();  // the certificate decides, as in `solve` (a backend's own failure does not)
   r.message = sol.message;
   r.solved_by = sol.solved_by();
+  r.unique_in_doubt = !uniqueness_warning(sol).empty();
   if (!r.ok)
     log_warn() << "convergence: n = " << n << ": "
                << (r.converged ? "certificate failed (max residual " + csv_number(r.certificate_residual) + ")"
@@ -193,6 +195,11 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
     // The level with its error: the caller can keep it before the next (longer) solve starts.
     if (on_level && level_model) on_level(st, L, *level_model, level_sol);
   }
+  // A nonconvex law's levels may lie on different branches: those are left out of the rate fit.
+  for (int n : flag_other_branches(st))
+    log_warn() << "convergence: n = " << n << ": "
+               << std::find_if(st.levels.begin(), st.levels.end(), [n](const ConvergenceLevel& l) { return l.n == n; })
+                      ->other_branch;
   // What did the work, as it ran (not the backend's name where its stage was skipped).
   st.backend.clear();
   std::vector<const ConvergenceLevel*> all{&st.reference};

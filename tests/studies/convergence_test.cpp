@@ -219,6 +219,32 @@ TEST(ConvergenceRateFit, NeedsTwoLevelsCoarserThanTheReference) {
   EXPECT_TRUE(convergence_json(synthetic_study(1.0, 1.0))["rate_fit"].is_object());
 }
 
+// A level on another branch of a nonconvex law: its error is off the others' curve. Flagged (and
+// left out of the fit, which then recovers the others' rate) only where uniqueness is in doubt;
+// the others, with ±10 % noise, are not flagged.
+TEST(ConvergenceRateFit, ALevelOnAnotherBranchIsLeftOutWhereUniquenessIsInDoubt) {
+  ConvergenceStudy st = synthetic_study(1.0, 0.72, 0.1);
+  st.levels[3].error *= 5;  // n = 32 jumped to another branch
+  ConvergenceStudy sure = st;
+  EXPECT_TRUE(flag_other_branches(sure).empty());  // (21) holds or convex: one solution, no flag
+  const RateFit biased = fit_rate(sure);
+  st.levels[2].unique_in_doubt = true;
+  EXPECT_EQ(flag_other_branches(st), std::vector<int>{32});
+  EXPECT_NE(st.levels[3].other_branch.find("another branch"), std::string::npos) << st.levels[3].other_branch;
+  const RateFit f = fit_rate(st);
+  ASSERT_TRUE(f.valid);
+  EXPECT_NEAR(f.alpha, 0.72, 0.15);
+  EXPECT_GT(std::abs(biased.alpha - 0.72), std::abs(f.alpha - 0.72));
+  const json j = convergence_json(st);
+  EXPECT_EQ(j.at("rate_fit").at("left_out"), json::array({32}));
+  EXPECT_TRUE(j.at("levels")[3].at("other_branch").is_string());
+  EXPECT_TRUE(j.at("levels")[2].at("other_branch").is_null());
+  // The paper's scenes: one solution, nothing flagged on a real study.
+  ConvergenceStudy real = run_convergence(scene_of("fig2"), PROBLEMS_DIR, {4, 8}, 16);
+  for (const auto& l : real.levels) EXPECT_FALSE(l.unique_in_doubt) << l.n;
+  EXPECT_TRUE(flag_other_branches(real).empty());
+}
+
 // A 3D study (box meshes, Kuhn/symmetric tetrahedra): the levels are nested in the reference
 // (the Kuhn split of a cube is a union of Kuhn splits of its 8 sub-cubes), every solve is
 // certified, and the error decreases from level to level.

@@ -32,6 +32,12 @@ struct ConvergenceLevel {
   bool nested = true;                        ///< P is the exact embedding of V_L into V_ref (checked numerically)
   std::string message;                       ///< the solve's verdict
   std::string solved_by;                     ///< what produced the answer (Solution::solved_by)
+  /// The solve warned that other certified solutions may exist ((21) fails and the inner problem
+  /// is not known to be convex: output/report.hpp's uniqueness_warning).
+  bool unique_in_doubt = false;
+  /// Non-empty: why this level is taken to lie on another branch than the others
+  /// (flag_other_branches); it is left out of the rate fit.
+  std::string other_branch;
 };
 
 /// The result of run_convergence().
@@ -67,9 +73,26 @@ struct RateFit {
 };
 
 /// @brief Fit e_L = C sqrt(h_L^{2α} − h_R^{2α}) (least squares in log e) to the @p max_levels
-/// finest levels of @p study with error > 0 and h > h_R; α is searched in [0.05, 4].
+/// finest levels of @p study with error > 0, h > h_R and no other_branch flag; α is searched in
+/// [0.05, 4].
 /// @param study a finished study @param max_levels how many of the finest levels to use (≥ 2)
 /// @return the fit; valid = false if fewer than 2 levels qualify
 RateFit fit_rate(const ConvergenceStudy& study, int max_levels = 4);
+
+/// When a level lies on another branch of a nonconvex law than the others.
+struct BranchCheck {
+  /// A level whose error is off the fit of the other levels (leave one out) by more than this
+  /// factor, either way. On one branch the errors of nested meshes follow the fitted curve to
+  /// tens of percent (the paper's scenes: fit residuals ≤ 20 %); a level on another branch misses
+  /// it by the distance between two solutions, O(1) against errors of a few percent.
+  double error_factor = 3.0;
+};
+
+/// @brief Flag (ConvergenceLevel::other_branch) the levels that lie on another branch, where the
+/// study's solves warned that other certified solutions may exist (unique_in_doubt, on a level or
+/// on the reference): such a level's error is off the fit of the other levels by more than
+/// BranchCheck::error_factor. Nothing is flagged where uniqueness is not in doubt.
+/// @return the n of the flagged levels
+std::vector<int> flag_other_branches(ConvergenceStudy& study, const BranchCheck& check = {});
 
 }  // namespace hemicontact
