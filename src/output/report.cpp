@@ -116,6 +116,13 @@ std::map<std::string, double> merged_timings(const Model& md, const Solution& so
 // NaN marks "not measured"; JSON has no NaN, so it is written as null explicitly.
 json finite_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
+// "; the solution found is a local minimum (...)", where the second-order check ran.
+std::string found_kind(const SecondOrderCheck& c) {
+  if (c.verdict == "unchecked") return "";
+  return "; the solution found is a " + c.verdict + " (smallest eigenvalue of the reduced Hessian " +
+         fmt(c.lambda_min, 3) + ", `minima`'s check)";
+}
+
 bool report_ok(const Solution& sol) { return sol.ok(); }
 
 // "  " + words joined by ", ", wrapped before @p width columns; continuation lines indented.
@@ -292,7 +299,10 @@ json solve_records(const Solution& sol, const SolveOptions& opt, bool lagged) {
   r["inner_convexity"] = inner_convexity_json(sol.inner_convexity);
   const std::string warning = uniqueness_warning(sol);
   r["uniqueness"] = {{"guaranteed", q.computed && q.holds},
-                     {"warning", warning.empty() ? nlohmann::json(nullptr) : nlohmann::json(warning)}};
+                     {"warning", warning.empty() ? nlohmann::json(nullptr) : nlohmann::json(warning)},
+                     {"second_order", {{"verdict", sol.second_order.verdict},
+                                       {"lambda_min", finite_or_null(sol.second_order.lambda_min)},
+                                       {"note", sol.second_order.note}}}};
   r["scales"] = {{"x_scale", sol.x_scale}, {"f_scale", sol.f_scale}};
   r["message"] = sol.message;
   r["ok"] = report_ok(sol);
@@ -386,7 +396,7 @@ std::string uniqueness_warning(const Solution& sol) {
                     : "not known to be convex (" + c.note + ")") +
          ": other certified solutions may exist; `hemicontact minima SCENE` finds them from many starts "
          "and classifies each (local minimum or saddle), `hemicontact path SCENE --load 0,1` says which one a "
-         "load history reaches";
+         "load history reaches" + found_kind(sol.second_order);
 }
 
 SummaryFacts summary_facts(const Model& md, const Solution& sol) {

@@ -2,7 +2,9 @@
 #include <hemicontact/studies/scene_solve.hpp>
 
 #include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/output/report.hpp>
 #include <hemicontact/solver/solve.hpp>
+#include <hemicontact/studies/minima.hpp>
 
 #include <chrono>
 
@@ -36,12 +38,21 @@ SceneSolve solve_adaptive(const nlohmann::json& scene, const std::string& scene_
   return r;
 }
 
+// The cholmod engine's solve; where other certified solutions may exist (uniqueness_warning), the
+// second-order check of `minima` says which kind the one found is.
+Solution solve_and_classify(const Model& md, const SolveOptions& o) {
+  ContactSolver solver(md, o);
+  Solution sol = solver.solve();
+  if (sol.certificate.passed && !uniqueness_warning(sol).empty())
+    sol.second_order = second_order_check(solver, md, o, sol, MinimaOptions{});
+  return sol;
+}
+
 }  // namespace
 
 SceneSolve solve_scene(const nlohmann::json& scene, const std::string& scene_dir,
                        const std::function<void(const std::vector<AdaptLevel>&)>& level_done) {
-  if (!adapt_requested(scene))
-    return solve_scene_with(scene, scene_dir, [](const Model& md, const SolveOptions& o) { return solve(md, o); });
+  if (!adapt_requested(scene)) return solve_scene_with(scene, scene_dir, solve_and_classify);
   const auto t0 = std::chrono::steady_clock::now();
   SceneSolve r = solve_adaptive(scene, scene_dir, level_done);
   r.solution.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

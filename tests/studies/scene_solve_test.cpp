@@ -4,7 +4,9 @@
 // certified level on), refuse adaptivity where the engine is not the cholmod one, and turn a
 // solution into the documented exit code.
 #include <hemicontact/output/output_dir.hpp>
+#include <hemicontact/output/report.hpp>
 #include <hemicontact/output/solve_files.hpp>
+#include <hemicontact/studies/minima.hpp>
 #include <hemicontact/studies/scene_solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
@@ -95,6 +97,27 @@ TEST(SceneSolve, AdaptiveSceneRunsTheLoopAndHandsOnEachLevel) {
   test::expect_input_error(
       [&] { (void)solve_scene_with(scene, PROBLEMS, [](const Model& m, const SolveOptions& o) { return solve(m, o); }); },
       {"adapt.target_error", "cholmod"});
+}
+
+// Where other certified solutions may exist, a plain solve says which kind the one found is (the
+// second-order check of `minima`, on the same solution): in the warning, the summary and
+// report.json; where uniqueness holds, nothing is checked.
+TEST(SceneSolve, APlainSolveNamesTheKindOfSolutionItFoundWhereOthersMayExist) {
+  for (const char* name : {"minima-softening", "minima-one-node"}) {
+    const SceneSolve r = solve_scene(load_scene(PROBLEMS + "/" + name + ".json"), PROBLEMS);
+    const SecondOrderCheck& c = r.solution.second_order;
+    ASSERT_TRUE(c.verdict == "local minimum" || c.verdict == "saddle") << name << ": " << c.verdict << " " << c.note;
+    if (c.verdict == "saddle")
+      EXPECT_LT(c.lambda_min, 0.0) << name;
+    else
+      EXPECT_GE(c.lambda_min, -MinimaOptions{}.second_order_tol * c.scale) << name;
+    const std::string w = uniqueness_warning(r.solution);
+    EXPECT_NE(w.find("the solution found is a " + c.verdict), std::string::npos) << w;
+    const nlohmann::json rep = scene_solve_report(r);
+    EXPECT_EQ(rep.at("uniqueness").at("second_order").at("verdict"), c.verdict);
+  }
+  const SceneSolve paper = solve_scene(fig2(), PROBLEMS);
+  EXPECT_EQ(paper.solution.second_order.verdict, "unchecked");
 }
 
 TEST(SceneSolve, ExitCodeIsTheCertificatesVerdict) {

@@ -101,4 +101,33 @@ struct HandoverReport {
   std::string note;            ///< why it stopped when not converged
 };
 
+/// Second-order check of a certified solution.
+///
+/// At the solution's solver unknowns z: the final smoothing widths are set and the friction
+/// bounds are frozen at z (ContactSolver::lagged_energy: λ_i = F_b(u_ν,i)), and the
+/// true Hessian H = ∇²Π_λ,ε(z) (Psd::NONE) is formed densely. Removed from it are
+///  - ν unknowns at the bound u_ν = g (contact): with a positive rigid reaction the critical cone
+///    has d_ν = 0 there; at a degenerate contact (zero reaction) removing them makes the test a
+///    necessary condition only (counted in `degenerate`);
+///  - τ unknowns of stick nodes with λ_i > 0: the exact |u_τ| has a kink there, and the smoothed
+///    curvature 2w_iλ_i/ε_τ (smooth_norm.hpp) is an artefact of ε — huge and positive, it would
+///    only inflate the scale. Strictly inside the cone (|σ_τ| < λ) the kink makes the energy grow
+///    at first order in d_τ, so d_τ = 0 in the critical cone.
+/// The smallest eigenvalue of what remains decides: λ_min ≥ −tol·scale → "local minimum", else
+/// "saddle". Off the law's ε-windows the smoothed Hessian is the exact one (MollifiedLaw is exact
+/// there); a node sitting on a downward jump of p_ν sees the mollified slope ≈ 3J/(4ε) < 0 — a
+/// saddle, as it should be (j_ν has a concave kink there). With the full formulation the
+/// interior unknowns are kept: by Sylvester's law the inertia is that of the condensed Hessian,
+/// so the verdict is the same (the value of λ_min is not).
+struct SecondOrderCheck {
+  std::string verdict = "unchecked";  ///< "local minimum", "saddle" or "unchecked"
+  double lambda_min = 0;              ///< smallest eigenvalue of the reduced Hessian (energy/length²)
+  double scale = 0;                   ///< max_i (K_x)_ii: the largest diagonal stiffness
+  Index kept = 0;                     ///< unknowns in the free subspace
+  Index removed_contact = 0;          ///< ν unknowns removed at u_ν = g
+  Index removed_stick = 0;            ///< τ unknowns removed at stick nodes (λ > 0)
+  Index degenerate = 0;               ///< of removed_contact: zero rigid reaction (weakly active)
+  std::string note;                   ///< why "unchecked", or other remarks
+};
+
 }  // namespace hemicontact

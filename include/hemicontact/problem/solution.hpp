@@ -53,6 +53,10 @@ struct SolverWork {
 
 /// Everything a solve produces; writers take it read-only.
 struct Solution {
+  /// The plain solve's second-order verdict where other certified solutions may exist
+  /// (output/report.hpp's uniqueness_warning; studies/scene_solve.cpp runs the check of
+  /// `minima`); "unchecked" otherwise.
+  SecondOrderCheck second_order;
   Vec x;                           ///< reduced unknowns (unscaled)
   Vec u;                           ///< full displacement
   ContactState state;              ///< Γ3 quantities
