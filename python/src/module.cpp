@@ -374,6 +374,35 @@ py::dict certificate_dict(const CertificateReport& c) {
 }
 
 // ------------------------------------------------------------------ studies
+// A study's solutions as Results of one model (minima's distinct solutions, path's states).
+template <class Item, class Get>
+std::vector<std::shared_ptr<Solved>> results_of(const std::shared_ptr<const Model>& md, const SolveOptions& opt,
+                                                const json& scene, const std::vector<Item>& items, Get solution_of) {
+  std::vector<std::shared_ptr<Solved>> out;
+  for (const Item& item : items) {
+    auto one = std::make_shared<Solved>();
+    one->model = md;
+    one->solution = solution_of(item);
+    one->opt = opt;
+    one->scene = scene;
+    out.push_back(std::move(one));
+  }
+  return out;
+}
+
+// A study's dict as the CLI's file has it (the scene file's name and the effective scene added),
+// and its Results under @p key.
+py::dict study_dict(json js, const Scene& s, const json& scene, const char* key,
+                    const std::vector<std::shared_ptr<Solved>>& results) {
+  js["name"] = s.path ? std::filesystem::path(*s.path).stem().string() : std::string("dict");
+  js["scene_file"] = s.name();
+  js["scene"] = scene;
+  py::dict out;
+  out["report"] = to_py(js);
+  out[key] = py::cast(results);
+  return out;
+}
+
 py::object minima_study(const Scene& s, const std::vector<std::string>& extra, MinimaOptions mo, bool barriers) {
   const json scene = s.with(extra);
   refuse_petsc(scene, "minima");
@@ -388,25 +417,10 @@ py::object minima_study(const Scene& s, const std::vector<std::string>& extra, M
       j["barriers"] = json::array();
       for (const Barrier& b : find_barriers(*md, opt, r, BarrierOptions{})) j["barriers"].push_back(barrier_json(b));
     }
-    std::vector<std::shared_ptr<Solved>> sols;
-    for (const auto& d : r.solutions) {
-      auto one = std::make_shared<Solved>();
-      one->model = md;
-      one->solution = d.solution;
-      one->opt = opt;
-      one->scene = scene;
-      sols.push_back(one);
-    }
+    auto sols = results_of(md, opt, scene, r.solutions, [](const DistinctSolution& d) { return d.solution; });
     return std::make_pair(std::move(j), std::move(sols));
   });
-  // As the CLI's minima.json: the name of the scene file and the effective scene added.
-  js["name"] = s.path ? std::filesystem::path(*s.path).stem().string() : std::string("dict");
-  js["scene_file"] = s.name();
-  js["scene"] = scene;
-  py::dict out;
-  out["report"] = to_py(js);
-  out["solutions"] = py::cast(solved);
-  return std::move(out);
+  return study_dict(std::move(js), s, scene, "solutions", solved);
 }
 
 // `hemicontact path` without its files: path.json's dict and each state's Result.
@@ -418,24 +432,10 @@ py::object path_study(const Scene& s, const std::vector<std::string>& extra, con
     auto md = std::make_shared<const Model>(build_model(scene, s.directory));
     const PathReport R = follow_load_path(*md, opt, po);
     json j = path_json(*md, R);
-    std::vector<std::shared_ptr<Solved>> sols;
-    for (const PathState& st : R.states) {
-      auto one = std::make_shared<Solved>();
-      one->model = md;
-      one->solution = st.solution;
-      one->opt = opt;
-      one->scene = scene;
-      sols.push_back(one);
-    }
+    auto sols = results_of(md, opt, scene, R.states, [](const PathState& st) { return st.solution; });
     return std::make_pair(std::move(j), std::move(sols));
   });
-  js["name"] = s.path ? std::filesystem::path(*s.path).stem().string() : std::string("dict");
-  js["scene_file"] = s.name();
-  js["scene"] = scene;
-  py::dict out;
-  out["report"] = to_py(js);
-  out["states"] = py::cast(states);
-  return std::move(out);
+  return study_dict(std::move(js), s, scene, "states", states);
 }
 
 py::object convergence_study(const Scene& s, const std::vector<std::string>& extra, const std::vector<int>& levels,
