@@ -174,24 +174,37 @@ TEST(LoadPath, SofteningCycleShowsHysteresisEveryStateCertified) {
 // A 3D nonconvex scene: the paper's 3D body (n = 6) on minima-softening's layer at half the loads;
 // a load-unload cycle of 20 steps, every state certified and a local minimum, with jumps both ways.
 TEST(LoadPath, ThreeDimensionalCycleIsCertifiedAtEveryState) {
+#if defined(HEMICONTACT_SANITIZED)
+  // Under ASan+UBSan the n = 6 cycle (a dense second-order check at each of 37 states) took 148 s
+  // of the sanitized suite's 272: there the cycle runs on n = 2 (234 solves, 3 jumps) for memory
+  // errors, and the ≥ 20 certified states with jumps both ways are asserted in the regular build.
+  constexpr const char* mesh = "mesh.n=2";
+  constexpr int steps = 2;
+  constexpr bool whole = false;
+#else
+  constexpr const char* mesh = "mesh.n=6";
+  constexpr int steps = 10;
+  constexpr bool whole = true;
+#endif
   const std::string path = std::string(HEMICONTACT_SOURCE_DIR) + "/problems/sofonea2017-3d.json";
   const nlohmann::json scene = load_scene(
-      path, {"mesh.n=6", R"(contact.normal_law={"type":"paper","c1":20000,"c2":-100000,"c3":400,"r1":0.05,"r2":0.06})",
+      path, {mesh, R"(contact.normal_law={"type":"paper","c1":20000,"c2":-100000,"c3":400,"r1":0.05,"r2":0.06})",
              "loads.scale=0.5"});
   const Model md = build_model(scene, scene_directory(path));
   PathOptions po;
   po.loads = {0, 2, 0};
-  po.steps = 10;
+  po.steps = steps;
   const PathReport R = follow_load_path(md, solve_options_from_scene(scene), po);
   ASSERT_TRUE(R.complete) << R.failure;
   EXPECT_EQ(R.certified(), static_cast<int>(R.states.size()));
-  EXPECT_GE(R.states.size(), 21u);
+  EXPECT_GE(R.states.size(), static_cast<size_t>(2 * steps + 1));
   for (const PathState& s : R.states) EXPECT_EQ(s.second_order.verdict, "local minimum") << "at load " << s.load;
+  std::printf("3D %s: %zu states, %d solves, %zu jumps, %.2f s\n", mesh, R.states.size(), R.solves, R.jumps.size(),
+              R.seconds);
+  if (!whole) return;
   const auto up = std::count_if(R.jumps.begin(), R.jumps.end(), [](const PathJump& J) { return J.direction > 0; });
   EXPECT_GE(up, 1);
   EXPECT_GE(static_cast<long>(R.jumps.size()) - up, 1);
-  std::printf("3D n = 6: %zu states, %d solves, %zu jumps, %.2f s\n", R.states.size(), R.solves, R.jumps.size(),
-              R.seconds);
 }
 
 TEST(LoadPath, RefusesBadOptions) {
