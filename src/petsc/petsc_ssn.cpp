@@ -69,17 +69,17 @@ Solution Engine::run_ssn(clk::time_point t0) {
   bool converged = false;
   const auto t_loop = clk::now();
   int k = 0;
-  for (k = 1; k <= opt.petsc.ssn_max_iters; ++k) {
+  for (k = 1; k <= opt.ssn.max_iters; ++k) {
     const long changed = ssn_linearize(s, k);
     const double res = ssn_right_hand_side(s);
     // Converged at this iterate: the statuses it gives are those of the last step, and the residual
     // of the semismooth system (equilibrium on the free rows, the fixed unknowns' misfit times the
-    // diagonal) is at most ssn_tol of the load scale. No step is taken: at 10⁷ unknowns the steps
+    // diagonal) is at most solver.ssn.tol of the load scale. No step is taken: at 10⁷ unknowns the steps
     // that only confirmed round-off cost 50 s each.
-    if (k > 1 && changed == 0 && res / F_s <= opt.petsc.ssn_tol) {
+    if (k > 1 && changed == 0 && res / F_s <= opt.ssn.tol) {
       converged = true;
       log_info() << "ssn " << k << ": statuses held, residual " << short_number(res / F_s)
-                 << " <= solver.petsc.ssn_tol: converged";
+                 << " <= solver.ssn.tol: converged";
       --k;  // the steps taken
       break;
     }
@@ -214,10 +214,11 @@ double Engine::ssn_right_hand_side(Ssn& s) {
 // Step k: the CG solve of J dx = rhs, the update, the slip reversals, the log and the record.
 // @return true when ssn has converged (the step reached round-off with the statuses held).
 bool Engine::ssn_step(Ssn& s, int k, long changed_all, double res) {
-  // Inexact Newton: a step that may still change statuses needs only ssn_rtol; once they hold,
-  // ssn_rtol² per step (the λ coupling contracts by about that much anyway), never below ksp_rtol.
-  const double rtol = std::max(opt.petsc.ksp_rtol, changed_all > 0 ? opt.petsc.ssn_rtol
-                                                                   : opt.petsc.ssn_rtol * opt.petsc.ssn_rtol);
+  // Inexact Newton: a step that may still change statuses needs only solver.ssn.step_rtol; once
+  // they hold, step_rtol² per step (the λ coupling contracts by about that much anyway), never
+  // below ksp_rtol.
+  const double rtol = std::max(opt.petsc.ksp_rtol, changed_all > 0 ? opt.ssn.step_rtol
+                                                                   : opt.ssn.step_rtol * opt.ssn.step_rtol);
   PC pc;
   HC_PETSC(KSPGetPC(s.ksp.k, &pc));
   HC_PETSC(KSPSetOperators(s.ksp.k, K.m, K.m));
@@ -307,12 +308,12 @@ Solution Engine::ssn_finish(Ssn& s, int k, bool converged, clk::time_point t0, c
   sol.x_scale = 1;
   sol.f_scale = F_s;
   OuterIteration rec;
-  rec.backend.iterations = static_cast<int>(std::min(k, opt.petsc.ssn_max_iters));
+  rec.backend.iterations = static_cast<int>(std::min(k, opt.ssn.max_iters));
   rec.backend.seconds = timings["backend"];
   rec.backend.message = converged ? "ssn converged in " + std::to_string(k) + " Newton steps, " +
                                         std::to_string(krylov_total) + " CG iterations"
-                                  : "ssn: no convergence in " + std::to_string(opt.petsc.ssn_max_iters) +
-                                        " Newton steps (solver.petsc.ssn_max_iters; the statuses still changed or "
+                                  : "ssn: no convergence in " + std::to_string(opt.ssn.max_iters) +
+                                        " Newton steps (solver.ssn.max_iters; the statuses still changed or "
                                         "the step did not reach round-off)";
   rec.backend.status = converged ? SolveStatus::CONVERGED : SolveStatus::MAX_ITERATIONS;
   sol.history.push_back(rec);

@@ -554,11 +554,12 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.petsc.mesh = pe.at("mesh").get<std::string>();
   o.petsc.acceptable_tol = pe.at("acceptable_tol").get<double>();
   o.petsc.polish_max_iters = pe.at("polish_max_iters").get<int>();
-  o.petsc.ssn_max_iters = pe.at("ssn_max_iters").get<int>();
-  o.petsc.ssn_rtol = pe.at("ssn_rtol").get<double>();
-  o.petsc.ssn_tol = pe.at("ssn_tol").get<double>();
   o.petsc.pc_rebuild = pe.at("pc_rebuild").get<double>();
   o.petsc.options = pe.at("options").get<std::string>();
+  const auto& ssn = s.at("ssn");
+  o.ssn.max_iters = ssn.at("max_iters").get<int>();
+  o.ssn.step_rtol = ssn.at("step_rtol").get<double>();
+  o.ssn.tol = ssn.at("tol").get<double>();
   o.polish = s.at("polish").get<bool>();
   o.backend_options.tol = s.at("tol").get<double>();
   o.backend_options.max_iter = s.at("max_iter").get<int>();

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/text.hpp>
 #include <hemicontact/scene/config.hpp>
@@ -244,10 +245,24 @@ void check_value(json& v, const SchemaEntry& e, const std::string& path, const S
   }
 }
 
-/// " (did you mean 'mesh.n'?)": a near sibling first, else the same name elsewhere in the
-/// table (e.g. "solver.mu" → "contact.friction.mu"), else the list of allowed keys.
+/// Keys that moved: their new home, so that a scene written for an older version is told where
+/// its setting went instead of which keys exist (ssn's settings serve both engines since they left
+/// solver.petsc).
+const std::map<std::string, std::string>& moved_keys() {
+  static const std::map<std::string, std::string> moved = {
+      {"/solver/petsc/ssn_max_iters", "solver.ssn.max_iters"},
+      {"/solver/petsc/ssn_rtol", "solver.ssn.step_rtol"},
+      {"/solver/petsc/ssn_tol", "solver.ssn.tol"},
+  };
+  return moved;
+}
+
+/// " (did you mean 'mesh.n'?)": a moved key's new home, a near sibling, else the same name
+/// elsewhere in the table (e.g. "solver.mu" → "contact.friction.mu"), else the allowed keys.
 std::string unknown_key_hint(const std::string& key, const std::string& pointer, const std::string& path,
                              const SchemaIndex& idx) {
+  const auto moved = moved_keys().find(pointer + "/" + escape_segment(key));
+  if (moved != moved_keys().end()) return " (moved to '" + moved->second + "')";
   const auto it = idx.children.find(pointer);
   const std::vector<const SchemaEntry*> none;
   const auto& siblings = it == idx.children.end() ? none : it->second;

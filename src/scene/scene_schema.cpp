@@ -344,22 +344,6 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(at_least(key("/solver/petsc/polish_max_iters", "integer", D.petsc.polish_max_iters,
                            "Newton iterations of the exact polish on the identified statuses."),
                        1));
-  t.push_back(at_least(key("/solver/petsc/ssn_max_iters", "integer", D.petsc.ssn_max_iters,
-                           "Backend ssn (semismooth Newton), both engines: step cap; statuses are read "
-                           "again at every step, and reaching the cap is exit code 3."),
-                       1));
-  t.push_back(below(above(key("/solver/petsc/ssn_rtol", "number", D.petsc.ssn_rtol,
-                              "Backend ssn, petsc engine: CG rtol of a step while statuses still change (a "
-                              "step with no change uses ksp_rtol; the cholmod engine factorizes such steps "
-                              "and solves the others by CG on the last factor to ksp_rtol)."),
-                          0),
-                    1));
-  t.push_back(below(above(key("/solver/petsc/ssn_tol", "number", D.petsc.ssn_tol,
-                              "Backend ssn, petsc engine: converged when the statuses held and the "
-                              "residual (max norm over max|f|) is at most this (the cholmod engine's ssn "
-                              "steps on to round-off: its steps then cost one CG iteration)."),
-                          0),
-                    1e-6));
   t.push_back(at_least(key("/solver/petsc/pc_rebuild", "number", D.petsc.pc_rebuild,
                            "Backend ssn: reuse the AMG hierarchy until a step takes more than this times "
                            "the CG iterations per decade of its reference (the larger of the step that "
@@ -373,6 +357,27 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "monitors and views (ksp_monitor, ksp_view, tao_monitor, ...) without a value, printing to "
                   "stdout. No option that names a file or a viewer (src/scene/petsc_options.cpp); "
                   "-log_view only through PETSC_OPTIONS (PETSc starts its log before the scene is read)."));
+  // ------------------------------------------------------------------ solver.ssn
+  t.push_back(section("/solver/ssn",
+                      "Backend ssn: semismooth Newton on the unsmoothed statuses, the full space's exact "
+                      "solver of both engines (what solver.backend = auto runs in the petsc engine and "
+                      "where the method choice takes the full formulation)."));
+  t.push_back(at_least(key("/solver/ssn/max_iters", "integer", D.ssn.max_iters,
+                           "Step cap, both engines; statuses are read again at every step, and reaching "
+                           "the cap is exit code 3."),
+                       1));
+  t.push_back(below(above(key("/solver/ssn/step_rtol", "number", D.ssn.step_rtol,
+                              "Petsc engine: CG rtol of a step while statuses still change (a step with no "
+                              "change uses solver.petsc.ksp_rtol; the cholmod engine factorizes such steps "
+                              "and solves the others by CG on the last factor to solver.petsc.ksp_rtol)."),
+                          0),
+                    1));
+  t.push_back(below(above(key("/solver/ssn/tol", "number", D.ssn.tol,
+                              "Petsc engine: converged when the statuses held and the residual (max norm "
+                              "over max|f|) is at most this (the cholmod engine's ssn steps on to "
+                              "round-off: its steps then cost one CG iteration)."),
+                          0),
+                    1e-6));
   t.push_back(key("/solver/formulation", "string", D.formulation,
                   "Unknowns the NLP sees: full = all free dofs; condensed = interior dofs "
                   "eliminated onto Γ3 by static condensation (one sparse factorization, a dense "

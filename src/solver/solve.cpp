@@ -669,10 +669,10 @@ Solution ContactSolver::Impl::ssn_answer(const Vec* z0, clk::time_point t_start)
   sol.skipped.push_back("continuation: ssn solves the unsmoothed problem (no eps stages)");
   sol.skipped.push_back("polish: ssn's steps are the polish's, with statuses updated");
   if (lagged) sol.skipped.push_back("fixed_point: lambda = F_b(u_nu) is read at every Newton step (no outer loop)");
-  // No stop before a step at round-off (tol 0, unlike the petsc engine's ssn_tol): here a step
+  // No stop before a step at round-off (tol 0, unlike the petsc engine's solver.ssn.tol): here a step
   // whose statuses held is one CG iteration on the last factor, and the answer is then as exact as
   // the condensed solver's (1e-14 U, not the 1e-12 F of a residual test).
-  const SsnOutcome o = ssn_full(*model, SsnLimits{opt.petsc.ssn_max_iters, 0.0, opt.petsc.ksp_rtol}, z0);
+  const SsnOutcome o = ssn_full(*model, SsnLimits{opt.ssn.max_iters, 0.0, opt.petsc.ksp_rtol}, z0);
   OuterIteration rec;
   rec.solver = sol.backend;
   rec.backend.iterations = o.steps;

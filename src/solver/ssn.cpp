@@ -215,10 +215,10 @@ SsnOutcome ssn_full(const Model& md, const SsnLimits& limits, const Vec* x0) {
     const long changed = run.linearize(k);
     const double res = run.right_hand_side();
     // Converged at this iterate: its statuses are the last step's and the semismooth residual is
-    // at most ssn_tol of the load scale; no step is taken (petsc_ssn.cpp's rule).
+    // at most solver.ssn.tol of the load scale; no step is taken (petsc_ssn.cpp's rule).
     if (k > 1 && changed == 0 && res / run.F_s <= limits.tol) {
       out.converged = true;
-      log_info() << "ssn " << k << ": statuses held, residual " << fmt(res / run.F_s, 3) << " <= ssn_tol: converged";
+      log_info() << "ssn " << k << ": statuses held, residual " << fmt(res / run.F_s, 3) << " <= solver.ssn.tol: converged";
       break;
     }
     if (run.step(k, changed, res, out)) {
@@ -230,7 +230,7 @@ SsnOutcome ssn_full(const Model& md, const SsnLimits& limits, const Vec* x0) {
   out.steps = k - 1;
   if (!out.converged && out.message.empty())
     out.message = "ssn: no convergence in " + std::to_string(limits.max_iters) +
-                  " Newton steps (solver.petsc.ssn_max_iters; the statuses still changed or the step did not reach "
+                  " Newton steps (solver.ssn.max_iters; the statuses still changed or the step did not reach "
                   "round-off)";
   out.x = std::move(run.x);
   out.seconds = since(t0);

@@ -267,19 +267,19 @@ TEST(PetscEngine, SsnStepCapExits3NamingTheKey) {
   // fig2 at n = 16 needs 8 steps (statuses change in the first 5): 2 cannot finish.
   const CliOutcome r = run_mpi(dir, 2,
                                "solve " + problem("sofonea2017-fig2") +
-                                   " --set mesh.n=16 --set solver.petsc.ssn_max_iters=2 --out " + (dir / "o").string());
+                                   " --set mesh.n=16 --set solver.ssn.max_iters=2 --out " + (dir / "o").string());
   EXPECT_EQ(r.code, hemicontact::EXIT_NOT_CONVERGED) << r.err;
-  EXPECT_NE((r.err + r.out).find("solver.petsc.ssn_max_iters"), std::string::npos) << r.err << r.out;
+  EXPECT_NE((r.err + r.out).find("solver.ssn.max_iters"), std::string::npos) << r.err << r.out;
   fs::remove_all(dir);
 }
 
-// ssn's two stops: the residual test (ssn_tol) ends the default run as soon as an iterate keeps the
-// statuses with a residual at round-off; with ssn_tol below any reachable residual the step test
+// ssn's two stops: the residual test (solver.ssn.tol) ends the default run as soon as an iterate keeps the
+// statuses with a residual at round-off; with solver.ssn.tol below any reachable residual the step test
 // (the Newton step stops decreasing at round-off) must end it, later, at the same answer.
 TEST(PetscEngine, SsnStopsAtSsnTolOrWhereTheStepReachesRoundOff) {
   const fs::path dir = scratch("ssn-tol");
   const std::string common = "solve " + problem("sofonea2017-3d") + " --set mesh.n=8 --quiet --set output.vtu=false";
-  const auto [ra, rb] = same_answer_twice(dir, 1, common, "--set solver.petsc.ssn_tol=1e-300");
+  const auto [ra, rb] = same_answer_twice(dir, 1, common, "--set solver.ssn.tol=1e-300");
   if (HasFatalFailure()) return;
   EXPECT_LT(ra.at("petsc").at("newton_iterations").get<long>(), rb.at("petsc").at("newton_iterations").get<long>());
   fs::remove_all(dir);
@@ -614,7 +614,7 @@ constexpr double kRoundOff = 1e-11;
 
 // The slabs against the cholmod engine: same statuses node by node, Γ3 displacements and energies
 // within check.certificate_tol (both answers pass the certificate at that tolerance, and the
-// status system's conditioning on these meshes, ~1e4, times ssn's stop at ssn_tol = 1e-12 of
+// status system's conditioning on these meshes, ~1e4, times ssn's stop at solver.ssn.tol = 1e-12 of
 // max|f| stays below it, as in PetscAgreement); every rank holds about 1/P of the nodes. The runs
 // leave solver.petsc.mesh at its default: a generated mesh takes the slabs (ssn, and TAO).
 TEST_P(PetscSlabs, SameAnswerAsCholmodWithoutTheWholeMesh) {

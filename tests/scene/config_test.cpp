@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include "../support/expect_error.hpp"
 #include <limits>
@@ -18,6 +19,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hemicontact {
@@ -176,6 +178,25 @@ TEST(SceneSchemaErrors, UnknownKeyNamesDottedPathWithHint) {
   s["mesh"]["nn"] = 4;
   const std::string msg = config_input_error_of([&] { validate_scene(s); });
   EXPECT_CONTAINS(msg, "scene: unknown key 'mesh.nn' (did you mean 'mesh.n'?)");
+}
+
+// ssn's settings left solver.petsc for solver.ssn (both engines read them): an older scene is told
+// where each went, and the value lands there once moved.
+TEST(SceneSchemaErrors, AMovedKeyNamesItsNewHome) {
+  const std::pair<const char*, const char*> moved[] = {{"ssn_max_iters", "solver.ssn.max_iters"},
+                                                       {"ssn_rtol", "solver.ssn.step_rtol"},
+                                                       {"ssn_tol", "solver.ssn.tol"}};
+  for (const auto& [old_key, new_key] : moved) {
+    json s = minimal_scene();
+    s["solver"]["petsc"][old_key] = 7;
+    EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(s); }),
+                    std::string("unknown key 'solver.petsc.") + old_key + "' (moved to '" + new_key + "')");
+  }
+  json s = minimal_scene();
+  s["solver"]["ssn"]["max_iters"] = 7;
+  const SolveOptions o = solve_options_from_scene(validate_scene(s));
+  EXPECT_EQ(o.ssn.max_iters, 7);
+  EXPECT_EQ(o.ssn.tol, SsnOptions{}.tol);
 }
 
 TEST(SceneSchemaErrors, UnknownKeyInsideArrayElement) {

@@ -117,7 +117,7 @@ TEST(Ssn, SameAnswerOnALongStrip) {
 TEST(Ssn, StopsAtTheAnswerAndFromIt) {
   SolveOptions opt;
   const Model md = model_of("sofonea2017-fig2.json", {"mesh.n=16"}, opt);
-  const SsnLimits lim{opt.petsc.ssn_max_iters, opt.petsc.ssn_tol, opt.petsc.ksp_rtol};
+  const SsnLimits lim{opt.ssn.max_iters, opt.ssn.tol, opt.petsc.ksp_rtol};
   const SsnOutcome a = ssn_full(md, lim, nullptr);
   ASSERT_TRUE(a.converged) << a.message;
   EXPECT_LE(a.steps, 12);

@@ -11,12 +11,32 @@
 
 namespace hemicontact {
 
+/// Settings of backend "ssn" (semismooth Newton on the unsmoothed statuses, solver/ssn.hpp and
+/// src/petsc/petsc_ssn.cpp): the full space's exact solver of both engines (scene: solver.ssn.*).
+/// The member initialisers are the defaults' one home (the scene schema injects them).
+struct SsnOptions {
+  /// The step cap. Each step reads every Γ3 node's status again from the current iterate, so
+  /// cycling between status sets (possible with a nonmonotone p_ν) ends here with exit 3.
+  int max_iters = 60;
+  /// The petsc engine's Krylov rtol of a step while statuses still change (inexact Newton: such a
+  /// step only has to find the next status set); a step with no status change uses
+  /// solver.petsc.ksp_rtol. The cholmod engine factorizes such steps (no Krylov solve).
+  double step_rtol = 1e-2;
+  /// The petsc engine's stop: converged when an iterate gives the same statuses as the last step
+  /// and the residual of the semismooth system (max norm, divided by max|f|) is at most this. Four
+  /// orders below check.certificate_tol, two above the round-off floor measured up to 10⁷ unknowns
+  /// (1.5e-13); where round-off stays above it, the iteration also ends once the Newton step stops
+  /// decreasing at 1e-10 relative. The cholmod engine's ssn steps on to round-off (its steps then
+  /// cost one CG iteration on the last factor).
+  double tol = 1e-12;
+};
+
 /// Settings of the distributed PETSc engine (solver.engine = "petsc", hemicontact-mpi; src/petsc/).
 /// The member initialisers are the defaults' one home (the scene schema injects them).
 struct PetscEngineOptions {
   /// Relative residual reduction of each Krylov solve (CG): with tao:*, the elastic solve K z = f
   /// that sets the scales, every Newton step inside TAO, and every polish step; with ssn, the floor
-  /// of its steps' inexact-Newton rtol (ssn_rtol). The polish is a Newton iteration
+  /// of its steps' inexact-Newton rtol (solver.ssn.step_rtol). The polish is a Newton iteration
   /// on the residual of (22), so its answer's accuracy is set by the residual, not by this: each
   /// step reduces the error by ~ksp_rtol, and 1e-10 reaches round-off in two or three steps.
   double ksp_rtol = 1e-10;
@@ -55,19 +75,6 @@ struct PetscEngineOptions {
   double acceptable_tol = 1e-6;
   /// Newton iterations of the exact polish (full space, statuses fixed).
   int polish_max_iters = 30;
-  /// Backend "ssn" (semismooth Newton on the unsmoothed statuses): the step cap. Each step reads
-  /// every Γ3 node's status again from the current iterate, so cycling between status sets
-  /// (possible with a nonmonotone p_ν) ends here with exit 3.
-  int ssn_max_iters = 60;
-  /// Backend "ssn": the Krylov rtol of a step while statuses still change (inexact Newton: such a
-  /// step only has to find the next status set); a step with no status change uses ksp_rtol.
-  double ssn_rtol = 1e-2;
-  /// Backend "ssn": converged when an iterate gives the same statuses as the last step and the
-  /// residual of the semismooth system (max norm, divided by max|f|) is at most this. Four orders
-  /// below check.certificate_tol, two above the round-off floor measured up to 10⁷ unknowns
-  /// (1.5e-13); where round-off stays above it, the iteration also ends once the Newton step stops
-  /// decreasing at 1e-10 relative.
-  double ssn_tol = 1e-12;
   /// Backend "ssn": the AMG hierarchy built on the first step's matrix is reused for later steps
   /// (only Γ3 rows change) until a step needs more than this times the Krylov iterations per
   /// decade of its reference, the larger of the step that built it and the first step that
@@ -162,6 +169,7 @@ struct SolveOptions {
   /// or "auto" (`solve` chooses, solver/method_choice.hpp's choose_engine; cholmod elsewhere).
   std::string engine = "auto";
   PetscEngineOptions petsc;          ///< the petsc engine's settings
+  SsnOptions ssn;                    ///< backend ssn's settings (both engines)
   /// "full", "condensed" or "auto": from the scene's numbers before any numeric work
   /// (solver/method_choice.hpp; report.json method_choice says what and why).
   std::string formulation = "auto";

@@ -18,11 +18,11 @@
 
 namespace hemicontact {
 
-/// The stop rules of ssn, from the options both engines read (SolveOptions::petsc, whose
-/// ssn_max_iters and ssn_tol are documented there and in the scene schema).
+/// The stop rules of ssn, from the options both engines read (SolveOptions::ssn, whose
+/// solver.ssn.max_iters and solver.ssn.tol are documented there and in the scene schema).
 struct SsnLimits {
-  int max_iters = 0;  ///< Newton steps (solver.petsc.ssn_max_iters)
-  double tol = 0;     ///< converged without a step: statuses held and ‖rhs‖∞/F ≤ tol (solver.petsc.ssn_tol)
+  int max_iters = 0;  ///< Newton steps (solver.ssn.max_iters)
+  double tol = 0;     ///< converged without a step: statuses held and ‖rhs‖∞/F ≤ tol (solver.ssn.tol)
   /// A step whose statuses held is solved by CG preconditioned with the last factorization, to
   /// this relative residual (solver.petsc.ksp_rtol, as the petsc engine's steps there).
   double rtol = 0;
