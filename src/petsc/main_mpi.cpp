@@ -238,7 +238,7 @@ void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, S
   on_every_rank(comm, [&] {
     scene = load_scene(a.scene, a.overrides);
     refuse_adaptive_outside_cholmod(scene);  // as the CLI does before it runs this program
-    const EngineChoice ec = choose_engine(scene, true, false);
+    const EngineChoice ec = choose_engine(scene, scene_directory(a.scene), true, false);
     engine_choice = engine_choice_json(
         ec.engine == "petsc" ? ec
                              : EngineChoice{"petsc", ec.automatic, "hemicontact-mpi is the petsc engine (" + ec.reason + ")"});

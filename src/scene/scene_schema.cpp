@@ -298,7 +298,7 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "Newton with the continuation, fixed point and exact polish (tao:bnls, tao:bntr, "
                   "tao:bntl), CG with algebraic multigrid, the same certificate. Only `solve`; "
                   "needs a build with PETSc (libpetsc-real-dev). auto: `solve` runs the petsc engine in "
-                  "one process where solver.method_choice.petsc_above says so (a large 3D box), the "
+                  "one process where solver.method_choice.petsc_above says so (a large 3D mesh), the "
                   "cholmod engine otherwise and in every other command; report.json engine_choice says "
                   "which and why.",
                   {"auto", "cholmod", "petsc"}));
@@ -412,8 +412,9 @@ std::vector<SchemaEntry> build_scene_schema() {
                        0));
   t.push_back(at_least(key("/solver/method_choice/petsc_above", "number", MC.petsc_above,
                            "solver.engine = auto (`hemicontact solve` only): the petsc engine in one process "
-                           "for a generated 3D box of at least this many unknowns (3 per node), a linear "
-                           "material and no adaptive refinement; the cholmod engine below it and elsewhere."),
+                           "for a 3D mesh of at least this many unknowns (3 per node: a generated box, or a "
+                           "Gmsh file whose header gives its node count), a linear material and no adaptive "
+                           "refinement; the cholmod engine below it and elsewhere."),
                        0));
   t.push_back(at_most(above(key("/solver/method_choice/memory_fraction", "number", MC.memory_fraction,
                                 "The condensed path's dense Γ3 matrices (7 of m × m doubles) may use at "

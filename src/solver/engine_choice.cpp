@@ -1,30 +1,70 @@
 #include <hemicontact/solver/engine_choice.hpp>
 
 #include <hemicontact/core/format.hpp>
+#include <hemicontact/mesh/msh_peek.hpp>
+
+#include <filesystem>
 
 namespace hemicontact {
+namespace {
 
-EngineChoice choose_engine(const nlohmann::json& scene, bool petsc_built, bool adaptive) {
+// What auto decides on: the mesh's dimension and unknowns, known before it is made (a generated
+// mesh from mesh.nx, ny, nz; a Gmsh file from its header, mesh/msh_peek.hpp), or why not.
+struct SceneSize {
+  int dim = 0;  // 0: not known before the mesh is made
+  double unknowns = 0;
+  std::string what;  // "3D box", "3D Gmsh mesh", ... or why the size is unknown
+};
+
+SceneSize gmsh_size(const nlohmann::json& mesh, const std::string& scene_dir) {
+  if (mesh.at("file").is_null()) return {0, 0, "no mesh.file"};
+  std::filesystem::path p = mesh.at("file").get<std::string>();
+  if (p.is_relative()) p = std::filesystem::path(scene_dir) / p;
+  const std::optional<MshSize> s = peek_msh_size(p.string());
+  if (!s)
+    return {0, 0,
+            "a Gmsh file whose header does not give its size (MSH 4.1 has it; MSH 2 needs $PhysicalNames before "
+            "$Nodes)"};
+  return {s->dim, s->dim * s->nodes, std::to_string(s->dim) + "D Gmsh mesh"};
+}
+
+SceneSize scene_size(const nlohmann::json& mesh, const std::string& scene_dir) {
+  const auto count = [&](const char* k) { return mesh.at(k).get<double>() + 1; };
+  if (mesh.at("type") == "box") return {3, 3 * count("nx") * count("ny") * count("nz"), "3D box"};
+  if (mesh.at("type") == "gmsh") return gmsh_size(mesh, scene_dir);
+  return {2, 2 * count("nx") * count("ny"), "2D " + mesh.at("type").get<std::string>()};
+}
+
+// What the user set that only the cholmod engine has: it wins over the size ("" if nothing).
+std::string cholmod_only_setting(const nlohmann::json& scene, bool adaptive) {
+  if (adaptive) return "adaptive refinement runs in the cholmod engine";
+  const std::string backend = scene.at("solver").at("backend").get<std::string>();
+  if (backend != "auto" && backend != "ssn" && backend.rfind("tao:", 0) != 0)
+    return "solver.backend = " + backend + " runs in the cholmod engine";
+  if (scene.at("solver").at("formulation") != "auto") return "solver.formulation is the cholmod engine's (given)";
+  if (scene.at("material").at("model") != "linear_elastic") return "a nonlinear material (the petsc engine's ssn needs K)";
+  return "";
+}
+
+}  // namespace
+
+EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
+                           bool adaptive) {
   const std::string asked = scene.at("solver").at("engine").get<std::string>();
   if (asked != "auto") return {asked, false, "solver.engine = " + asked + " (given)"};
   const auto cholmod = [](const std::string& why) { return EngineChoice{"cholmod", true, why}; };
   if (!petsc_built) return cholmod("this build has no petsc engine");
-  const nlohmann::json& mesh = scene.at("mesh");
-  if (mesh.at("type") != "box") return cholmod("not a generated 3D box (its size is known only once the mesh is made)");
-  if (adaptive) return cholmod("adaptive refinement runs in the cholmod engine");
-  // What the user set that only the cholmod engine has wins over the size.
-  const std::string backend = scene.at("solver").at("backend").get<std::string>();
-  if (backend != "auto" && backend != "ssn" && backend.rfind("tao:", 0) != 0)
-    return cholmod("solver.backend = " + backend + " runs in the cholmod engine");
-  if (scene.at("solver").at("formulation") != "auto") return cholmod("solver.formulation is the cholmod engine's (given)");
-  if (scene.at("material").at("model") != "linear_elastic") return cholmod("a nonlinear material (the petsc engine's ssn needs K)");
-  const double unknowns = 3.0 * (mesh.at("nx").get<double>() + 1) * (mesh.at("ny").get<double>() + 1) *
-                          (mesh.at("nz").get<double>() + 1);
+  const SceneSize size = scene_size(scene.at("mesh"), scene_dir);
+  if (size.dim == 0) return cholmod(size.what + ": its size is known only once the mesh is made");
+  // In 2D the condensed path is one sparse factorization and a small dense Γ3 problem: faster
+  // than the petsc engine at every size measured (docs/performance.md, method choice).
+  if (size.dim != 3) return cholmod("a " + size.what + " (2D: the cholmod engine)");
+  if (const std::string why = cholmod_only_setting(scene, adaptive); !why.empty()) return cholmod(why);
   const double above = scene.at("solver").at("method_choice").at("petsc_above").get<double>();
-  const std::string size = fmt(unknowns, 3) + " unknowns";
-  if (unknowns < above) return cholmod("3D box of " + size + " < solver.method_choice.petsc_above = " + fmt(above, 3));
+  const std::string desc = size.what + " of " + fmt(size.unknowns, 3) + " unknowns";
+  if (size.unknowns < above) return cholmod(desc + " < solver.method_choice.petsc_above = " + fmt(above, 3));
   return {"petsc", true,
-          "3D box of " + size + " >= solver.method_choice.petsc_above = " + fmt(above, 3) +
+          desc + " >= solver.method_choice.petsc_above = " + fmt(above, 3) +
               ": the petsc engine in one process (ssn, CG + AMG: no factorization, no dense Gamma3 work)"};
 }
 

@@ -17,21 +17,28 @@ surfaces "contact" (z = 0) and "clamped" (z = 0.5), physical volume "body". Thin
 cross the contact face.
 
     python3 tests/data/make_strip_msh.py 3d > tests/data/plate_2x2.msh
+
+A larger plate of the same shape for the benchmarks: the cube counts after "3d" (the method-choice
+bench writes its Gmsh plates this way).
+
+    python3 tests/data/make_strip_msh.py 3d 48 48 12 > /tmp/plate.msh
 """
 import itertools
 import math
 import sys
 
 
-def plate():
-    nx, ny, nz, lx, ly, lz = 8, 8, 2, 2.0, 2.0, 0.5
+def plate(nx=8, ny=8, nz=2):
+    lx, ly, lz = 2.0, 2.0, 0.5
     n = (nx + 1) * (ny + 1) * (nz + 1)
+    if n % 7919 == 0:
+        sys.exit("make_strip_msh.py: the node count must not be a multiple of 7919 (the tag permutation)")
 
     def node(i, j, k):
         return (k * (ny + 1) + j) * (nx + 1) + i
 
     def tag3(g):
-        return (7919 * g) % n + 1  # 7919 does not divide n = 243
+        return (7919 * g) % n + 1  # 7919 is prime and does not divide n: a permutation
 
     out = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "3",
            '2 1 "clamped"', '2 2 "contact"', '3 3 "body"', "$EndPhysicalNames", "$Nodes", str(n)]
@@ -72,7 +79,7 @@ def plate():
 
 
 if len(sys.argv) > 1 and sys.argv[1] == "3d":
-    plate()
+    plate(*(int(a) for a in sys.argv[2:5]))
     sys.exit(0)
 
 NX, NY, LX, LY = 32, 8, 4.0, 1.0

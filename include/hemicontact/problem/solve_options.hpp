@@ -144,8 +144,9 @@ struct MethodChoiceOptions {
   /// random study and the minima scenes (a 16 × 2 laminate: 6.6e4 flops) stay on the exact path;
   /// the fig2 strip 300 × 1 (2.9e9 flops) goes to the comparison.
   double condensed_below = 1e9;
-  /// solver.engine = auto (`hemicontact solve` only): the petsc engine in one process for a
-  /// generated 3D box of at least this many unknowns (3 per node), the cholmod engine below it.
+  /// solver.engine = auto (`hemicontact solve` only): the petsc engine in one process for a 3D
+  /// mesh (a generated box, or a Gmsh file sized by its header) of at least this many unknowns (3
+  /// per node), the cholmod engine below it.
   /// Measured (docs/performance.md, one process each): 3D n = 16 (14 739 unknowns) 0.97 s against
   /// 1.8 s condensed, n = 24 2.7 against 4.7 s, n = 32 4.2 against 21 s; at n = 8 (2 187) the two
   /// differ by noise. 10 000: from n = 14 on.

@@ -1,7 +1,7 @@
 #pragma once
 /// @file engine_choice.hpp  solver.engine = auto, read from the scene alone (no mesh, no model):
 /// the cholmod engine's programs and the petsc engine's (hemicontact-mpi) both decide with it, and
-/// this file's object pulls nothing else of the library into either.
+/// this file's object pulls nothing else of the library into either but mesh/msh_peek.
 
 #include <nlohmann/json.hpp>
 
@@ -11,18 +11,21 @@ namespace hemicontact {
 
 /// solver.engine = auto: which engine `hemicontact solve` runs (the only command that can: the
 /// petsc engine is a program of its own, which the CLI execs). The petsc engine in one process (ssn
-/// with CG + AMG: no factorization, no dense Γ3 work) for a generated 3D box of at least
-/// solver.method_choice.petsc_above unknowns, a linear material and no adaptive refinement, where
-/// this build has it; the cholmod engine otherwise (every other command, the Python module, 2D, Gmsh
-/// meshes: sized only once read). Decided from the scene alone, before any mesh is made.
+/// with CG + AMG: no factorization, no dense Γ3 work) for a 3D mesh of at least
+/// solver.method_choice.petsc_above unknowns (a generated box, or a Gmsh file whose header gives its
+/// size: mesh/msh_peek.hpp), a linear material and no adaptive refinement, where this build has it;
+/// the cholmod engine otherwise (every other command, the Python module, 2D). Decided from the
+/// scene alone, before any mesh is made.
 struct EngineChoice {
   std::string engine;      ///< "cholmod" or "petsc"
   bool automatic = false;  ///< solver.engine was auto
   std::string reason;
 };
-/// @param scene a validated scene @param petsc_built this build has the petsc engine
+/// @param scene a validated scene @param scene_dir where a relative mesh.file is found
+/// @param petsc_built this build has the petsc engine
 /// @param adaptive the scene asks for adaptive refinement (adapt_requested)
-EngineChoice choose_engine(const nlohmann::json& scene, bool petsc_built, bool adaptive);
+EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
+                           bool adaptive);
 /// report.json's engine_choice.
 nlohmann::json engine_choice_json(const EngineChoice& c);
 
