@@ -25,23 +25,36 @@ void check_cholesky_status(const cholmod_common& c, const char* phase, Index n) 
 }  // namespace
 
 struct SparseCholesky::Impl {
-  // Supernodal LLᵀ: the BLAS-3 supernodes are what makes CHOLMOD fast with OpenBLAS.
-  Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> llt;
+  // CHOLMOD's LLᵀ, supernodal where its flops per factor entry make BLAS-3 pay (CHOLMOD_AUTO:
+  // supernodes for 3D and large 2D meshes, simplicial for thin strips, whose factor is a band:
+  // the fig2 strip 1000 × 1's ssn 19 → 10 ms).
+  Eigen::CholmodDecomposition<SpMat, Eigen::Lower> llt;
+  std::string ordering;
   double t_analyze = 0, t_factor = 0;
 };
 
-SparseCholesky::SparseCholesky() : m(std::make_unique<Impl>()) {
-  // One ordering, nested dissection (NESDIS), instead of CHOLMOD's default of trying AMD and then
-  // METIS: on FE meshes ND gives the least fill, and trying both doubled the analysis time
-  // (31 s at 2.1M dofs). The same ordering as the condensation, so the yardstick is fair.
-  cholmod_common& c = m->llt.cholmod();
-  c.nmethods = 1;
-  c.method[0].ordering = CHOLMOD_NESDIS;
+SparseCholesky::SparseCholesky(const std::string& ordering) : m(std::make_unique<Impl>()) {
+  if (ordering != "auto" && ordering != "amd" && ordering != "metis" && ordering != "nesdis")
+    throw Error("sparse Cholesky: unknown ordering '" + ordering + "' (expected auto, amd, metis or nesdis)",
+                EXIT_INPUT);
+  m->ordering = ordering;
+  // LLᵀ in both modes (a simplicial LDLᵀ would accept an indefinite matrix: a body not clamped on
+  // Γ1 must be refused, not solved).
+  m->llt.setMode(Eigen::CholmodAuto);
+  m->llt.cholmod().final_asis = 0;
+  m->llt.cholmod().final_ll = 1;
+  m->llt.cholmod().final_super = 1;
 }
 SparseCholesky::~SparseCholesky() = default;
 
 void SparseCholesky::analyze(const SpMat& A) {
   const auto t0 = std::chrono::steady_clock::now();
+  // One ordering, not CHOLMOD's default of trying AMD and then METIS (which doubled the analysis:
+  // 31 s at 2.1M dofs); "auto" by the size (AMD_UP_TO).
+  const std::string method = m->ordering != "auto" ? m->ordering : A.rows() <= AMD_UP_TO ? "amd" : "nesdis";
+  cholmod_common& c = m->llt.cholmod();
+  c.nmethods = 1;
+  c.method[0].ordering = method == "amd" ? CHOLMOD_AMD : method == "metis" ? CHOLMOD_METIS : CHOLMOD_NESDIS;
   m->llt.analyzePattern(A);
   check_cholesky_status(m->llt.cholmod(), "analysis", A.rows());
   m->t_analyze = since(t0);

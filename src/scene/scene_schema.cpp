@@ -422,10 +422,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                             0),
                       1));
   t.push_back(key("/solver/ordering", "string", D.ordering,
-                  "Fill-reducing ordering of the condensation's sparse factorization, computed on "
-                  "the node graph: amd (cheapest to compute), metis or nesdis (nested dissection: "
-                  "less fill, costlier ordering); auto = amd for 2D meshes up to 200 000 nodes, "
-                  "nesdis for 3D and larger 2D meshes.",
+                  "Fill-reducing ordering of every sparse factorization: amd (cheapest to compute), "
+                  "metis or nesdis (nested dissection: less fill, costlier ordering). auto = for the "
+                  "condensation (on the node graph) amd for 2D meshes up to 200 000 nodes and nesdis "
+                  "for 3D and larger 2D meshes; for a whole-mesh factorization (the full formulation's, "
+                  "ssn's Newton matrices, a linear solve) amd up to 20 000 unknowns, nesdis above.",
                   {"auto", "amd", "metis", "nesdis"}));
   t.push_back(key("/solver/polish", "boolean", D.polish,
                   "After the smoothed solve, solve the unsmoothed conditions of (22) exactly on the "

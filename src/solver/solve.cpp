@@ -129,7 +129,7 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
     // ssn factorizes its own Newton matrices and needs no scales: no elastic solve here.
     F.z_free = Vec::Zero(md.dofs.n_free());
   } else {
-    F.elastic_factor = std::make_shared<SparseCholesky>();
+    F.elastic_factor = std::make_shared<SparseCholesky>(opt.ordering);
     SparseCholesky& chol = *F.elastic_factor;
     chol.compute(md.Kx);
     F.z_free = chol.solve(md.fx);
@@ -319,7 +319,7 @@ bool ContactSolver::Impl::solve_linear(clk::time_point t_start) {
   if (!md.normal_law && !md.friction && md.gap.is_infinite() && md.material->is_linear() &&
       md.contact.fixed_local.empty()) {
     linear = true;
-    SparseCholesky chol;
+    SparseCholesky chol(opt.ordering);
     chol.compute(md.Kx);
     x_linear = chol.solve(md.fx);
     setup_timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
@@ -672,7 +672,7 @@ Solution ContactSolver::Impl::ssn_answer(const Vec* z0, clk::time_point t_start)
   // No stop before a step at round-off (tol 0, unlike the petsc engine's solver.ssn.tol): here a step
   // whose statuses held is one CG iteration on the last factor, and the answer is then as exact as
   // the condensed solver's (1e-14 U, not the 1e-12 F of a residual test).
-  const SsnOutcome o = ssn_full(*model, SsnLimits{opt.ssn.max_iters, 0.0, opt.petsc.ksp_rtol}, z0);
+  const SsnOutcome o = ssn_full(*model, SsnLimits{opt.ssn.max_iters, 0.0, opt.petsc.ksp_rtol, opt.ordering}, z0);
   OuterIteration rec;
   rec.solver = sol.backend;
   rec.backend.iterations = o.steps;

@@ -47,7 +47,13 @@ struct SsnRun {
 };
 
 SsnRun::SsnRun(const Model& m, const SsnLimits& l, const Vec* x0)
-    : md(m), lim(l), d(m.dim()), x(x0 ? *x0 : Vec::Zero(m.dofs.n_free())), J(m.Kx), cold(x0 == nullptr) {
+    : md(m),
+      lim(l),
+      d(m.dim()),
+      x(x0 ? *x0 : Vec::Zero(m.dofs.n_free())),
+      J(m.Kx),
+      chol(l.ordering),
+      cold(x0 == nullptr) {
   if (x.size() != md.dofs.n_free()) throw Error("ssn: start vector of the wrong size", EXIT_INTERNAL);
   diag = md.Kx.diagonal();
   // A fixed unknown's row keeps a diagonal of K's own size (the mean K_ii), as in the petsc engine:

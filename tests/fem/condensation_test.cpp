@@ -2,6 +2,7 @@
 #include <hemicontact/fem/sparse_cholesky.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include "../support/expect_error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,6 +13,7 @@
 #include <suitesparse/SuiteSparse_config.h>
 #endif
 
+#include <cmath>
 #include <cstdlib>
 #include <random>
 #include <string>
@@ -152,4 +154,37 @@ TEST(SparseCholesky, OutOfMemoryIsAnErrorNeverACrash) {
     EXPECT_EQ(llt.solve(Vec::Ones(K.rows())).size(), K.rows());
   });
   EXPECT_GE(failed, 3);
+}
+
+// Every ordering and both of CHOLMOD's modes (simplicial for a small sparse matrix, supernodal
+// for a dense one: CHOLMOD_AUTO's flop rule) solve an SPD system to round-off and refuse an
+// indefinite one (the negated graph Laplacian's last diagonal entry): an LLᵀ factor in both
+// modes, never an LDLᵀ that would accept it.
+TEST(SparseCholesky, EveryOrderingSolvesAndAnIndefiniteMatrixIsRefused) {
+  SpMat dense(100, 100);  // dense: flops / nnz(L) ≈ 66 ≥ 40, CHOLMOD takes supernodes
+  Triplets t;
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 100; ++j) t.emplace_back(i, j, i == j ? 101.0 : 1.0 / (1 + std::abs(i - j)));
+  dense.setFromTriplets(t.begin(), t.end());
+  for (const SpMat& K : {test_matrix(30, 7), dense}) {
+    const Vec b = Vec::LinSpaced(K.rows(), -1.0, 2.0);
+    for (const char* ordering : {"auto", "amd", "metis", "nesdis"}) {
+      SCOPED_TRACE(ordering);
+      SparseCholesky llt(ordering);
+      llt.compute(K);
+      // Backward error at round-off: cond(K) ≤ ~1e3 here.
+      EXPECT_LE((K * llt.solve(b) - b).cwiseAbs().maxCoeff(), 1e-12 * b.cwiseAbs().maxCoeff());
+      SpMat bad = K;
+      bad.coeffRef(K.rows() - 1, K.rows() - 1) = -1.0;
+      SparseCholesky refuse(ordering);
+      try {
+        refuse.compute(bad);
+        ADD_FAILURE() << "an indefinite matrix was factorized";
+      } catch (const Error& e) {
+        EXPECT_EQ(e.code(), EXIT_NOT_CONVERGED);
+        EXPECT_CONTAINS(e.what(), "not positive definite");
+      }
+    }
+  }
+  test::expect_input_error([] { SparseCholesky("colamd"); }, {"unknown ordering 'colamd'"});
 }

@@ -175,7 +175,8 @@ struct SolveOptions {
   /// (solver/method_choice.hpp; report.json method_choice says what and why).
   std::string formulation = "auto";
   MethodChoiceOptions method_choice;  ///< the cost model of formulation = auto
-  /// Fill-reducing ordering of the condensation ("auto", "amd", "metis", "nesdis"; fem/condensation.hpp).
+  /// Fill-reducing ordering of every sparse factorization ("auto", "amd", "metis", "nesdis"): auto
+  /// is fem/condensation.hpp's rule for the condensation, fem/sparse_cholesky.hpp's for the others.
   std::string ordering = "auto";
   bool polish = true;                ///< exact polish on identified statuses (condensed formulation)
   BackendOptions backend_options;    ///< tolerance, iteration cap, pass-through options
@@ -209,9 +210,12 @@ struct SolveOptions {
   /// factor (solver/sparse_checks.hpp: triangular solves with L_CC when condensed, solves with the
   /// elastic factor in the full formulation; never an extra factorization), and (21) is decided by
   /// the bracket alone (undecided: not computed, and the report says why). The dense eigensolvers
-  /// cost ~m³ (9 s at m = 4002); Lanczos ~m² per step with L_CC. 1000: fig2 up to n = 256 and the
-  /// 3D box up to n = 16 keep the dense path's numbers exactly.
-  Index dense_max_unknowns = 1000;
+  /// cost ~m³ (9 s at m = 4002); Lanczos ~m² per step with L_CC, and it stops once the brackets
+  /// decide (lanczos_decide_tol). 100, measured (both checks together, dense → Lanczos): fig2 n = 128
+  /// (m = 258) 4.1 → 0.3 ms, n = 256 (m = 514) 12.2 → 0.8 ms, the strip 100 × 1 (m = 402) 9.7 →
+  /// 1.0 ms; the inner-convexity test is exact either way (k_1ν > α iff S − αW_ν is positive
+  /// definite, sparse_checks.hpp), and (21) is decided on every scene of the method-choice bench.
+  Index dense_max_unknowns = 100;
   /// Lanczos stops when the Ritz residual of the largest eigenvalue θ of the inverse operator is at
   /// most this × θ; the eigenvalue 1/θ is then known to this relative accuracy, and the bracket of
   /// (21) is widened by it (some eigenvalue lies within the residual of θ).

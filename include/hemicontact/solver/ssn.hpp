@@ -26,6 +26,8 @@ struct SsnLimits {
   /// A step whose statuses held is solved by CG preconditioned with the last factorization, to
   /// this relative residual (solver.petsc.ksp_rtol, as the petsc engine's steps there).
   double rtol = 0;
+  /// The Newton matrices' fill-reducing ordering (solver.ordering; fem/sparse_cholesky.hpp).
+  std::string ordering = "auto";
 };
 
 /// ssn's own stop after a step: the statuses have held for two steps and the step reached round-off
