@@ -13,7 +13,11 @@ exec'd by `hemicontact solve` into build/hemicontact-mpi, one process, and measu
   petsc       --set solver.engine=petsc (its own default backend, ssn)
 Scenes: fig2 (problems/sofonea2017-fig2.json) at n = 64..1024, fig2's conditions on strips of
 aspect 10..1000 (x = [0, A], 2A x 2 cells), the 3D box (problems/sofonea2017-3d.json) at
-n = 8..32, and the shipped 2D Hencky scene (problems/sofonea2017-fig2-hencky.json).
+n = 8..32, a Gmsh plate (the 3D scene's laws on tests/data/make_strip_msh.py's plate, 2 x 2 x 0.5,
+unstructured node numbering, read from an MSH file) at 16x16x4..48x48x12 cubes, the shipped 2D
+Hencky scene (problems/sofonea2017-fig2-hencky.json) and the 3D scene with the same Hencky law, and
+random scenes (hemicontact_random_study's seeds 1..--random, the largest --random-keep of them by
+Gamma3 nodes: each row runs the exact command the study records).
 Each row: wall time (CPU seconds, user + system, in parentheses: less sensitive to a loaded
 machine) and peak memory of every method, the fastest, what auto chose, auto's time over the
 fastest's, whether each run was certified, and the largest relative energy difference to auto's.
@@ -25,12 +29,15 @@ A run past --timeout seconds is killed and shown as "> T". Writes DIR/method_cho
 Timings on a shared 2-core machine are noisy: run the committed table on an idle machine.
 """
 import argparse
+import csv
 import json
 import os
 import re
+import shlex
 import subprocess
 import sys
 import tempfile
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FIG2 = os.path.join(ROOT, "problems", "sofonea2017-fig2.json")
@@ -54,7 +61,51 @@ def sets(*pairs):
     return out
 
 
-def scenes(only):
+HENCKY_3D = ["--set", "material.model=\"hencky\"", "--set", "material.shear_ratio=0.5", "--set", "material.eps_ref=1"]
+
+
+def gmsh_plate(workdir, cubes):
+    """The 3D scene's laws on a Gmsh plate of cubes = (nx, ny, nz): the scene file's path."""
+    msh = os.path.join(workdir, "plate-%dx%dx%d.msh" % cubes)
+    with open(msh, "w") as f:
+        subprocess.run([sys.executable, os.path.join(ROOT, "tests", "data", "make_strip_msh.py"), "3d"] +
+                       [str(c) for c in cubes], stdout=f, check=True)
+    with open(BOX) as f:
+        scene = json.load(f)
+    scene["mesh"] = {"type": "gmsh", "file": msh}
+    # Clamped on top, pushed on the sides' upper halves, in contact below (fig2's conditions).
+    scene["boundary"] = {
+        "gamma1": [{"physical": "clamped"}],
+        "gamma2": [{"side": "left", "from": 0.25, "to": 0.5, "traction": [8000.0, 0.0, 0.0]},
+                   {"side": "right", "from": 0.25, "to": 0.5, "traction": [-8000.0, 0.0, 0.0]}],
+        "gamma3": [{"physical": "contact"}]}
+    path = msh[:-4] + ".json"
+    with open(path, "w") as f:
+        json.dump(scene, f, indent=1)
+    return path
+
+
+def random_scenes(build, workdir, seeds, keep):
+    """The random study's recorded commands for seeds 1..@p seeds, the @p keep largest by Gamma3 nodes:
+    (name, scene file, overrides)."""
+    out = os.path.join(workdir, "random")
+    exe = os.path.join(build, "bench", "hemicontact_random_study")
+    subprocess.run([exe, "--seeds", str(seeds), "--out", out], capture_output=True, text=True, check=True)
+    with open(os.path.join(out, "random-default.csv")) as f:
+        rows = list(csv.DictReader(f))
+    picked = []
+    for r in rows:
+        words = shlex.split(r["command"])
+        if words[:2] != ["hemicontact", "solve"]:
+            raise SystemExit("method_choice.py: unexpected random-study command: " + r["command"])
+        scene, overrides = os.path.join(ROOT, words[2]), words[3:]
+        nx = int(next(o.split("=")[1] for o in overrides if o.startswith("mesh.nx=")))
+        picked.append((nx, int(r["seed"]), scene, overrides))
+    picked.sort(reverse=True)
+    return [(f"random seed {seed} (nx={nx})", scene, ov) for nx, seed, scene, ov in picked[:keep]]
+
+
+def scenes(only, build, workdir, random_seeds, random_keep):
     """(family, name, scene file, overrides, linear material)."""
     rows = []
     for n in (64, 128, 256, 512, 1024):
@@ -64,8 +115,16 @@ def scenes(only):
                      sets("mesh.n=null", f"mesh.x=[0,{a}]", f"mesh.nx={2 * a}", "mesh.ny=2"), True))
     for n in (8, 16, 24, 32):
         rows.append(("box3d", f"3D box n={n}", BOX, sets(f"mesh.n={n}"), True))
+    if not only or "gmsh" in only:
+        for cubes in ((16, 16, 4), (32, 32, 8), (48, 48, 12)):
+            rows.append(("gmsh", "Gmsh plate %dx%dx%d" % cubes, gmsh_plate(workdir, cubes), [], True))
     for n in (64, 128):
         rows.append(("hencky", f"hencky 2D n={n}", HENCKY, sets(f"mesh.n={n}"), False))
+    for n in (8, 12, 16):
+        rows.append(("hencky3d", f"hencky 3D n={n}", BOX, sets(f"mesh.n={n}") + HENCKY_3D, False))
+    if random_keep and (not only or "random" in only):
+        for name, scene, overrides in random_scenes(build, workdir, random_seeds, random_keep):
+            rows.append(("random", name, scene, overrides, True))
     return [r for r in rows if not only or r[0] in only]
 
 
@@ -86,19 +145,20 @@ def run_process(build, scene, overrides, method, timeout):
     with tempfile.TemporaryDirectory() as out:
         cmd = ["/usr/bin/time", "-v", os.path.join(build, "hemicontact"), "solve", scene, "--out", out, "--force",
                "--quiet"] + overrides + METHODS[method]
+        t0 = time.perf_counter()
         try:
             p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
         except subprocess.TimeoutExpired:
             return None, None, None, None, f"> {timeout:g} s"
+        # The wall time to the millisecond (/usr/bin/time prints hundredths: too coarse for the
+        # 10-40 ms solves of the small scenes); it includes /usr/bin/time's own start, ~1 ms.
+        elapsed = time.perf_counter() - t0
         wall = re.search(r"Elapsed \(wall clock\) time.*: (?:(\d+):)?(\d+):([\d.]+)", p.stderr)
         rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", p.stderr)
         user = re.search(r"User time \(seconds\): ([\d.]+)", p.stderr)
         sys_ = re.search(r"System time \(seconds\): ([\d.]+)", p.stderr)
         cpu = float(user.group(1)) + float(sys_.group(1)) if user and sys_ else None
-        secs = None
-        if wall:
-            h, m, s = wall.groups()
-            secs = (int(h) if h else 0) * 3600 + int(m) * 60 + float(s)
+        secs = elapsed if wall else None
         mb = int(rss.group(1)) / 1024 if rss else None
         report = None
         path = os.path.join(out, "report.json")
@@ -139,7 +199,8 @@ def cell(r):
     if r.get("seconds") is None:
         return r.get("note") or "-"
     mark = "" if r.get("certified") else " (not certified)"
-    return f"{r['seconds']:.2f} s ({r['cpu_seconds']:.2f}), {r['peak_mb']:.0f} MB{mark}"
+    secs = f"{r['seconds'] * 1000:.0f} ms" if r["seconds"] < 1 else f"{r['seconds']:.2f} s"
+    return f"{secs} ({r['cpu_seconds']:.2f}), {r['peak_mb']:.0f} MB{mark}"
 
 
 def ratio(runs, key):
@@ -170,7 +231,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--out", required=True)
-    ap.add_argument("--only", default="", help="comma-separated families: fig2,strip,box3d,hencky")
+    ap.add_argument("--only", default="",
+                    help="comma-separated families: fig2,strip,box3d,gmsh,hencky,hencky3d,random")
+    ap.add_argument("--random", type=int, default=200, help="random study seeds 1..N to pick from")
+    ap.add_argument("--random-keep", type=int, default=4, help="how many random scenes (the largest)")
     ap.add_argument("--timeout", type=float, default=120)
     ap.add_argument("--repeats", type=int, default=1, help="best of this many processes by wall time")
     ap.add_argument("--methods", default="", help="comma-separated subset of: " + ",".join(METHODS))
@@ -193,8 +257,10 @@ def main():
     for m in list(METHODS):
         if keep and m not in keep:
             del METHODS[m]
-    rows = [r for r in scenes(only) if not a.max_n or "n=" not in r[1] or int(r[1].split("n=")[1]) <= a.max_n]
-    results = measure(a.build, rows, a.timeout, a.repeats)
+    with tempfile.TemporaryDirectory() as workdir:
+        rows = [r for r in scenes(only, a.build, workdir, a.random, a.random_keep)
+                if not a.max_n or " n=" not in r[1] or int(r[1].split(" n=")[1]) <= a.max_n]
+        results = measure(a.build, rows, a.timeout, a.repeats)
     os.makedirs(a.out, exist_ok=True)
     with open(os.path.join(a.out, "method_choice.json"), "w") as f:
         json.dump(results, f, indent=1)
