@@ -6,6 +6,7 @@
 #include <malloc.h>
 #include <sys/mman.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <mutex>
@@ -76,10 +77,12 @@ void reserve_blas_buffers(int callers) {
       memory_error("OpenBLAS's work buffer (" + std::to_string(static_cast<long>(OPENBLAS_BUFFER_BYTES) >> 20) +
                    " MB for each thread that calls the BLAS, " + std::to_string(callers) + " at once)");
     }
-    held.push_back(alloc(0));
+    void* p = alloc(0);
+    if (p == nullptr) break;  // beyond OpenBLAS's buffer table (it says so itself): nothing to hold
+    held.push_back(p);
   }
   for (void* p : held) release(p);
-  g_reserved = callers;
+  g_reserved = std::max(g_reserved.load(), static_cast<int>(held.size()));
 }
 
 int reserved_blas_buffers() { return g_reserved.load(); }
