@@ -328,8 +328,8 @@ Child run_cli(const Args& a, int level, const std::string& backend, const fs::pa
 }
 
 const char* const USAGE =
-    "usage: hemicontact_whole_process [--scene FILE] [--levels 256,1024] [--backends ipopt,newton] [--repeats R]\n"
-    "                                 [--cli PATH] [--out DIR] [--force]\n"
+    "usage: hemicontact_whole_process [--scene FILE] [--levels 256,1024] [--backends auto,ipopt,newton]\n"
+    "                                 [--repeats R] [--cli PATH] [--out DIR] [--force]\n"
     "`hemicontact solve` start to exit against a plain linear-elastic program on the same meshes; writes\n"
     "DIR/whole_process.json and each solve's results in DIR/solve_n<level>_<backend> (DIR follows\n"
     "`hemicontact solve --out`'s rules: earlier results replaced only with --force). --levels as\n"

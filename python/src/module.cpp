@@ -141,6 +141,10 @@ class ConcurrentSolves {
   ConcurrentSolves() {
     const std::lock_guard<std::mutex> lock(mutex());
     State& st = state();
+    // Each solve running at once may be inside a BLAS call, each needing its own OpenBLAS buffer:
+    // mapped here while it fits, or this solve ends with the memory error (OpenBLAS would retry a
+    // failed mapping for ever: two solves under ulimit -v hung).
+    reserve_blas_buffers(st.active + 1);
     if (++st.active == 2 && st.set != nullptr && st.get != nullptr) {
       const int n = st.get();
       if (n > 1) {

@@ -24,6 +24,7 @@
 
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/core/process.hpp>
 #include <hemicontact/mesh/boundary.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/studies/scene_solve.hpp>
@@ -315,6 +316,10 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   const cli::SceneArgs a = cli::parse_scene_args(rest, {"--magnification"});
+  // OpenBLAS maps this thread's work buffer at its first BLAS call (PETSc's GAMG, late in the
+  // solve) and retries a mapping that fails for ever: under a memory limit one rank spun there
+  // while the others waited. Mapped now, or this rank ends the job with the memory message.
+  reserve_blas_buffers(1);
   if (a.quiet || rank != 0) set_log_level(LogLevel::WARN);  // one rank reports progress
   const std::vector<std::string> plot_args = cli::solve_plot_args(a);
   nlohmann::json scene;

@@ -8,21 +8,35 @@
 
 #include <cstdio>
 #include <string>
+#include <utility>
 
 namespace hemicontact::petsc_engine {
 namespace {
 
-// PETSc's first error message of the current failure (error_handler), and the user's options.
+// PETSc's first error message of the current failure (error_handler), whether that failure is an
+// allocation that failed, and the user's options.
 std::string g_petsc_message;
+bool g_petsc_out_of_memory = false;
 std::string g_user_options;
+
+// Whether PETSc's error starts in its allocator. Debian's PETSc 3.18 reports a failed PetscMalloc
+// with codes such as 4008 and 10 and the caller's name as the message (measured under ulimit -v:
+// "PETSc error 4008 ... MatSeqAIJSetPreallocation_SeqAIJ (in PetscMallocAlign)"), not with
+// PETSC_ERR_MEM: the function the error starts in is what tells.
+bool allocation_failed(PetscErrorCode n, const char* fun) {
+  const std::string f = fun ? fun : "";
+  return n == PETSC_ERR_MEM || f.rfind("PetscMalloc", 0) == 0 || f.rfind("PetscTrMalloc", 0) == 0;
+}
 
 // PETSc's default handler prints a traceback on every rank and, with some options, aborts the
 // job; this one keeps the first message of a failure for petsc_failure's Error and returns the
 // code, so the error ends as every other: one message, one exit code.
 PetscErrorCode error_handler(MPI_Comm, int, const char* fun, const char*, PetscErrorCode n, PetscErrorType p,
                              const char* mess, void*) {
-  if (p == PETSC_ERROR_INITIAL || g_petsc_message.empty())
+  if (p == PETSC_ERROR_INITIAL || g_petsc_message.empty()) {
     g_petsc_message = std::string(mess ? mess : "") + (fun ? std::string(" (in ") + fun + ")" : std::string());
+    g_petsc_out_of_memory = allocation_failed(n, fun);
+  }
   return n;
 }
 
@@ -58,10 +72,11 @@ std::string tao_type(const std::string& backend) {
 namespace detail {
 
 void petsc_failure(PetscErrorCode ierr, const char* call) {
+  const std::string first = std::exchange(g_petsc_message, std::string());
+  if (ierr == PETSC_ERR_MEM || std::exchange(g_petsc_out_of_memory, false))
+    memory_error(std::string("PETSc's ") + call + (first.empty() ? "" : " (" + first + ")"));
   std::string m = "PETSc error " + std::to_string(ierr) + " in " + call;
-  if (!g_petsc_message.empty()) m += ": " + g_petsc_message;
-  g_petsc_message.clear();
-  if (ierr == PETSC_ERR_MEM) memory_error(m);
+  if (!first.empty()) m += ": " + first;
   if (g_user_options.empty()) throw Error(m, EXIT_INTERNAL);
   throw Error(m + " (solver.petsc.options = '" + g_user_options + "' is set: check its options)", EXIT_INPUT);
 }

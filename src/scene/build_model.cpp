@@ -4,6 +4,7 @@
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/core/process.hpp>
 #include <hemicontact/fem/assembly.hpp>
 #include <hemicontact/material/material_factory.hpp>
 #include <hemicontact/mesh/boundary.hpp>
@@ -97,11 +98,12 @@ double proc_kb(const char* file, const std::string& key) {
   return -1;
 }
 
-// OpenBLAS maps a work buffer of 128 MB (Debian's build) per thread: its worker threads' when the
+// OpenBLAS maps a work buffer (OPENBLAS_BUFFER_BYTES) per thread: its worker threads' when the
 // library is loaded (they are in VmSize already), the calling thread's at its first BLAS call. Under
 // ulimit -v a buffer that does not fit makes OpenBLAS retry for ever (a hang, observed at 336 MB
-// with 210 MB mapped), so an address-space budget keeps room for that one buffer.
-constexpr double OPENBLAS_BUFFER_BYTES = 128.0 * (1 << 20);
+// with 210 MB mapped), so an address-space budget keeps room for that one buffer, unless the
+// program mapped it beforehand (reserve_blas_buffers: then it is in VmSize too).
+double blas_buffer_room() { return reserved_blas_buffers() > 0 ? 0.0 : OPENBLAS_BUFFER_BYTES; }
 
 // Keeps the smallest budget (a limit already exceeded counts as 0) and says where it comes from;
 // @p known false: nothing could be read (a missing /proc file, no cgroup limit).
@@ -171,13 +173,14 @@ MemoryBudget memory_budget() {
   struct rlimit rl {};
   if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) {
     const double mapped = std::max(0.0, proc_kb("/proc/self/status", "VmSize:"));
-    tighten(b, static_cast<double>(rl.rlim_cur) - mapped - OPENBLAS_BUFFER_BYTES,
+    const double room = blas_buffer_room();
+    tighten(b, static_cast<double>(rl.rlim_cur) - mapped - room,
             "the address-space limit (ulimit -v, RLIMIT_AS = " + gigabytes(static_cast<double>(rl.rlim_cur)) + ", " +
-                gigabytes(mapped) + " mapped, " + gigabytes(OPENBLAS_BUFFER_BYTES) + " kept for OpenBLAS)");
+                gigabytes(mapped) + " mapped" + (room > 0 ? ", " + gigabytes(room) + " kept for OpenBLAS)" : ")"));
   }
   if (getrlimit(RLIMIT_DATA, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) {
     const double data = std::max(0.0, proc_kb("/proc/self/status", "VmData:"));
-    tighten(b, static_cast<double>(rl.rlim_cur) - data - OPENBLAS_BUFFER_BYTES,
+    tighten(b, static_cast<double>(rl.rlim_cur) - data - blas_buffer_room(),
             "the data-segment limit (ulimit -d, RLIMIT_DATA = " + gigabytes(static_cast<double>(rl.rlim_cur)) + ", " +
                 gigabytes(data) + " in use)");
   }

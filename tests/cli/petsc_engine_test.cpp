@@ -480,6 +480,51 @@ TEST(PetscEngine, AnErrorOnOneRankEndsEveryRank) {
   fs::remove_all(dir);
 }
 
+// Memory running out on one rank only (ulimit -v on rank 1) hung the job without a word: OpenBLAS
+// retried a buffer it could not map for ever inside PETSc's GAMG, while rank 0 waited in a
+// collective. Swept over limits that stop rank 1 at start-up (the OpenBLAS buffer), while its
+// mesh is made (std::bad_alloc), at the assembly or in the solve (PETSc's allocator): each run
+// must end every rank under `timeout` with exit code 2 and the memory message once, naming rank
+// 1, or solve. Open MPI's own start-up may fail below some limit (its message, exit 1): allowed,
+// not counted.
+TEST(PetscEngine, MemoryRunningOutOnOneRankEndsEveryRank) {
+  const fs::path dir = scratch("one-rank-memory");
+  std::string mpirun = MPIRUN;
+  mpirun.replace(mpirun.find("mpirun"), 6, "timeout -k 5 60 mpirun");
+  int memory_errors = 0, solved = 0;
+  std::vector<std::string> where;
+  for (int mb = 280; mb <= 640; mb += 60) {
+    SCOPED_TRACE("ulimit -v on rank 1: " + std::to_string(mb) + " MB");
+    // bash runs the program as "$0" "$@" with rank 1's limit set; the CLI execs hemicontact-mpi.
+    const std::string limited = mpirun + " 2 bash -c 'if [ \"$OMPI_COMM_WORLD_RANK\" = 1 ]; then ulimit -v " +
+                                std::to_string(mb * 1024) + "; fi; exec \"$0\" \"$@\"'";
+    const CliOutcome r = run_cli(dir, "solve " + problem("sofonea2017-3d") +
+                                          " --set mesh.n=32 --set solver.engine='\"petsc\"' --quiet --force --out " +
+                                          (dir / "o").string(),
+                                 limited);
+    ASSERT_NE(r.code, 124) << "hung:\n" << r.err;
+    if (r.code == 0) {
+      ++solved;
+      continue;
+    }
+    if (r.code == 1 && r.err.find("hemicontact") == std::string::npos) continue;  // mpirun's start-up
+    EXPECT_EQ(r.code, hemicontact::EXIT_INPUT) << r.err;
+    const std::string message = "hemicontact: error (rank 1): out of memory in ";
+    const size_t at = r.err.find(message);
+    ASSERT_NE(at, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("out of memory", at + message.size()), std::string::npos) << "printed twice:\n" << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
+    where.push_back(r.err.substr(at + message.size(), 40));
+    ++memory_errors;
+  }
+  std::string seen;
+  for (const std::string& w : where) seen += "\n  " + w;
+  EXPECT_GE(memory_errors, 2) << seen;
+  EXPECT_GE(solved, 1) << seen;
+  fs::remove_all(dir);
+}
+
 TEST(PetscEngine, DivergedKrylovSolveExits3NamingTheReason) {
   const fs::path dir = scratch("ksp");
   // One CG iteration cannot reduce the residual by 1e-2 on this mesh: ssn's first Newton step

@@ -10,4 +10,21 @@ namespace hemicontact {
 /// in src/core/process.cpp.
 void configure_process_for_solves();
 
+/// OpenBLAS's work buffer (Debian's build): one per thread that calls the BLAS, mapped at its first
+/// call and kept in OpenBLAS's pool for the process's life.
+inline constexpr double OPENBLAS_BUFFER_BYTES = 128.0 * (1 << 20);
+
+/// @brief Makes OpenBLAS's pool hold at least @p callers work buffers besides its worker threads',
+/// mapping the missing ones now, each only after a mapping of its size was tried and fits.
+/// OpenBLAS maps a buffer where a thread's BLAS call finds none free and, where the mapping fails
+/// (ulimit -v), retries it for ever: a hang on one MPI rank, or in two threaded Python solves.
+/// Call it before the solves that may call the BLAS at once start (@p callers of them). Does
+/// nothing where the BLAS is not OpenBLAS (its entry points are looked up at run time).
+/// @throw Error (exit code 2, the out-of-memory message) where a buffer does not fit.
+void reserve_blas_buffers(int callers);
+
+/// @return how many buffers reserve_blas_buffers has made sure of (0: none; memory_budget then
+/// keeps room for the one the first BLAS call maps).
+int reserved_blas_buffers();
+
 }  // namespace hemicontact
