@@ -71,6 +71,9 @@ def fit(h, energy):
     return {"energy": pstar, "C": c, "p": p, "residual_rms": math.sqrt(res / len(h))}
 
 
+SCENE_NAME = "sofonea2017-3d"  # the plot's title: the scene's file name (main sets it)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cli", default="build/hemicontact")
@@ -83,6 +86,8 @@ def main():
     ap.add_argument("--adaptive-from", default="4,12")
     ap.add_argument("--target", type=float, default=0.01)
     a = ap.parse_args()
+    global SCENE_NAME
+    SCENE_NAME = os.path.splitext(os.path.basename(a.scene))[0]
     os.makedirs(a.runs, exist_ok=True)
     os.makedirs(a.out, exist_ok=True)
     levels = [int(n) for n in a.levels.split(",")]
@@ -182,7 +187,7 @@ def plot(rows, path):
         x.set_ylabel("relative energy error (reference energy)")
         x.grid(True, which="both", alpha=0.3)
         x.legend(fontsize=8)
-    fig.suptitle("sofonea2017-3d: uniform and adaptive P1, error from the extrapolated energy")
+    fig.suptitle("%s: uniform and adaptive P1, error from the extrapolated energy" % SCENE_NAME)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
 
