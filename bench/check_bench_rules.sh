@@ -56,6 +56,19 @@ for r in rows:
     assert (code == 0) == certified, f"seed {r['seed']}: row says {r['outcome']}, the rerun exited {code}"
 PY
 
+# A CSV row has the header's columns whatever its text holds: a backend named with a comma
+# ("ssn (semismooth Newton, CHOLMOD)") once shifted every later column of its row.
+"$bin/hemicontact_random_study" --seeds 2 --n-max 8 --repeats 1 --backend ssn --out "$scratch/random-ssn" \
+  >"$scratch/study-ssn.out" 2>&1
+python3 - "$scratch/random-ssn/random-default.csv" <<'PY' || failures=$((failures + 1))
+import csv, sys
+rows = list(csv.reader(open(sys.argv[1])))
+assert len(rows) == 3, f"{len(rows)} rows"
+for r in rows[1:]:
+    assert len(r) == len(rows[0]), f"{len(r)} fields, the header has {len(rows[0])}: {r}"
+    assert dict(zip(rows[0], r))["solved_by"].startswith("ssn (semismooth Newton, CHOLMOD)"), r
+PY
+
 # Every folder a program names as holding results exists afterwards.
 "$bin/hemicontact_adapt_study" --no-study --target 0.1 --repeats 1 --out "$scratch/adapt" >"$scratch/adapt.out" 2>&1 ||
   fail "adapt_study exited $?"

@@ -253,7 +253,7 @@ void write_rows_csv(const std::string& out, const std::vector<Row>& rows) {
     csv << r.rs.seed << ',' << r.rs.n << ',' << r.rs.E << ',' << r.rs.load_scale << ',' << r.rs.mu << ','
         << (r.rs.gap_none ? std::string("none") : stress::num(r.rs.g)) << ',' << r.rs.aspect << ',' << r.outcome << ','
         << r.certificate << ',' << r.convex_checked << ',' << r.convex << ',' << r.min_eig << ',' << r.handover << ','
-        << csv_quote(r.path) << ',' << r.solved_by << ',' << r.backend_ran << ',' << r.backend_iterations << ','
+        << csv_quote(r.path) << ',' << csv_quote(r.solved_by) << ',' << r.backend_ran << ',' << r.backend_iterations << ','
         << r.backend_evaluations << ',' << stress::num(r.energy) << ',' << r.seconds << ',' << r.linear << ',' << r.ratio << ',' << csv_quote(r.message) << ','
         << csv_quote(r.command) << '\n';
   write_text_file((fs::path(out) / "random-default.csv").string(), csv.str());
