@@ -2,6 +2,7 @@
 /// @file edge_key.hpp  One 64-bit key per undirected edge (a, b), and a flat hash map from such keys
 /// to ints: the bisections' edge numbers and midpoints.
 
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
