@@ -4,7 +4,7 @@ scene (problems/sofonea2017-3d.json) on n^3 boxes, run as `mpirun -np P hemicont
 solver.engine="petsc"` for each n and P, one run at a time. Reads each run's report.json and prints
 one row per run: unknowns, ranks, wall time (the whole process, measured here), the solve's own
 time, peak memory summed over the ranks and the largest rank's (getrusage, from report.json
-"petsc"), bytes per unknown, which mesh layout ran (per-rank slabs or blocks, DMPlex or replicated) and the most
+"petsc"), bytes per unknown, which mesh layout ran (per-rank slabs or blocks, or DMPlex) and the most
 nodes one rank held,
 the method (ssn by default; --backend tao:bnls for TAO), Newton and Krylov counts, Krylov per Newton
 step (mean and largest), how many times the AMG hierarchy was built, the certificate, the share of
@@ -42,9 +42,9 @@ def main() -> int:
     ap.add_argument("--levels", default="8,16,24,32", help="box cells per side, comma-separated")
     ap.add_argument("--ranks", default="1,2", help="MPI ranks, comma-separated")
     ap.add_argument("--set", action="append", default=[], help="extra --set path=value for every run")
-    ap.add_argument("--mesh", default="auto", choices=["auto", "blocks", "replicated"],
+    ap.add_argument("--mesh", default="auto", choices=["auto", "blocks"],
                     help="solver.petsc.mesh: auto (per-rank slabs where they cover the scene, a box's blocks beyond one "
-                         "rank per layer, DMPlex elsewhere), blocks or replicated")
+                         "rank per layer, DMPlex elsewhere) or blocks")
     ap.add_argument("--backend", default="", help="ssn (the engine's default) or tao:bnls, tao:bntr, tao:bntl")
     ap.add_argument("--weak-per-rank", type=int, default=0,
                     help="weak scaling: about this many unknowns per rank (--levels is then ignored)")
@@ -89,12 +89,10 @@ def main() -> int:
             "solve_s": round(rep["timings"]["solve_total"], 2),
             "peak_mb_sum": round(pe["peak_rss_mb_sum"], 1), "bytes_per_dof": round(pe["bytes_per_dof"]),
             # the largest rank's peak, and what each rank holds of the mesh (the per-rank slabs
-            # hold about nodes/P plus two ghost layers, DMPlex's parts two cell layers around theirs;
-            # the replicated mesh all of it)
+            # hold about nodes/P plus two ghost layers, DMPlex's parts two cell layers around theirs)
             "peak_mb_max_rank": round(pe["peak_rss_mb_max"], 1),
-            "mesh": pe.get("partition", {}).get("type", "replicated") if pe.get("mesh", "") != "replicated"
-                    else "replicated",
-            "local_nodes_max": pe.get("local_nodes", rep["mesh"]["nodes"]),
+            "mesh": pe["partition"]["type"],
+            "local_nodes_max": pe["local_nodes"],
             "newton": pe["newton_iterations"], "krylov": pe["krylov_iterations"],
             "krylov_per_newton": round(pe["krylov_per_newton"], 1),
             "method": pe.get("method", ""),

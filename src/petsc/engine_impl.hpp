@@ -2,7 +2,6 @@
 /// @file engine_impl.hpp  The petsc engine's inside, shared by its source files (src/petsc/):
 ///   petsc_handles.cpp       PETSc's error handler, HC_PETSC's failure, memory readings, tao_type
 ///   petsc_solvers.cpp       option defaults, the preconditioners (GAMG made anew for TAO), CG set-up
-///   petsc_distribution.cpp  the engine's construction, the row distribution, the partition, gathers
 ///   petsc_assembly.cpp      K, f, the bounds, the near-null space, the elastic solve, K's saved band
 ///   petsc_tao.cpp           the smoothed energy and its Hessian (energy/'s nodal kernels), TAO's
 ///                           minimizations, λ's relaxation, a stage's smoothing
@@ -10,10 +9,11 @@
 ///   petsc_polish.cpp        the exact polish with fixed statuses
 ///   petsc_engine.cpp        the run's set-up, then solver/outer_loop's algorithm over the engine's
 ///                           steps (its polished copy, its finish), the report, solve()
-///   petsc_slab_distribution.cpp  the distributed path's slabs (make_slab), its numbering, the ghost rows
-///   petsc_plex_distribution.cpp  its Gmsh meshes distributed by DMPlex (make_plex_piece)
-///   petsc_slab_finish.cpp   its certificate, energies and status counts by reductions, its piece
-///   petsc_slab_output.cpp   its files: a piece per rank, the .pvtu, report.json (not the engine's)
+///   petsc_slab_distribution.cpp  the slabs (make_slab), PETSc's numbering of the pieces, the ghost rows
+///   petsc_block_distribution.cpp the blocks of cell columns (make_block)
+///   petsc_plex_distribution.cpp  Gmsh (and other) meshes distributed by DMPlex (make_plex_piece)
+///   petsc_slab_finish.cpp   the certificate, energies and status counts by reductions, the piece
+///   petsc_slab_output.cpp   the files: a piece per rank, the .pvtu, report.json (not the engine's)
 /// Not installed and not part of the library: only hemicontact-mpi's sources include it.
 
 #include "petsc_engine.hpp"
@@ -141,8 +141,7 @@ void fresh_gamg(KSP ksp);
 // the CHOLMOD engine; backend ssn is its own Newton on the unsmoothed statuses.
 class Engine : private OuterStepper {
  public:
-  Engine(const Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep);
-  // The distributed path: md is this rank's slab; the answer's vectors stay on the ranks (out).
+  // md is this rank's piece; the answer's vectors stay on the ranks (out).
   Engine(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep, SlabResult& out);
   ~Engine() {
     if (rigid) MatNullSpaceDestroy(&rigid);
@@ -173,7 +172,7 @@ class Engine : private OuterStepper {
   };
   BandRows save_band() const;
   void restore_band(const BandRows& b) const;
-  // ---- the distributed path (petsc_slab_distribution.cpp, petsc_slab_finish.cpp)
+  // ---- the pieces' numbering and judge (petsc_slab_distribution.cpp, petsc_slab_finish.cpp)
   void distribute_slabs();
   void exchange_ghosts(const std::vector<Index>& sel);
   void check_same_place(Index v, const double* there) const;  // a ghost is where its owner has it
@@ -190,7 +189,6 @@ class Engine : private OuterStepper {
   void close_record(Solution& s, clk::time_point t0, clk::time_point t1);
   void init();  // rank, size, d, lagged; refuses a nonlinear material
   // ---- set-up
-  void distribute();
   void assemble();
   void tao_vectors();  // the bounds and TAO's work vectors (not made for ssn)
   void near_null_space();
@@ -211,7 +209,7 @@ class Engine : private OuterStepper {
   OuterIteration minimize(size_t stage) override;
   LambdaChange relax_lambda() override;
   // The polish (petsc_polish.cpp) reads and writes a PETSc vector (owned rows) and the statuses of
-  // the owned Γ3 nodes: on the replicated mesh and on the pieces alike.
+  // the owned Γ3 nodes.
   bool polish_exists() const override { return true; }
   std::optional<Solution> certified_copy() override;
   Solution finish() override;
@@ -223,22 +221,15 @@ class Engine : private OuterStepper {
   void polish_accept(::Vec x, const Solution& s0, double delta, PolishResult& r, ::Vec x_io);
   std::string piece_rejection(const Solution& s0, const Solution& s1, double delta, double before) const;
   PolishResult polish_with_readings(::Vec x, size_t stage);
-  // x's evaluation at o (statuses, state, certificate): the whole solution gathered on the
-  // replicated mesh, the piece's (slab_evaluate) on the distributed one.
-  Solution evaluate_at(::Vec x, const SolveOptions& o);
   // U_s zs, the current iterate in the model's units, in a new vector.
   void unscaled_iterate(PVec& x) const;
-  void finish(Solution& sol, Eigen::VectorXd x, clk::time_point t0);
   // ---- helpers
-  Eigen::VectorXd gather(::Vec v) const;  // the whole vector on every rank
-  Eigen::VectorXd apply_K(const Eigen::VectorXd& x) const;  // K_x x on every rank (collective)
   Eigen::VectorXd local_gamma3(::Vec zs) const;
   double first_order_residual(::Vec zs, ::Vec g, ::Vec lo_s, ::Vec up_s) const;
   void scaled_bound(::Vec b, ::Vec out) const;  // b / U_s, ±PETSC_INFINITY kept (no overflow)
   void ksp_check(KSP ksp, const std::string& what) const;
   void set_pc(KSP ksp, const std::string& type) const;
   void create_cg(PKsp& ksp, const char* prefix, KSPNormType norm = KSP_NORM_DEFAULT) const;
-  Solution evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const;
 
   const Model& md;
   SolveOptions opt;
@@ -246,18 +237,14 @@ class Engine : private OuterStepper {
   EngineReport& rep;
   int rank = 0, size = 1, d = 2, bs = 1;
   PetscInt n = 0, lo = 0, hi = 0;  // global size, owned rows [lo, hi) (PETSc's numbering)
-  // PETSc's numbering of the unknowns is the model's x numbering (DofMap: interior node-major,
-  // then Γ3) with the nodes regrouped by the graph partitioner's parts (solver.petsc.partition),
-  // each node's d unknowns kept together. Both empty: the same numbering (one rank, "natural").
-  std::vector<PetscInt> perm;  // x index → PETSc index
+  // PETSc's numbering of the piece's unknowns (distribute_slabs): the owned ones, in the piece's
+  // x order (DofMap: interior node-major, then Γ3), are the rows [lo, hi); a ghost's are its owner's.
+  std::vector<PetscInt> perm;  // x index → PETSc index (−1: an outer ghost's, without a row)
   std::vector<Index> mine;     // x index of owned row lo + l
-  std::vector<char> own_nodes;  // per mesh node: its rows are this rank's (kept until assembled)
-  PetscInt P(Index x) const { return perm.empty() ? static_cast<PetscInt>(x) : perm[static_cast<size_t>(x)]; }
-  Index X(PetscInt l) const { return mine.empty() ? lo + l : mine[static_cast<size_t>(l)]; }
+  PetscInt P(Index x) const { return perm[static_cast<size_t>(x)]; }
+  Index X(PetscInt l) const { return mine[static_cast<size_t>(l)]; }
   // Γ3 node k's ν row in PETSc's numbering; its τ rows follow it.
   PetscInt cdof(Index k) const { return P(md.dofs.contact_dof(k, 0)); }
-  void partition(const std::vector<Index>& block_node, const std::vector<PetscInt>& block_first,
-                 const std::vector<int>& block_size);
   std::vector<Index> my_nodes;     // Γ3 nodes whose rows this rank owns
   PMat K;
   PVec f, lower, upper, zs, zfree, work, grad;
@@ -279,8 +266,8 @@ class Engine : private OuterStepper {
   long newton_total = 0, krylov_total = 0, polish_krylov = 0, polish_newton = 0;
   nlohmann::json stages = nlohmann::json::array();
   std::map<std::string, double> timings;
-  const Piece* slab = nullptr;      // the distributed path: md is this rank's piece
-  SlabResult* slab_out = nullptr;   // and its piece goes here
+  const Piece& slab;     // md is this rank's piece
+  SlabResult& slab_out;  // and its piece of the answer goes here
 };
 
 }  // namespace hemicontact::petsc_engine::detail

@@ -14,10 +14,8 @@
 // (a Gmsh file, a perturbed or crossed one) is made by rank 0 and distributed by DMPlex
 // (solver.petsc.mesh = "auto", the default): no rank holds the whole mesh
 // (rank 0 frees it once distributed), each writes its own piece of the results, and rank 0 gathers
-// only the Γ3 rows for report.json. With solver.petsc.mesh = "replicated" every rank builds the
-// whole model
-// (deterministic: the same input errors on every rank). Rank 0 alone locks the output folder and broadcasts how that went,
-// so that the ranks always leave together with one exit code.
+// only the Γ3 rows for report.json. Rank 0 alone locks the output folder and broadcasts how that
+// went, so that the ranks always leave together with one exit code.
 #include "cli/cli.hpp"
 #include "petsc_engine.hpp"
 #include "petsc_slab_output.hpp"
@@ -93,13 +91,8 @@ void share(int& code, std::string& message, MPI_Comm comm) {
 // The distributed layout for the scene: "slabs" (a generated box or rectangle that the slabs cover),
 // "blocks" (a box on more ranks than cell layers, or asked for), "dmplex" (anything else: a Gmsh
 // file, a perturbed or crossed mesh, a rectangle on more ranks than cell layers; rank 0 makes the
-// whole mesh as build_mesh does and DMPlex distributes it), or "" with why in @p why
-// (solver.petsc.mesh = "replicated": every rank builds the whole model).
-std::string distributed_layout(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm, std::string& why) {
-  if (opt.petsc.mesh == "replicated") {
-    why = "solver.petsc.mesh = replicated";
-    return "";
-  }
+// whole mesh as build_mesh does and DMPlex distributes it).
+std::string distributed_layout(const nlohmann::json& scene, const SolveOptions& opt, MPI_Comm comm) {
   const bool box = scene.at("mesh").at("type") == "box";
   if (opt.petsc.mesh == "blocks") {  // asked for: what blocks cannot make is refused (make_block), not sent elsewhere
     if (!box) input_error("solver.petsc.mesh = \"blocks\": only a generated box is made in blocks (mesh.type = box)");
@@ -257,49 +250,6 @@ void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, S
   });
 }
 
-// The replicated mesh (solver.petsc.mesh = replicated, @p why): every rank builds the whole model
-// without K_x and solves it with the engine (solve_scene with the petsc engine); rank 0 writes.
-int run_replicated(const cli::SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
-                   MPI_Comm comm, std::chrono::steady_clock::time_point t0, const std::string& why) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  int code = 0;
-  std::string message;
-  log_info() << "petsc: the whole mesh on every rank (" << why << ")";
-
-  petsc_engine::EngineReport er;
-  er.json["engine_choice"] = engine_choice;
-  // No K_x in the model: each rank assembles its own rows into PETSc (petsc_assembly.cpp).
-  const auto engine = [&](const Model& md, const SolveOptions& o) {
-    // The mesh checks and the boundary extraction free ~0.5 KB per unknown of small blocks that
-    // glibc keeps in the heap: returned to the system here, since every rank holds the model
-    // (measured: 586 -> ~100 MB per rank on the 70^3 box).
-    malloc_trim(0);
-    log_info() << "model built: memory " << petsc_engine::current_rss_kb() / 1024 << " MB (rank 0)";
-    return petsc_engine::solve(md, o, comm, er);
-  };
-  SceneSolve r = solve_scene_with(scene, scene_directory(a.scene), engine, /*keep_stiffness=*/false);
-  r.solution.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  er.json["mesh"] = "replicated";
-  er.json["mesh_reason"] = why;
-  r.extra = {{"engine", "petsc"}, {"engine_choice", engine_choice}, {"petsc", er.json}};
-  if (rank == 0) {
-    try {
-      cli::write_solve_results(a, plot_args, r, scene_solve_report(r));
-      log_info() << "petsc: " << size << " rank(s), " << er.json.value("newton_iterations", 0L)
-                 << " Newton and " << er.json.value("krylov_iterations", 0L) << " Krylov iterations, peak memory "
-                 << er.json.value("peak_rss_mb_sum", 0.0) << " MB over the ranks";
-    } catch (const Error& e) {
-      code = e.code();
-      message = e.what();
-    }
-  }
-  share(code, message, comm);
-  if (code != 0) throw SharedError(message, static_cast<ExitCode>(code));
-  return solve_exit_code(r);
-}
-
 int run(const std::vector<std::string>& args, MPI_Comm comm) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
@@ -327,10 +277,7 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   read_scene(a, comm, scene, opt);
 
   const std::optional<OutputLock> lock = lock_output(a, rank, comm);
-  std::string replicated;
-  const std::string layout = distributed_layout(scene, opt, comm, replicated);
-  if (!layout.empty()) return run_slabs(a, plot_args, scene, opt, comm, t0, layout);
-  return run_replicated(a, plot_args, scene, comm, t0, replicated);
+  return run_slabs(a, plot_args, scene, opt, comm, t0, distributed_layout(scene, opt, comm));
 }
 
 // The end of a job after an error that may be this rank's alone: the message printed once (rank

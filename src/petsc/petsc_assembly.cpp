@@ -12,18 +12,15 @@
 
 namespace hemicontact::petsc_engine::detail {
 
-// Each rank copies its rows of the reduced stiffness Kx (symmetric, so row i is column i of the
-// column-major matrix) with exact preallocation, and its part of f and of the bounds.
+// Each rank assembles its rows of the reduced stiffness Kx (symmetric, so row i is column i of the
+// column-major matrix) into PETSc with exact preallocation, and its part of f and of the bounds.
 void Engine::assemble() {
   const auto t0 = clk::now();
-  // The model built by hemicontact-mpi keeps no K_x (build_model(..., stiffness = false)): this
-  // rank assembles its own columns, i.e. rows, and frees them once PETSc holds them. A model that
-  // does keep K_x (tests that build one) is read as it is.
-  MovableSpMat own;
-  if (md.Kx.size() == 0)
-    own = assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs, own_nodes);
-  own_nodes = std::vector<char>();
-  const SpMat& Kx = md.Kx.size() == 0 ? static_cast<const SpMat&>(own) : static_cast<const SpMat&>(md.Kx);
+  // The piece's model keeps no K_x (build_model(..., stiffness = false)): this rank assembles its
+  // own columns, i.e. rows, and frees them once PETSc holds them.
+  MovableSpMat own =
+      assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs, slab.owned_node);
+  const SpMat& Kx = own;
   const PetscInt nloc = hi - lo;
   std::vector<PetscInt> dnz(static_cast<size_t>(nloc), 0), onz(static_cast<size_t>(nloc), 0);
   long off_rank = 0, entries = 0;
@@ -76,19 +73,6 @@ void Engine::assemble() {
   log_info() << "petsc: " << size << " rank(s), rows " << lo << ".." << hi << " of " << n << " on rank 0, assembled in "
              << short_number(timings["petsc_assembly"]) << " s, memory " << short_number(double(current_rss_kb()) / 1024.0)
              << " MB (rank 0)";
-}
-
-// K_x x for a whole x on every rank (collective): the judge's residual and a(u, u) on the replicated
-// mesh, where the model keeps no K_x (its rows live in PETSc, one rank's each).
-Eigen::VectorXd Engine::apply_K(const Eigen::VectorXd& x) const {
-  PVec xv, y;
-  HC_PETSC(MatCreateVecs(K.m, &xv.v, &y.v));
-  PetscScalar* p;
-  HC_PETSC(VecGetArray(xv.v, &p));
-  for (PetscInt l = 0; l < hi - lo; ++l) p[l] = x[X(l)];
-  HC_PETSC(VecRestoreArray(xv.v, &p));
-  HC_PETSC(MatMult(K.m, xv.v, y.v));
-  return gather(y.v);
 }
 
 void Engine::tao_vectors() {
@@ -187,7 +171,7 @@ void Engine::scaled_bound(::Vec b, ::Vec out) const {
 
 Engine::BandRows Engine::save_band() const {
   // The Γ3 rows this rank's model knows, sorted: every column of an owned row is a node of the
-  // model (the whole mesh, or a slab with its ghosts), and no array of the global size is needed.
+  // piece (with its ghosts), and no array of the global size is needed.
   std::vector<PetscInt> gamma3_rows;
   gamma3_rows.reserve(static_cast<size_t>(md.contact.size()) * static_cast<size_t>(d));
   for (Index k = 0; k < md.contact.size(); ++k)

@@ -1,6 +1,5 @@
 #include "engine_impl.hpp"
 
-#include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/solver/run_messages.hpp>
 
@@ -21,10 +20,7 @@ Solution Engine::run() {
   // by the user (solver.petsc.options, PETSC_OPTIONS) wins.
   if (size > 1) option_default("-matptap_via", "hypre");
 #endif
-  if (slab)
-    distribute_slabs();
-  else
-    distribute();
+  distribute_slabs();
   assemble();
   near_null_space();
   if (tao_type(opt.backend) == "ssn") return run_ssn(t0);
@@ -46,10 +42,7 @@ Solution Engine::run() {
   if (!md.normal_law && !md.friction && md.gap.is_infinite() && md.contact.fixed_local.empty()) {
     sol.backend = "none (PETSc CG linear solve)";
     sol.skipped.push_back("backend: linear elasticity, solved by one CG solve");
-    if (slab)
-      finish_slabs(sol, zfree.v, t0);
-    else
-      finish(sol, gather(zfree.v), t0);
+    finish_slabs(sol, zfree.v, t0);
     return std::move(sol);
   }
   // The continuation schedule of solver/solve.cpp (problem/solve_options.hpp).
@@ -68,8 +61,8 @@ Solution Engine::run() {
   return run_outer(*this, opt);
 }
 
-// The polish of a copy of the current iterate, and its certificate (run_outer's early stop). On the
-// pieces the copy is finished there (finish_slabs); a trial that fails leaves the run's piece to be
+// The polish of a copy of the current iterate, and its certificate (run_outer's early stop). The
+// copy is finished on the pieces (finish_slabs); a trial that fails leaves the run's piece to be
 // written again by the final finish.
 std::optional<Solution> Engine::certified_copy() {
   PVec x;
@@ -78,17 +71,13 @@ std::optional<Solution> Engine::certified_copy() {
   if (!pr.accepted) return std::nullopt;
   Solution trial = sol;
   trial.polish = pr;
-  if (slab)
-    finish_slabs(trial, x.v, t_run);
-  else
-    finish(trial, gather(x.v), t_run);
+  finish_slabs(trial, x.v, t_run);
   if (!trial.certificate.passed) return std::nullopt;
   return trial;
 }
 
-// The final polish (solver.polish, after a converged fixed point), then the certificate: of the
-// gathered answer on the replicated mesh, by reductions over the pieces on the distributed one
-// (nothing global is gathered there; the polish runs on the owned rows either way).
+// The final polish (solver.polish, after a converged fixed point, on the owned rows), then the
+// certificate by reductions over the pieces (nothing global is gathered).
 Solution Engine::finish() {
   PVec x;
   unscaled_iterate(x);
@@ -100,24 +89,8 @@ Solution Engine::finish() {
   } else if (!opt.polish) {
     sol.skipped.push_back("polish: solver.polish = false");
   }
-  if (slab)
-    finish_slabs(sol, x.v, t_run);
-  else
-    finish(sol, gather(x.v), t_run);
+  finish_slabs(sol, x.v, t_run);
   return std::move(sol);
-}
-
-void Engine::finish(Solution& s, Eigen::VectorXd x, clk::time_point t0) {
-  const auto t1 = clk::now();
-  s.x = std::move(x);
-  s.u = md.dofs.to_full(s.x);
-  // Every minimization here is the named (or auto-chosen) backend's own: it ran when one is recorded.
-  for (auto& h : s.history) h.solver = s.backend;
-  s.backend_use.requested = opt.backend;
-  s.backend_use.ran = !s.history.empty();
-  if (!s.backend_use.ran) s.backend_use.not_run = "linear elasticity without contact: one CG solve is the answer";
-  evaluate_solution(md, opt, s, apply_K(s.x));
-  close_record(s, t0, t1);
 }
 
 // The report's record of the engine.
@@ -146,8 +119,7 @@ void Engine::record() {
   rep.json["bytes_per_dof"] = n > 0 ? double(rss_sum) * 1024.0 / double(n) : 0.0;
 }
 
-// What both finishes (the replicated and the slabs') record once the certificate is in: its time
-// (since @p t1), the backend's minimizations, the whole solve (since @p t0), the verdict and the
+// What finish_slabs records once the certificate is in: its time (since @p t1), the backend's minimizations, the whole solve (since @p t0), the verdict and the
 // report's engine record.
 void Engine::close_record(Solution& s, clk::time_point t0, clk::time_point t1) {
   timings["certificate"] = since(t1);
@@ -161,11 +133,6 @@ void Engine::close_record(Solution& s, clk::time_point t0, clk::time_point t1) {
 }
 
 }  // namespace detail
-
-Solution solve(const Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report) {
-  detail::Engine e(md, opt, comm, report);
-  return e.run();
-}
 
 Solution solve_slabs(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
                      SlabResult& out) {

@@ -14,17 +14,17 @@
 ///   continuation and outer fixed point λ = F_b(u_ν): the schedule and stopping rules of solver/solve.cpp
 ///   polish:     Newton on the unsmoothed conditions of (22) with the statuses fixed (full space:
 ///               contact x_ν = g, stick x_τ = 0, compliance w p(x_ν) on its branch, slip w λ t), CG + GAMG
-///   certify:    the certificate of check/certificate.hpp on the gathered u (replicated model), or its
-///               formulas node by node on each piece's owned nodes with the maxima reduced (distributed mesh)
+///   certify:    the judge of check/judge.hpp node by node on each piece's owned nodes, its maxima
+///               and sums reduced over the ranks
 ///
-/// Two layouts (docs/petsc-engine.md, "Distributed mesh"). The distributed one (solve_slabs): a
+/// The mesh is always distributed (docs/petsc-engine.md, "Distributed mesh"; solve_slabs): a
 /// generated box or rectangle is made per rank in slabs of cell layers (make_slab), a box on more
 /// ranks than layers in blocks of cell columns (make_block), any other mesh (a Gmsh file, a
-/// perturbed or crossed one) is made on rank 0 and distributed by DMPlex (make_plex_piece); each rank builds only its piece's model, PETSc's rows
-/// are its owned nodes', the ghosts' rows come from their owners, the certificate and the energies
-/// are reductions over the owned nodes, and no rank holds the whole mesh or solution. With
-/// solver.petsc.mesh = replicated, every rank builds the whole model (solve): each rank copies its own rows of K into PETSc, and the certificate, the report and
-/// the writers read the gathered answer.
+/// perturbed or crossed one) is made on rank 0 and distributed by DMPlex (make_plex_piece); each
+/// rank builds only its piece's model, PETSc's rows are its owned nodes', the ghosts' rows come
+/// from their owners, the certificate and the energies are reductions over the owned nodes, and no
+/// rank holds the whole mesh or solution. (The replicated layout, every rank building the whole
+/// model, was retired: these layouts solve every scene it solved, in less memory per rank.)
 
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
@@ -45,19 +45,8 @@ struct EngineReport {
   nlohmann::json json = nlohmann::json::object();
 };
 
-/// Solve @p md on the ranks of @p comm (collective; every rank passes the same model and options).
-/// Each rank copies its rows of md.Kx into PETSc, or assembles them where the model keeps no K_x
-/// (build_model(..., stiffness = false)); the judge's residual K x − f is PETSc's product. The model
-/// is not changed.
-/// @return the same Solution on every rank (x and u gathered).
-/// @throws Error EXIT_INPUT for what the engine cannot do (a nonlinear material, more ranks than
-///         cells or than node blocks, a non-TAO backend), EXIT_NOT_CONVERGED when a Krylov solve
-///         outside TAO fails (the message names PETSc's reason, e.g. KSP_DIVERGED_ITS). Collective:
-///         every rank throws the same error.
-Solution solve(const Model& md, const SolveOptions& opt, MPI_Comm comm, EngineReport& report);
-
-/// A rank's piece of the distributed mesh (the distributed path: solver.petsc.mesh,
-/// docs/petsc-engine.md "Distributed mesh"): the local mesh holds every cell that touches an owned
+/// A rank's piece of the distributed mesh (solver.petsc.mesh, docs/petsc-engine.md "Distributed
+/// mesh"): the local mesh holds every cell that touches an owned
 /// node, so that each owned node's row is complete locally; the other local nodes are ghosts, each
 /// owned by one other rank, and the engine gets their PETSc rows from their owners by the whole
 /// mesh's node number (Engine::exchange_ghosts). Three producers: make_slab (a generated box or
@@ -152,9 +141,15 @@ struct SlabResult {
   long ghosts = 0;                                           ///< ghost nodes given rows by their owners (all ranks)
 };
 
-/// @brief Solve on the slabs (collective; ssn, or TAO then the polish): as solve(), but @p md is this rank's
-/// slab (make_slab, ghost_boundary_from_owners, build_model(scene, mesh, false, ..., &given)) and nothing global is gathered. @return the
-/// scalars of the answer (energies, certificate, verdict; its vectors empty); @p out the piece.
+/// @brief Solve on the pieces (collective; ssn, or TAO then the polish). @p md is this rank's piece
+/// (make_slab, make_block or make_plex_piece, ghost_boundary_from_owners, build_model(scene, mesh,
+/// false, ..., &given)); the model is not changed and nothing global is gathered. The judge's
+/// residual K x − f is PETSc's product.
+/// @return the scalars of the answer (energies, certificate, verdict; its vectors empty); @p out the piece.
+/// @throws Error EXIT_INPUT for what the engine cannot do (a nonlinear material, a piece without a
+///         free node, a non-TAO backend), EXIT_NOT_CONVERGED when a Krylov solve outside TAO fails
+///         (the message names PETSc's reason, e.g. KSP_DIVERGED_ITS). Collective: every rank throws
+///         the same error.
 Solution solve_slabs(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
                      SlabResult& out);
 

@@ -2,7 +2,6 @@
 
 #include <hemicontact/check/status_equations.hpp>
 
-#include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/problem/node_rules.hpp>
 
 #include <algorithm>
@@ -12,18 +11,6 @@
 #include <vector>
 
 namespace hemicontact::petsc_engine::detail {
-
-Solution Engine::evaluate(const Eigen::VectorXd& x, const SolveOptions& o) const {
-  Solution s;
-  s.x = x;
-  s.u = md.dofs.to_full(x);
-  evaluate_solution(md, o, s, apply_K(x));
-  return s;
-}
-
-Solution Engine::evaluate_at(::Vec x, const SolveOptions& o) {
-  return slab ? slab_evaluate(x, o) : evaluate(gather(x), o);
-}
 
 void Engine::unscaled_iterate(PVec& x) const {
   HC_PETSC(VecDuplicate(zs.v, &x.v));
@@ -43,13 +30,12 @@ void Engine::unscaled_iterate(PVec& x) const {
 // contraction, and stops when the step reaches round-off (1e-14 relative) or stops decreasing.
 // Fixed unknowns (contact ν, stick τ, rollers) are eliminated with MatZeroRowsColumns.
 // Everything it reads is on the owned rows and the owned Γ3 nodes (my_nodes), with the statuses of
-// s0 (indexed by the model's Γ3 node, the piece's own on the distributed mesh), so that the same
-// iteration runs on the replicated mesh and on the pieces; only the evaluations differ (evaluate_at).
+// s0 (indexed by the piece's Γ3 node); the evaluations are the pieces' judge (slab_evaluate).
 PolishResult Engine::polish(::Vec x_io, const SolveOptions& read_opt, const Solution& s0_user) {
   PolishResult r;
   r.attempted = true;
   r.before = s0_user.certificate.max_residual;
-  const Solution s0 = read_opt.status_tol == opt.status_tol ? s0_user : evaluate_at(x_io, read_opt);
+  const Solution s0 = read_opt.status_tol == opt.status_tol ? s0_user : slab_evaluate(x_io, read_opt);
   const double delta = 1e-7 * s0.certificate.length_scale;
   PVec x, R, dx;
   PMat J;
@@ -152,10 +138,10 @@ bool Engine::polish_linearize(::Vec x, ::Vec R, ::Mat J, const Solution& s0, dou
 }
 
 // Keep the candidate @p x only if the statuses stay and the certificate does not get worse
-// (solver/polish.cpp's accept_if_better, the same rule): then @p x_io takes it. On the pieces the
-// rule is read on each rank's owned Γ3 nodes and reduced (piece_rejection).
+// (solver/polish.cpp's accept_if_better, the same rule): then @p x_io takes it. The rule is read on
+// each rank's owned Γ3 nodes and reduced (piece_rejection).
 void Engine::polish_accept(::Vec x, const Solution& s0, double delta, PolishResult& r, ::Vec x_io) {
-  // A finite candidate on every rank's rows (what gather(x).allFinite() read, without the gather).
+  // A finite candidate on every rank's rows.
   const PetscScalar* px;
   int bad = 0;
   HC_PETSC(VecGetArrayRead(x, &px));
@@ -166,9 +152,9 @@ void Engine::polish_accept(::Vec x, const Solution& s0, double delta, PolishResu
     r.note = "singular status system";
     return;
   }
-  const Solution s1 = evaluate_at(x, opt);
+  const Solution s1 = slab_evaluate(x, opt);
   r.after = s1.certificate.max_residual;
-  r.note = slab ? piece_rejection(s0, s1, delta, r.before) : polish_rejection(md, s0, s1, delta, r.before);
+  r.note = piece_rejection(s0, s1, delta, r.before);
   if (!r.note.empty()) return;
   r.accepted = true;
   HC_PETSC(VecCopy(x, x_io));
@@ -186,7 +172,7 @@ std::string Engine::piece_rejection(const Solution& s0, const Solution& s1, doub
   for (Index k : my_nodes) {
     const NodeStatus& a = s0.status[static_cast<size_t>(k)];
     const NodeStatus& b = s1.status[static_cast<size_t>(k)];
-    const long g = slab->global_node[static_cast<size_t>(md.contact.node[static_cast<size_t>(k)])];
+    const long g = slab.global_node[static_cast<size_t>(md.contact.node[static_cast<size_t>(k)])];
     if (!polish_status_kept(md, a, b, s0.state.u_nu[k], delta) && g < first) {
       first = g;
       sts[0] = static_cast<int>(a.normal), sts[1] = static_cast<int>(a.tangential);
@@ -211,7 +197,7 @@ std::string Engine::piece_rejection(const Solution& s0, const Solution& s1, doub
 // node shows |u_τ| ~ ε U): solver/polish.cpp's first two readings.
 PolishResult Engine::polish_with_readings(::Vec x, size_t stage) {
   const auto t0 = clk::now();
-  const Solution s0 = evaluate_at(x, opt);
+  const Solution s0 = slab_evaluate(x, opt);
   PolishResult r = polish(x, opt, s0);
   const double coarse = 10 * std::max(schedule[stage].first, schedule[stage].second);
   if (!r.accepted && coarse > opt.status_tol) {

@@ -20,8 +20,7 @@ Piece make_slab(const nlohmann::json& scene, MPI_Comm comm, Mesh& mesh) {
   const SlabCut cut = slab_cut(scene);
   if (cut.layers < size)
     input_error("solver.petsc.mesh: " + std::to_string(size) + " MPI ranks for " + std::to_string(cut.layers) +
-                " cell layers along " + "xyz"[cut.axis] + "; use at most as many ranks as layers (mpirun -np), or "
-                "solver.petsc.mesh = \"replicated\"");
+                " cell layers along " + "xyz"[cut.axis] + "; use at most as many ranks as layers (mpirun -np)");
   Piece s;
   s.axis = cut.axis;
   s.layers = cut.layers;
@@ -169,11 +168,22 @@ GivenBoundary ghost_boundary_from_owners(const Mesh& mesh, const Piece& pc, MPI_
 namespace detail {
 
 Engine::Engine(const Model& m, const Piece& sl, const SolveOptions& o, MPI_Comm c, EngineReport& r, SlabResult& out)
-    : md(m), opt(o), comm(c), rep(r), slab(&sl), slab_out(&out) {
+    : md(m), opt(o), comm(c), rep(r), slab(sl), slab_out(out) {
   init();
 }
 
-// PETSc's numbering on the pieces: each rank's owned unknowns, in its local x order (interior
+// What the engine sets and refuses before any work.
+void Engine::init() {
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  d = md.dim();
+  if (!md.material->is_linear())
+    input_error("solver.engine = petsc: linear materials only (" + md.material->describe() +
+                "); a nonlinear material needs solver.engine = cholmod");
+  is_lagged = md.friction && md.friction->depends_on_u_nu();
+}
+
+// PETSc's numbering of the pieces: each rank's owned unknowns, in its local x order (interior
 // nodes node-major, then its Γ3 nodes), form the contiguous rows [lo, hi); a ghost node's rows
 // come from its owner (exchange_ghosts). No rank numbers, or sees, another rank's interior.
 void Engine::distribute_slabs() {
@@ -185,7 +195,7 @@ void Engine::distribute_slabs() {
     if (sel[j] >= 0) node_of_x[static_cast<size_t>(sel[j])] = static_cast<Index>(j / static_cast<size_t>(d));
   mine.clear();
   for (Index x = 0; x < nx; ++x)
-    if (slab->owned_node[static_cast<size_t>(node_of_x[static_cast<size_t>(x)])]) mine.push_back(x);
+    if (slab.owned_node[static_cast<size_t>(node_of_x[static_cast<size_t>(x)])]) mine.push_back(x);
   const auto nloc = static_cast<PetscInt>(mine.size());
   PetscInt before = 0;
   MPI_Exscan(&nloc, &before, 1, MPIU_INT, MPI_SUM, comm);
@@ -202,15 +212,14 @@ void Engine::distribute_slabs() {
   bs = rollers_all ? 1 : d;
   exchange_ghosts(sel);
   for (Index k = 0; k < md.contact.size(); ++k)
-    if (slab->owned_node[static_cast<size_t>(md.contact.node[k])]) my_nodes.push_back(k);
+    if (slab.owned_node[static_cast<size_t>(md.contact.node[k])]) my_nodes.push_back(k);
   lambda.assign(my_nodes.size(), 0.0);
-  own_nodes = slab->owned_node;
-  if (slab->layout == "slabs")
-    rep.json["partition"] = {{"type", "slabs"}, {"axis", std::string(1, "xyz"[slab->axis])}};
-  else if (slab->layout == "blocks")
-    rep.json["partition"] = {{"type", "blocks"}, {"grid", {slab->grid_x, slab->grid_y}}};
+  if (slab.layout == "slabs")
+    rep.json["partition"] = {{"type", "slabs"}, {"axis", std::string(1, "xyz"[slab.axis])}};
+  else if (slab.layout == "blocks")
+    rep.json["partition"] = {{"type", "blocks"}, {"grid", {slab.grid_x, slab.grid_y}}};
   else
-    rep.json["partition"] = {{"type", slab->layout}, {"partitioner", slab->partitioner}};
+    rep.json["partition"] = {{"type", slab.layout}, {"partitioner", slab.partitioner}};
   timings["petsc_partition"] = since(t0);
 }
 
@@ -221,7 +230,7 @@ void Engine::distribute_slabs() {
 // differ from its owner's is a bug where the piece says it is complete (an outer ghost keeps no
 // row: its rows enter no owned row). Then each received row is checked to lie in its owner's range.
 void Engine::exchange_ghosts(const std::vector<Index>& sel) {
-  const Piece& pc = *slab;
+  const Piece& pc = slab;
   const auto D = static_cast<size_t>(d);
   const GhostAsk ask = ask_owners(pc, comm);
   const std::vector<Index> k_of = gamma3_index_of_nodes(md);
@@ -265,7 +274,7 @@ void Engine::exchange_ghosts(const std::vector<Index>& sel) {
   for (size_t j = 0; j < sel.size(); ++j)
     if (sel[j] >= 0 && perm[static_cast<size_t>(sel[j])] < 0 && (pc.complete.empty() || pc.complete[j / D]))
       throw Error("petsc engine: a ghost unknown of the piece got no row from its owner", EXIT_INTERNAL);
-  MPI_Allreduce(&given, &slab_out->ghosts, 1, MPI_LONG, MPI_SUM, comm);
+  MPI_Allreduce(&given, &slab_out.ghosts, 1, MPI_LONG, MPI_SUM, comm);
 }
 
 // The owner's node of that number is this one: at the same place (both pieces made its coordinates
@@ -274,9 +283,20 @@ void Engine::check_same_place(Index v, const double* there) const {
   for (int c = 0; c < d; ++c) {
     const double here = md.mesh.points(v, c);
     if (!(std::abs(here - there[c]) <= 1e-12 * std::max(1.0, std::abs(here))))
-      throw Error("petsc engine: ghost node " + std::to_string(slab->global_node[static_cast<size_t>(v)]) +
+      throw Error("petsc engine: ghost node " + std::to_string(slab.global_node[static_cast<size_t>(v)]) +
                       " is not where its owner has it", EXIT_INTERNAL);
   }
+}
+
+// The owned Γ3 nodes' unknowns of @p z (my_nodes order, d each).
+Eigen::VectorXd Engine::local_gamma3(::Vec z) const {
+  Eigen::VectorXd c(static_cast<Index>(my_nodes.size()) * d);
+  const PetscScalar* p;
+  VecGetArrayRead(z, &p);
+  for (size_t q = 0; q < my_nodes.size(); ++q)
+    for (int a = 0; a < d; ++a) c[static_cast<Index>(q) * d + a] = p[cdof(my_nodes[q]) + a - lo];
+  VecRestoreArrayRead(z, &p);
+  return c;
 }
 
 }  // namespace detail

@@ -51,13 +51,14 @@ void Engine::finish_slabs(Solution& s, ::Vec x, clk::time_point t0) {
   for (auto& h : s.history) h.solver = s.backend;
   s.backend_use.requested = opt.backend;
   s.backend_use.ran = !s.history.empty();
+  if (!s.backend_use.ran) s.backend_use.not_run = "linear elasticity without contact: one CG solve is the answer";
   PVec R;
   HC_PETSC(VecDuplicate(x, &R.v));
   HC_PETSC(MatMult(K.m, x, R.v));
   HC_PETSC(VecAXPY(R.v, -1.0, f.v));
-  slab_piece(x, R.v, slab_out->piece);
-  slab_judge(slab_out->piece, opt);
-  s.certificate = slab_out->piece.certificate;
+  slab_piece(x, R.v, slab_out.piece);
+  slab_judge(slab_out.piece, opt);
+  s.certificate = slab_out.piece.certificate;
   slab_energies(s, x, R.v);
   close_record(s, t0, t1);
   slab_report(s);
@@ -109,7 +110,7 @@ void Engine::slab_piece(::Vec x, ::Vec R, Solution& p) {
 void Engine::slab_judge(Solution& p, const SolveOptions& o) const {
   JudgeScope scope;
   scope.nodes = my_nodes;
-  scope.owns = [this](Index v) { return slab->owned_node[static_cast<size_t>(v)] != 0; };
+  scope.owns = [this](Index v) { return slab.owned_node[static_cast<size_t>(v)] != 0; };
   scope.node_at = [this](Index k) { return static_cast<Index>(cdof(k)); };
   scope.dof_at = [this, sel = md.dofs.cartesian_selection()](Index c) {
     return static_cast<Index>(P(sel[static_cast<size_t>(c)]));
@@ -138,7 +139,7 @@ void Engine::slab_energies(Solution& s, ::Vec x, ::Vec R) const {
   HC_PETSC(VecDot(x, f.v, &xf));
   s.a_uu = xr + xf;
   s.f_u = xf;
-  const Solution& p = slab_out->piece;
+  const Solution& p = slab_out.piece;
   s.j_term = p.j_term;
   s.friction_term = p.friction_term;
   s.max_u_nu = p.max_u_nu;
@@ -150,25 +151,25 @@ void Engine::slab_energies(Solution& s, ::Vec x, ::Vec R) const {
 
 // The distributed path's own record: the status counts and sizes, by reductions only.
 void Engine::slab_report(Solution& s) {
-  slab_out->status_counts = s.status_counts();
+  slab_out.status_counts = s.status_counts();
   long g3 = static_cast<long>(my_nodes.size()), nodes = static_cast<long>(md.mesh.num_nodes());
-  MPI_Allreduce(&g3, &slab_out->gamma3_nodes, 1, MPI_LONG, MPI_SUM, comm);
-  MPI_Allreduce(&nodes, &slab_out->local_nodes_max, 1, MPI_LONG, MPI_MAX, comm);
+  MPI_Allreduce(&g3, &slab_out.gamma3_nodes, 1, MPI_LONG, MPI_SUM, comm);
+  MPI_Allreduce(&nodes, &slab_out.local_nodes_max, 1, MPI_LONG, MPI_MAX, comm);
   long nodes_sum = 0;
   MPI_Allreduce(&nodes, &nodes_sum, 1, MPI_LONG, MPI_SUM, comm);
-  rep.json["mesh"] = slab->describe();
-  rep.json["local_nodes"] = slab_out->local_nodes_max;
-  rep.json["global_nodes"] = slab->global_nodes;
+  rep.json["mesh"] = slab.describe();
+  rep.json["local_nodes"] = slab_out.local_nodes_max;
+  rep.json["global_nodes"] = slab.global_nodes;
   // The ranks' ghosts (local nodes not owned, counted on each rank that holds one) and those that got
   // their owners' rows (exchange_ghosts): the same number unless an outer ghost kept none.
-  rep.json["ghost_nodes"] = nodes_sum - slab->global_nodes;
-  rep.json["ghost_nodes_given_rows"] = slab_out->ghosts;
-  if (slab->layout == "slabs")
-    rep.json["slab_layers"] = {{"axis", std::string(1, "xyz"[slab->axis])}, {"layers", slab->layers},
-                               {"first", slab->c0}, {"end", slab->c1}};
-  else if (slab->layout == "blocks")  // rank 0's block, as slab_layers gives rank 0's layers
-    rep.json["blocks"] = {{"grid", {slab->grid_x, slab->grid_y}},
-                          {"columns", {{"x", {slab->block.i0, slab->block.i1}}, {"y", {slab->block.j0, slab->block.j1}}}}};
+  rep.json["ghost_nodes"] = nodes_sum - slab.global_nodes;
+  rep.json["ghost_nodes_given_rows"] = slab_out.ghosts;
+  if (slab.layout == "slabs")
+    rep.json["slab_layers"] = {{"axis", std::string(1, "xyz"[slab.axis])}, {"layers", slab.layers},
+                               {"first", slab.c0}, {"end", slab.c1}};
+  else if (slab.layout == "blocks")  // rank 0's block, as slab_layers gives rank 0's layers
+    rep.json["blocks"] = {{"grid", {slab.grid_x, slab.grid_y}},
+                          {"columns", {{"x", {slab.block.i0, slab.block.i1}}, {"y", {slab.block.j0, slab.block.j1}}}}};
 }
 
 }  // namespace hemicontact::petsc_engine::detail

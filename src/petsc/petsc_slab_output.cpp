@@ -64,8 +64,9 @@ std::vector<Gamma3Row> owned_rows(const Model& md, const Piece& slab, const Solu
   return rows;
 }
 
-// Every rank's owned rows gathered to rank 0 in ContactNodes' order (as the replicated model has
-// them); each rank gets back its rows' places in that order (@p index), the whole list's index k.
+// Every rank's owned rows gathered to rank 0 in ContactNodes' order (the cholmod engine's order of
+// the whole model's Γ3 nodes); each rank gets back its rows' places in that order (@p index), the
+// whole list's index k.
 // @return the sorted rows on rank 0, nothing elsewhere.
 std::vector<Gamma3Row> gather_rows(const std::vector<Gamma3Row>& mine, int dim, std::vector<long>& index,
                                    MPI_Comm comm) {

@@ -302,7 +302,7 @@ long Engine::ssn_stop_reversals(Ssn& s) {
 
 // K put back, the record of the run, and the certified answer.
 Solution Engine::ssn_finish(Ssn& s, int k, bool converged, clk::time_point t0, clk::time_point t_loop) {
-  restore_band(s.band);  // K as assembled, for the certificate (apply_K) and the energies
+  restore_band(s.band);  // K as assembled, for the certificate (K x − f) and the energies
   timings["backend"] = since(t_loop);
   U_s = 1;
   sol.x_scale = 1;
@@ -320,13 +320,7 @@ Solution Engine::ssn_finish(Ssn& s, int k, bool converged, clk::time_point t0, c
   sol.backend_ok = converged;
   if (!converged) sol.message = rec.backend.message;
   stages = s.steps;
-  if (slab) {  // the distributed path: nothing global is gathered
-    finish_slabs(sol, s.x.v, t0);
-    timings.erase("backend");
-    return std::move(sol);
-  }
-  Eigen::VectorXd xg = gather(s.x.v);
-  finish(sol, std::move(xg), t0);
+  finish_slabs(sol, s.x.v, t0);  // nothing global is gathered
   timings.erase("backend");
   return std::move(sol);
 }

@@ -553,7 +553,6 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.petsc.pc = pe.at("pc").get<std::string>();
   o.petsc.newton_pc = pe.at("newton_pc").get<std::string>();
   o.petsc.near_null_space = pe.at("near_null_space").get<std::string>();
-  o.petsc.partition = pe.at("partition").get<std::string>();
   o.petsc.mesh = pe.at("mesh").get<std::string>();
   o.petsc.acceptable_tol = pe.at("acceptable_tol").get<double>();
   o.petsc.polish_max_iters = pe.at("polish_max_iters").get<int>();

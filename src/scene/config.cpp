@@ -209,6 +209,21 @@ const SchemaIndex& schema_index();
 
 void validate_object(json& obj, const std::string& pointer, const std::string& path, const SchemaIndex& idx);
 
+/// Why the petsc engine's replicated layout (every rank building the whole model) was retired, for
+/// both settings that only it read: a scene written for it is told where to go instead.
+const char* const REPLICATED_RETIRED =
+    "the replicated layout of the petsc engine was retired: the distributed layouts (slabs, blocks, "
+    "DMPlex) solve every scene, in less memory per rank (docs/petsc-engine.md)";
+
+/// String values that were retired: the message that replaces "is not one of".
+const std::map<std::pair<std::string, std::string>, std::string>& retired_values() {
+  static const std::map<std::pair<std::string, std::string>, std::string> retired = {
+      {{"/solver/petsc/mesh", "replicated"},
+       std::string(REPLICATED_RETIRED) + "; use \"auto\" (the default) or \"blocks\""},
+  };
+  return retired;
+}
+
 /// Check @p v against row @p e; with @p recurse, also its keys / elements (injecting defaults).
 void check_value(json& v, const SchemaEntry& e, const std::string& path, const SchemaIndex& idx, bool recurse) {
   const std::vector<std::string> alternatives = split(e.type, '|');
@@ -232,8 +247,11 @@ void check_value(json& v, const SchemaEntry& e, const std::string& path, const S
     input_error("scene key '" + path + "' has " + std::to_string(v.size()) + " elements; at most " +
                 std::to_string(*e.max_items) + " are allowed");
   if (v.is_string() && !e.options.empty() &&
-      std::find(e.options.begin(), e.options.end(), v.get<std::string>()) == e.options.end())
+      std::find(e.options.begin(), e.options.end(), v.get<std::string>()) == e.options.end()) {
+    const auto retired = retired_values().find({e.pointer, v.get<std::string>()});
+    if (retired != retired_values().end()) key_error(path, v.dump() + ": " + retired->second);
     key_error(path, v.dump() + " is not one of: " + join(e.options, ", "));
+  }
 
   if (!recurse) return;
   if (*hit == "object") {
@@ -257,12 +275,24 @@ const std::map<std::string, std::string>& moved_keys() {
   return moved;
 }
 
+/// Keys that were retired with what they set: why, instead of a near sibling's name.
+const std::map<std::string, std::string>& retired_keys() {
+  static const std::map<std::string, std::string> retired = {
+      // The graph partition of the whole model's nodes: the slabs and blocks are their own
+      // partition, and DMPlex partitions with PT-Scotch.
+      {"/solver/petsc/partition", REPLICATED_RETIRED},
+  };
+  return retired;
+}
+
 /// " (did you mean 'mesh.n'?)": a moved key's new home, a near sibling, else the same name
 /// elsewhere in the table (e.g. "solver.mu" → "contact.friction.mu"), else the allowed keys.
 std::string unknown_key_hint(const std::string& key, const std::string& pointer, const std::string& path,
                              const SchemaIndex& idx) {
   const auto moved = moved_keys().find(pointer + "/" + escape_segment(key));
   if (moved != moved_keys().end()) return " (moved to '" + moved->second + "')";
+  const auto retired = retired_keys().find(pointer + "/" + escape_segment(key));
+  if (retired != retired_keys().end()) return " (" + retired->second + ")";
   const auto it = idx.children.find(pointer);
   const std::vector<const SchemaEntry*> none;
   const auto& siblings = it == idx.children.end() ? none : it->second;

@@ -320,19 +320,15 @@ std::vector<SchemaEntry> build_scene_schema() {
                   "GAMG's near-null space: translations (d modes: half the AMG memory, about twice the "
                   "CG iterations in 3D) or rigid (translations and rotations; for slender bodies).",
                   {"translations", "rigid"}));
-  t.push_back(key("/solver/petsc/partition", "string", D.petsc.partition,
-                  "How the nodes go to the ranks: ptscotch (graph partitioner; few couplings across "
-                  "ranks for any mesh) or natural (contiguous runs of the node numbering).",
-                  {"ptscotch", "natural"}));
   t.push_back(key("/solver/petsc/mesh", "string", D.petsc.mesh,
                   "Where the mesh lives: auto (a generated box or rectangle, not perturbed, is made per rank in "
                   "slabs of cell layers; a box with more ranks than layers in blocks of cell columns, per rank "
                   "too; any other mesh, a Gmsh file included, is made by rank 0 and distributed by DMPlex; no "
                   "rank holds the whole mesh; report.json from reductions, its per-node list gathered from the "
-                  "ranks' owned Γ3 nodes; petsc.mesh says which ran), blocks (a box in blocks at any rank "
-                  "count that makes a grid) or replicated (every rank builds the whole mesh; report.json as the "
-                  "cholmod engine's, with the graph partition's records).",
-                  {"auto", "blocks", "replicated"}));
+                  "ranks' owned Γ3 nodes; petsc.mesh says which ran) or blocks (a box in blocks at any rank "
+                  "count that makes a grid). The replicated layout (every rank building the whole mesh) was "
+                  "retired: these solve every scene it solved, in less memory per rank.",
+                  {"auto", "blocks"}));
   t.push_back(key("/solver/petsc/newton_pc", "string", D.petsc.newton_pc,
                   "Preconditioner of TAO's Newton steps (the Hessian on the inactive set): hypre "
                   "(BoomerAMG) or gamg.",

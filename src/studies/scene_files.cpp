@@ -19,14 +19,13 @@ void refuse_adaptive_outside_cholmod(const nlohmann::json& scene) {
     input_error("adapt.target_error: adaptive refinement runs on the cholmod engine only (solver.engine = petsc)");
 }
 
-SceneSolve solve_scene_with(const nlohmann::json& scene, const std::string& scene_dir, const SceneEngine& engine,
-                            bool keep_stiffness) {
+SceneSolve solve_scene_with(const nlohmann::json& scene, const std::string& scene_dir, const SceneEngine& engine) {
   refuse_adaptive_outside_cholmod(scene);
   const auto t0 = std::chrono::steady_clock::now();
   SceneSolve r;
   r.scene = scene;
   r.opt = solve_options_from_scene(scene);
-  r.model = std::make_shared<const Model>(build_model(scene, scene_dir, keep_stiffness));
+  r.model = std::make_shared<const Model>(build_model(scene, scene_dir));
   r.solution = engine(*r.model, r.opt);
   r.solution.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

@@ -199,6 +199,28 @@ TEST(SceneSchemaErrors, AMovedKeyNamesItsNewHome) {
   EXPECT_EQ(o.ssn.tol, SsnOptions{}.tol);
 }
 
+// The petsc engine's replicated layout was retired: a scene that asks for it, or sets the graph
+// partition that only it read, is told why and where to go instead of which values or keys exist.
+TEST(SceneSchemaErrors, TheRetiredReplicatedLayoutSaysWhereToGo) {
+  json s = minimal_scene();
+  s["solver"]["petsc"]["mesh"] = "replicated";
+  const std::string msg = config_input_error_of([&] { validate_scene(s); });
+  EXPECT_CONTAINS(msg, "scene key 'solver.petsc.mesh': \"replicated\": the replicated layout of the petsc engine was "
+                       "retired: the distributed layouts (slabs, blocks, DMPlex) solve every scene");
+  EXPECT_CONTAINS(msg, "use \"auto\" (the default) or \"blocks\"");
+  EXPECT_EQ(msg.find("is not one of"), std::string::npos) << msg;
+  json p = minimal_scene();
+  p["solver"]["petsc"]["partition"] = "natural";
+  EXPECT_CONTAINS(config_input_error_of([&] { validate_scene(p); }),
+                  "unknown key 'solver.petsc.partition' (the replicated layout of the petsc engine was retired");
+  // The layouts that remain are accepted as they were.
+  for (const char* layout : {"auto", "blocks"}) {
+    json ok = minimal_scene();
+    ok["solver"]["petsc"]["mesh"] = layout;
+    EXPECT_EQ(solve_options_from_scene(validate_scene(ok)).petsc.mesh, layout);
+  }
+}
+
 TEST(SceneSchemaErrors, UnknownKeyInsideArrayElement) {
   json s = minimal_scene();
   s["boundary"]["gamma1"][0]["traction"] = {1, 0};  // only Γ2 selectors carry a traction

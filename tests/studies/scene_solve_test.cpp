@@ -1,5 +1,5 @@
-// The one "scene → solve → files" sequence (studies/scene_solve.hpp) that the CLI, the Python module
-// and hemicontact-mpi's replicated mesh all run: it must be exactly build_model + the engine, write
+// The one "scene → solve → files" sequence (studies/scene_solve.hpp) that the CLI and the Python
+// module run: it must be exactly build_model + the engine, write
 // the solve's files with report.json last, run the adaptive loop where the scene asks (handing each
 // certified level on), refuse adaptivity where the engine is not the cholmod one, and turn a
 // solution into the documented exit code.

@@ -55,16 +55,13 @@ struct PetscEngineOptions {
   /// 1.8 KB, 17 s (each V-cycle and each set-up cheaper); CG per Newton step stays at 18-21 up to
   /// 10^7 unknowns. Rigid for slender bodies (plates, beams), whose low-energy modes are rotations.
   std::string near_null_space = "translations";
-  /// How the nodes go to the ranks (more than one): "ptscotch" (PT-Scotch graph partitioner on the
-  /// free nodes' graph, through PETSc's MatPartitioning: few rows coupled across ranks for any
-  /// mesh) or "natural" (contiguous runs of the model's numbering: slabs of a generated box, but
-  /// for an imported mesh whatever order its file has).
-  std::string partition = "ptscotch";
-  /// Where the mesh lives: "auto" (the default: a generated box or rectangle, not perturbed, solved
-  /// by ssn, is made per rank in slabs of cell layers and no rank holds the whole mesh; report.json's
-  /// scalars are reductions, and its per-node list is the owned Γ3 rows gathered to rank 0; anything
-  /// else runs replicated) or "replicated" (every rank builds the whole mesh and DofMap; report.json
-  /// as the cholmod engine's).
+  /// How the mesh is distributed; no rank holds the whole mesh. "auto" (the default): a generated
+  /// box or rectangle, not perturbed, is made per rank in slabs of cell layers (a box on more ranks
+  /// than layers in blocks of cell columns), any other mesh is made by rank 0 and distributed by
+  /// DMPlex; report.json's scalars are reductions, and its per-node list is the owned Γ3 rows
+  /// gathered to rank 0. "blocks": a box in blocks at any rank count that makes a grid. The
+  /// replicated layout ("replicated": every rank built the whole mesh and DofMap) was retired:
+  /// these solve every scene it solved, in less memory per rank (docs/petsc-engine.md).
   std::string mesh = "auto";
   /// Preconditioner of TAO's Newton steps, whose matrix is the Hessian restricted to the inactive
   /// set (it changes size): "hypre" (BoomerAMG) or "gamg".

@@ -24,7 +24,7 @@ void assign_scene_boundary(Mesh& mesh, const nlohmann::json& scene);
 /// Build the model from an effective scene and a mesh whose boundary parts are already assigned
 /// (assign_scene_boundary); the scene's "mesh" block is then not read. Used by tests and studies.
 /// @param stiffness false: K_x is not assembled (the petsc engine assembles each rank's own rows
-/// into PETSc and gives the judge K_x x: evaluate_solution's second form).
+/// into PETSc, whose product gives the judge its residual K x − f).
 /// @param piece true: @p mesh is one rank's piece of a distributed mesh (the petsc engine's), which
 /// may hold no Γ3 node although the whole mesh has some: the check that a contact law has Γ3 nodes
 /// is then the caller's, over the ranks.

@@ -1,7 +1,7 @@
 #pragma once
 /// @file scene_solve.hpp  One solve of a scene, from the effective scene to the files, as every front
-/// end runs it: `hemicontact solve` (cholmod engine), the Python module's solve() and Result.write(),
-/// and hemicontact-mpi on the replicated mesh (its engine passed in: solve_scene_with). The scene's
+/// end that holds the whole model runs it: `hemicontact solve` (cholmod engine) and the Python
+/// module's solve() and Result.write() (an engine passed in: solve_scene_with). The scene's
 /// adapt block picks the adaptive loop (solver/adapt.hpp) or one solve; the result keeps what the
 /// report and the files need. Two sources: scene_solve.cpp (solve_scene, the cholmod engine and
 /// the adaptive loop) and scene_files.cpp (the rest), which hemicontact-mpi links without the NLP
@@ -41,10 +41,8 @@ using SceneEngine = std::function<Solution(const Model&, const SolveOptions&)>;
 
 /// @brief One solve of the effective @p scene (config.hpp's load_scene; relative paths from
 /// @p scene_dir) by @p engine, with no adaptive refinement: build_model, then the engine.
-/// @param keep_stiffness false: the model keeps no K_x (an engine that assembles its own rows)
 /// @throws Error as build_model and the engine do; EXIT_INPUT if the scene asks for adaptivity
-SceneSolve solve_scene_with(const nlohmann::json& scene, const std::string& scene_dir, const SceneEngine& engine,
-                            bool keep_stiffness = true);
+SceneSolve solve_scene_with(const nlohmann::json& scene, const std::string& scene_dir, const SceneEngine& engine);
 
 /// @throws Error (EXIT_INPUT) where @p scene asks for adaptive refinement (adapt.target_error), which
 /// only the cholmod engine runs: the petsc engine refuses the key rather than drop it.
