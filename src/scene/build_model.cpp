@@ -345,10 +345,9 @@ Mesh build_mesh(const json& scene, const std::string& scene_dir) {
   auto t0 = clk::now();
   if (m.at("type") == "gmsh") {
     if (m.at("file").is_null()) input_error("mesh.file: required when mesh.type is 'gmsh'");
-    std::filesystem::path p = m.at("file").get<std::string>();
-    if (p.is_relative()) p = std::filesystem::path(scene_dir) / p;
-    mesh = read_gmsh(p.string(), m.at("allow_scripts").get<bool>());
-    check_memory(static_cast<double>(mesh.num_nodes()), mesh.dim, "mesh.file '" + p.string() + "'", petsc);
+    const std::string p = scene_path_of(m.at("file").get<std::string>(), scene_dir);
+    mesh = read_gmsh(p, m.at("allow_scripts").get<bool>());
+    check_memory(static_cast<double>(mesh.num_nodes()), mesh.dim, "mesh.file '" + p + "'", petsc);
   } else if (m.at("type") == "box") {
     // Before the mesh is generated: 1e6 cells a side must be refused, not allocated.
     check_memory((m.at("nx").get<double>() + 1) * (m.at("ny").get<double>() + 1) * (m.at("nz").get<double>() + 1), 3,

@@ -798,6 +798,11 @@ std::string scene_directory(const std::string& scene_path) {
   return dir.empty() ? "." : dir;
 }
 
+std::string scene_path_of(const std::string& written, const std::string& scene_dir) {
+  const std::filesystem::path p = written;
+  return p.is_relative() ? (std::filesystem::path(scene_dir) / p).string() : p.string();
+}
+
 const json& scene_at(const json& scene, const std::string& dotted) {
   const json* cur = &scene;
   for (const std::string& seg : split_dotted(dotted)) {

@@ -2,8 +2,8 @@
 
 #include <hemicontact/core/format.hpp>
 #include <hemicontact/mesh/msh_peek.hpp>
+#include <hemicontact/scene/config.hpp>
 
-#include <filesystem>
 
 namespace hemicontact {
 namespace {
@@ -18,9 +18,7 @@ struct SceneSize {
 
 SceneSize gmsh_size(const nlohmann::json& mesh, const std::string& scene_dir) {
   if (mesh.at("file").is_null()) return {0, 0, "no mesh.file"};
-  std::filesystem::path p = mesh.at("file").get<std::string>();
-  if (p.is_relative()) p = std::filesystem::path(scene_dir) / p;
-  const std::optional<MshSize> s = peek_msh_size(p.string());
+  const std::optional<MshSize> s = peek_msh_size(scene_path_of(mesh.at("file").get<std::string>(), scene_dir));
   if (!s)
     return {0, 0,
             "a Gmsh file whose header does not give its size (MSH 4.1 has it; MSH 2 needs $PhysicalNames before "

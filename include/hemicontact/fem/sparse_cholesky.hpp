@@ -15,7 +15,7 @@ class SparseCholesky {
   /// solver.ordering = auto's rule for a whole-mesh factorization (the full formulation's, ssn's,
   /// the linear solve's): AMD up to this many unknowns, nested dissection above. Measured (ssn,
   /// CHOLMOD's flop rule choosing supernodal or simplicial; whole solve): the fig2 strip 1000 × 1
-  /// (8k unknowns) 26 → 12 ms with AMD, fig2 n = 64 (8k) 67 → 61 ms; fig2 n = 128 (33k) and the 3D
+  /// (8k unknowns) 17.7 → 12.4 ms with AMD, fig2 n = 64 (8k) 67 → 61 ms; fig2 n = 128 (33k) and the 3D
   /// box n = 12 (6k) even; 3D n = 16 (15k) 0.65 → 0.95 s and fig2 n = 256 (132k) 2.1 → 2.6 s
   /// with AMD (nested dissection's smaller fill pays for its ordering once a factorization
   /// costs more than the ordering).

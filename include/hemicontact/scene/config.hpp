@@ -155,6 +155,10 @@ nlohmann::json load_scene_text(const std::string& text, const std::string& name,
 /// @return its parent directory, or "." for a bare file name
 std::string scene_directory(const std::string& scene_path);
 
+/// @brief A path written in a scene (e.g. `mesh.file`) as the program opens it: relative ones
+/// against @p scene_dir (scene_directory), absolute ones as given.
+std::string scene_path_of(const std::string& written, const std::string& scene_dir);
+
 /// @brief The user reference for the scene format, generated from scene_schema().
 ///
 /// docs/scene-format.md is exactly this text; a unit test (SceneSchema.MarkdownMatchesDoc)

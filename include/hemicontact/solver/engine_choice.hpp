@@ -1,7 +1,7 @@
 #pragma once
 /// @file engine_choice.hpp  solver.engine = auto, read from the scene alone (no mesh, no model):
 /// the cholmod engine's programs and the petsc engine's (hemicontact-mpi) both decide with it, and
-/// this file's object pulls nothing else of the library into either but mesh/msh_peek.
+/// it reads the scene and, for a Gmsh mesh, its file's header (mesh/msh_peek.hpp).
 
 #include <nlohmann/json.hpp>
 
