@@ -158,12 +158,12 @@ def run_process(build, scene, overrides, method, timeout):
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                 start_new_session=True)
         try:
-            out, err = proc.communicate(timeout=timeout)
+            stdout, stderr = proc.communicate(timeout=timeout)
         except subprocess.TimeoutExpired:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.communicate()
             return None, None, None, None, f"> {timeout:g} s"
-        p = subprocess.CompletedProcess(cmd, proc.returncode, out, err)
+        p = subprocess.CompletedProcess(cmd, proc.returncode, stdout, stderr)
         # The wall time to the millisecond (/usr/bin/time prints hundredths: too coarse for the
         # 10-40 ms solves of the small scenes); it includes /usr/bin/time's own start, ~1 ms.
         elapsed = time.perf_counter() - t0
