@@ -17,10 +17,9 @@ Exit codes: 0 written, 1 bad input, 2 matplotlib missing.
 
 import argparse
 import json
-import os
 import sys
 
-from plotutil import save_atomically  # noqa: E402  (scripts/plotutil.py)
+from plotutil import save_figure  # noqa: E402  (scripts/plotutil.py)
 
 
 def main():
@@ -70,14 +69,7 @@ def main():
     ax.set_title((args.title + ": " if args.title else "") + "minimum-energy paths (red star: verified saddle)",
                  fontsize=10)
     fig.tight_layout()
-    out = args.out or os.path.join(os.path.dirname(os.path.abspath(args.json)), "barriers.png")
-    try:
-        save_atomically(fig, out, dpi=120)
-    except OSError as e:
-        print(f"plot_barriers.py: cannot write {out}: {e}", file=sys.stderr)
-        return 1
-    print(f"wrote {out}")
-    return 0
+    return save_figure(fig, args.out, args.json, "barriers.png", "plot_barriers.py", dpi=120)
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ import math
 import os
 import sys
 
-from plotutil import save_atomically  # noqa: E402  (scripts/plotutil.py)
+from plotutil import save_figure  # noqa: E402  (scripts/plotutil.py)
 
 
 def number(s):
@@ -140,14 +140,7 @@ def main():
     ax.grid(True, which="major", linestyle=":", linewidth=0.6)
     ax.legend(loc="lower right")
     fig.tight_layout()
-    out = args.out or os.path.join(os.path.dirname(os.path.abspath(args.csv)), "convergence.png")
-    try:
-        save_atomically(fig, out, dpi=130)
-    except OSError as e:
-        print(f"plot_convergence: cannot write {out}: {e}", file=sys.stderr)
-        return 1
-    print(f"wrote {out}")
-    return 0
+    return save_figure(fig, args.out, args.csv, "convergence.png", "plot_convergence", dpi=130)
 
 
 if __name__ == "__main__":

@@ -22,10 +22,9 @@ Exit codes: 0 written, 1 bad input, 2 matplotlib missing.
 import argparse
 import json
 import math
-import os
 import sys
 
-from plotutil import save_atomically  # noqa: E402  (scripts/plotutil.py)
+from plotutil import save_figure  # noqa: E402  (scripts/plotutil.py)
 
 MARKER = {"separated": "o", "compliance": "s", "contact": "^"}
 LINE = {"local minimum": "-", "saddle": "--"}
@@ -109,14 +108,7 @@ def main():
     ax_u.set_title(title + "\nmarkers: o separated, s compliance, ^ contact; solid: minimum, dashed: saddle",
                    fontsize=9)
     fig.tight_layout()
-    out = args.out or os.path.join(os.path.dirname(os.path.abspath(args.json)), "minima.png")
-    try:
-        save_atomically(fig, out, dpi=120)
-    except OSError as e:
-        print(f"plot_minima.py: cannot write {out}: {e}", file=sys.stderr)
-        return 1
-    print(f"wrote {out}")
-    return 0
+    return save_figure(fig, args.out, args.json, "minima.png", "plot_minima.py", dpi=120)
 
 
 if __name__ == "__main__":

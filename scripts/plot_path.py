@@ -23,10 +23,9 @@ Exit codes: 0 written, 1 bad input, 2 matplotlib missing.
 import argparse
 import json
 import math
-import os
 import sys
 
-from plotutil import save_atomically  # noqa: E402  (scripts/plotutil.py)
+from plotutil import save_figure  # noqa: E402  (scripts/plotutil.py)
 
 
 def number(v):
@@ -114,14 +113,7 @@ def main():
     head += f"{n_jumps} jump(s)" + ("" if data.get("complete") else " — stopped early: " + data.get("failure", ""))
     fig.suptitle(head, fontsize=10)
     fig.tight_layout()
-    out = args.out or os.path.join(os.path.dirname(os.path.abspath(args.json)), "path.png")
-    try:
-        save_atomically(fig, out, dpi=120)
-    except OSError as e:
-        print(f"plot_path.py: cannot write {out}: {e}", file=sys.stderr)
-        return 1
-    print(f"wrote {out}")
-    return 0
+    return save_figure(fig, args.out, args.json, "path.png", "plot_path.py", dpi=120)
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@ import csv
 import glob
 import os
 import re
+import sys
 
 
 def save_atomically(fig, out, **kwargs):
@@ -20,6 +21,20 @@ def save_atomically(fig, out, **kwargs):
         if os.path.lexists(tmp):
             os.remove(tmp)
         raise
+
+
+def save_figure(fig, out, beside, name, program, **kwargs):
+    """The scripts' one ending: `fig` saved atomically to `out`, or to `name` in the folder of the
+    input file `beside` when no --out was given; "wrote OUT" on stdout. @return the exit code: 0,
+    or 1 with the reason on stderr when the file cannot be written."""
+    out = out or os.path.join(os.path.dirname(os.path.abspath(beside)), name)
+    try:
+        save_atomically(fig, out, **kwargs)
+    except OSError as e:
+        print(f"{program}: cannot write {out}: {e}", file=sys.stderr)
+        return 1
+    print(f"wrote {out}")
+    return 0
 
 
 def gamma3_csv_paths(dir_):
