@@ -399,8 +399,13 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(at_least(key("/solver/method_choice/condensed_below", "number", MC.condensed_below,
                            "Condensed whatever the full formulation costs where the condensed path's whole "
                            "work (factorization + dense Γ3 work) is at most this many flops: its exact "
-                           "solver answers to round-off at no real cost."),
+                           "solver answers to round-off at no real cost (unless full_cheaper_by says otherwise)."),
                        0));
+  t.push_back(at_least(key("/solver/method_choice/full_cheaper_by", "number", MC.full_cheaper_by,
+                           "Below condensed_below, full all the same where the full formulation's work is "
+                           "at least this many times less than the condensed path's (a long strip: the "
+                           "dense Γ3 work is then the whole cost)."),
+                       1));
   t.push_back(at_least(key("/solver/method_choice/small_fraction", "number", MC.small_fraction,
                            "Condensed at once where the dense Γ3 work is at most this fraction of the "
                            "condensation's factorization; above, the full formulation's factorization is "

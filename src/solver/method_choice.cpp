@@ -52,12 +52,6 @@ void decide(SceneNumbers n, const MethodChoiceOptions& o, const std::function<do
                "of the memory available (" + fmt(budget / 1e9, 3) + " GB)";
     return;
   }
-  if (condensed <= o.condensed_below) {
-    c.chosen = "condensed";
-    c.reason = "condensed work " + fmt(condensed, 3) + " flops (m = " + std::to_string(n.gamma3_unknowns) +
-               ") <= solver.method_choice.condensed_below: the exact solver's path, at no real cost";
-    return;
-  }
   if (dense <= o.small_fraction * n.factor_flops) {
     c.chosen = "condensed";
     c.reason = dw + " <= " + fmt(o.small_fraction, 3) + " x the factorization's " + fmt(n.factor_flops, 3) + " flops";
@@ -71,6 +65,12 @@ void decide(SceneNumbers n, const MethodChoiceOptions& o, const std::function<do
                          fmt(n.factor_flops, 3) + ", and the " + dw + ")";
   const std::string fw = "full work " + fmt(full, 3) + " flops (" + fmt(o.full_factorizations, 3) +
                          " factorizations of " + fmt(n.full_factor_flops, 3) + ")";
+  if (condensed <= o.condensed_below && condensed <= o.full_cheaper_by * full) {
+    c.chosen = "condensed";
+    c.reason = cw + " <= solver.method_choice.condensed_below, and the " + fw + " is not " +
+               fmt(o.full_cheaper_by, 3) + "x less: the exact solver's path, at no real cost";
+    return;
+  }
   c.chosen = condensed > full ? "full" : "condensed";
   c.reason = cw + (condensed > full ? " > " : " <= ") + fw;
 }

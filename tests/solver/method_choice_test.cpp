@@ -127,16 +127,25 @@ TEST(MethodChoice, TheCostModelDecides) {
   SolveOptions opt;
   int analyses = 0;
   const auto full = [&] { return ++analyses, 1e6; };
-  EXPECT_EQ(choose_method(n, opt, full).chosen, "condensed");  // 3e6 ≤ condensed_below: no comparison
-  EXPECT_EQ(analyses, 0);
+  EXPECT_EQ(choose_method(n, opt, full).chosen, "condensed");  // 3e6 ≤ condensed_below, and ≤ 100 · 1e7
+  EXPECT_EQ(analyses, 1);
   opt.method_choice.condensed_below = 0;
   EXPECT_EQ(choose_method(n, opt, full).chosen, "condensed");  // 2e6 + 1e6 ≤ 10 · 1e6
-  EXPECT_EQ(analyses, 1);
+  EXPECT_EQ(analyses, 2);
   opt.method_choice.full_factorizations = 2;
   EXPECT_EQ(choose_method(n, opt, full).chosen, "full");  // 3e6 > 2 · 1e6
+  // A long strip: below condensed_below, but the full path 150x cheaper (3e6 against 2 · 1e4).
+  opt.method_choice.condensed_below = 1e9;
+  const auto strip_full = [&] { return ++analyses, 1e4; };
+  const MethodChoice strip = choose_method(n, opt, strip_full);
+  EXPECT_EQ(strip.chosen, "full");
+  EXPECT_NE(strip.reason.find(" > full work"), std::string::npos) << strip.reason;
+  opt.method_choice.full_cheaper_by = 200;  // a laxer margin keeps the exact path
+  EXPECT_EQ(choose_method(n, opt, strip_full).chosen, "condensed");
+  EXPECT_EQ(analyses, 5);
   n.factor_flops = 2e7;  // dense work ≤ 0.1 × the factorization: condensed, no second analysis
   EXPECT_EQ(choose_method(n, opt, full).chosen, "condensed");
-  EXPECT_EQ(analyses, 2);
+  EXPECT_EQ(analyses, 5);
   n.memory_bytes = 1e6;  // 7 · 8 · 100² = 5.6e5 bytes > 0.5 · 1e6
   const MethodChoice c = choose_method(n, opt, full);
   EXPECT_EQ(c.chosen, "full");

@@ -141,6 +141,11 @@ struct MethodChoiceOptions {
   /// random study and the minima scenes (a 16 × 2 laminate: 6.6e4 flops) stay on the exact path;
   /// the fig2 strip 300 × 1 (2.9e9 flops) goes to the comparison.
   double condensed_below = 1e9;
+  /// ... unless the full path's work is this many times less than the condensed path's: there
+  /// "no real cost" no longer holds (fig2's strip 100 × 1, m = 402: condensed 1.1e8 flops, full
+  /// 2.4e5, 446x; the condensed path took 31 ms, full + ssn 12 ms), where the random study's
+  /// scenes and the minima scenes, whose Γ3 is a small part of the mesh, stay below it.
+  double full_cheaper_by = 100;
   /// solver.engine = auto (`hemicontact solve` only): the petsc engine in one process for a 3D
   /// mesh (a generated box, or a Gmsh file sized by its header) of at least this many unknowns (3
   /// per node), the cholmod engine below it.

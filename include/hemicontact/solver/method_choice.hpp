@@ -11,9 +11,10 @@
 ///              full_factorizations · fl_F, fl_F the flops of the factorization without the Γ3
 ///              block (a second symbolic analysis, same ordering rule, made only when needed).
 /// In order: the dense matrices do not fit in memory_fraction of the memory available → full;
-/// fl_C + dense_work · m³ ≤ condensed_below → condensed (small scenes keep the exact path);
 /// dense_work · m³ ≤ small_fraction · fl_C → condensed (the paper's 2D scenes: no second analysis);
-/// otherwise condensed iff fl_C + dense_work · m³ ≤ full_factorizations · fl_F. The analysis of the
+/// fl_C + dense_work · m³ ≤ condensed_below, and not above full_cheaper_by · full_factorizations ·
+/// fl_F → condensed (small scenes keep the exact path, but a long strip's dense work is its whole
+/// cost); otherwise condensed iff fl_C + dense_work · m³ ≤ full_factorizations · fl_F. The analysis of the
 /// condensation is its own, which the condensed path then factorizes without analysing again. The
 /// cores do not enter: the supernodal factorization and the dense Γ3 work are both BLAS-3 and
 /// scale alike.
