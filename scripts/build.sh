@@ -34,14 +34,8 @@ else
   cmake --build "$build" -j "$jobs"
 fi
 # `python3 -c "import hemicontact"`: a hemicontact.pth in the user's site-packages names
-# $build/python, the module this build made. A path file rather than a copy (cmake --install
-# --component python installs a copy, for packaging): no root needed, and a rebuild is what
-# python3 imports next, with no second copy to go stale. Only where the build made the module
-# (HEMICONTACT_WITH_PYTHON, pybind11 found) and Debian's python3 has a user site.
-if [[ -f "$build/python/hemicontact/__init__.py" ]] && site="$(/usr/bin/python3 -m site --user-site 2>/dev/null)" \
-   && [[ "$(/usr/bin/python3 -c 'import site; print(site.ENABLE_USER_SITE)')" == "True" ]]; then
-  module_dir="$(cd "$build/python" && pwd)"
-  mkdir -p "$site"
-  echo "$module_dir" >"$site/hemicontact.pth"
-  echo "build: python3 imports hemicontact from $module_dir ($site/hemicontact.pth)" >&2
+# $build/python (scripts/python-path-file.sh), where the build made the module
+# (HEMICONTACT_WITH_PYTHON, pybind11 found).
+if [[ -f "$build/python/hemicontact/__init__.py" ]]; then
+  bash "$(dirname "${BASH_SOURCE[0]}")/python-path-file.sh" "$(cd "$build/python" && pwd)"
 fi
