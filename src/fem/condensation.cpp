@@ -43,39 +43,51 @@ cholmod_sparse view_lower(const SpMat& A) {
   return s;
 }
 
-// Fill-reducing ordering of the leading n×n block of the symmetric matrix A (both triangles
-// stored, compressed) on its quotient graph: consecutive columns with the same pattern (the d
-// unknowns of one node) are one vertex. The ordering is the node graph's, expanded to the unknowns:
-// d times fewer vertices and d² times fewer edges to order, and no worse fill (the unknowns of a
-// node are indistinguishable to the elimination). Rows ≥ n are ignored, so the block is read in
-// place instead of copied (the model keeps one copy of K). Timings below.
-std::vector<int> node_graph_ordering(const SpMat& A, Index n, std::string& method, cholmod_common& c) {
+// The quotient graph of a symmetric matrix A (both triangles stored, compressed): consecutive
+// columns with the same pattern (the d unknowns of one node) are one vertex, a group. Ordering it
+// and expanding to the unknowns gives d times fewer vertices and d² times fewer edges to order,
+// and no worse fill (the unknowns of a node are indistinguishable to the elimination).
+struct NodeGraph {
+  std::vector<int> first;   // each group's first column (increasing)
+  std::vector<int> gp, gi;  // the groups' lower-triangular pattern, compressed by column
+  int ng = 0;               // groups
+  int ng_interior = 0;      // groups of the columns < nI (a group never straddles nI)
+};
+
+NodeGraph quotient_graph(const SpMat& A, Index nI) {
   const int* p = A.outerIndexPtr();
   const int* i = A.innerIndexPtr();
-  // Column j's rows inside the block: i[p[j] .. end(j)) (rows are sorted).
-  const auto block_end = [&](Index j) {
-    return static_cast<int>(std::lower_bound(i + p[j], i + p[j + 1], static_cast<int>(n)) - i);
-  };
-  std::vector<int> group(n), first;  // group of each column; first column of each group
-  int prev_begin = 0, prev_end = 0;
+  const Index n = A.cols();
+  NodeGraph G;
+  std::vector<int> group(n);
   for (Index j = 0; j < n; ++j) {
-    const int b = p[j], e = block_end(j);
-    const bool same = j > 0 && e - b == prev_end - prev_begin && std::equal(i + prev_begin, i + prev_end, i + b);
-    if (!same) first.push_back(static_cast<int>(j));
-    group[j] = static_cast<int>(first.size()) - 1;
-    prev_begin = b, prev_end = e;
+    const bool same = j > 0 && j != nI && p[j + 1] - p[j] == p[j] - p[j - 1] &&
+                      std::equal(i + p[j - 1], i + p[j], i + p[j]);
+    if (!same) G.first.push_back(static_cast<int>(j));
+    group[j] = static_cast<int>(G.first.size()) - 1;
+    if (j + 1 == nI) G.ng_interior = static_cast<int>(G.first.size());
   }
-  const Index ng = static_cast<Index>(first.size());
-  // The quotient graph's lower triangle (pattern only), column by column from each group's first column.
-  std::vector<int> gp(ng + 1, 0), gi;
-  gi.reserve(static_cast<size_t>(A.nonZeros() / std::max<Index>(1, n / std::max<Index>(1, ng))));
-  for (Index g = 0; g < ng; ++g) {
-    const int j = first[g];
+  G.ng = static_cast<int>(G.first.size());
+  G.gp.assign(G.ng + 1, 0);
+  G.gi.reserve(static_cast<size_t>(A.nonZeros() / std::max<Index>(1, n / std::max(1, G.ng))));
+  for (int g = 0; g < G.ng; ++g) {
     int last = -1;
-    for (int k = p[j], e = block_end(j); k < e; ++k) {
+    for (int k = p[G.first[g]]; k < p[G.first[g] + 1]; ++k) {
       const int h = group[i[k]];
-      if (h >= g && h != last) gi.push_back(h), last = h;  // rows sorted, so groups too
+      if (h >= g && h != last) G.gi.push_back(h), last = h;  // rows sorted, so groups too
     }
+    G.gp[g + 1] = static_cast<int>(G.gi.size());
+  }
+  return G;
+}
+
+// A pattern-only cholmod_sparse view of the graph's first @p ng groups (lower triangle); @p gp and
+// @p gi receive the leading block's arrays where ng < G.ng.
+cholmod_sparse leading_pattern(const NodeGraph& G, int ng, std::vector<int>& gp, std::vector<int>& gi) {
+  gp.assign(ng + 1, 0);
+  gi.clear();
+  for (int g = 0; g < ng; ++g) {
+    for (int k = G.gp[g]; k < G.gp[g + 1] && G.gi[k] < ng; ++k) gi.push_back(G.gi[k]);
     gp[g + 1] = static_cast<int>(gi.size());
   }
   cholmod_sparse Q{};
@@ -89,39 +101,59 @@ std::vector<int> node_graph_ordering(const SpMat& A, Index n, std::string& metho
   Q.dtype = CHOLMOD_DOUBLE;
   Q.sorted = 1;
   Q.packed = 1;
-  // AMD or nested dissection (CHOLMOD's NESDIS: METIS separators + constrained AMD) on the
-  // node graph, by measurement (fig2 scene 'right' mesh, 3D box scene; ordering + symbolic /
-  // numeric factorization / peak memory of the whole run):
-  //   2D n = 256  (66k nodes):  AMD 0.05 / 0.43 s;  NESDIS 0.24 / 0.39 s (dof graph: 0.29 / 0.37 s)
-  //   2D n = 1024 (1.05M nodes): AMD 1.6 / 15.6 s, 4.5 GB;  NESDIS 5.9 / 10.7 s, 4.0 GB
-  //   3D n = 24   (15k nodes):  AMD 0.06 / 2.16 s, 1.6 GB;  NESDIS (dof graph) 0.15 / 1.08 s, 0.65 GB
-  // so AMD for small 2D meshes, where its cheap analysis wins, NESDIS for 3D and large 2D meshes,
-  // where its smaller fill does. The unknowns per vertex (n/ng) tell 2D from 3D.
-  const bool three_d = static_cast<double>(n) / static_cast<double>(std::max<Index>(ng, 1)) > 2.5;
-  // Only the permutation is wanted, so the ordering routines are called directly: cholmod_analyze
-  // on Q would also compute Q's symbolic factorization, which is thrown away (a third of the
-  // ordering's cost).
-  if (method == "auto") method = three_d || ng > 200000 ? "nesdis" : "amd";
-  std::vector<int> P(ng);
+  return Q;
+}
+
+// The groups in elimination order. amd: CHOLMOD's constrained AMD (CAMD) on the whole graph with
+// the Γ3 groups constrained last, so that the interior's order counts the fill its elimination
+// makes in the Γ3 columns; AMD on the interior alone does not see them (a random 104 × 13 strip
+// with Γ3 along its bottom: 2.3e7 against 1.0e7 predicted flops, 172k against 120k nonzeros).
+// nesdis (METIS separators + CAMD) and metis order the interior's graph alone.
+std::vector<int> order_groups(const NodeGraph& G, const std::string& method, cholmod_common& c) {
+  std::vector<int> gp, gi;
+  const bool whole = method == "amd";
+  cholmod_sparse Q = leading_pattern(G, whole ? G.ng : G.ng_interior, gp, gi);
+  std::vector<int> P(Q.ncol);
   bool ok;
-  if (method == "nesdis") {
-    std::vector<int> cparent(ng), cmember(ng);
+  if (method == "amd") {
+    std::vector<int> member(G.ng, 0);
+    std::fill(member.begin() + G.ng_interior, member.end(), 1);
+    ok = cholmod_camd(&Q, nullptr, 0, member.data(), P.data(), &c) != 0;
+  } else if (method == "nesdis") {
+    std::vector<int> cparent(Q.ncol), cmember(Q.ncol);
     ok = cholmod_nested_dissection(&Q, nullptr, 0, P.data(), cparent.data(), cmember.data(), &c) >= 0;
   } else if (method == "metis") {
     ok = cholmod_metis(&Q, nullptr, 0, /*postorder=*/0, P.data(), &c) != 0;
-  } else if (method == "amd") {
-    ok = cholmod_amd(&Q, nullptr, 0, P.data(), &c) != 0;
   } else {
     throw Error("condensation: unknown ordering '" + method + "' (expected auto, amd, metis or nesdis)", EXIT_INPUT);
   }
-  check_condensation_status(c, "ordering", n);
+  check_condensation_status(c, "ordering", static_cast<Index>(G.first.size()));
   if (!ok) throw Error("condensation: CHOLMOD ordering failed", EXIT_INTERNAL);
+  return P;
+}
+
+// Fill-reducing order of the interior unknowns (the columns < nI of the symmetric A, both
+// triangles stored) on the node graph, the Γ3 unknowns (≥ nI) to follow. "auto", by measurement
+// (fig2 scene 'right' mesh, 3D box scene; ordering + symbolic / numeric factorization / peak
+// memory of the whole run):
+//   2D n = 256  (66k nodes):  AMD 0.05 / 0.43 s;  NESDIS 0.24 / 0.39 s (dof graph: 0.29 / 0.37 s)
+//   2D n = 1024 (1.05M nodes): AMD 1.6 / 15.6 s, 4.5 GB;  NESDIS 5.9 / 10.7 s, 4.0 GB
+//   3D n = 24   (15k nodes):  AMD 0.06 / 2.16 s, 1.6 GB;  NESDIS (dof graph) 0.15 / 1.08 s, 0.65 GB
+// so AMD for small 2D meshes, where its cheap analysis wins, NESDIS for 3D and large 2D meshes,
+// where its smaller fill does. The unknowns per vertex (n/ng) tell 2D from 3D. Only the
+// permutation is wanted, so the ordering routines are called directly: cholmod_analyze on the
+// graph would also compute its symbolic factorization, which is thrown away.
+std::vector<int> interior_ordering(const SpMat& A, Index nI, std::string& method, cholmod_common& c) {
+  const NodeGraph G = quotient_graph(A, nI);
+  const bool three_d = static_cast<double>(A.cols()) / std::max(G.ng, 1) > 2.5;
+  if (method == "auto") method = three_d || G.ng_interior > 200000 ? "nesdis" : "amd";
+  const std::vector<int> P = order_groups(G, method, c);
   std::vector<int> perm;
-  perm.reserve(n);
-  for (Index k = 0; k < ng; ++k) {
-    const int g = P[k];
-    const int end = g + 1 < ng ? first[g + 1] : static_cast<int>(n);
-    for (int j = first[g]; j < end; ++j) perm.push_back(j);
+  perm.reserve(nI);
+  for (const int g : P) {
+    if (g >= G.ng_interior) continue;  // a Γ3 group (CAMD puts them last)
+    const int end = g + 1 < G.ng ? G.first[g + 1] : static_cast<int>(A.cols());
+    for (int j = G.first[g]; j < end; ++j) perm.push_back(j);
   }
   return perm;
 }
@@ -179,7 +211,7 @@ Condensation::Condensation(const SpMat& K, Index m, const std::string& ordering)
   std::vector<int> perm(n);
   if (nI > 0) {
     m_ordering = ordering;
-    const std::vector<int> pI = node_graph_ordering(Kc, nI, m_ordering, c);
+    const std::vector<int> pI = interior_ordering(Kc, nI, m_ordering, c);
     std::copy(pI.begin(), pI.end(), perm.begin());
   }
   // 2. The condensed unknowns last, in their own order. CHOLMOD's etree postordering improves the

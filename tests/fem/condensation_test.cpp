@@ -78,6 +78,24 @@ TEST(Condensation, SchurComplementFromTrailingBlock) {
   EXPECT_NEAR(e_full, 0.5 * d.dot(cond.S() * d) + cond.constant(), 1e-10 * std::abs(e_full));
 }
 
+// The ordering changes the factor, never S or y: amd (constrained AMD on the whole graph, the
+// condensed unknowns last), metis and nesdis (on the interior's graph) agree to round-off, with a
+// boundary row condensed (a grid's last nx unknowns: Γ3 along one side, as on a strip).
+TEST(Condensation, EveryOrderingGivesTheSameSchurComplement) {
+  const int nx = 14;
+  const SpMat K = test_matrix(nx, 5);
+  const Vec f = Vec::LinSpaced(K.rows(), 2.0, -1.0);
+  const Condensation ref(K, f, nx, "amd");
+  EXPECT_EQ(ref.ordering(), "amd");
+  EXPECT_GT(ref.predicted_flops(), 0.0);
+  for (const char* ordering : {"metis", "nesdis", "auto"}) {
+    SCOPED_TRACE(ordering);
+    const Condensation other(K, f, nx, ordering);
+    EXPECT_LE((other.S() - ref.S()).cwiseAbs().maxCoeff(), 1e-10 * ref.S().cwiseAbs().maxCoeff());
+    EXPECT_LE((other.y() - ref.y()).cwiseAbs().maxCoeff(), 1e-10 * ref.y().cwiseAbs().maxCoeff());
+  }
+}
+
 TEST(Condensation, AllCondensedAndNotPositiveDefinite) {
   const SpMat K = test_matrix(4, 1);
   Condensation all(K, Vec::Ones(K.rows()), K.rows());

@@ -23,8 +23,9 @@ class Condensation {
  public:
   /// @param K SPD matrix (full symmetric storage) whose last @p m unknowns are condensed;
   /// @param f right-hand side;
-  /// @param ordering fill-reducing ordering of the interior, on its node graph: "amd", "metis",
-  /// "nesdis" or "auto" (amd for 2D up to 200 000 nodes, nesdis for 3D and larger 2D).
+  /// @param ordering fill-reducing ordering of the interior, on its node graph: "amd" (constrained
+  /// AMD on the whole graph, the condensed unknowns last), "metis", "nesdis" (on the interior's
+  /// graph) or "auto" (amd for 2D up to 200 000 nodes, nesdis for 3D and larger 2D).
   /// @throws Error if K is not positive definite.
   Condensation(const SpMat& K, const Vec& f, Index m, const std::string& ordering = "auto");
   /// The analysis alone (ordering + symbolic factorization, no numbers): predicted_flops() and
