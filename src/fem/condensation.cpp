@@ -52,6 +52,7 @@ struct NodeGraph {
   std::vector<int> gp, gi;  // the groups' lower-triangular pattern, compressed by column
   int ng = 0;               // groups
   int ng_interior = 0;      // groups of the columns < nI (a group never straddles nI)
+  Index unknowns = 0;       // A's columns
 };
 
 NodeGraph quotient_graph(const SpMat& A, Index nI) {
@@ -59,6 +60,7 @@ NodeGraph quotient_graph(const SpMat& A, Index nI) {
   const int* i = A.innerIndexPtr();
   const Index n = A.cols();
   NodeGraph G;
+  G.unknowns = n;
   std::vector<int> group(n);
   for (Index j = 0; j < n; ++j) {
     const bool same = j > 0 && j != nI && p[j + 1] - p[j] == p[j] - p[j - 1] &&
@@ -127,7 +129,7 @@ std::vector<int> order_groups(const NodeGraph& G, const std::string& method, cho
   } else {
     throw Error("condensation: unknown ordering '" + method + "' (expected auto, amd, metis or nesdis)", EXIT_INPUT);
   }
-  check_condensation_status(c, "ordering", static_cast<Index>(G.first.size()));
+  check_condensation_status(c, "ordering", G.unknowns);
   if (!ok) throw Error("condensation: CHOLMOD ordering failed", EXIT_INTERNAL);
   return P;
 }
@@ -152,7 +154,7 @@ std::vector<int> interior_ordering(const SpMat& A, Index nI, std::string& method
   perm.reserve(nI);
   for (const int g : P) {
     if (g >= G.ng_interior) continue;  // a Γ3 group (CAMD puts them last)
-    const int end = g + 1 < G.ng ? G.first[g + 1] : static_cast<int>(A.cols());
+    const int end = g + 1 < G.ng ? G.first[g + 1] : static_cast<int>(G.unknowns);
     for (int j = G.first[g]; j < end; ++j) perm.push_back(j);
   }
   return perm;
