@@ -95,7 +95,11 @@ constexpr double SHIFT_FIRST = 1e-10;  // δ of the first shifted factorization
 constexpr double SHIFT_LAST = 1e10;    // give up beyond this δ
 constexpr double EPS = std::numeric_limits<double>::epsilon();
 constexpr double F_NOISE = 64 * EPS;          // relative round-off of f(x) in the Armijo test
-constexpr double HZ_EPS = 1e-6;               // Hager-Zhang's ε of the approximate Armijo test
+// The approximate Armijo test's allowance ε_HZ|f| for f's own error: Hager and Zhang take 1e-6
+// for any f; here f is a sum of at most ~10⁶ cell and node terms, whose round-off is below
+// 10⁶ ε_mach ≈ 2e-10 relative, so 1e-10 covers it (the 3D Hencky stall: 2.3e-14) while a full
+// step that raises f by more, e.g. across a barrier of a nonconvex law, is still refused.
+constexpr double HZ_EPS = 1e-10;
 constexpr double COND_MAX = 1 / (100 * EPS);  // a step implying cond(H_FF) above this is noise
 
 enum class LinearSolver { AUTO, CHOLMOD, DENSE };
@@ -363,7 +367,7 @@ Index mark_binding(const Vec& x, const Vec& g, const Vec& lo, const Vec& up, dou
 /// φ'(0) < 0 is the Armijo test computed from gradients, which keep their accuracy where the
 /// difference of two values of f is round-off (a 3D Hencky body's f sums 10⁴ cell energies: its
 /// noise, ~1e-11|f|, hid a predicted decrease of 1e-16 and stalled Newton at r = 1e-8). As theirs,
-/// it also asks φ(1) <= φ(0) + ε_HZ|φ(0)|. Tried only where the exact test failed at α = 1;
+/// it also asks φ(1) <= φ(0) + ε_HZ|φ(0)| (ε_HZ above). Tried only where the exact test failed at α = 1;
 /// @p gt receives ∇f(x(1)).
 bool approximate_armijo(const NlpObjective& f, const Vec& x, const Vec& g, const Vec& xt, double fx, double ft,
                         Vec& gt) {
