@@ -406,6 +406,38 @@ LineSearch projected_line_search(const NlpObjective& f, const Vec& x, const Vec&
   return ls;
 }
 
+/// d_B = (the bound the gradient presses on) − x_B for the binding unknowns (see the top of the
+/// file); @return whether one of them is off its bound.
+bool snap_binding(const Vec& x, const Vec& g, const Vec& lo, const Vec& up, const std::vector<char>& binding, Vec& d) {
+  bool snap = false;
+  for (Index i = 0; i < x.size(); ++i)
+    if (binding[size_t(i)]) {
+      d[i] = (g[i] > 0 ? lo[i] : up[i]) - x[i];
+      snap |= d[i] != 0;
+    }
+  return snap;
+}
+
+std::string no_shift_helps() {
+  return "H_FF not positive definite even with a diagonal shift of " + std::to_string(SHIFT_LAST) + "·max|diag|";
+}
+
+std::string line_search_failure(int k, int halvings, double r) {
+  std::ostringstream why;
+  why << "line search failed at iteration " << k << ": no decrease along the projected Newton step after "
+      << halvings << " halvings (first-order residual " << r << ")";
+  return why.str();
+}
+
+/// Per-iteration progress: debug level, or info with solver.print_level > 0.
+void log_iteration(int print_level, int k, double fx, const LineSearch& ls, double r, Index nb, double dF_norm,
+                   const NewtonDirection& dir) {
+  LogStream(print_level > 0 ? LogLevel::INFO : LogLevel::DEBUG)
+      << "newton " << k << ": f " << fx << " -> " << ls.ft << ", r " << r << ", |B| " << nb << ", |d_F| " << dF_norm
+      << ", alpha " << ls.alpha << ", H " << (dir.exact ? "exact" : "clamped")
+      << (dir.delta > 0 ? ", shift " + std::to_string(dir.delta) : std::string());
+}
+
 /// See the top of this file for the method and the reasons behind each constant.
 class NewtonBackend final : public NlpBackend {
  public:
@@ -525,35 +557,18 @@ SolveResult NewtonBackend::do_minimize(const NlpProblem& problem, Vec& x, const 
 
     const Index nb = mark_binding(x, g, lo, up, eps_b, binding);
     const NewtonDirection dir = direction(f, x, g, binding, opt.exact_first, shift_last, k, d);
-    if (!dir.found)
-      return finish(result, stats, SolveStatus::FAILED,
-                    "H_FF not positive definite even with a diagonal shift of " + std::to_string(SHIFT_LAST) +
-                        "·max|diag|");
+    if (!dir.found) return finish(result, stats, SolveStatus::FAILED, no_shift_helps());
     shift_last = dir.delta;
     const double dF_norm = d.cwiseAbs().maxCoeff();  // d_B = 0 here
-    bool snap = false;                               // binding unknowns move onto their bound (see the top)
-    for (Index i = 0; i < n; ++i)
-      if (binding[size_t(i)]) {
-        d[i] = (g[i] > 0 ? lo[i] : up[i]) - x[i];
-        snap |= d[i] != 0;
-      }
+    const bool snap = snap_binding(x, g, lo, up, binding, d);
     if (!snap && dF_norm <= tol * std::max(1.0, x.cwiseAbs().maxCoeff()) && r <= 10 * tol)
       return finish(result, stats, SolveStatus::CONVERGED,
                     "converged: Newton step below tol and first-order residual <= 10·tol (round-off floor)");
 
     const LineSearch ls = projected_line_search(f, x, g, d, fx, lo, up, xt, gt, result.evaluations);
     stats.halvings += ls.halvings;
-    if (!ls.accepted) {
-      std::ostringstream why;
-      why << "line search failed at iteration " << k << ": no decrease along the projected Newton step "
-          << "after " << ls.halvings << " halvings (first-order residual " << r << ")";
-      return finish(result, stats, SolveStatus::FAILED, why.str());
-    }
-    // Per-iteration progress: debug level, or info with solver.print_level > 0.
-    LogStream(options.print_level > 0 ? LogLevel::INFO : LogLevel::DEBUG)
-        << "newton " << k << ": f " << fx << " -> " << ls.ft << ", r " << r << ", |B| " << nb << ", |d_F| " << dF_norm
-        << ", alpha " << ls.alpha << ", H " << (dir.exact ? "exact" : "clamped")
-        << (dir.delta > 0 ? ", shift " + std::to_string(dir.delta) : std::string());
+    if (!ls.accepted) return finish(result, stats, SolveStatus::FAILED, line_search_failure(k, ls.halvings, r));
+    log_iteration(options.print_level, k, fx, ls, r, nb, dF_norm, dir);
     x.swap(xt);
     fx = ls.ft;
     result.f = fx;
