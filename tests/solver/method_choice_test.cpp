@@ -2,6 +2,7 @@
 // and the checks above check.dense_max_unknowns take their eigenvalues from Lanczos on the solve's
 // own factor (solver/sparse_checks.hpp) instead of a dense Γ3 matrix.
 #include <hemicontact/check/smallness.hpp>
+#include <hemicontact/config.hpp>
 #include <hemicontact/fem/condensation.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
 #include <hemicontact/output/report.hpp>
@@ -83,9 +84,17 @@ TEST(MethodChoice, LongStripPicksFull) {
   EXPECT_GT(c.numbers.at("condensed_flops"), c.numbers.at("full_flops"));
   EXPECT_NE(c.reason.find(" > "), std::string::npos) << c.reason;
   EXPECT_TRUE(r.sol.ok()) << r.sol.message;
-  // (21) from the elastic factor the full formulation has anyway: no Gram factorization.
-  EXPECT_EQ(r.sol.smallness.method, "bound");
-  EXPECT_NE(r.sol.smallness.note.find("elastic factor"), std::string::npos) << r.sol.smallness.note;
+  // ssn factorizes only its own Newton matrices: no elastic factorization for the checks alone
+  // (nor a Gram matrix's), so (21) is not evaluated, and the report says why and how to ask.
+  EXPECT_FALSE(r.sol.smallness.computed);
+  EXPECT_NE(r.sol.smallness.note.find("no factor at hand"), std::string::npos) << r.sol.smallness.note;
+  EXPECT_NE(r.sol.smallness.note.find("check.smallness_method = exact"), std::string::npos) << r.sol.smallness.note;
+  EXPECT_EQ(r.sol.timings.count("linear_elastic_factor"), 0u);
+  // Asked for, (21) is evaluated exactly: one factorization of the Gram matrix.
+  const mct::Solved e = mct::run("sofonea2017-fig2", mct::strip({"check.smallness_method=exact"}));
+  EXPECT_EQ(e.sol.backend_use.requested, "auto");
+  EXPECT_TRUE(e.sol.smallness.computed) << e.sol.smallness.note;
+  EXPECT_EQ(e.sol.smallness.method, "exact");
 }
 
 // The paper's square: few Γ3 unknowns against a large interior, condensed as before.
@@ -316,15 +325,27 @@ TEST(SparseChecks, Large3DSmallnessNeedsNoFactorization) {
 }
 
 // A caller that asks for (21) after the solve (the adaptive loop's final mesh: check.smallness off
-// during the solve) gets it from the spectrum read at set-up, under an automatic full as well.
+// during the solve) under an automatic full gets it from the spectrum read at set-up where the
+// set-up had the elastic factor (a backend that needs its scales: here the engine's default,
+// kept because solver.options are passed to it), and the reason where ssn answers.
 TEST(SparseChecks, SmallnessAfterTheSolveUnderAnAutomaticFull) {
-  const json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json",
-                            mct::strip({"check.smallness=false"}));
-  const Model md = build_model(s, HEMICONTACT_SOURCE_DIR "/problems");
-  ContactSolver solver(md, solve_options_from_scene(s));
-  ASSERT_EQ(solver.formulation(), "full");
-  const SmallnessReport q = solver.smallness();
-  EXPECT_TRUE(q.computed) << q.note;
-  EXPECT_EQ(q.method, "bound");
-  EXPECT_NE(q.note.find("elastic factor"), std::string::npos) << q.note;
+  const auto smallness_after = [](const std::vector<std::string>& extra) {
+    std::vector<std::string> sets = mct::strip({"check.smallness=false"});
+    sets.insert(sets.end(), extra.begin(), extra.end());
+    const json s = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", sets);
+    const Model md = build_model(s, HEMICONTACT_SOURCE_DIR "/problems");
+    ContactSolver solver(md, solve_options_from_scene(s));
+    EXPECT_EQ(solver.formulation(), "full");
+    return solver.smallness();
+  };
+  const SmallnessReport ssn = smallness_after({});
+  EXPECT_FALSE(ssn.computed);
+  EXPECT_NE(ssn.note.find("no factor at hand"), std::string::npos) << ssn.note;
+  // An option of the engine's default backend (ipopt where built, else newton).
+  const std::string option = HEMICONTACT_HAS_IPOPT ? "solver.options.mu_strategy=\"adaptive\""
+                                                   : "solver.options.hessian=\"exact_first\"";
+  const SmallnessReport kept = smallness_after({option});
+  EXPECT_TRUE(kept.computed) << kept.note;
+  EXPECT_EQ(kept.method, "bound");
+  EXPECT_NE(kept.note.find("elastic factor"), std::string::npos) << kept.note;
 }
