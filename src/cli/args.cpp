@@ -26,9 +26,18 @@ std::string scene_options_help() {
          "  -h, --help         this help\n";
 }
 
+// The ranks' count an MPI launcher sets: Open MPI's mpirun OMPI_COMM_WORLD_SIZE; MPICH, Intel MPI
+// and Slurm's srun PMI_SIZE.
+constexpr const char* MPI_SIZE_VARIABLES[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"};
+
+bool started_by_mpi_launcher() {
+  for (const char* var : MPI_SIZE_VARIABLES)
+    if (std::getenv(var)) return true;
+  return std::getenv("PMIX_RANK") || std::getenv("PMI_RANK");  // PMIx and PMI launchers' ranks
+}
+
 void refuse_mpi_ranks(const std::string& command) {
-  // Open MPI's mpirun sets OMPI_COMM_WORLD_SIZE; MPICH, Intel MPI and Slurm's srun set PMI_SIZE.
-  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+  for (const char* var : MPI_SIZE_VARIABLES) {
     const char* v = std::getenv(var);
     if (v == nullptr) continue;
     char* end = nullptr;

@@ -45,6 +45,9 @@ std::string command_help(const std::string& command);
 /// engine as one of several MPI ranks (mpirun -np N: OMPI_COMM_WORLD_SIZE or PMI_SIZE > 1), with
 /// the hint to use solver.engine = petsc.
 void refuse_mpi_ranks(const std::string& command);
+/// @return true when an MPI launcher (mpirun, mpiexec, srun) started this process, false for a
+/// process started alone (an MPI singleton).
+bool started_by_mpi_launcher();
 /// @return true when @p args (a command's arguments) ask for its help (-h or --help anywhere).
 bool wants_help(const std::vector<std::string>& args);
 std::string version();

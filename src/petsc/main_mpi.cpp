@@ -294,15 +294,14 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   std::_Exit(code);  // MPI_Abort does not return; should it, this rank still ends with the code
 }
 
-// A process that no launcher started (mpirun and srun set one of these) is an MPI singleton, as
+// A process that no launcher started (cli::started_by_mpi_launcher) is an MPI singleton, as
 // `hemicontact solve` runs this engine in one process. Open MPI 4.1 then starts a helper daemon
 // (orted) and probes UCX's network devices, 0.3 s of a 0.38 s solve of 3D n = 4 on the 2-core
 // machine; one process needs neither: ess_singleton_isolated (no daemon: this program never
 // spawns processes) and the ob1 messaging layer, which has its "self" transport, cut it to
 // 0.07 s. The user's own settings win (setenv's overwrite = 0); other MPIs ignore the variables.
 void prefer_a_fast_singleton_start() {
-  for (const char* launched_by : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
-    if (std::getenv(launched_by)) return;
+  if (cli::started_by_mpi_launcher()) return;
   ::setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
   ::setenv("OMPI_MCA_pml", "ob1", 0);
 }
