@@ -54,42 +54,6 @@ double affine_square_integral(const Vecs& d, int n, const A& a, double meas) {
   return meas / (n * (n + 1)) * (diag + sum.dot(a * sum));
 }
 
-template <int D>
-ErrorEstimate zz(const Model& md, const Solution& sol) {
-  constexpr int NV = D + 1, NS = P1<D>::NVOIGT;
-  const Mesh& m = md.mesh;
-  RowMat eps;
-  Vec meas;
-  cell_strains<D>(md, sol.u, eps, meas);
-  // Measure-weighted nodal averages ε*(x_a) = Σ_{T∋a} |T| ε_T / Σ |T|.
-  RowMat rec = RowMat::Zero(m.num_nodes(), NS);
-  Vec wsum = Vec::Zero(m.num_nodes());
-  for (Index c = 0; c < m.num_cells(); ++c)
-    for (int a = 0; a < NV; ++a) {
-      rec.row(m.cells(c, a)) += meas[c] * eps.row(c);
-      wsum[m.cells(c, a)] += meas[c];
-    }
-  for (Index v = 0; v < m.num_nodes(); ++v)
-    if (wsum[v] > 0) rec.row(v) /= wsum[v];
-  ErrorEstimate e;
-  e.kind = EstimatorKind::ZZ;
-  e.eta.resize(m.num_cells());
-  // A linear law's tangent is the same in every cell: evaluated once, not per cell (a heap-allocated
-  // matrix per cell was a third of the estimator's time at 120k cells).
-  const bool linear = md.material->is_linear();
-  const Eigen::Matrix<double, NS, NS> C_linear =
-      linear ? Eigen::Matrix<double, NS, NS>(md.material->tangent(Vec::Zero(NS))) : Eigen::Matrix<double, NS, NS>::Zero();
-  std::array<Eigen::Matrix<double, NS, 1>, NV> d;
-  for (Index c = 0; c < m.num_cells(); ++c) {
-    const Eigen::Matrix<double, NS, NS> C =
-        linear ? C_linear : Eigen::Matrix<double, NS, NS>(md.material->tangent(eps.row(c).transpose()));
-    // δ = ε* − ε_h is affine on T: η_T² = ∫_T δᵀ C δ, exactly.
-    for (int a = 0; a < NV; ++a) d[static_cast<size_t>(a)] = (rec.row(m.cells(c, a)) - eps.row(c)).transpose();
-    e.eta[c] = std::sqrt(std::max(0.0, affine_square_integral(d, NV, C, meas[c])));
-  }
-  return e;
-}
-
 // The longest edge of a cell or a facet (h_T, h_F).
 double diameter(const Mesh& m, const Eigen::Ref<const Eigen::VectorXi>& v) {
   double h = 0;
@@ -142,12 +106,118 @@ std::map<std::vector<int>, Index> jump_residuals(const Mesh& m, const std::vecto
   return first;
 }
 
+// m_F, the strong-monotonicity constant (12)(b): a(e, e) ≥ m_F ‖ε(e)‖² turns squared
+// tractions (h_F ‖·‖²_F) into energy.
+double energy_scale(const Model& md, const char* estimator) {
+  const double mF = md.material->m_F();
+  if (!(mF > 0))
+    input_error(std::string("adapt.estimator: '") + estimator + "' needs a strongly monotone material (m_F > 0)");
+  return mF;
+}
+
+// Each Γ3 facet's cell: only cells with D vertices on Γ3 facets are looked at (the rest of the
+// mesh costs one pass over its cells).
+template <int D>
+std::vector<std::pair<Index, Index>> gamma3_facet_cells(const Mesh& m) {
+  std::map<std::vector<int>, Index> key_of;
+  std::vector<char> on(static_cast<size_t>(m.num_nodes()), 0);
+  for (Index f = 0; f < m.num_facets(); ++f) {
+    if (m.facet_part[static_cast<size_t>(f)] != Part::GAMMA3) continue;
+    std::vector<int> fv(m.facets.row(f).data(), m.facets.row(f).data() + D);
+    for (int v : fv) on[static_cast<size_t>(v)] = 1;
+    std::sort(fv.begin(), fv.end());
+    key_of.emplace(std::move(fv), f);
+  }
+  std::vector<std::pair<Index, Index>> out;  // (facet, cell)
+  for (Index c = 0; c < m.num_cells() && !key_of.empty(); ++c) {
+    int count = 0;
+    for (int a = 0; a <= D; ++a) count += on[static_cast<size_t>(m.cells(c, a))];
+    if (count < D) continue;
+    for (int k = 0; k <= D; ++k) {
+      std::vector<int> fv;
+      for (int j = 0; j <= D; ++j)
+        if (j != k) fv.push_back(m.cells(c, j));
+      std::sort(fv.begin(), fv.end());
+      if (const auto it = key_of.find(fv); it != key_of.end()) out.emplace_back(it->second, c);
+    }
+  }
+  return out;
+}
+
+// The Γ3 contact-traction mismatch Σ_{F⊂∂T∩Γ3} h_F ‖t_h − σ_h n‖²_F added to eta2[T] (not yet
+// divided by m_F): t_h the P1 interpolant of the nodal contact tractions t_i = σ_ν,i ν_i + σ_τ,i
+// (at a certified solution the layer's, the foundation's and friction's reactions, docs/model.md
+// §4; a Γ3 node that is clamped has none: σ_h n itself). The one Γ3 term of both estimators.
+template <int D>
+void gamma3_residuals(const Model& md, const Solution& sol, const RowMat& eps, Vec& eta2) {
+  using V = Eigen::Matrix<double, D, 1>;
+  const Mesh& m = md.mesh;
+  std::vector<Index> node_contact(static_cast<size_t>(m.num_nodes()), -1);
+  for (Index k = 0; k < md.contact.size(); ++k) node_contact[static_cast<size_t>(md.contact.node[k])] = k;
+  const auto nodal_traction = [&](int v, const V& fallback) -> V {
+    const Index k = node_contact[static_cast<size_t>(v)];
+    if (k < 0) return fallback;
+    return sol.state.sigma_nu[k] * md.contact.normal.row(k).transpose() + sol.state.sigma_tau_vec.row(k).transpose();
+  };
+  for (const auto& [f, c] : gamma3_facet_cells<D>(m)) {
+    const V s = traction<D>(md.material->stress(eps.row(c).transpose()), m.facet_normal(f));
+    // t_h − σ_h n is affine on F: exact integral of its square.
+    std::array<V, D> d;
+    for (int j = 0; j < D; ++j) d[static_cast<size_t>(j)] = nodal_traction(m.facets(f, j), s) - s;
+    eta2[c] += diameter(m, m.facets.row(f).transpose()) *
+               affine_square_integral(d, D, Eigen::Matrix<double, D, D>::Identity(), m.facet_measure(f));
+  }
+}
+
+template <int D>
+ErrorEstimate zz(const Model& md, const Solution& sol, bool contact_term) {
+  constexpr int NV = D + 1, NS = P1<D>::NVOIGT;
+  const Mesh& m = md.mesh;
+  RowMat eps;
+  Vec meas;
+  cell_strains<D>(md, sol.u, eps, meas);
+  // Measure-weighted nodal averages ε*(x_a) = Σ_{T∋a} |T| ε_T / Σ |T|.
+  RowMat rec = RowMat::Zero(m.num_nodes(), NS);
+  Vec wsum = Vec::Zero(m.num_nodes());
+  for (Index c = 0; c < m.num_cells(); ++c)
+    for (int a = 0; a < NV; ++a) {
+      rec.row(m.cells(c, a)) += meas[c] * eps.row(c);
+      wsum[m.cells(c, a)] += meas[c];
+    }
+  for (Index v = 0; v < m.num_nodes(); ++v)
+    if (wsum[v] > 0) rec.row(v) /= wsum[v];
+  ErrorEstimate e;
+  e.kind = contact_term ? EstimatorKind::ZZ_CONTACT : EstimatorKind::ZZ;
+  e.eta.resize(m.num_cells());
+  // A linear law's tangent is the same in every cell: evaluated once, not per cell (a heap-allocated
+  // matrix per cell was a third of the estimator's time at 120k cells).
+  const bool linear = md.material->is_linear();
+  const Eigen::Matrix<double, NS, NS> C_linear =
+      linear ? Eigen::Matrix<double, NS, NS>(md.material->tangent(Vec::Zero(NS))) : Eigen::Matrix<double, NS, NS>::Zero();
+  std::array<Eigen::Matrix<double, NS, 1>, NV> d;
+  for (Index c = 0; c < m.num_cells(); ++c) {
+    const Eigen::Matrix<double, NS, NS> C =
+        linear ? C_linear : Eigen::Matrix<double, NS, NS>(md.material->tangent(eps.row(c).transpose()));
+    // δ = ε* − ε_h is affine on T: η_T² = ∫_T δᵀ C δ, exactly.
+    for (int a = 0; a < NV; ++a) d[static_cast<size_t>(a)] = (rec.row(m.cells(c, a)) - eps.row(c)).transpose();
+    e.eta[c] = std::max(0.0, affine_square_integral(d, NV, C, meas[c]));
+  }
+  // The recovery sees σ_h only. zz_contact adds the contact conditions through the residual
+  // estimator's Γ3 term, the same function (docs/adaptivity.md §2).
+  if (contact_term) {
+    Vec g3 = Vec::Zero(m.num_cells());
+    gamma3_residuals<D>(md, sol, eps, g3);
+    if (g3.any()) e.eta += g3 / energy_scale(md, "zz_contact");
+  }
+  e.eta = e.eta.cwiseSqrt();
+  return e;
+}
+
 template <int D>
 ErrorEstimate residual(const Model& md, const Solution& sol) {
   using V = Eigen::Matrix<double, D, 1>;
   const Mesh& m = md.mesh;
-  const double mF = md.material->m_F();
-  if (!(mF > 0)) input_error("adapt.estimator: 'residual' needs a strongly monotone material (m_F > 0)");
+  const double mF = energy_scale(md, "residual");
   RowMat eps;
   Vec meas;
   cell_strains<D>(md, sol.u, eps, meas);
@@ -156,38 +226,22 @@ ErrorEstimate residual(const Model& md, const Solution& sol) {
   Vec eta2 = Vec::Zero(m.num_cells());
   element_residuals<D>(md, meas, eta2);
   const std::map<std::vector<int>, Index> boundary = jump_residuals<D>(m, sigma, eta2);
-  std::vector<Index> node_contact(static_cast<size_t>(m.num_nodes()), -1);
-  for (Index k = 0; k < md.contact.size(); ++k) node_contact[static_cast<size_t>(md.contact.node[k])] = k;
-  // On Γ3 the nodal contact traction t_i (a Γ3 node that is clamped has none: σn itself).
-  const auto nodal_traction = [&](int v, const V& fallback) -> V {
-    const Index k = node_contact[static_cast<size_t>(v)];
-    if (k < 0) return fallback;
-    return sol.state.sigma_nu[k] * md.contact.normal.row(k).transpose() + sol.state.sigma_tau_vec.row(k).transpose();
-  };
   for (Index f = 0; f < m.num_facets(); ++f) {
     const Part part = m.facet_part[static_cast<size_t>(f)];
-    if (part == Part::GAMMA1) continue;
+    if (part == Part::GAMMA1 || part == Part::GAMMA3) continue;  // Γ3: gamma3_residuals
     std::vector<int> fv(static_cast<size_t>(D));
     for (int j = 0; j < D; ++j) fv[static_cast<size_t>(j)] = m.facets(f, j);
     std::sort(fv.begin(), fv.end());
     const auto it = boundary.find(fv);
     if (it == boundary.end()) continue;
-    const Index c = it->second;
     const V n = m.facet_normal(f);
-    const double area = m.facet_measure(f), hF = diameter(m, m.facets.row(f).transpose());
-    const V s = traction<D>(sigma[static_cast<size_t>(c)], n);
-    if (part == Part::GAMMA3) {
-      // t_h − σn is affine on F: exact integral of its square.
-      std::array<V, D> d;
-      for (int j = 0; j < D; ++j) d[static_cast<size_t>(j)] = nodal_traction(m.facets(f, j), s) - s;
-      eta2[c] += hF * affine_square_integral(d, D, Eigen::Matrix<double, D, D>::Identity(), area);
-    } else {
-      const int load = m.facet_load[static_cast<size_t>(f)];
-      V g = V::Zero();
-      if (load >= 0) g = m.tractions[static_cast<size_t>(load)].head<D>();
-      eta2[c] += hF * area * (g - s).squaredNorm();
-    }
+    const V s = traction<D>(sigma[static_cast<size_t>(it->second)], n);
+    const int load = m.facet_load[static_cast<size_t>(f)];
+    V g = V::Zero();
+    if (load >= 0) g = m.tractions[static_cast<size_t>(load)].head<D>();
+    eta2[it->second] += diameter(m, m.facets.row(f).transpose()) * m.facet_measure(f) * (g - s).squaredNorm();
   }
+  gamma3_residuals<D>(md, sol, eps, eta2);
   ErrorEstimate e;
   e.kind = EstimatorKind::RESIDUAL;
   e.eta = (eta2 / mF).cwiseSqrt();
@@ -198,16 +252,20 @@ ErrorEstimate residual(const Model& md, const Solution& sol) {
 
 EstimatorKind parse_estimator(const std::string& name) {
   if (name == "zz") return EstimatorKind::ZZ;
+  if (name == "zz_contact") return EstimatorKind::ZZ_CONTACT;
   if (name == "residual") return EstimatorKind::RESIDUAL;
-  input_error("adapt.estimator: unknown estimator '" + name + "' (expected zz or residual)");
+  input_error("adapt.estimator: unknown estimator '" + name + "' (expected zz, zz_contact or residual)");
 }
 
-const char* to_string(EstimatorKind k) { return k == EstimatorKind::ZZ ? "zz" : "residual"; }
+const char* to_string(EstimatorKind k) {
+  return k == EstimatorKind::ZZ ? "zz" : k == EstimatorKind::ZZ_CONTACT ? "zz_contact" : "residual";
+}
 
 ErrorEstimate estimate_error(const Model& md, const Solution& sol, EstimatorKind kind) {
+  const bool contact = kind == EstimatorKind::ZZ_CONTACT;
   ErrorEstimate e;
-  if (md.dim() == 2) e = kind == EstimatorKind::ZZ ? zz<2>(md, sol) : residual<2>(md, sol);
-  else e = kind == EstimatorKind::ZZ ? zz<3>(md, sol) : residual<3>(md, sol);
+  if (md.dim() == 2) e = kind == EstimatorKind::RESIDUAL ? residual<2>(md, sol) : zz<2>(md, sol, contact);
+  else e = kind == EstimatorKind::RESIDUAL ? residual<3>(md, sol) : zz<3>(md, sol, contact);
   e.total = e.eta.norm();
   e.relative = sol.energy_norm > 0 ? e.total / sol.energy_norm : 0.0;
   return e;

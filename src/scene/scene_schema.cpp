@@ -632,9 +632,10 @@ std::vector<SchemaEntry> build_scene_schema() {
                                0),
                       32));
   t.push_back(key("/adapt/estimator", "string", to_string(A.estimator),
-                  "zz: Zienkiewicz–Zhu recovery of the strain; residual: element residuals, traction "
-                  "jumps, Γ2 traction and Γ3 contact-traction mismatch.",
-                  {"zz", "residual"}));
+                  "zz: Zienkiewicz–Zhu recovery of the strain; zz_contact: zz plus the Γ3 contact-traction "
+                  "mismatch on the Γ3 cells (refines along Γ3: docs/adaptivity.md); residual: element "
+                  "residuals, traction jumps, Γ2 traction and the same Γ3 contact-traction mismatch.",
+                  {"zz", "zz_contact", "residual"}));
   t.push_back(key("/adapt/bisection", "string", to_string(A.bisection),
                   "bisec3: every edge of a marked cell is bisected (2D: 4 children, 3D: 8); newest_vertex: only "
                   "its refinement edge (2 children). Both with the conforming closure.",

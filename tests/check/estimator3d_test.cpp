@@ -133,3 +133,40 @@ TEST(Estimator3d, ContactSceneHasGamma3Contributions) {
   const Vec without = estimate_error(md, free, EstimatorKind::RESIDUAL).eta;
   EXPECT_GT((with - without).cwiseAbs().maxCoeff(), 0);
 }
+
+// The Γ3 term of zz_contact and residual, Σ_{F⊂Γ3} h_F ‖t_h − σ_h n‖²_F / m_F, on the unit
+// square's and the unit cube's contact scenes at u = 0 (σ_h = 0) with a constant contact pressure
+// p on every Γ3 node (t_h = p ν): the bottom side in n segments of length 1/n gives
+// Σ h_F |F| = n/n² = 1/n; the bottom face in 2n² right triangles with legs 1/n gives
+// 2n² · (√2/n) · (1/(2n²)) = √2/n. The recovery term vanishes at u = 0, so η_zz = 0 and
+// η_zz_contact² is that sum alone; the residual's other terms do not depend on p, so
+// η_res²(p) − η_res²(0) is the same sum, cell by cell, on the Γ3 cells only.
+TEST(Estimator3d, ZzContactAndResidualCarryTheSameGamma3Term) {
+  const std::string dir = std::string(HEMICONTACT_SOURCE_DIR) + "/problems/";
+  const int n = 4;
+  const double p = -3.0;
+  for (const auto& [file, per_p2] : {std::pair{"sofonea2017-fig2.json", 1.0 / n}, std::pair{"sofonea2017-3d.json", std::sqrt(2.0) / n}}) {
+    SCOPED_TRACE(file);
+    const json scene = load_scene(dir + file, {"mesh.n=" + std::to_string(n)});
+    const Model md = build_model(scene, ".");
+    Solution sol;
+    sol.u = Vec::Zero(md.dim() * md.mesh.num_nodes());
+    sol.energy_norm = 1;
+    sol.state.sigma_nu = Vec::Constant(md.contact.size(), p);
+    sol.state.sigma_tau_vec = RowMat::Zero(md.contact.size(), md.dim());
+    const double expected = per_p2 * p * p / md.material->m_F();
+    const ErrorEstimate zz = estimate_error(md, sol, EstimatorKind::ZZ_CONTACT);
+    EXPECT_NEAR(zz.total * zz.total, expected, 1e-12 * expected);
+    EXPECT_EQ(estimate_error(md, sol, EstimatorKind::ZZ).total, 0.0);  // the recovery alone
+    Solution unloaded = sol;
+    unloaded.state.sigma_nu.setZero();
+    EXPECT_EQ(estimate_error(md, unloaded, EstimatorKind::ZZ_CONTACT).total, 0.0);
+    const Vec with = estimate_error(md, sol, EstimatorKind::RESIDUAL).eta.array().square();
+    const Vec without = estimate_error(md, unloaded, EstimatorKind::RESIDUAL).eta.array().square();
+    const Vec zz2 = zz.eta.array().square();
+    EXPECT_LE((with - without - zz2).cwiseAbs().maxCoeff(), 1e-10 * expected);
+    Index gamma3_cells = 0;
+    for (Index c = 0; c < zz2.size(); ++c) gamma3_cells += zz2[c] > 0;
+    EXPECT_EQ(gamma3_cells, md.dim() == 2 ? n : 2 * n * n);  // one cell per Γ3 facet on these meshes
+  }
+}

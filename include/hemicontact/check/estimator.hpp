@@ -10,6 +10,8 @@
 ///   (volume) weights, ε* is their P1 interpolant, and η_T² = ∫_T (ε* − ε_h) : C_T (ε* − ε_h) (C_T
 ///   the material's tangent at ε_h|_T; the constant C for linear elasticity). ε* − ε_h is affine on
 ///   T with vertex values δ_i, so η_T² = |T| / ((d+1)(d+2)) (Σ δ_iᵀCδ_i + (Σδ_i)ᵀC(Σδ_i)), exact.
+/// - ZZ_CONTACT: ZZ plus RESIDUAL's Γ3 term below, (1/m_F) Σ_{E⊂∂T∩Γ3} h_E ‖t_h − σ_h n‖²_E, on
+///   the cells on Γ3 (the same function): the recovery sees σ_h only, not the contact conditions.
 /// - RESIDUAL (Babuška–Miller / Verfürth, with Hild–Nicaise's contact term):
 ///     η_T² = (1/m_F) [ h_T² ‖f0 + div σ_h‖²_T + ½ Σ_{E⊂∂T interior} h_E ‖[σ_h n]‖²_E
 ///                       + Σ_{E⊂∂T∩(Γ2 ∪ free)} h_E ‖f2 − σ_h n‖²_E + Σ_{E⊂∂T∩Γ3} h_E ‖t_h − σ_h n‖²_E ]
@@ -31,11 +33,11 @@
 namespace hemicontact {
 
 /// Which indicator.
-enum class EstimatorKind { ZZ, RESIDUAL };
+enum class EstimatorKind { ZZ, ZZ_CONTACT, RESIDUAL };
 
-/// @return the EstimatorKind named "zz" or "residual". @throws Error (EXIT_INPUT, naming adapt.estimator) otherwise.
+/// @return the EstimatorKind named "zz", "zz_contact" or "residual". @throws Error (EXIT_INPUT, naming adapt.estimator) otherwise.
 EstimatorKind parse_estimator(const std::string& name);
-/// @return "zz" or "residual".
+/// @return "zz", "zz_contact" or "residual".
 const char* to_string(EstimatorKind k);
 
 /// The indicators of one solution.
