@@ -21,9 +21,8 @@ void require_3d(const Mesh& m, const char* what) {
 
 // Why a closure can fail: the labelling (label_tetrahedra) is compatible on Kuhn meshes only.
 const std::string NOT_KUHN =
-    ": the cells' labelling is not compatible. 3D refinement needs a mesh of Kuhn cubes whose cube "
-    "diagonals are the cells' longest edges (mesh.type = box without mesh.perturb, or an imported mesh "
-    "of that kind)";
+    ": the cells' labelling is not compatible. label_tetrahedra's is compatible on Kuhn meshes only "
+    "(cube diagonals as the cells' longest edges); label_for_bisection splits any other mesh 12-fold first";
 
 // A cell during refinement: Maubach order and tag, the coarse boundary facet each face lies in
 // (face[i] is the face opposite x[i]; −1 inside), and the coarse cell it descends from.

@@ -205,6 +205,23 @@ void final_smallness(const ContactSolver& solver, Solution& sol) {
                << ": uniqueness guaranteed: " << (q.holds ? "yes" : "no");
 }
 
+// A 3D mesh and its tagged tetrahedra: its own (Kuhn meshes), or the 12-split's, said in the log
+// and in the mesh's origin (the report's mesh line).
+Refinable start_tetrahedra(Mesh mesh) {
+  const Index cells = mesh.num_cells();
+  LabelledMesh lm = label_for_bisection(std::move(mesh));
+  if (lm.mesh.num_cells() != cells) {
+    log_info() << "adapt: the mesh's longest-edge labelling is not compatible (not a Kuhn mesh): split 12-fold "
+                  "(Stevenson 2008), "
+               << cells << " -> " << lm.mesh.num_cells() << " cells, so that bisection stays conforming";
+    lm.mesh.origin += ", split 12-fold for bisection";
+  }
+  Refinable r;
+  r.mesh = std::move(lm.mesh);
+  r.labels = std::move(lm.labels);
+  return r;
+}
+
 // The level's solve, from the previous level's u carried to this mesh when there is one.
 Solution solve_from(ContactSolver& solver, const Model& md, const Vec& u_start) {
   if (u_start.size() != md.mesh.num_nodes() * md.dim()) return solver.solve();
@@ -220,9 +237,12 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
   const auto t_start = clk::now();
   const int d = mesh.dim;
   Refinable cur;
-  if (d == 2) label_longest_edges(mesh);
-  else cur.labels = label_tetrahedra(mesh);
-  cur.mesh = std::move(mesh);
+  if (d == 2) {
+    label_longest_edges(mesh);
+    cur.mesh = std::move(mesh);
+  } else {
+    cur = start_tetrahedra(std::move(mesh));
+  }
   const ScopedBlasThreads blas_threads(aopt.blas_threads);
   SolveOptions level_opt = sopt;
   level_opt.smallness = false;  // evaluated once, on the final mesh (file comment)

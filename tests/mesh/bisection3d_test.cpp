@@ -22,10 +22,11 @@ using namespace hemicontact;
 
 namespace {
 
-Mesh unit_box(int n, BoxPattern pattern) {
+Mesh unit_box(int n, BoxPattern pattern, double perturb = 0) {
   BoxSpec s;
   s.nx = s.ny = s.nz = n;
   s.pattern = pattern;
+  s.perturb = perturb;
   Mesh m = make_box(s);
   BoundarySpec b;
   BoundarySelector top, left_hi, bottom;
@@ -265,4 +266,168 @@ TEST(Bisection3d, RejectsBadInput) {
   RectangleSpec s;
   const Mesh square = make_rectangle(s);
   EXPECT_THROW(label_tetrahedra(square), Error);
+}
+
+namespace {
+
+// The unit cube in n³ cubes of five tetrahedra each (a central one on four alternate corners and
+// four corner ones), the corners' parity alternating from cube to cube so that the face diagonals
+// match: conforming, and not a Kuhn mesh (no cube diagonal, no path labelling).
+Mesh five_tet_cubes(int n) {
+  Mesh m;
+  m.dim = 3;
+  const int q = n + 1;
+  m.points.resize(q * q * q, 3);
+  const auto id = [&](int i, int j, int k) { return i + q * (j + q * k); };
+  for (int k = 0; k < q; ++k)
+    for (int j = 0; j < q; ++j)
+      for (int i = 0; i < q; ++i) m.points.row(id(i, j, k)) << double(i) / n, double(j) / n, double(k) / n;
+  std::vector<std::array<int, 4>> cells;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const bool odd = (i + j + k) % 2 == 1;
+        const auto c = [&](int a, int b, int d) { return id(i + (odd ? 1 - a : a), j + b, k + d); };
+        cells.push_back({c(0, 0, 0), c(1, 1, 0), c(1, 0, 1), c(0, 1, 1)});
+        cells.push_back({c(1, 0, 0), c(0, 0, 0), c(1, 1, 0), c(1, 0, 1)});
+        cells.push_back({c(0, 1, 0), c(0, 0, 0), c(1, 1, 0), c(0, 1, 1)});
+        cells.push_back({c(0, 0, 1), c(0, 0, 0), c(1, 0, 1), c(0, 1, 1)});
+        cells.push_back({c(1, 1, 1), c(1, 1, 0), c(1, 0, 1), c(0, 1, 1)});
+      }
+  m.cells.resize(static_cast<Index>(cells.size()), 4);
+  for (size_t c = 0; c < cells.size(); ++c) {
+    auto x = cells[c];
+    const Eigen::Vector3d a = m.points.row(x[0]).transpose();
+    const double vol = (Eigen::Vector3d(m.points.row(x[1]).transpose()) - a)
+                           .cross(Eigen::Vector3d(m.points.row(x[2]).transpose()) - a)
+                           .dot(Eigen::Vector3d(m.points.row(x[3]).transpose()) - a);
+    if (vol < 0) std::swap(x[2], x[3]);
+    for (int v = 0; v < 4; ++v) m.cells(static_cast<Index>(c), v) = x[static_cast<size_t>(v)];
+  }
+  extract_boundary_facets(m);
+  BoundarySpec b;
+  BoundarySelector top, left_hi, bottom;
+  top.side = "top";
+  left_hi.side = "left";
+  left_hi.from = 0.5;
+  left_hi.traction = Vec::Constant(3, 3.0);
+  bottom.side = "bottom";
+  b.gamma1 = {top};
+  b.gamma2 = {left_hi};
+  b.gamma3 = {bottom};
+  assign_boundary(m, b);
+  for (Index f = 0; f < m.num_facets(); ++f)
+    if (m.facet_part[static_cast<size_t>(f)] == Part::GAMMA3) m.facet_groups["bottom"].push_back(f);
+  return m;
+}
+
+// Volume, part areas, the "bottom" group and the Γ2 force of a refined unit cube.
+void expect_unit_cube_parts(const Mesh& m, double force) {
+  const double tol = (static_cast<double>(m.num_cells()) + 10) * 2.2e-16;
+  EXPECT_NEAR(box_volume(m), 1.0, tol);
+  EXPECT_NEAR(box_part_area(m, Part::GAMMA3), 1.0, tol);
+  EXPECT_NEAR(box_part_area(m, Part::GAMMA1), 1.0, tol);
+  EXPECT_NEAR(box_part_area(m, Part::GAMMA2), 0.5, tol);
+  double group = 0;
+  for (Index f : m.facet_groups.at("bottom")) group += m.facet_measure(f);
+  EXPECT_NEAR(group, 1.0, tol);
+  EXPECT_NEAR(assemble_tractions(m).sum(), force, 1e-12);
+}
+
+}  // namespace
+
+// Meshes whose longest-edge labelling is not compatible — a perturbed box, and cubes of five
+// tetrahedra (not Kuhn at all) — are split 12-fold (split_for_bisection, Stevenson 2008 §4) and
+// then refine conformingly: uniform levels need no closure cells (exactly 2^k times the cells:
+// the matching condition), random marking with both rules stays conforming, and the volume, the
+// parts, the group and the Γ2 force are kept by the split and every refinement.
+TEST(Split12, AnyConformingMeshRefinesConformingly) {
+  for (const Mesh& coarse : {unit_box(4, BoxPattern::KUHN, 0.3), five_tet_cubes(2)}) {
+    SCOPED_TRACE(coarse.num_cells());
+    EXPECT_FALSE(refinement_edges_agree(coarse, label_tetrahedra(coarse)));
+    const double force = assemble_tractions(coarse).sum();
+    const LabelledMesh s = label_for_bisection(coarse);
+    EXPECT_EQ(s.mesh.num_cells(), 12 * coarse.num_cells());
+    EXPECT_EQ(s.mesh.num_facets(), 3 * coarse.num_facets());
+    expect_conforming_tets(s.mesh);
+    expect_unit_cube_parts(s.mesh, force);
+    Mesh m = s.mesh;
+    TetLabels labels = s.labels;
+    for (int level = 1; level <= 3; ++level) {  // three generations: every edge of every cell split
+      const Bisection b = bisect(m, labels, std::vector<char>(static_cast<size_t>(m.num_cells()), 1),
+                                 BisectionRule::NEWEST_VERTEX);
+      EXPECT_EQ(b.mesh.num_cells(), s.mesh.num_cells() << level);
+      m = b.mesh;
+      labels = b.labels;
+    }
+    expect_conforming_tets(m);
+    m = s.mesh;
+    labels = s.labels;
+    std::mt19937 rng(7);
+    for (BisectionRule rule : {BisectionRule::BISEC3, BisectionRule::NEWEST_VERTEX, BisectionRule::NEWEST_VERTEX}) {
+      std::vector<char> marked(static_cast<size_t>(m.num_cells()));
+      for (auto& f : marked) f = std::uniform_real_distribution<double>(0, 1)(rng) < 0.1;
+      const Bisection b = bisect(m, labels, marked, rule);
+      expect_conforming_tets(b.mesh);
+      expect_unit_cube_parts(b.mesh, force);
+      m = b.mesh;
+      labels = b.labels;
+    }
+  }
+}
+
+// Kuhn meshes keep their own labels (no split): their refinement edges agree.
+TEST(Split12, KuhnMeshesAreNotSplit) {
+  for (BoxPattern pattern : {BoxPattern::KUHN, BoxPattern::SYMMETRIC}) {
+    const Mesh m = unit_box(2, pattern);
+    EXPECT_TRUE(refinement_edges_agree(m, label_tetrahedra(m)));
+    EXPECT_EQ(label_for_bisection(m).mesh.num_cells(), m.num_cells());
+  }
+}
+
+// Shape regularity after the split, on one arbitrary tetrahedron: uniform levels produce finitely
+// many similarity classes (no new one after level 6), and 20 levels of local refinement towards a
+// vertex keep the smallest dihedral angle at ≥ 0.5x the split mesh's (the target's bound).
+TEST(Split12, ShapesStayRegular) {
+  Mesh coarse;
+  coarse.dim = 3;
+  coarse.points.resize(4, 3);
+  coarse.points << 0, 0, 0, 1, 0.1, 0, 0.3, 0.9, 0, 0.2, 0.3, 0.8;
+  coarse.cells.resize(1, 4);
+  coarse.cells << 0, 1, 2, 3;
+  extract_boundary_facets(coarse);
+  const LabelledMesh s = split_for_bisection(coarse);
+  const double angle0 = min_simplex_angle(s.mesh);
+  Mesh m = s.mesh;
+  TetLabels labels = s.labels;
+  std::set<std::array<long long, 6>> classes;
+  std::vector<size_t> seen;
+  for (int level = 0; level < 12; ++level) {
+    const Bisection b = bisect(m, labels, std::vector<char>(static_cast<size_t>(m.num_cells()), 1),
+                               BisectionRule::NEWEST_VERTEX);
+    m = b.mesh;
+    labels = b.labels;
+    for (Index c = 0; c < m.num_cells(); ++c) classes.insert(tet_shape(m, c));
+    seen.push_back(classes.size());
+    EXPECT_GE(min_simplex_angle(m), 0.5 * angle0) << "level " << level;
+  }
+  EXPECT_EQ(seen.back(), seen[5]) << "new shapes after level 6";
+  m = s.mesh;
+  labels = s.labels;
+  for (int level = 0; level < 20; ++level) {
+    std::vector<char> marked(static_cast<size_t>(m.num_cells()), 0);
+    for (Index c = 0; c < m.num_cells(); ++c)
+      for (int k = 0; k < 4; ++k)
+        if (m.cells(c, k) == 0) marked[static_cast<size_t>(c)] = 1;
+    const Bisection b = bisect(m, labels, marked, BisectionRule::NEWEST_VERTEX);
+    m = b.mesh;
+    labels = b.labels;
+  }
+  // bisect() checked each level conforming; 20 bisections at the vertex: 2^(−20/3) ≈ 1/100 of the size.
+  EXPECT_LT(m.min_edge_length(), 0.02 * s.mesh.max_edge_length());
+  EXPECT_GE(min_simplex_angle(m), 0.5 * angle0);
+  RecordProperty("similarity_classes", std::to_string(seen.back()));
+  RecordProperty("coarse_min_dihedral_deg", std::to_string(min_simplex_angle(coarse) * 180 / M_PI));
+  RecordProperty("split_min_dihedral_deg", std::to_string(angle0 * 180 / M_PI));
+  RecordProperty("local20_min_dihedral_deg", std::to_string(min_simplex_angle(m) * 180 / M_PI));
 }

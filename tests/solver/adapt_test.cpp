@@ -273,6 +273,32 @@ TEST(Adapt3d, TargetReachedEveryLevelCertified) {
   EXPECT_EQ(solve(r.model, solve_options_from_scene(scene)).method_choice.chosen, r.history.back().method);
 }
 
+// A mesh that is not a Kuhn mesh (the 3D scene's box perturbed by 0.3 h: its longest edges are no
+// longer the cube diagonals) is split 12-fold before the first level (split_for_bisection) and then
+// refined like a box: every level certified and conforming (bisect checks), Γ3's weights summing
+// to its area, the estimate decreasing to the target, and the split said in the mesh's origin.
+// Before the split this run ended with an input error at the first refinement.
+TEST(Adapt3d, AMeshThatIsNotKuhnIsSplitAndRefined) {
+  const json scene = load_scene(PROBLEMS + "/sofonea2017-3d.json",
+                                {"mesh.n=4", "mesh.perturb=0.3", "adapt.target_error=0.3", "check.smallness=false"});
+  const Mesh coarse = build_mesh(scene, PROBLEMS);
+  std::vector<double> weight_sums;
+  const AdaptResult r = run_adaptive(scene, coarse, adapt_options_from_scene(scene), solve_options_from_scene(scene),
+                                     [&](const AdaptLevel&, const Model& md, const Solution&, const ErrorEstimate&) {
+                                       weight_sums.push_back(md.contact.w.sum());
+                                     });
+  EXPECT_TRUE(r.reached) << r.stop_reason;
+  ASSERT_GE(r.history.size(), 2u);
+  EXPECT_EQ(r.history.front().cells, 12 * coarse.num_cells());
+  for (const AdaptLevel& L : r.history) {
+    EXPECT_TRUE(L.ok) << L.level;
+    EXPECT_LE(L.certificate, 1e-8) << L.level;
+  }
+  for (size_t k = 1; k < r.history.size(); ++k) EXPECT_LT(r.history[k].estimate, r.history[k - 1].estimate);
+  for (double w : weight_sums) EXPECT_NEAR(w, 1.0, 1e-12);
+  EXPECT_NE(r.model.mesh.origin.find("split 12-fold"), std::string::npos) << r.model.mesh.origin;
+}
+
 // The stored references (tests/data/<scene>-reference.json, bench/reference3d.py) belong to this
 // code and their scenes (the 3D scene, and its frictionless Signorini variant): the scene carries
 // the energy, the n = 8 level is reproduced to the certificate's accuracy (Π is stationary at the

@@ -100,6 +100,34 @@ TetLabels label_tetrahedra(const Mesh& mesh);
 Bisection bisect(const Mesh& coarse, const TetLabels& labels, const std::vector<char>& marked,
                  BisectionRule rule = BisectionRule::BISEC3);
 
+/// A 3D mesh with its tagged tetrahedra.
+struct LabelledMesh {
+  Mesh mesh;
+  TetLabels labels;
+};
+
+/// @brief Stevenson's 12-split (2008, §4) of any conforming tetrahedral mesh: every cell T is cut
+/// through its barycentre b_T and its faces' barycentres b_F into twelve cells (b_T, b_F and an
+/// edge of F), each labelled so that the refinement edge is that coarse edge. The labelling is
+/// compatible (the closure of bisect() is conforming and the shapes stay in finitely many
+/// similarity classes) whatever the coarse mesh, which label_tetrahedra's is on Kuhn meshes only.
+/// Boundary facets split in three through b_F and keep their part, traction and groups; a face
+/// node is held by the rollers its facet's three corners share.
+/// @throws Error if the mesh is not 3D.
+LabelledMesh split_for_bisection(const Mesh& coarse);
+
+/// @return whether every edge that is one cell's refinement edge is the refinement edge of every
+/// cell that contains it. label_tetrahedra's labelling of a Kuhn mesh has it (the cube diagonals,
+/// shared by the six cells of their cube); a longest-edge labelling of a perturbed or unstructured
+/// mesh in general has not, and its closure is then not conforming.
+bool refinement_edges_agree(const Mesh& mesh, const TetLabels& labels);
+
+/// @brief The labelled mesh 3D refinement starts from: @p mesh with label_tetrahedra's labels when
+/// refinement_edges_agree (Kuhn meshes: box meshes, imported meshes of Kuhn cubes), else
+/// split_for_bisection(mesh) (12 times the cells; any conforming mesh).
+/// @throws Error if the mesh is not 3D.
+LabelledMesh label_for_bisection(Mesh mesh);
+
 /// @return the cells' shape measure: the smallest dihedral angle (radians) over all cells of a 3D
 /// mesh, the smallest interior angle in 2D.
 double min_simplex_angle(const Mesh& mesh);
