@@ -26,6 +26,7 @@
 #include <hemicontact/studies/study_json.hpp>
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/engine_choice.hpp>
 #include <hemicontact/solver/adapt.hpp>
 #include <hemicontact/solver/solve.hpp>
 #include <hemicontact/studies/convergence.hpp>
@@ -255,11 +256,18 @@ struct Scene {
 
 std::string assignment(const std::string& key, py::handle value) { return key + "=" + py_json_dumps(value); }
 
-void refuse_petsc(const json& scene, const char* what) {
+// The engine a study of the module runs (solver/engine_choice.hpp): a given petsc is refused, an
+// automatic choice says where `hemicontact solve` would have taken the petsc engine.
+EngineChoice module_engine(const json& scene, const std::string& directory, const char* what, int reference = 0) {
   if (scene.at("solver").at("engine").get<std::string>() == "petsc")
     input_error(std::string(what) +
                 ": solver.engine = petsc runs as its own MPI program (hemicontact-mpi); the Python module "
                 "solves on the cholmod engine: run `hemicontact solve` for the petsc engine");
+  EngineChoice e = reference > 0
+                       ? convergence_engine(scene, directory, reference, HEMICONTACT_HAS_PETSC)
+                       : in_process_engine(scene, directory, HEMICONTACT_HAS_PETSC, std::string("the Python module's ") + what);
+  log_engine_choice(e);
+  return e;
 }
 
 // ------------------------------------------------------------------ results
@@ -295,13 +303,14 @@ py::array_t<std::int64_t> int_matrix(const IMat& m) {
 
 std::shared_ptr<Solved> py_solve(const Scene& s, const std::vector<std::string>& extra) {
   const json scene = s.with(extra);
-  refuse_petsc(scene, "solve");
+  const EngineChoice engine = module_engine(scene, s.directory, "solve");
   (void)solve_options_from_scene(scene);  // its input errors before the GIL is released
   return run_released([&] {
     auto out = std::make_shared<Solved>();
     // As `hemicontact solve` (studies/scene_solve.hpp); with adapt.target_error the final mesh's
     // model and solution, the loop's history in the report.
     static_cast<SceneSolve&>(*out) = solve_scene(scene, s.directory);
+    out->extra["engine_choice"] = engine_choice_json(engine);
     if (!out->missed.empty()) log_warn() << out->missed;
     return out;
   });
@@ -409,7 +418,7 @@ py::dict study_dict(json js, const Scene& s, const json& scene, const char* key,
 
 py::object minima_study(const Scene& s, const std::vector<std::string>& extra, MinimaOptions mo, bool barriers) {
   const json scene = s.with(extra);
-  refuse_petsc(scene, "minima");
+  const EngineChoice engine = module_engine(scene, s.directory, "minima");
   const SolveOptions opt = solve_options_from_scene(scene);
   auto [js, solved] = run_released([&] {
     auto md = std::make_shared<const Model>(build_model(scene, s.directory));
@@ -417,6 +426,7 @@ py::object minima_study(const Scene& s, const std::vector<std::string>& extra, M
     const MinimaReport r = find_minima(*md, opt, mo);
     json j = minima_json(*md, r);
     j["unseen"] = unseen_json(r.unseen, r.options);
+    j["engine_choice"] = engine_choice_json(engine);
     if (barriers) {
       j["barriers"] = json::array();
       for (const Barrier& b : find_barriers(*md, opt, r, BarrierOptions{})) j["barriers"].push_back(barrier_json(b));
@@ -430,12 +440,13 @@ py::object minima_study(const Scene& s, const std::vector<std::string>& extra, M
 // `hemicontact path` without its files: path.json's dict and each state's Result.
 py::object path_study(const Scene& s, const std::vector<std::string>& extra, const PathOptions& po) {
   const json scene = s.with(extra);
-  refuse_petsc(scene, "path");
+  const EngineChoice engine = module_engine(scene, s.directory, "path");
   const SolveOptions opt = solve_options_from_scene(scene);
   auto [js, states] = run_released([&] {
     auto md = std::make_shared<const Model>(build_model(scene, s.directory));
     const PathReport R = follow_load_path(*md, opt, po);
     json j = path_json(*md, R);
+    j["engine_choice"] = engine_choice_json(engine);
     auto sols = results_of(md, opt, scene, R.states, [](const PathState& st) { return st.solution; });
     return std::make_pair(std::move(j), std::move(sols));
   });
@@ -445,8 +456,9 @@ py::object path_study(const Scene& s, const std::vector<std::string>& extra, con
 py::object convergence_study(const Scene& s, const std::vector<std::string>& extra, const std::vector<int>& levels,
                              int reference) {
   const json scene = s.with(extra);
-  refuse_petsc(scene, "converge");
+  const EngineChoice engine = module_engine(scene, s.directory, "converge", reference);
   json js = run_released([&] { return convergence_json(run_convergence(scene, s.directory, levels, reference)); });
+  js["engine_choice"] = engine_choice_json(engine);
   js["name"] = s.path ? std::filesystem::path(*s.path).stem().string() : std::string("dict");
   js["scene_file"] = s.name();
   return to_py(js);

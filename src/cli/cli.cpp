@@ -199,7 +199,7 @@ int cmd_solve(const std::vector<std::string>& args) {
   // solver.engine = auto: the engine from the scene's numbers (solver/method_choice.hpp). The
   // petsc engine is its own program (before the output folder is locked: it locks it itself).
   const EngineChoice engine = choose_engine(scene, scene_directory(a.scene), HEMICONTACT_HAS_PETSC, adapt_requested(scene));
-  if (engine.automatic) log_info() << "engine " << engine.engine << " (auto): " << engine.reason;
+  log_engine_choice(engine);
   if (engine.engine == "petsc") {
     refuse_adaptive_outside_cholmod(scene);
     std::fflush(nullptr);

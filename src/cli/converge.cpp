@@ -18,7 +18,9 @@
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
+#include <hemicontact/config.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/engine_choice.hpp>
 #include <hemicontact/studies/adapt_study.hpp>
 #include <hemicontact/studies/convergence.hpp>
 
@@ -125,6 +127,9 @@ int cmd_converge(const std::vector<std::string>& all_args) {
 
   require_utf8_scene_name(a.scene, "convergence.json");
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
+  // The engine `solve` would take for the largest mesh, the reference's.
+  const EngineChoice engine = convergence_engine(scene, scene_directory(a.scene), reference[0], HEMICONTACT_HAS_PETSC);
+  log_engine_choice(engine);
   // level_<n>.vtu: one per solved level (the reference's too), checked with the fixed names.
   const OutputLock lock = prepare_output_dir(
       a.out, a.force, {"convergence.csv", "convergence.json", "convergence.png", "convergence.pvd"}, {{"level_", ".vtu"}});
@@ -155,6 +160,7 @@ int cmd_converge(const std::vector<std::string>& all_args) {
   nlohmann::json js = convergence_json(st);
   js["name"] = name;
   js["scene_file"] = a.scene;
+  js["engine_choice"] = engine_choice_json(engine);
   write_convergence_csv((out / "convergence.csv").string(), st);
   write_text_file((out / "convergence.json").string(), js.dump(2) + '\n');
   std::printf("%s: convergence against the reference n = %d\n", name.c_str(), reference[0]);

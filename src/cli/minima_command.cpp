@@ -27,7 +27,9 @@
 #include <hemicontact/output/study_writers.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/config.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/engine_choice.hpp>
 #include <hemicontact/studies/barriers.hpp>
 #include <hemicontact/studies/study_json.hpp>
 #include <hemicontact/studies/minima.hpp>
@@ -247,6 +249,8 @@ int cmd_minima(const std::vector<std::string>& all_args) {
 
   require_utf8_scene_name(a.scene, "minima.json");
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
+  const EngineChoice engine = in_process_engine(scene, scene_directory(a.scene), HEMICONTACT_HAS_PETSC, "minima");
+  log_engine_choice(engine);
   const Model md = build_model(scene, scene_directory(a.scene));
   read_start_files(start_files, md, mo);
   if (barriers) require_barrier_scene(md);  // before the search, not after it
@@ -274,6 +278,7 @@ int cmd_minima(const std::vector<std::string>& all_args) {
   js["name"] = name;
   js["scene_file"] = a.scene;
   js["scene"] = scene;
+  js["engine_choice"] = engine_choice_json(engine);
   write_minima_csv((out / "minima.csv").string(), r);
   write_minima_vtus(out, scene, md, r);
   // minima.json last of the set: it marks the search complete (and the picture is drawn from it).

@@ -22,7 +22,9 @@
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/output/vtk_writer.hpp>
 #include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/config.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/engine_choice.hpp>
 #include <hemicontact/studies/load_path.hpp>
 #include <hemicontact/studies/study_json.hpp>
 
@@ -177,6 +179,8 @@ int cmd_path(const std::vector<std::string>& args) {
   parse_path_options(a, po);
   require_utf8_scene_name(a.scene, "path.json");
   const json scene = load_scene(a.scene, a.overrides);
+  const EngineChoice engine = in_process_engine(scene, scene_directory(a.scene), HEMICONTACT_HAS_PETSC, "path");
+  log_engine_choice(engine);
   const Model md = build_model(scene, scene_directory(a.scene));
   const OutputLock lock =
       prepare_output_dir(a.out, a.force, {"path.csv", "path.json", "path.png", "path.pvd"}, {{"state_", ".vtu"}});
@@ -192,6 +196,7 @@ int cmd_path(const std::vector<std::string>& args) {
   js["name"] = name;
   js["scene_file"] = a.scene;
   js["scene"] = scene;
+  js["engine_choice"] = engine_choice_json(engine);
   write_path_csv((out / "path.csv").string(), R);
   write_path_vtus(out, scene, md, R);
   write_text_file((out / "path.json").string(), js.dump(2) + '\n');  // last: the set is complete

@@ -1,6 +1,7 @@
 #include <hemicontact/solver/engine_choice.hpp>
 
 #include <hemicontact/core/format.hpp>
+#include <hemicontact/core/log.hpp>
 #include <hemicontact/mesh/msh_peek.hpp>
 #include <hemicontact/scene/config.hpp>
 
@@ -64,6 +65,20 @@ EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene
   return {"petsc", true,
           desc + " >= solver.method_choice.petsc_above = " + fmt(above, 3) +
               ": the petsc engine in one process (ssn, CG + AMG: no factorization, no dense Gamma3 work)"};
+}
+
+EngineChoice in_process_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
+                               const std::string& command) {
+  const EngineChoice solve = choose_engine(scene, scene_dir, petsc_built, false);
+  if (solve.engine != "petsc" || !solve.automatic) return solve;  // a given petsc is refused by the solver
+  return {"cholmod", true,
+          command + " runs in this process (it needs every field here): the cholmod engine. `hemicontact solve` "
+                    "would take the petsc engine: " +
+              solve.reason};
+}
+
+void log_engine_choice(const EngineChoice& c) {
+  if (c.automatic) log_info() << "engine " << c.engine << " (auto): " << c.reason;
 }
 
 nlohmann::json engine_choice_json(const EngineChoice& c) {

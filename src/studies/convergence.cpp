@@ -41,6 +41,17 @@ nlohmann::json scene_at_level(const nlohmann::json& scene, int n) {
   return validate_scene(std::move(s));
 }
 
+}  // namespace
+
+EngineChoice convergence_engine(const nlohmann::json& scene, const std::string& scene_dir, int reference,
+                                bool petsc_built) {
+  const std::string type = scene.at("mesh").at("type").get<std::string>();
+  const bool generated = type == "rectangle" || type == "box";
+  return in_process_engine(generated ? scene_at_level(scene, reference) : scene, scene_dir, petsc_built, "converge");
+}
+
+namespace {
+
 // Does P embed the coarse P1 space into the fine one exactly (nested meshes)? Then every fine
 // cell lies inside one coarse cell, and a coarse P1 field is affine on it: its value at the
 // fine cell's centroid equals the mean of its prolongated vertex values. A random coarse field

@@ -146,6 +146,43 @@ TEST(PetscEngine, AutoChoosesTheEngineFromTheScenesSize) {
   fs::remove_all(dir);
 }
 
+// converge, minima and path run in the process (the cholmod engine: they need every field there).
+// Where `solve` would take the petsc engine automatically (a 3D box above petsc_above, lowered
+// here), their JSON's engine_choice and the log say so with solve's reason; below it they say
+// nothing of the kind. converge judges the reference mesh (n = 4: 375 unknowns), not the scene's.
+TEST(PetscEngine, InProcessCommandsSayWhereSolveWouldTakeThePetscEngine) {
+  const fs::path dir = scratch("engine-in-process");
+  const std::string scene = problem("sofonea2017-3d") + " --set output.vtu=false --set output.plot=false";
+  const auto study = [&](const std::string& command, const std::string& file, const std::string& name) {
+    const CliOutcome r = run_cli(dir, command + " --out " + (dir / name).string());
+    EXPECT_EQ(r.code, 0) << name << ": " << r.err;
+    return std::make_pair(json::parse(slurp(dir / name / file)).at("engine_choice"), r.err);
+  };
+  const std::string low = " --set solver.method_choice.petsc_above=50";
+  for (const auto& [command, file, unknowns] :
+       {std::tuple{"minima " + scene + " --set mesh.n=2 --starts 1", "minima.json", "81"},
+        std::tuple{"path " + scene + " --set mesh.n=2 --steps 2", "path.json", "81"},
+        std::tuple{"converge " + scene + " --levels 2 --reference 4", "convergence.json", "375"}}) {
+    SCOPED_TRACE(command);
+    const auto [above, log] = study(command + low, file, "above");
+    EXPECT_EQ(above.at("engine"), "cholmod");
+    EXPECT_EQ(above.at("automatic"), true);
+    const std::string reason = above.at("reason").get<std::string>();
+    EXPECT_NE(reason.find("runs in this process"), std::string::npos) << reason;
+    EXPECT_NE(reason.find(std::string("would take the petsc engine: 3D box of ") + unknowns +
+                          " unknowns >= solver.method_choice.petsc_above"),
+              std::string::npos)
+        << reason;
+    EXPECT_NE(log.find("engine cholmod (auto): "), std::string::npos) << log;
+    const auto [below, log_below] = study(command, file, "below");
+    EXPECT_EQ(below.at("engine"), "cholmod");
+    EXPECT_EQ(below.at("reason").get<std::string>().find("petsc engine"), std::string::npos) << below.dump();
+    fs::remove_all(dir / "above");
+    fs::remove_all(dir / "below");
+  }
+  fs::remove_all(dir);
+}
+
 // A 3D Gmsh mesh is sized by its file's header before anything is read (mesh/msh_peek.hpp): the
 // plate (243 nodes, 729 unknowns) goes to the petsc engine above petsc_above and stays in the
 // cholmod engine below it, each saying so with the count, and the answers agree.

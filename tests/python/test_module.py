@@ -192,6 +192,25 @@ def test_converge_matches_cli(tmp_path):
     assert got["ok"] == expected["ok"]
 
 
+def test_engine_choice_says_where_solve_would_take_petsc():
+    """The module runs the cholmod engine (every field in this process); its report's
+    engine_choice says so, and where `hemicontact solve` would take the petsc engine (a 3D box
+    above solver.method_choice.petsc_above, lowered here) it says that too, as the CLI's
+    in-process commands do. converge judges its reference mesh (n = 4: 375 unknowns)."""
+    scene = hc.Scene.load(SOURCE / "problems" / "sofonea2017-3d.json")
+    scene["mesh.n"] = 2
+    plain = hc.solve(scene).report["engine_choice"]
+    assert plain["engine"] == "cholmod" and "petsc engine" not in plain["reason"]
+    scene["solver.method_choice.petsc_above"] = 50
+    low = hc.solve(scene).report["engine_choice"]
+    if "this build has no petsc engine" in low["reason"]:
+        pytest.skip("built without the petsc engine")
+    assert low["engine"] == "cholmod" and low["automatic"]
+    assert "would take the petsc engine: 3D box of 81 unknowns" in low["reason"], low
+    conv = hc.converge(scene, levels=[2], reference=4)["engine_choice"]
+    assert "3D box of 375 unknowns" in conv["reason"], conv
+
+
 def test_minima_matches_cli(tmp_path):
     cli("minima", SOFTENING, "--starts", "2", "--load-path-steps", "2", "--out", tmp_path, "--quiet", check=False)
     expected = json.loads((tmp_path / "minima.json").read_text())

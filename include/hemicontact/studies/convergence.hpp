@@ -26,6 +26,7 @@
 #include <hemicontact/problem/convergence_study.hpp>
 #include <hemicontact/problem/model.hpp>
 #include <hemicontact/problem/solution.hpp>
+#include <hemicontact/solver/engine_choice.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -47,6 +48,11 @@ inline constexpr int MAX_LEVEL = 1 << 20;
 /// @throws Error (EXIT_USAGE) naming the bad entry: not a positive integer, or a "..." without two
 ///         increasing levels with an integer ratio before it and one level after it
 std::vector<int> parse_levels(const std::string& text);
+/// @return the engine a convergence study runs (solver/engine_choice.hpp, in_process_engine): the
+/// cholmod engine, with where `hemicontact solve` would take the petsc engine for the reference
+/// mesh n = @p reference (a generated mesh; any other is judged as given, and refused by the study).
+EngineChoice convergence_engine(const nlohmann::json& scene, const std::string& scene_dir, int reference,
+                                bool petsc_built);
 
 /// @brief Solve @p scene on the reference mesh n = @p reference, then on each level n = L, and
 /// measure the errors against the reference (file comment). A level equal to the reference
