@@ -139,8 +139,11 @@ bool refinement_edges_agree(const Mesh& m, const TetLabels& labels) {
   return true;
 }
 
-LabelledMesh label_for_bisection(Mesh mesh) {
-  TetLabels labels = label_tetrahedra(mesh);
+LabelledMesh label_for_bisection(Mesh mesh, const Mesh* lattice) {
+  // Compatibility is combinatorial: the same cells on other node positions label them as well.
+  const bool same_cells = lattice && lattice->cells.rows() == mesh.cells.rows() &&
+                          lattice->cells.cols() == mesh.cells.cols() && lattice->cells == mesh.cells;
+  TetLabels labels = label_tetrahedra(same_cells ? *lattice : mesh);
   if (refinement_edges_agree(mesh, labels)) return {std::move(mesh), std::move(labels)};
   return split_for_bisection(mesh);
 }

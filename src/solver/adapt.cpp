@@ -205,11 +205,19 @@ void final_smallness(const ContactSolver& solver, Solution& sol) {
                << ": uniqueness guaranteed: " << (q.holds ? "yes" : "no");
 }
 
-// A 3D mesh and its tagged tetrahedra: its own (Kuhn meshes), or the 12-split's, said in the log
-// and in the mesh's origin (the report's mesh line).
-Refinable start_tetrahedra(Mesh mesh) {
+// A 3D mesh and its tagged tetrahedra: its own (Kuhn meshes; a perturbed box labelled on its
+// unperturbed lattice, the same cells), or the 12-split's, said in the log and in the mesh's
+// origin (the report's mesh line).
+Refinable start_tetrahedra(const nlohmann::json& scene, Mesh mesh) {
   const Index cells = mesh.num_cells();
-  LabelledMesh lm = label_for_bisection(std::move(mesh));
+  std::optional<Mesh> lattice;
+  const nlohmann::json& m = scene.at("mesh");
+  if (m.at("type") == "box" && m.at("perturb").get<double>() > 0) {
+    nlohmann::json unperturbed = scene;
+    unperturbed["mesh"]["perturb"] = 0.0;
+    lattice = build_mesh(unperturbed, ".");
+  }
+  LabelledMesh lm = label_for_bisection(std::move(mesh), lattice ? &*lattice : nullptr);
   if (lm.mesh.num_cells() != cells) {
     log_info() << "adapt: the mesh's longest-edge labelling is not compatible (not a Kuhn mesh): split 12-fold "
                   "(Stevenson 2008), "
@@ -241,7 +249,7 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
     label_longest_edges(mesh);
     cur.mesh = std::move(mesh);
   } else {
-    cur = start_tetrahedra(std::move(mesh));
+    cur = start_tetrahedra(scene, std::move(mesh));
   }
   const ScopedBlasThreads blas_threads(aopt.blas_threads);
   SolveOptions level_opt = sopt;

@@ -376,12 +376,28 @@ TEST(Split12, AnyConformingMeshRefinesConformingly) {
   }
 }
 
-// Kuhn meshes keep their own labels (no split): their refinement edges agree.
+// Kuhn meshes keep their own labels (no split): their refinement edges agree. A perturbed box is
+// labelled on its unperturbed lattice (same cells): no split, and uniform levels need no closure.
 TEST(Split12, KuhnMeshesAreNotSplit) {
   for (BoxPattern pattern : {BoxPattern::KUHN, BoxPattern::SYMMETRIC}) {
     const Mesh m = unit_box(2, pattern);
     EXPECT_TRUE(refinement_edges_agree(m, label_tetrahedra(m)));
     EXPECT_EQ(label_for_bisection(m).mesh.num_cells(), m.num_cells());
+    const Mesh lattice = unit_box(4, pattern);
+    const LabelledMesh p = label_for_bisection(unit_box(4, pattern, 0.3), &lattice);
+    ASSERT_EQ(p.mesh.num_cells(), lattice.num_cells());
+    EXPECT_NE(p.mesh.points, lattice.points);
+    Mesh cur = p.mesh;
+    TetLabels labels = p.labels;
+    for (int level = 1; level <= 3; ++level) {
+      Bisection b = bisect(cur, labels, std::vector<char>(static_cast<size_t>(cur.num_cells()), 1),
+                           BisectionRule::NEWEST_VERTEX);
+      EXPECT_EQ(b.mesh.num_cells(), lattice.num_cells() << level);
+      cur = std::move(b.mesh);
+      labels = std::move(b.labels);
+    }
+    expect_conforming_tets(cur);
+    EXPECT_EQ(label_for_bisection(unit_box(4, pattern, 0.3), nullptr).mesh.num_cells(), 12 * lattice.num_cells());
   }
 }
 

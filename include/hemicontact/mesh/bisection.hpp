@@ -125,8 +125,11 @@ bool refinement_edges_agree(const Mesh& mesh, const TetLabels& labels);
 /// @brief The labelled mesh 3D refinement starts from: @p mesh with label_tetrahedra's labels when
 /// refinement_edges_agree (Kuhn meshes: box meshes, imported meshes of Kuhn cubes), else
 /// split_for_bisection(mesh) (12 times the cells; any conforming mesh).
+/// @param lattice optional: the same cells on other node positions (a generated box before
+/// mesh.perturb moved its nodes), labelled instead of @p mesh; ignored unless its cells are
+/// @p mesh's. Compatibility depends on the cells alone, so a perturbed Kuhn box needs no split.
 /// @throws Error if the mesh is not 3D.
-LabelledMesh label_for_bisection(Mesh mesh);
+LabelledMesh label_for_bisection(Mesh mesh, const Mesh* lattice = nullptr);
 
 /// @return the cells' shape measure: the smallest dihedral angle (radians) over all cells of a 3D
 /// mesh, the smallest interior angle in 2D.
