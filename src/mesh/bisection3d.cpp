@@ -33,17 +33,6 @@ struct Tet {
   int parent;
 };
 
-// One key per face (its three nodes, unordered).
-struct FaceKey {
-  std::array<int, 3> v;
-  bool operator<(const FaceKey& o) const { return v < o.v; }
-};
-FaceKey face_key(int a, int b, int c) {
-  FaceKey k{{a, b, c}};
-  std::sort(k.v.begin(), k.v.end());
-  return k;
-}
-
 // The working state of one bisect() call: cells, nodes and the midpoints by edge.
 struct Refinement {
   std::vector<Tet> cells;
@@ -119,7 +108,7 @@ std::array<Tet, 2> children(const Tet& t, int z) {
 
 // The labelled coarse cells with their boundary faces.
 void initial_cells(const Mesh& coarse, const TetLabels& labels, Refinement& R) {
-  std::map<FaceKey, int> facet_of;
+  std::map<std::array<int, 3>, int> facet_of;
   for (Index f = 0; f < coarse.num_facets(); ++f)
     facet_of.emplace(face_key(coarse.facets(f, 0), coarse.facets(f, 1), coarse.facets(f, 2)), static_cast<int>(f));
   R.cells.reserve(static_cast<size_t>(coarse.num_cells()));
@@ -248,7 +237,7 @@ void check_conforming(const Mesh& fine) {
   faces.reserve(static_cast<size_t>(4 * fine.num_cells()));
   for (Index c = 0; c < fine.num_cells(); ++c)
     for (int i = 0; i < 4; ++i)
-      faces.push_back(face_key(fine.cells(c, (i + 1) % 4), fine.cells(c, (i + 2) % 4), fine.cells(c, (i + 3) % 4)).v);
+      faces.push_back(face_key(fine.cells(c, (i + 1) % 4), fine.cells(c, (i + 2) % 4), fine.cells(c, (i + 3) % 4)));
   std::sort(faces.begin(), faces.end());
   Index boundary = 0;
   for (size_t k = 0; k < faces.size();) {

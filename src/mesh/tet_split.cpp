@@ -3,6 +3,7 @@
 #include <hemicontact/mesh/bisection.hpp>
 
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/mesh/edge_key.hpp>
 
 #include <Eigen/Dense>
 
@@ -14,12 +15,6 @@ namespace hemicontact {
 namespace {
 
 using Face = std::array<int, 3>;
-
-Face sorted_face(int a, int b, int c) {
-  Face f{a, b, c};
-  std::sort(f.begin(), f.end());
-  return f;
-}
 
 // The new nodes: one barycentre per cell (N + c) and one per face, boundary faces included
 // (N + M + k, in the order the faces are first met).
@@ -37,7 +32,7 @@ SplitNodes split_nodes(const Mesh& m) {
   for (int c = 0; c < M; ++c)
     for (int i = 0; i < 4; ++i) {
       const int a = m.cells(c, (i + 1) % 4), b = m.cells(c, (i + 2) % 4), d = m.cells(c, (i + 3) % 4);
-      const auto [it, fresh] = s.face_node.emplace(sorted_face(a, b, d), N + static_cast<int>(s.points.size()));
+      const auto [it, fresh] = s.face_node.emplace(face_key(a, b, d), N + static_cast<int>(s.points.size()));
       if (fresh) s.points.push_back((m.points.row(a) + m.points.row(b) + m.points.row(d)) / 3.0);
     }
   return s;
@@ -61,7 +56,7 @@ void split_boundary(const Mesh& coarse, const SplitNodes& s, Mesh& fine) {
     std::copy(coarse.node_fixed.begin(), coarse.node_fixed.end(), fine.node_fixed.begin());
   }
   for (Index f = 0; f < F; ++f) {
-    const int bF = s.face_node.at(sorted_face(coarse.facets(f, 0), coarse.facets(f, 1), coarse.facets(f, 2)));
+    const int bF = s.face_node.at(face_key(coarse.facets(f, 0), coarse.facets(f, 1), coarse.facets(f, 2)));
     unsigned char held = 0xff;
     for (int e = 0; e < 3; ++e) {
       const Index g = 3 * f + e;
@@ -108,7 +103,7 @@ LabelledMesh split_for_bisection(const Mesh& coarse) {
   for (int c = 0; c < M; ++c)
     for (int i = 0; i < 4; ++i) {
       const std::array<int, 3> f{coarse.cells(c, (i + 1) % 4), coarse.cells(c, (i + 2) % 4), coarse.cells(c, (i + 3) % 4)};
-      const int bF = s.face_node.at(sorted_face(f[0], f[1], f[2])), bT = N + c;
+      const int bF = s.face_node.at(face_key(f[0], f[1], f[2])), bT = N + c;
       for (int e = 0; e < 3; ++e) {
         const int v = f[static_cast<size_t>(e)], w = f[static_cast<size_t>((e + 1) % 3)];
         std::array<int, 4> x{v, w, bF, bT};

@@ -22,12 +22,9 @@ using namespace hemicontact;
 
 namespace {
 
-Mesh unit_box(int n, BoxPattern pattern, double perturb = 0) {
-  BoxSpec s;
-  s.nx = s.ny = s.nz = n;
-  s.pattern = pattern;
-  s.perturb = perturb;
-  Mesh m = make_box(s);
+// The unit cube's parts: clamped on top, a Γ2 traction on the upper half of the left side, Γ3 (and
+// the facet group "bottom") below.
+Mesh with_unit_cube_parts(Mesh m) {
   BoundarySpec b;
   BoundarySelector top, left_hi, bottom;
   top.side = "top";
@@ -42,6 +39,14 @@ Mesh unit_box(int n, BoxPattern pattern, double perturb = 0) {
   for (Index f = 0; f < m.num_facets(); ++f)
     if (m.facet_part[static_cast<size_t>(f)] == Part::GAMMA3) m.facet_groups["bottom"].push_back(f);
   return m;
+}
+
+Mesh unit_box(int n, BoxPattern pattern, double perturb = 0) {
+  BoxSpec s;
+  s.nx = s.ny = s.nz = n;
+  s.pattern = pattern;
+  s.perturb = perturb;
+  return with_unit_cube_parts(make_box(s));
 }
 
 std::array<int, 3> sorted_tet_face(const Mesh& m, Index c, int i) {
@@ -100,6 +105,23 @@ std::array<long long, 6> tet_shape(const Mesh& m, Index c) {
   std::array<long long, 6> key{};
   for (int k = 0; k < 6; ++k) key[static_cast<size_t>(k)] = std::llround(1e8 * len[static_cast<size_t>(k)] / len[5]);
   return key;
+}
+
+// @p levels uniform bisections of (m, labels), in place: the number of similarity classes met so
+// far after each, and every level's smallest dihedral angle at least 0.5 @p angle0.
+std::vector<size_t> refine_uniformly_counting_shapes(Mesh& m, TetLabels& labels, int levels, double angle0) {
+  std::set<std::array<long long, 6>> classes;
+  std::vector<size_t> seen;
+  for (int level = 0; level < levels; ++level) {
+    const Bisection b = bisect(m, labels, std::vector<char>(static_cast<size_t>(m.num_cells()), 1),
+                               BisectionRule::NEWEST_VERTEX);
+    m = b.mesh;
+    labels = b.labels;
+    for (Index c = 0; c < m.num_cells(); ++c) classes.insert(tet_shape(m, c));
+    seen.push_back(classes.size());
+    EXPECT_GE(min_simplex_angle(m), 0.5 * angle0) << "level " << level;
+  }
+  return seen;
 }
 
 }  // namespace
@@ -186,17 +208,7 @@ TEST(Bisection3d, UniformRefinementHasFinitelyManyShapes) {
   Mesh m = unit_box(1, BoxPattern::KUHN);
   TetLabels labels = label_tetrahedra(m);
   const double angle0 = min_simplex_angle(m);
-  std::set<std::array<long long, 6>> classes;
-  std::vector<size_t> seen;
-  for (int level = 0; level < 12; ++level) {
-    const Bisection b = bisect(m, labels, std::vector<char>(static_cast<size_t>(m.num_cells()), 1),
-                               BisectionRule::NEWEST_VERTEX);
-    m = b.mesh;
-    labels = b.labels;
-    for (Index c = 0; c < m.num_cells(); ++c) classes.insert(tet_shape(m, c));
-    seen.push_back(classes.size());
-    EXPECT_GE(min_simplex_angle(m), 0.5 * angle0) << "level " << level;
-  }
+  const std::vector<size_t> seen = refine_uniformly_counting_shapes(m, labels, 12, angle0);
   expect_conforming_tets(m);
   EXPECT_EQ(m.num_cells(), 6 << 12);
   EXPECT_NEAR(box_volume(m), 1.0, 1e-12);
@@ -305,20 +317,7 @@ Mesh five_tet_cubes(int n) {
     for (int v = 0; v < 4; ++v) m.cells(static_cast<Index>(c), v) = x[static_cast<size_t>(v)];
   }
   extract_boundary_facets(m);
-  BoundarySpec b;
-  BoundarySelector top, left_hi, bottom;
-  top.side = "top";
-  left_hi.side = "left";
-  left_hi.from = 0.5;
-  left_hi.traction = Vec::Constant(3, 3.0);
-  bottom.side = "bottom";
-  b.gamma1 = {top};
-  b.gamma2 = {left_hi};
-  b.gamma3 = {bottom};
-  assign_boundary(m, b);
-  for (Index f = 0; f < m.num_facets(); ++f)
-    if (m.facet_part[static_cast<size_t>(f)] == Part::GAMMA3) m.facet_groups["bottom"].push_back(f);
-  return m;
+  return with_unit_cube_parts(std::move(m));
 }
 
 // Volume, part areas, the "bottom" group and the Γ2 force of a refined unit cube.
@@ -416,17 +415,7 @@ TEST(Split12, ShapesStayRegular) {
   const double angle0 = min_simplex_angle(s.mesh);
   Mesh m = s.mesh;
   TetLabels labels = s.labels;
-  std::set<std::array<long long, 6>> classes;
-  std::vector<size_t> seen;
-  for (int level = 0; level < 12; ++level) {
-    const Bisection b = bisect(m, labels, std::vector<char>(static_cast<size_t>(m.num_cells()), 1),
-                               BisectionRule::NEWEST_VERTEX);
-    m = b.mesh;
-    labels = b.labels;
-    for (Index c = 0; c < m.num_cells(); ++c) classes.insert(tet_shape(m, c));
-    seen.push_back(classes.size());
-    EXPECT_GE(min_simplex_angle(m), 0.5 * angle0) << "level " << level;
-  }
+  const std::vector<size_t> seen = refine_uniformly_counting_shapes(m, labels, 12, angle0);
   EXPECT_EQ(seen.back(), seen[5]) << "new shapes after level 6";
   m = s.mesh;
   labels = s.labels;

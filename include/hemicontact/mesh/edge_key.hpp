@@ -1,7 +1,9 @@
 #pragma once
 /// @file edge_key.hpp  One 64-bit key per undirected edge (a, b), and a flat hash map from such keys
-/// to ints: the bisections' edge numbers and midpoints.
+/// to ints: the bisections' edge numbers and midpoints; one key per triangular face.
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <utility>
@@ -13,6 +15,13 @@ namespace hemicontact {
 inline std::uint64_t edge_key(int a, int b) {
   if (a > b) std::swap(a, b);
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+/// @return the same key for every order of a face's three nodes (them, sorted).
+inline std::array<int, 3> face_key(int a, int b, int c) {
+  std::array<int, 3> k{a, b, c};
+  std::sort(k.begin(), k.end());
+  return k;
 }
 
 /// Open addressing with linear probing over a power-of-two table kept at most half full, keys mixed
