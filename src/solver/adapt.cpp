@@ -205,10 +205,14 @@ void final_smallness(const ContactSolver& solver, Solution& sol) {
                << ": uniqueness guaranteed: " << (q.holds ? "yes" : "no");
 }
 
-// A 3D mesh and its tagged tetrahedra: its own (Kuhn meshes; a perturbed box labelled on its
-// unperturbed lattice, the same cells), or the 12-split's, said in the log and in the mesh's
-// origin (the report's mesh line).
-Refinable start_tetrahedra(const nlohmann::json& scene, Mesh mesh) {
+// The scene's mesh labelled for bisection. 2D: longest edges. 3D: its tagged tetrahedra, its own
+// (Kuhn meshes; a perturbed box labelled on its unperturbed lattice, the same cells) or the
+// 12-split's, said in the log and in the mesh's origin (the report's mesh line).
+Refinable start_refinable(const nlohmann::json& scene, Mesh mesh) {
+  if (mesh.dim == 2) {
+    label_longest_edges(mesh);
+    return {std::move(mesh), {}};
+  }
   const Index cells = mesh.num_cells();
   std::optional<Mesh> lattice;
   const nlohmann::json& m = scene.at("mesh");
@@ -224,10 +228,7 @@ Refinable start_tetrahedra(const nlohmann::json& scene, Mesh mesh) {
                << cells << " -> " << lm.mesh.num_cells() << " cells, so that bisection stays conforming";
     lm.mesh.origin += ", split 12-fold for bisection";
   }
-  Refinable r;
-  r.mesh = std::move(lm.mesh);
-  r.labels = std::move(lm.labels);
-  return r;
+  return {std::move(lm.mesh), std::move(lm.labels)};
 }
 
 // The level's solve, from the previous level's u carried to this mesh when there is one.
@@ -243,14 +244,7 @@ Solution solve_from(ContactSolver& solver, const Model& md, const Vec& u_start) 
 AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOptions& aopt, const SolveOptions& sopt,
                          const AdaptLevelSolved& on_level) {
   const auto t_start = clk::now();
-  const int d = mesh.dim;
-  Refinable cur;
-  if (d == 2) {
-    label_longest_edges(mesh);
-    cur.mesh = std::move(mesh);
-  } else {
-    cur = start_tetrahedra(scene, std::move(mesh));
-  }
+  Refinable cur = start_refinable(scene, std::move(mesh));
   const ScopedBlasThreads blas_threads(aopt.blas_threads);
   SolveOptions level_opt = sopt;
   level_opt.smallness = false;  // evaluated once, on the final mesh (file comment)

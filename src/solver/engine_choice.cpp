@@ -4,6 +4,7 @@
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/mesh/msh_peek.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/adapt.hpp>
 
 
 namespace hemicontact {
@@ -69,7 +70,8 @@ EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene
 
 EngineChoice in_process_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
                                const std::string& command) {
-  const EngineChoice solve = choose_engine(scene, scene_dir, petsc_built, false);
+  // As `solve` would decide for the same scene, its adaptive refinement included.
+  const EngineChoice solve = choose_engine(scene, scene_dir, petsc_built, adapt_requested(scene));
   if (solve.engine != "petsc" || !solve.automatic) return solve;  // a given petsc is refused by the solver
   return {"cholmod", true,
           command + " runs in this process (it needs every field here): the cholmod engine. `hemicontact solve` "

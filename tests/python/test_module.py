@@ -209,6 +209,11 @@ def test_engine_choice_says_where_solve_would_take_petsc():
     assert "would take the petsc engine: 3D box of 81 unknowns" in low["reason"], low
     conv = hc.converge(scene, levels=[2], reference=4)["engine_choice"]
     assert "3D box of 375 unknowns" in conv["reason"], conv
+    # With adaptive refinement `solve` stays on the cholmod engine too, and says that instead.
+    scene["adapt.target_error"] = 0.6
+    adaptive = hc.solve(scene).report["engine_choice"]
+    assert "adaptive refinement runs in the cholmod engine" in adaptive["reason"], adaptive
+    assert "petsc engine" not in adaptive["reason"], adaptive
 
 
 def test_minima_matches_cli(tmp_path):
