@@ -7,7 +7,7 @@
 
 #include <Eigen/Dense>
 
-#include <algorithm>
+#include <cstdint>
 #include <map>
 #include <set>
 
@@ -36,11 +36,6 @@ SplitNodes split_nodes(const Mesh& m) {
       if (fresh) s.points.push_back((m.points.row(a) + m.points.row(b) + m.points.row(d)) / 3.0);
     }
   return s;
-}
-
-double orientation(const Mesh& m, const std::array<int, 4>& x) {
-  const auto p = [&](int k) -> Eigen::Vector3d { return m.points.row(x[static_cast<size_t>(k)]).transpose(); };
-  return (p(1) - p(0)).cross(p(2) - p(0)).dot(p(3) - p(0));
 }
 
 // Each boundary facet (a, b, c) becomes (b_F, a, b), (b_F, b, c), (b_F, c, a): the same
@@ -106,10 +101,9 @@ LabelledMesh split_for_bisection(const Mesh& coarse) {
       const int bF = s.face_node.at(face_key(f[0], f[1], f[2])), bT = N + c;
       for (int e = 0; e < 3; ++e) {
         const int v = f[static_cast<size_t>(e)], w = f[static_cast<size_t>((e + 1) % 3)];
-        std::array<int, 4> x{v, w, bF, bT};
-        out.labels.order.push_back(x);
-        if (orientation(fine, x) < 0) std::swap(x[2], x[3]);
-        for (int k = 0; k < 4; ++k) fine.cells(row, k) = x[static_cast<size_t>(k)];
+        out.labels.order.push_back({v, w, bF, bT});
+        fine.cells.row(row) << v, w, bF, bT;
+        if (fine.cell_measure(row) < 0) fine.cells.row(row) << v, w, bT, bF;  // positively oriented
         ++row;
       }
     }
@@ -118,17 +112,16 @@ LabelledMesh split_for_bisection(const Mesh& coarse) {
 }
 
 bool refinement_edges_agree(const Mesh& m, const TetLabels& labels) {
-  const auto edge = [](int a, int b) { return std::pair{std::min(a, b), std::max(a, b)}; };
   const auto ref_edge = [&](size_t c) {
     const auto& x = labels.order[c];
-    return edge(x[0], x[static_cast<size_t>(labels.tag[c])]);
+    return edge_key(x[0], x[static_cast<size_t>(labels.tag[c])]);
   };
-  std::set<std::pair<int, int>> refinement;
+  std::set<std::uint64_t> refinement;
   for (size_t c = 0; c < labels.order.size(); ++c) refinement.insert(ref_edge(c));
   for (size_t c = 0; c < labels.order.size(); ++c)
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) {
-        const auto e = edge(m.cells(static_cast<Index>(c), i), m.cells(static_cast<Index>(c), j));
+        const std::uint64_t e = edge_key(m.cells(static_cast<Index>(c), i), m.cells(static_cast<Index>(c), j));
         if (e != ref_edge(c) && refinement.count(e)) return false;
       }
   return true;
