@@ -1,4 +1,5 @@
-// Maubach bisection of tagged tetrahedra with the conforming closure (mesh/bisection.hpp).
+// Maubach bisection of tagged tetrahedra, and AMP's of marked tetrahedra, with the conforming
+// closure (mesh/bisection.hpp).
 #include <hemicontact/mesh/bisection.hpp>
 
 #include <hemicontact/core/error.hpp>
@@ -22,16 +23,19 @@ void require_3d(const Mesh& m, const char* what) {
 // Why a closure can fail: the labelling (label_tetrahedra) is compatible on Kuhn meshes only.
 const std::string NOT_KUHN =
     ": the cells' labelling is not compatible. label_tetrahedra's is compatible on Kuhn meshes only "
-    "(cube diagonals as the cells' longest edges); label_for_bisection splits any other mesh 12-fold first";
+    "(cube diagonals as the cells' longest edges); label_for_bisection marks any other mesh (mark_tetrahedra)";
 
-// A cell during refinement: Maubach order and tag, the coarse boundary facet each face lies in
-// (face[i] is the face opposite x[i]; −1 inside), and the coarse cell it descends from.
+// A cell during refinement: Maubach order and tag (0: AMP's marks m), the coarse boundary facet
+// each face lies in (face[i] is the face opposite x[i]; −1 inside), and the coarse cell it descends from.
 struct Tet {
   std::array<int, 4> x;
   int tag;
   std::array<int, 4> face;
   int parent;
+  AmpMarks m;
 };
+
+std::array<int, 2> refinement_edge(const Tet& t) { return refinement_edge(t.x, t.tag, t.m); }
 
 // The working state of one bisect() call: cells, nodes and the midpoints by edge.
 struct Refinement {
@@ -79,7 +83,7 @@ int child_face(const Tet& p, const std::array<int, 4>& c, int i, int z) {
       else s[static_cast<size_t>(n++)] = c[static_cast<size_t>(j)];
     }
   const auto in_s = [&](int v) { return std::find(s.begin(), s.begin() + n, v) != s.begin() + n; };
-  const int e0 = p.x[0], ek = p.x[static_cast<size_t>(p.tag)];
+  const auto [e0, ek] = refinement_edge(p);
   if (has_z && !in_s(e0) && !in_s(ek)) return -1;
   // Otherwise the parent face is the one opposite the single parent vertex missing from the
   // child's face and from the refinement edge (z stands for both ends of that edge).
@@ -91,14 +95,44 @@ int child_face(const Tet& p, const std::array<int, 4>& c, int i, int z) {
   throw Error("bisect: inconsistent child face", EXIT_INTERNAL);
 }
 
-// Maubach's rule: children (x0..x_{k−1}, z, x_{k+1}..x3) and (x1..x_k, z, x_{k+1}..x3), tag k−1 (3 after 1).
+// AMP's planar types: the marked edges of the three faces at one vertex all lie in the fourth face.
+bool planar(const AmpMarks& m) {
+  for (int v = 0; v < 4; ++v)
+    if (std::count(m.face.begin(), m.face.end(), v) == 3) return true;
+  return false;
+}
+
+// AMP's rule (AmpMarks): the child with z in place of position @p a (the other end b stays). It
+// keeps the parent's face opposite a, with its mark (face[a] unchanged).
+Tet amp_child(const Tet& t, int a, int b, int z) {
+  Tet c = t;
+  c.x[static_cast<size_t>(a)] = z;
+  const int kept = t.m.face[static_cast<size_t>(a)];  // the kept face's vertex opposite its mark
+  unsigned char e = 0;
+  for (int v = 0; v < 4; ++v)  // the refinement edge: the kept face's marked edge
+    if (v != a && v != kept) c.m.edge[e++] = static_cast<unsigned char>(v);
+  for (int v = 0; v < 4; ++v)  // the halves of the two faces through the parent's refinement edge
+    if (v != a && v != b) c.m.face[static_cast<size_t>(v)] = static_cast<unsigned char>(a);
+  const bool p = planar(t.m);
+  c.m.face[static_cast<size_t>(b)] = static_cast<unsigned char>(p && t.m.flagged ? kept : a);  // the new face
+  c.m.flagged = p && !t.m.flagged;
+  return c;
+}
+
+// Maubach's rule: children (x0..x_{k−1}, z, x_{k+1}..x3) and (x1..x_k, z, x_{k+1}..x3), tag k−1 (3
+// after 1); AMP's (amp_child) for a marked tetrahedron.
 std::array<Tet, 2> children(const Tet& t, int z) {
   const int k = t.tag;
   Tet a = t, b = t;
-  a.x[static_cast<size_t>(k)] = z;
-  for (int j = 0; j < k; ++j) b.x[static_cast<size_t>(j)] = t.x[static_cast<size_t>(j + 1)];
-  b.x[static_cast<size_t>(k)] = z;
-  a.tag = b.tag = k > 1 ? k - 1 : 3;
+  if (k == 0) {
+    a = amp_child(t, t.m.edge[0], t.m.edge[1], z);
+    b = amp_child(t, t.m.edge[1], t.m.edge[0], z);
+  } else {
+    a.x[static_cast<size_t>(k)] = z;
+    for (int j = 0; j < k; ++j) b.x[static_cast<size_t>(j)] = t.x[static_cast<size_t>(j + 1)];
+    b.x[static_cast<size_t>(k)] = z;
+    a.tag = b.tag = k > 1 ? k - 1 : 3;
+  }
   for (int i = 0; i < 4; ++i) {
     a.face[static_cast<size_t>(i)] = child_face(t, a.x, i, z);
     b.face[static_cast<size_t>(i)] = child_face(t, b.x, i, z);
@@ -113,7 +147,8 @@ void initial_cells(const Mesh& coarse, const TetLabels& labels, Refinement& R) {
     facet_of.emplace(face_key(coarse.facets(f, 0), coarse.facets(f, 1), coarse.facets(f, 2)), static_cast<int>(f));
   R.cells.reserve(static_cast<size_t>(coarse.num_cells()));
   for (Index c = 0; c < coarse.num_cells(); ++c) {
-    Tet t{labels.order[static_cast<size_t>(c)], labels.tag[static_cast<size_t>(c)], {}, static_cast<int>(c)};
+    Tet t{labels.order[static_cast<size_t>(c)], labels.tag[static_cast<size_t>(c)], {}, static_cast<int>(c), {}};
+    if (t.tag == 0) t.m = labels.amp.at(static_cast<size_t>(c));
     for (int i = 0; i < 4; ++i) {
       const auto& x = t.x;
       const auto it = facet_of.find(face_key(x[(i + 1) % 4], x[(i + 2) % 4], x[(i + 3) % 4]));
@@ -142,7 +177,8 @@ void close_and_bisect(Refinement& R) {
         continue;
       }
       const Tet t = R.cells[i];
-      const auto kids = children(t, R.split(t.x[0], t.x[static_cast<size_t>(t.tag)]));
+      const auto [e0, e1] = refinement_edge(t);
+      const auto kids = children(t, R.split(e0, e1));
       R.cells[i] = kids[0];
       R.cells.push_back(kids[1]);
       changed = true;
@@ -166,6 +202,8 @@ void fine_cells(const Refinement& R, Bisection& out) {
   fine.cells.resize(M, 4);
   out.labels.order.resize(static_cast<size_t>(M));
   out.labels.tag.resize(static_cast<size_t>(M));
+  if (std::any_of(R.cells.begin(), R.cells.end(), [](const Tet& t) { return t.tag == 0; }))
+    out.labels.amp.resize(static_cast<size_t>(M));
   out.cell_parent.resize(static_cast<size_t>(M));
   for (Index c = 0; c < M; ++c) {
     const Tet& t = R.cells[static_cast<size_t>(c)];
@@ -174,6 +212,7 @@ void fine_cells(const Refinement& R, Bisection& out) {
     for (int k = 0; k < 4; ++k) fine.cells(c, k) = v[static_cast<size_t>(k)];
     out.labels.order[static_cast<size_t>(c)] = t.x;
     out.labels.tag[static_cast<size_t>(c)] = static_cast<unsigned char>(t.tag);
+    if (t.tag == 0) out.labels.amp[static_cast<size_t>(c)] = t.m;
     out.cell_parent[static_cast<size_t>(c)] = t.parent;
   }
   out.new_node_parents = R.parents;
@@ -293,7 +332,8 @@ Bisection bisect(const Mesh& coarse, const TetLabels& labels, const std::vector<
     if (!marked[static_cast<size_t>(c)]) continue;
     const Tet& t = R.cells[static_cast<size_t>(c)];
     if (rule == BisectionRule::NEWEST_VERTEX) {
-      R.split(t.x[0], t.x[static_cast<size_t>(t.tag)]);
+      const auto [e0, e1] = refinement_edge(t);
+      R.split(e0, e1);
       continue;
     }
     for (int i = 0; i < 4; ++i)

@@ -205,15 +205,14 @@ void final_smallness(const ContactSolver& solver, Solution& sol) {
                << ": uniqueness guaranteed: " << (q.holds ? "yes" : "no");
 }
 
-// The scene's mesh labelled for bisection. 2D: longest edges. 3D: its tagged tetrahedra, its own
-// (Kuhn meshes; a perturbed box labelled on its unperturbed lattice, the same cells) or the
-// 12-split's, said in the log and in the mesh's origin (the report's mesh line).
+// The scene's mesh labelled for bisection. 2D: longest edges. 3D: Maubach's tagged tetrahedra
+// (Kuhn meshes; a perturbed box labelled on its unperturbed lattice, the same cells) or AMP's
+// marked tetrahedra, said in the log and in the mesh's origin (the report's mesh line).
 Refinable start_refinable(const nlohmann::json& scene, Mesh mesh) {
   if (mesh.dim == 2) {
     label_longest_edges(mesh);
     return {std::move(mesh), {}};
   }
-  const Index cells = mesh.num_cells();
   std::optional<Mesh> lattice;
   const nlohmann::json& m = scene.at("mesh");
   if (m.at("type") == "box" && m.at("perturb").get<double>() > 0) {
@@ -222,11 +221,11 @@ Refinable start_refinable(const nlohmann::json& scene, Mesh mesh) {
     lattice = build_mesh(unperturbed, ".");
   }
   LabelledMesh lm = label_for_bisection(std::move(mesh), lattice ? &*lattice : nullptr);
-  if (lm.mesh.num_cells() != cells) {
-    log_info() << "adapt: the mesh's longest-edge labelling is not compatible (not a Kuhn mesh): split 12-fold "
-                  "(Stevenson 2008), "
-               << cells << " -> " << lm.mesh.num_cells() << " cells, so that bisection stays conforming";
-    lm.mesh.origin += ", split 12-fold for bisection";
+  if (!lm.labels.amp.empty()) {
+    log_info() << "adapt: the mesh is not a Kuhn mesh (its longest edges are no compatible Maubach labelling): "
+                  "bisection of marked tetrahedra (Arnold, Mukherjee, Pouly 2000), "
+               << lm.mesh.num_cells() << " cells as they are";
+    lm.mesh.origin += ", bisected as marked tetrahedra (AMP)";
   }
   return {std::move(lm.mesh), std::move(lm.labels)};
 }

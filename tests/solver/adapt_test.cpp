@@ -274,12 +274,11 @@ TEST(Adapt3d, TargetReachedEveryLevelCertified) {
 }
 
 // A mesh whose longest edges are not a compatible labelling (the 3D scene's box perturbed by 0.3 h,
-// handed over as a mesh of its own: the scene says nothing of a lattice) is split 12-fold before
-// the first level (split_for_bisection) and then refined like a box: every level certified and
-// conforming (bisect checks), Γ3's weights summing to its area, the estimate decreasing to the
-// target, and the split said in the mesh's origin. Before the split this ended with an input error
-// at the first refinement.
-TEST(Adapt3d, AMeshThatIsNotKuhnIsSplitAndRefined) {
+// handed over as a mesh of its own: the scene says nothing of a lattice) is refined as marked
+// tetrahedra (AMP), as it is: every level certified and conforming (bisect checks), Γ3's weights
+// summing to its area, the estimate decreasing to the target, and the marking said in the mesh's
+// origin. Before 3D bisection of any mesh this ended with an input error at the first refinement.
+TEST(Adapt3d, AMeshThatIsNotKuhnIsRefinedAsMarkedTetrahedra) {
   const json scene = load_scene(PROBLEMS + "/sofonea2017-3d.json",
                                 {"mesh.n=4", "adapt.target_error=0.3", "check.smallness=false"});
   json perturbed = scene;
@@ -292,18 +291,18 @@ TEST(Adapt3d, AMeshThatIsNotKuhnIsSplitAndRefined) {
                                      });
   EXPECT_TRUE(r.reached) << r.stop_reason;
   ASSERT_GE(r.history.size(), 2u);
-  EXPECT_EQ(r.history.front().cells, 12 * coarse.num_cells());
+  EXPECT_EQ(r.history.front().cells, coarse.num_cells());
   for (const AdaptLevel& L : r.history) {
     EXPECT_TRUE(L.ok) << L.level;
     EXPECT_LE(L.certificate, 1e-8) << L.level;
   }
   for (size_t k = 1; k < r.history.size(); ++k) EXPECT_LT(r.history[k].estimate, r.history[k - 1].estimate);
   for (double w : weight_sums) EXPECT_NEAR(w, 1.0, 1e-12);
-  EXPECT_NE(r.model.mesh.origin.find("split 12-fold"), std::string::npos) << r.model.mesh.origin;
+  EXPECT_NE(r.model.mesh.origin.find("marked tetrahedra (AMP)"), std::string::npos) << r.model.mesh.origin;
 }
 
 // The scene's own perturbed box is labelled on its unperturbed lattice (the same cells: Kuhn
-// paths), so it needs no split: the first level is the scene's mesh, every level certified.
+// paths), Maubach's tags: the first level is the scene's mesh, every level certified.
 TEST(Adapt3d, APerturbedBoxIsLabelledOnItsLattice) {
   const json scene = load_scene(PROBLEMS + "/sofonea2017-3d.json",
                                 {"mesh.n=4", "mesh.perturb=0.3", "adapt.target_error=0.3", "check.smallness=false"});
@@ -313,7 +312,7 @@ TEST(Adapt3d, APerturbedBoxIsLabelledOnItsLattice) {
   ASSERT_GE(r.history.size(), 2u);
   EXPECT_EQ(r.history.front().cells, coarse.num_cells());
   for (const AdaptLevel& L : r.history) EXPECT_LE(L.certificate, 1e-8) << L.level;
-  EXPECT_EQ(r.model.mesh.origin.find("split"), std::string::npos) << r.model.mesh.origin;
+  EXPECT_EQ(r.model.mesh.origin.find("marked"), std::string::npos) << r.model.mesh.origin;
 }
 
 // The stored references (tests/data/<scene>-reference.json, bench/reference3d.py) belong to this
@@ -366,3 +365,4 @@ TEST(Adapt3d, StopRules) {
   EXPECT_EQ(r.history.size(), 2u);
   EXPECT_FALSE(r.reached);
 }
+

@@ -31,6 +31,10 @@
 /// the 2D one over edges: while a cell has an edge with a midpoint, it is bisected (its refinement
 /// edge gets a midpoint if it had none). The boundary facets of the children are the halves of the
 /// parent's boundary faces and keep their part, traction and groups.
+///
+/// Other meshes: Arnold–Mukherjee–Pouly's marked tetrahedra (2000; AmpMarks), which need no
+/// particular mesh: the same closure ends with a conforming mesh, and the shapes stay in finitely
+/// many similarity classes, from the longest-edge marking of the mesh as it is (mark_tetrahedra).
 
 #include <hemicontact/mesh/mesh.hpp>
 
@@ -50,13 +54,39 @@ BisectionRule parse_bisection_rule(const std::string& name);
 /// @return the scene's name of @p rule ("newest_vertex" or "bisec3"), the inverse of parse_bisection_rule.
 const char* to_string(BisectionRule rule);
 
-/// The tagged tetrahedra of a 3D mesh (file comment), one entry per cell of the mesh they label.
+/// Arnold, Mukherjee and Pouly's marked tetrahedron (2000), relative to the positions 0..3 of the
+/// cell's vertices in TetLabels::order: the refinement edge (edge[0], edge[1]); the marked edge of
+/// the face opposite position k, the edge of that face opposite its vertex at position face[k];
+/// and the flag of the planar type (P_f). Bisecting at the midpoint z of the refinement edge, the
+/// child without vertex a (z in its place) keeps the parent's face opposite a, with its mark, and
+/// takes that mark as its refinement edge; the halves of the two faces through the refinement edge
+/// are marked opposite z; the new face through z is marked opposite z too, except in a flagged
+/// planar parent, where it takes the mark of the kept face's vertex. Children of a planar parent
+/// (all four marked edges in one face) are flagged when it is not. The marks of a shared face
+/// depend on that face alone, so its two sides split it alike, and every descendant is similar to
+/// one of finitely many tetrahedra (AMP 2000, §3–4).
+struct AmpMarks {
+  std::array<unsigned char, 2> edge{};
+  std::array<unsigned char, 4> face{};
+  unsigned char flagged = 0;
+};
+
+/// The labels of a 3D mesh's tetrahedra for bisection (file comment), one entry per cell of the
+/// mesh they label: Maubach's tagged tetrahedra, or AMP's marked tetrahedra (tag 0, marks in amp).
 struct TetLabels {
   std::vector<std::array<int, 4>> order;  ///< per cell (x0, x1, x2, x3): refinement edge (x0, x_tag)
-  std::vector<unsigned char> tag;         ///< per cell k ∈ {1, 2, 3}
+  std::vector<unsigned char> tag;         ///< per cell k ∈ {1, 2, 3}; 0: marked tetrahedron amp[c]
+  std::vector<AmpMarks> amp;              ///< per cell if any tag is 0, else empty
   /// @return the number of labelled cells.
   Index size() const { return static_cast<Index>(order.size()); }
 };
+
+/// @return the ends of a cell's refinement edge: (x0, x_tag) of Maubach's order @p x and tag, or
+/// the marked edge of AMP's marks @p m (tag 0).
+inline std::array<int, 2> refinement_edge(const std::array<int, 4>& x, int tag, const AmpMarks& m) {
+  if (tag) return {x[0], x[static_cast<size_t>(tag)]};
+  return {x[m.edge[0]], x[m.edge[1]]};
+}
 
 /// A refined mesh and how it derives from the coarse one.
 struct Bisection {
@@ -91,7 +121,7 @@ Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionR
 TetLabels label_tetrahedra(const Mesh& mesh);
 
 /// @brief 3D: refine the cells flagged in @p marked (size num_cells) of @p coarse, labelled by
-/// @p labels, by Maubach bisection with the conforming closure (file comment). NEWEST_VERTEX marks
+/// @p labels, by Maubach's (or AMP's) bisection with the conforming closure (file comment). NEWEST_VERTEX marks
 /// a cell's refinement edge, BISEC3 all six edges (at least eight children). New nodes, parents,
 /// boundary facets and rollers as in 2D; Bisection::labels labels the fine mesh.
 /// @throws Error (EXIT_INPUT, naming the kind of mesh needed) if the closure does not end or leaves a
@@ -106,25 +136,22 @@ struct LabelledMesh {
   TetLabels labels;
 };
 
-/// @brief Stevenson's 12-split (2008, §4) of any conforming tetrahedral mesh: every cell T is cut
-/// through its barycentre b_T and its faces' barycentres b_F into twelve cells (b_T, b_F and an
-/// edge of F), each labelled so that the refinement edge is that coarse edge. The labelling is
-/// compatible (the closure of bisect() is conforming and the shapes stay in finitely many
-/// similarity classes) whatever the coarse mesh, which label_tetrahedra's is on Kuhn meshes only.
-/// Boundary facets split in three through b_F and keep their part, traction and groups; a face
-/// node is held by the rollers its facet's three corners share.
-/// @throws Error if the mesh is not 3D.
-LabelledMesh split_for_bisection(const Mesh& coarse);
-
 /// @return whether every edge that is one cell's refinement edge is the refinement edge of every
 /// cell that contains it. label_tetrahedra's labelling of a Kuhn mesh has it (the cube diagonals,
 /// shared by the six cells of their cube); a longest-edge labelling of a perturbed or unstructured
 /// mesh in general has not, and its closure is then not conforming.
 bool refinement_edges_agree(const Mesh& mesh, const TetLabels& labels);
 
+/// @brief AMP's initial marking of any conforming tetrahedral mesh (Arnold, Mukherjee, Pouly 2000,
+/// §4): a strict order of the edges, longest first (ties by node indices); each cell's refinement
+/// edge and each face's marked edge are the first of theirs in it, no cell flagged. A face's mark
+/// depends on the face alone, which is what conformity needs; the cells are not split.
+/// @throws Error if the mesh is not 3D.
+TetLabels mark_tetrahedra(const Mesh& mesh);
+
 /// @brief The labelled mesh 3D refinement starts from: @p mesh with label_tetrahedra's labels when
-/// refinement_edges_agree (Kuhn meshes: box meshes, imported meshes of Kuhn cubes), else
-/// split_for_bisection(mesh) (12 times the cells; any conforming mesh).
+/// refinement_edges_agree (Kuhn meshes: box meshes, imported meshes of Kuhn cubes), else with
+/// mark_tetrahedra's (any conforming mesh, as it is: no split).
 /// @param lattice optional: the same cells on other node positions (a generated box before
 /// mesh.perturb moved its nodes), labelled instead of @p mesh; ignored unless its cells are
 /// @p mesh's. Compatibility depends on the cells alone, so a perturbed Kuhn box needs no split.

@@ -2,8 +2,8 @@
 /// @file adapt.hpp  The adaptive loop SOLVE → ESTIMATE → MARK → REFINE (docs/adaptivity.md).
 ///
 ///   mesh ← the scene's mesh, cells labelled for newest-vertex bisection (2D: longest edge; 3D:
-///          tagged tetrahedra, label_for_bisection: a mesh that is not a Kuhn mesh is split
-///          12-fold first) — the same loop in 2D and 3D
+///          tagged tetrahedra on Kuhn meshes, marked tetrahedra (AMP) on any other,
+///          label_for_bisection) — the same loop in 2D and 3D
 ///   loop:
 ///     model ← build_model(scene, mesh)        Γ3 nodes, weights, frames, K, f: rebuilt from the mesh
 ///     u     ← ContactSolver(model).solve(z0)   factorization and condensation redone on each mesh;
