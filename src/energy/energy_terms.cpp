@@ -19,14 +19,9 @@ Index pattern_position(const SpMat& H, Index row, Index col) {
 }
 
 // ------------------------------------------------------------------ elastic and load
-ElasticEnergy::ElasticEnergy(const SpMat& K) : m_K(K) {
-  m_lower = m_K.triangularView<Eigen::Lower>();
-  m_lower.makeCompressed();
-}
-
 void ElasticEnergy::add_hessian(const Vec&, SpMat& H, Psd) const {
   // Same pattern by construction (TotalEnergy's pattern is this lower triangle): add value arrays.
-  Eigen::Map<Vec>(H.valuePtr(), H.nonZeros()) += Eigen::Map<const Vec>(m_lower.valuePtr(), m_lower.nonZeros());
+  Eigen::Map<Vec>(H.valuePtr(), H.nonZeros()) += Eigen::Map<const Vec>(m_K.lower().valuePtr(), m_K.lower().nonZeros());
 }
 
 CondensedElasticEnergy::CondensedElasticEnergy(std::shared_ptr<const Mat> S, Vec y_C, double c)

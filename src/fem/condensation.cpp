@@ -5,6 +5,7 @@
 #include <hemicontact/core/interrupt.hpp>
 
 #include <cholmod.h>
+#include <malloc.h>
 
 #include <algorithm>
 #include <chrono>
@@ -43,10 +44,11 @@ cholmod_sparse view_lower(const SpMat& A) {
   return s;
 }
 
-// The quotient graph of a symmetric matrix A (both triangles stored, compressed): consecutive
-// columns with the same pattern (the d unknowns of one node) are one vertex, a group. Ordering it
-// and expanding to the unknowns gives d times fewer vertices and d² times fewer edges to order,
-// and no worse fill (the unknowns of a node are indistinguishable to the elimination).
+// The quotient graph of a symmetric matrix A (compressed, both triangles or the lower one
+// stored): consecutive columns of the same pattern (the d unknowns of one node) are one vertex, a
+// group. Ordering it and expanding to the unknowns gives d times fewer vertices and d² times fewer
+// edges to order, and no worse fill (the unknowns of a node are indistinguishable to the
+// elimination). In the lower triangle a node's column j − 1 is {j − 1} and its column j.
 struct NodeGraph {
   std::vector<int> first;   // each group's first column (increasing)
   std::vector<int> gp, gi;  // the groups' lower-triangular pattern, compressed by column
@@ -63,8 +65,10 @@ NodeGraph quotient_graph(const SpMat& A, Index nI) {
   G.unknowns = n;
   std::vector<int> group(n);
   for (Index j = 0; j < n; ++j) {
-    const bool same = j > 0 && j != nI && p[j + 1] - p[j] == p[j] - p[j - 1] &&
-                      std::equal(i + p[j - 1], i + p[j], i + p[j]);
+    const bool same_full = j > 0 && p[j + 1] - p[j] == p[j] - p[j - 1] && std::equal(i + p[j - 1], i + p[j], i + p[j]);
+    const bool same_lower = j > 0 && p[j] - p[j - 1] == p[j + 1] - p[j] + 1 && i[p[j - 1]] == j - 1 &&
+                            std::equal(i + p[j - 1] + 1, i + p[j], i + p[j]);
+    const bool same = j != nI && (same_full || same_lower);
     if (!same) G.first.push_back(static_cast<int>(j));
     group[j] = static_cast<int>(G.first.size()) - 1;
     if (j + 1 == nI) G.ng_interior = static_cast<int>(G.first.size());
@@ -134,21 +138,23 @@ std::vector<int> order_groups(const NodeGraph& G, const std::string& method, cho
   return P;
 }
 
-// Fill-reducing order of the interior unknowns (the columns < nI of the symmetric A, both
-// triangles stored) on the node graph, the Γ3 unknowns (≥ nI) to follow. "auto", by measurement
-// (fig2 scene 'right' mesh, 3D box scene; ordering + symbolic / numeric factorization / peak
-// memory of the whole run):
+// Fill-reducing order of the interior unknowns (the columns < nI of the symmetric A, its lower
+// triangle or both stored) on the node graph, the Γ3 unknowns (≥ nI) to follow. "auto", by
+// measurement (fig2 scene 'right' mesh, 3D box scene; ordering + symbolic / numeric factorization /
+// peak memory of the whole run):
 //   2D n = 256  (66k nodes):  AMD 0.05 / 0.43 s;  NESDIS 0.24 / 0.39 s (dof graph: 0.29 / 0.37 s)
 //   2D n = 1024 (1.05M nodes): AMD 1.6 / 15.6 s, 4.5 GB;  NESDIS 5.9 / 10.7 s, 4.0 GB
 //   3D n = 24   (15k nodes):  AMD 0.06 / 2.16 s, 1.6 GB;  NESDIS (dof graph) 0.15 / 1.08 s, 0.65 GB
-// so AMD for small 2D meshes, where its cheap analysis wins, NESDIS for 3D and large 2D meshes,
-// where its smaller fill does. The unknowns per vertex (n/ng) tell 2D from 3D. Only the
+//   whole runs, 2026-11-29: 2D n = 512 NESDIS 2.9 s, 707 MB, METIS 2.9 s, 691 MB; n = 1024
+//   NESDIS 14.9 s, 2.98 GB, METIS 14.8 s, 2.86 GB; 3D n = 24 the same time and memory
+// so AMD for small 2D meshes, where its cheap analysis wins, METIS for large 2D meshes, NESDIS for
+// 3D, where their smaller fill does. The unknowns per vertex (n/ng) tell 2D from 3D. Only the
 // permutation is wanted, so the ordering routines are called directly: cholmod_analyze on the
 // graph would also compute its symbolic factorization, which is thrown away.
 std::vector<int> interior_ordering(const SpMat& A, Index nI, std::string& method, cholmod_common& c) {
   const NodeGraph G = quotient_graph(A, nI);
   const bool three_d = static_cast<double>(A.cols()) / std::max(G.ng, 1) > 2.5;
-  if (method == "auto") method = three_d || G.ng_interior > 200000 ? "nesdis" : "amd";
+  if (method == "auto") method = three_d ? "nesdis" : G.ng_interior > 200000 ? "metis" : "amd";
   const std::vector<int> P = order_groups(G, method, c);
   std::vector<int> perm;
   perm.reserve(nI);
@@ -200,6 +206,14 @@ Condensation::Condensation(const SpMat& K, Index m, const std::string& ordering)
   m_m = m;
   cholmod_common& c = m_impl->c;
   c.supernodal = CHOLMOD_SUPERNODAL;
+  // A milder relaxed amalgamation than CHOLMOD's default (nrelax 4, 16, 48; zrelax 0.8, 0.1, 0.05):
+  // fewer explicit zeros in the supernodes. fig2 n = 512, METIS: peak 721 → 691 MB at +0.03 s
+  // (of 2.9 s); n = 256, AMD: 188 → 179 MB at +0.01 s; the 3D box at n = 24: −4 MB, same time
+  // (2026-11-29, docs/performance.md). No relaxation at all costs +0.4 s at n = 512.
+  const int nrelax[3] = {4, 8, 16};
+  const double zrelax[3] = {0.5, 0.05, 0.02};
+  std::copy(nrelax, nrelax + 3, c.nrelax);
+  std::copy(zrelax, zrelax + 3, c.zrelax);
   const auto t0 = clk::now();
 
   // 1. Fill-reducing ordering of the interior block alone, on its node graph.
@@ -260,7 +274,13 @@ void Condensation::factorize(const SpMat& K, const Vec& f) {
   }
   cholmod_sparse A = view_lower(K.isCompressed() ? K : K_compressed);
   auto t0 = clk::now();
+  // The factor is the run's largest array. Freed blocks below the mmap threshold (32 MB, main's
+  // mallopt) stay resident in the heap: the assembly's and the analysis's before the factor
+  // (65 MB at fig2 n = 512), CHOLMOD's permuted copy of K and its workspaces after it (~85 MB).
+  // Handed back to the system on both sides, the process's peak is what is alive, not the sum.
+  malloc_trim(0);
   cholmod_factorize(&A, m_impl->L, &c);
+  malloc_trim(0);
   cholmod_factor* L = m_impl->L;
   check_condensation_status(c, "factorization", n);
   if (c.status == CHOLMOD_NOT_POSDEF || L->minor < static_cast<size_t>(n))

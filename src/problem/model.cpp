@@ -13,7 +13,7 @@ namespace {
 
 // A model built without K_x (the petsc engine's) cannot apply it: its rows live in PETSc.
 void require_stiffness(const Model& md) {
-  if (md.Kx.size() == 0 && md.dofs.n_free() > 0)
+  if (md.Kx.empty() && md.dofs.n_free() > 0)
     throw Error("this model keeps no K_x (built for the petsc engine, which holds its rows)", EXIT_INTERNAL);
 }
 

@@ -1,5 +1,7 @@
 #include <hemicontact/scene/build_model.hpp>
 
+#include <malloc.h>
+
 #include <hemicontact/contact/law_factory.hpp>
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
@@ -209,7 +211,7 @@ void check_scales(const Model& md) {
     std::snprintf(buf, sizeof buf, "%.3g", v);
     return std::string(buf);
   };
-  const double K_s = md.Kx.size() ? md.Kx.diagonal().cwiseAbs().maxCoeff() : 1.0;
+  const double K_s = !md.Kx.empty() && md.Kx.rows() ? md.Kx.diagonal().cwiseAbs().maxCoeff() : 1.0;
   const double F_s = md.fx.size() ? md.fx.cwiseAbs().maxCoeff() : 0.0;
   const char* units = "; rescale the units (e.g. MPa and mm) so that it lies within 1e-150..1e150";
   if (out_of_range(K_s)) input_error("material.E: the stiffness scale (largest K_ii) is " + show(K_s) + units);
@@ -523,9 +525,11 @@ Model build_model(const json& scene, Mesh mesh, bool stiffness, bool piece, cons
   // A nonlinear law's K is its tangent at u = 0 (the small-strain stiffness): it sets the solver's
   // scales and the K(0) energy norm; equilibrium and energies use internal_force / elastic_energy.
   // K_x = Tᵀ K T straight into the free dofs' pattern: the full K is never built. The model keeps
-  // this one copy (moved in: MovableSpMat).
-  if (stiffness)
-    md.Kx = assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs);
+  // its lower triangle, the one copy; both triangles live only here, and go back to the system.
+  if (stiffness) {
+    md.Kx = SymmetricSpMat(assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs));
+    malloc_trim(0);
+  }
   const auto f0v = scene.at("loads").at("body_force").get<std::vector<double>>();
   if (static_cast<int>(f0v.size()) != d) input_error("loads.body_force: expected " + std::to_string(d) + " components");
   const Vec f0 = scene.at("loads").at("scale").get<double>() * Eigen::Map<const Vec>(f0v.data(), d);

@@ -425,8 +425,8 @@ std::vector<SchemaEntry> build_scene_schema() {
   t.push_back(key("/solver/ordering", "string", D.ordering,
                   "Fill-reducing ordering of every sparse factorization: amd (cheapest to compute), "
                   "metis or nesdis (nested dissection: less fill, costlier ordering). auto = for the "
-                  "condensation (on the node graph) amd for 2D meshes up to 200 000 nodes and nesdis "
-                  "for 3D and larger 2D meshes; for a whole-mesh factorization (the full formulation's, "
+                  "condensation (on the node graph) amd for 2D meshes up to 200 000 nodes, metis for "
+                  "larger 2D meshes, nesdis for 3D; for a whole-mesh factorization (the full formulation's, "
                   "ssn's Newton matrices, a linear solve) amd up to 20 000 unknowns, nesdis above.",
                   {"auto", "amd", "metis", "nesdis"}));
   t.push_back(key("/solver/polish", "boolean", D.polish,

@@ -89,12 +89,12 @@ MethodChoice choose_formulation(const Model& md, const SolveOptions& opt, std::s
   n.memory_bytes = available_memory_bytes();
   n.cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   if (n.linear_material && n.gamma3_unknowns > 0 && opt.formulation != "full") {
-    plan = std::make_shared<Condensation>(md.Kx, n.gamma3_unknowns, opt.ordering);
+    plan = std::make_shared<Condensation>(md.Kx.lower(), n.gamma3_unknowns, opt.ordering);
     n.factor_nnz = plan->factor_nnz();
     n.factor_flops = plan->predicted_flops();
   }
   // The full formulation's factorization: the same analysis with no Γ3 block, only when asked.
-  const auto full_flops = [&] { return Condensation(md.Kx, 0, opt.ordering).predicted_flops(); };
+  const auto full_flops = [&] { return Condensation(md.Kx.lower(), 0, opt.ordering).predicted_flops(); };
   MethodChoice c = choose_method(n, opt, full_flops);
   if (c.chosen != "condensed") plan.reset();
   return c;
@@ -118,7 +118,7 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
   F.nd.w = md.contact.w;
   auto t0 = clk::now();
   if (F.name == "condensed") {
-    plan->factorize(md.Kx, md.fx);  // the analysis the choice read, not a second one
+    plan->factorize(md.Kx.lower(), md.fx);  // the analysis the choice read, not a second one
     F.cond = plan;
     timings["condensation_analyze"] = F.cond->analyze_seconds();
     timings["condensation_factorize"] = F.cond->factorize_seconds();
@@ -139,7 +139,7 @@ Formulation make_formulation(const Model& md, const SolveOptions& opt, std::map<
   } else {
     F.elastic_factor = std::make_shared<SparseCholesky>(opt.ordering);
     SparseCholesky& chol = *F.elastic_factor;
-    chol.compute(md.Kx);
+    chol.compute(md.Kx.lower());
     F.z_free = chol.solve(md.fx);
     timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
   }
@@ -330,7 +330,7 @@ bool ContactSolver::Impl::solve_linear(clk::time_point t_start) {
       md.contact.fixed_local.empty()) {
     linear = true;
     SparseCholesky chol(opt.ordering);
-    chol.compute(md.Kx);
+    chol.compute(md.Kx.lower());
     x_linear = chol.solve(md.fx);
     setup_timings["linear_elastic_factor"] = chol.analyze_seconds() + chol.factorize_seconds();
     skipped.push_back("backend: linear elasticity, solved by one sparse Cholesky factorization");

@@ -15,7 +15,8 @@ namespace hemicontact {
 
 namespace {
 
-// One run: the iterate, the Newton matrix (K's pattern, its values rewritten at each step) and
+// One run: the iterate, the Newton matrix (the lower triangle of K's pattern, its values rewritten
+// at each step: J is symmetric, as ssn_reading's blocks are) and
 // what one step passes to the next. The steps are the petsc engine's (petsc_ssn.cpp) with
 // CHOLMOD for CG + AMG.
 struct SsnRun {
@@ -51,7 +52,7 @@ SsnRun::SsnRun(const Model& m, const SsnLimits& l, const Vec* x0)
       lim(l),
       d(m.dim()),
       x(x0 ? *x0 : Vec::Zero(m.dofs.n_free())),
-      J(m.Kx),
+      J(m.Kx.lower()),
       chol(l.ordering),
       cold(x0 == nullptr) {
   if (x.size() != md.dofs.n_free()) throw Error("ssn: start vector of the wrong size", EXIT_INTERNAL);
@@ -85,7 +86,7 @@ void SsnRun::add_node(Index q, int k) {
     } else {
       R[iv + c] += rd.rows.force[c];
     }
-    for (int j = 0; j < d; ++j)
+    for (int j = 0; j <= c; ++j)  // the lower triangle of the symmetric block
       if (rd.rows.block(c, j) != 0) J.coeffRef(iv + c, iv + j) += rd.rows.block(c, j);
   }
 }
@@ -94,7 +95,8 @@ void SsnRun::add_node(Index q, int k) {
 // the Γ3 blocks. @return the number of status changes.
 long SsnRun::linearize(int k) {
   R = md.Kx * x - md.fx;
-  std::copy(md.Kx.valuePtr(), md.Kx.valuePtr() + md.Kx.nonZeros(), J.valuePtr());
+  const SpMat& K = md.Kx.lower();
+  std::copy(K.valuePtr(), K.valuePtr() + K.nonZeros(), J.valuePtr());
   pinned.assign(static_cast<size_t>(x.size()), 0);
   pin_step = Vec::Zero(x.size());
   long changed = 0;
@@ -109,7 +111,8 @@ long SsnRun::linearize(int k) {
 
 // rhs = −R on free rows, diag_scale × the prescribed step on pinned ones; the pinned rows and
 // columns of J zeroed (their diagonal diag_scale), the columns' part moved to the right-hand side,
-// so that J stays symmetric positive definite. @return the semismooth residual ‖rhs‖∞.
+// so that J stays symmetric positive definite. An entry (r, c) of the stored lower triangle is
+// also (c, r). @return the semismooth residual ‖rhs‖∞.
 double SsnRun::right_hand_side() {
   rhs = -R;
   for (Index c = 0; c < J.outerSize(); ++c)
@@ -121,6 +124,7 @@ double SsnRun::right_hand_side() {
         continue;
       }
       if (pc && !pr) rhs[it.row()] -= it.value() * pin_step[c];
+      if (pr && !pc) rhs[c] -= it.value() * pin_step[it.row()];
       it.valueRef() = 0;
     }
   for (Index i = 0; i < x.size(); ++i)
@@ -154,7 +158,7 @@ bool SsnRun::preconditioned_cg(Vec& dx, int& its) const {
   double rz = r.dot(z);
   const double stop = lim.rtol * rhs.norm();
   for (its = 1; its <= MAX_ITS; ++its) {
-    const Vec Jp = J * p;
+    const Vec Jp = J.selfadjointView<Eigen::Lower>() * p;
     const double alpha = rz / p.dot(Jp);
     dx += alpha * p;
     r -= alpha * Jp;

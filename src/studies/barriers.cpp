@@ -30,7 +30,7 @@ struct Landscape {
 
   Landscape(const Model& m, const Vec& lambda) : md(m) {
     const Index nc = md.contact.size();
-    C = std::make_shared<Condensation>(md.Kx, md.fx, md.dim() * nc);
+    C = std::make_shared<Condensation>(md.Kx.lower(), md.fx, md.dim() * nc);
     P.S = &C->S();
     P.y = C->y_C();
     P.d = md.dim();
@@ -316,7 +316,7 @@ std::vector<Barrier> find_barriers(const Model& md, const SolveOptions& opt, con
 }
 
 Solution state_of_gamma3(const Model& md, const SolveOptions& opt, const Vec& x) {
-  const Condensation C(md.Kx, md.fx, x.size());
+  const Condensation C(md.Kx.lower(), md.fx, x.size());
   Solution s;
   s.x = C.recover(x);
   s.u = md.dofs.to_full(s.x);

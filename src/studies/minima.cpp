@@ -73,9 +73,7 @@ struct Candidate {
 SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, const SolveOptions& opt,
                                     const Solution& sol, const MinimaOptions& mopt) {
   SecondOrderCheck c;
-  for (Index i = 0; i < md.Kx.outerSize(); ++i)
-    for (SpMat::InnerIterator it(md.Kx, i); it; ++it)
-      if (it.row() == it.col()) c.scale = std::max(c.scale, it.value());
+  if (!md.Kx.empty() && md.Kx.rows() > 0) c.scale = std::max(c.scale, md.Kx.diagonal().maxCoeff());
   if (solver.formulation().empty()) {
     c.verdict = "local minimum";
     c.note = "linear elasticity: the energy is a convex quadratic";

@@ -109,7 +109,7 @@ TEST(Smallness, BracketFromTheCondensedStiffnessContainsTheExactValue) {
     const json s = load_scene(std::string(HEMICONTACT_SOURCE_DIR "/problems/") + c.scene + ".json", c.set);
     const Model md = build_model(s, HEMICONTACT_SOURCE_DIR "/problems");
     const Index m = md.dim() * md.contact.size();
-    const Condensation cond(md.Kx, md.fx, m);
+    const Condensation cond(md.Kx.lower(), md.fx, m);
     const SmallnessReport exact = evaluate_smallness(md);
     const SmallnessReport bound = evaluate_smallness(md, cond.S(), false);
     ASSERT_TRUE(exact.computed);

@@ -427,7 +427,7 @@ class EnergyFd : public ::testing::TestWithParam<Param> {
 };
 
 TEST_P(EnergyFd, Elastic) {
-  ElasticEnergy el(p_.K);
+  ElasticEnergy el{SymmetricSpMat(p_.K)};
   const Fn fn = of_term(el, el.lower());
   std::mt19937 rng(11);
   for (int i = 0; i < 10; ++i) {
@@ -547,7 +547,7 @@ struct Composite {
   std::shared_ptr<FrictionEnergy> friction;
   std::unique_ptr<TotalEnergy> total;
   explicit Composite(const Problem& p) {
-    el = std::make_shared<ElasticEnergy>(p.K);
+    el = std::make_shared<ElasticEnergy>(SymmetricSpMat(p.K));
     load = std::make_shared<LoadEnergy>(p.f);
     total = std::make_unique<TotalEnergy>(p.n, el->lower());
     const auto layout = p.layout(total->hessian_pattern());  // one layout for both nodal terms

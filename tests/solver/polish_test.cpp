@@ -61,7 +61,7 @@ void check_polish_recovers_exact_solution(const std::string& scene, const std::s
   ASSERT_GT(rough.certificate.max_residual, 1e-9) << "the smoothed answer is already exact: no test";
 
   const Index d = exact.md.dim(), nc = exact.md.contact.size();
-  const Condensation cond(exact.md.Kx, exact.md.fx, d * nc);
+  const Condensation cond(exact.md.Kx.lower(), exact.md.fx, d * nc);
   Vec x_C = gamma3_of(cond, rough.x);
   const PolishResult r = polish_condensed(exact.md, cond, exact.opt, x_C);
   EXPECT_TRUE(r.attempted);
@@ -97,7 +97,7 @@ TEST(Polish, KeepsExactAnswersAndOnlyAcceptsImprovements) {
   const Solution sol = solve(c.md, c.opt);
   ASSERT_TRUE(sol.ok()) << sol.message;
   const Index d = c.md.dim(), nc = c.md.contact.size();
-  const Condensation cond(c.md.Kx, c.md.fx, d * nc);
+  const Condensation cond(c.md.Kx.lower(), c.md.fx, d * nc);
   const double U = sol.u.cwiseAbs().maxCoeff();
 
   Vec x_C = gamma3_of(cond, sol.x);

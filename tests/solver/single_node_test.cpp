@@ -263,7 +263,7 @@ TEST(SingleNodeModel, MatchesHandDerivation) {
   ASSERT_EQ(md.dofs.n_free(), 2);
   EXPECT_EQ(md.dofs.contact_dof(0, 0), 0);
   EXPECT_EQ(md.dofs.contact_dof(0, 1), 1);
-  const Mat Kx = Mat(md.Kx);
+  const Mat Kx = Mat(md.Kx.full());
   EXPECT_NEAR(Kx(0, 0), K_NU, 1e-12 * K_NU);
   EXPECT_NEAR(Kx(1, 1), K_TAU, 1e-12 * K_NU);
   EXPECT_NEAR(Kx(0, 1), 0.0, 1e-12 * K_NU);

@@ -51,7 +51,7 @@ struct Reduced {
   Mat K;
   Vec f;
   std::vector<Index> nu, tau;
-  explicit Reduced(const Model& m) : md(m), K(Mat(m.Kx)), f(m.fx) {
+  explicit Reduced(const Model& m) : md(m), K(Mat(m.Kx.full())), f(m.fx) {
     for (Index k = 0; k < 2; ++k) nu.push_back(m.dofs.contact_dof(k, 0)), tau.push_back(m.dofs.contact_dof(k, 1));
   }
   double operator()(double v0, double v1) const {
@@ -108,7 +108,7 @@ double pass_level(const Reduced& E, double lo, double hi, int n, double a0, doub
 double curvature_bound(const Model& md) {
   double smax = 0;
   for (double sl : md.normal_law->slopes()) smax = std::max(smax, std::abs(sl));
-  return Eigen::SelfAdjointEigenSolver<Mat>(Mat(md.Kx)).eigenvalues().maxCoeff() + md.contact.w.maxCoeff() * smax;
+  return Eigen::SelfAdjointEigenSolver<Mat>(Mat(md.Kx.full())).eigenvalues().maxCoeff() + md.contact.w.maxCoeff() * smax;
 }
 
 TEST(Barriers, OneNodeSaddlesAreTheEnumerationsAndNotBelowTheGridsPass) {

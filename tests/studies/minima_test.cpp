@@ -83,7 +83,7 @@ std::vector<Piece> pieces_of(const PiecewiseLinearLaw& law, double g) {
 }
 
 std::vector<Stationary> enumerate_one_cell(const Model& md) {
-  const Mat K = Mat(md.Kx);
+  const Mat K = Mat(md.Kx.full());
   const Vec& f = md.fx;
   const int d = 2;
   const Index nc = md.contact.size();

@@ -44,7 +44,7 @@ struct Branch {
 };
 
 inline Branch on_branch(const Model& md, const std::vector<Piece>& P, const std::vector<int>& choice, double t) {
-  const Mat K = Mat(md.Kx);
+  const Mat K = Mat(md.Kx.full());
   const Vec f = t * md.fx;
   const int contact = static_cast<int>(P.size());
   Mat A = K, H = K;

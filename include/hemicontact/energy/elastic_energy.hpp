@@ -1,6 +1,7 @@
 #pragma once
 /// @file elastic_energy.hpp  ½ a(u,u) − f(u) = ½ xᵀ K_x x − f_xᵀ x for a linear material.
 
+#include <hemicontact/core/symmetric_matrix.hpp>
 #include <hemicontact/energy/energy_term.hpp>
 
 #include <memory>
@@ -10,18 +11,18 @@ namespace hemicontact {
 /// The elastic energy ½ xᵀ K x (K = Tᵀ K_u T, reduced); its Hessian K is constant.
 class ElasticEnergy : public EnergyTerm {
  public:
-  /// @param K reduced stiffness (full symmetric storage); its lower triangle defines the pattern.
-  explicit ElasticEnergy(const SpMat& K);
+  /// @param K reduced stiffness (a copy of its lower triangle, which defines the pattern)
+  explicit ElasticEnergy(SymmetricSpMat K) : m_K(std::move(K)) {}
   std::string name() const override { return "elastic"; }
   double value(const Vec& x) const override { return 0.5 * x.dot(m_K * x); }
   void add_gradient(const Vec& x, Vec& g) const override { g += m_K * x; }
   /// Adds K's lower triangle; @p H must have exactly lower_pattern()'s pattern.
   void add_hessian(const Vec& x, SpMat& H, Psd psd) const override;
   /// @return the lower triangle of K (the composite's Hessian pattern).
-  const SpMat& lower() const { return m_lower; }
+  const SpMat& lower() const { return m_K.lower(); }
 
  private:
-  SpMat m_K, m_lower;
+  SymmetricSpMat m_K;
 };
 
 /// The condensed elastic energy ½ (x_C − y_C)ᵀ S (x_C − y_C) + c (fem/condensation.hpp): the

@@ -21,11 +21,12 @@ namespace hemicontact {
 /// Factor once, condense onto the last m unknowns, recover the interior on demand.
 class Condensation {
  public:
-  /// @param K SPD matrix (full symmetric storage) whose last @p m unknowns are condensed;
+  /// @param K SPD matrix whose last @p m unknowns are condensed, its lower triangle read (both
+  /// triangles stored or the lower one: the model's K_x.lower());
   /// @param f right-hand side;
   /// @param ordering fill-reducing ordering of the interior, on its node graph: "amd" (constrained
   /// AMD on the whole graph, the condensed unknowns last), "metis", "nesdis" (on the interior's
-  /// graph) or "auto" (amd for 2D up to 200 000 nodes, nesdis for 3D and larger 2D).
+  /// graph) or "auto" (amd for 2D up to 200 000 nodes, metis for larger 2D, nesdis for 3D).
   /// @throws Error if K is not positive definite.
   Condensation(const SpMat& K, const Vec& f, Index m, const std::string& ordering = "auto");
   /// The analysis alone (ordering + symbolic factorization, no numbers): predicted_flops() and

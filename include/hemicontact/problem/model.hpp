@@ -5,6 +5,7 @@
 #include <hemicontact/contact/contact_nodes.hpp>
 #include <hemicontact/contact/friction_bound.hpp>
 #include <hemicontact/contact/piecewise_linear_law.hpp>
+#include <hemicontact/core/symmetric_matrix.hpp>
 #include <hemicontact/fem/dof_map.hpp>
 #include <hemicontact/material/material.hpp>
 #include <hemicontact/mesh/mesh.hpp>
@@ -28,10 +29,11 @@ struct Model {
   ContactNodes contact;                                  ///< Γ3 nodes, weights, frames, g_i
   DofMap dofs;                                           ///< full ↔ reduced unknowns
   Vec f;                                                 ///< full load vector, eq. (17)
-  /// reduced stiffness Tᵀ K T (nonlinear F: tangent at u = 0); the only copy of K. Empty in the
-  /// petsc engine's models (build_model(..., stiffness = false)): each rank assembles its rows into
-  /// PETSc, and internal_force, a and elastic_energy of a linear material refuse (EXIT_INTERNAL).
-  MovableSpMat Kx;
+  /// reduced stiffness Tᵀ K T (nonlinear F: tangent at u = 0); the only copy of K, its lower
+  /// triangle (half the memory; K_x x through operator*). Empty in the petsc engine's models
+  /// (build_model(..., stiffness = false)): each rank assembles its rows into PETSc, and
+  /// internal_force, a and elastic_energy of a linear material refuse (EXIT_INTERNAL).
+  SymmetricSpMat Kx;
   Vec fx;                                                ///< reduced load Tᵀ f
   std::shared_ptr<const PiecewiseLinearLaw> normal_law;  ///< exact p_ν; null: no soft layer
   std::shared_ptr<const FrictionBound> friction;         ///< F_b; null: frictionless
