@@ -26,6 +26,10 @@ void check_condensation_status(const cholmod_common& c, const std::string& phase
     throw Error("condensation: CHOLMOD " + phase + " failed with status " + std::to_string(c.status), EXIT_INTERNAL);
 }
 
+// The unknowns from which the factorization is set up for memory rather than for speed (a
+// milder relaxed amalgamation, the heap handed back around it): fig2 from n = 256 (131 584).
+constexpr Index MEMORY_BOUND = 100000;
+
 // A cholmod_sparse view (no copy) of the lower triangle of a compressed Eigen matrix.
 cholmod_sparse view_lower(const SpMat& A) {
   cholmod_sparse s{};
@@ -206,14 +210,17 @@ Condensation::Condensation(const SpMat& K, Index m, const std::string& ordering)
   m_m = m;
   cholmod_common& c = m_impl->c;
   c.supernodal = CHOLMOD_SUPERNODAL;
-  // A milder relaxed amalgamation than CHOLMOD's default (nrelax 4, 16, 48; zrelax 0.8, 0.1, 0.05):
-  // fewer explicit zeros in the supernodes. fig2 n = 512, METIS: peak 721 → 691 MB at +0.03 s
-  // (of 2.9 s); n = 256, AMD: 188 → 179 MB at +0.01 s; the 3D box at n = 24: −4 MB, same time
-  // (2026-11-29, docs/performance.md). No relaxation at all costs +0.4 s at n = 512.
-  const int nrelax[3] = {4, 8, 16};
-  const double zrelax[3] = {0.5, 0.05, 0.02};
-  std::copy(nrelax, nrelax + 3, c.nrelax);
-  std::copy(zrelax, zrelax + 3, c.zrelax);
+  if (n >= MEMORY_BOUND) {
+    // A milder relaxed amalgamation than CHOLMOD's default (nrelax 4, 16, 48; zrelax 0.8, 0.1,
+    // 0.05): fewer explicit zeros in the supernodes. fig2 n = 512, METIS: peak 721 → 691 MB at
+    // +0.03 s (of 2.9 s); n = 256, AMD: 188 → 179 MB at +0.01 s; the 3D box at n = 24: −4 MB, same
+    // time. Small matrices keep the default: a random scene of 4 128 unknowns factorized in 5.5
+    // instead of 4.4 ms (2026-11-29, docs/performance.md). No relaxation at all: +0.4 s at n = 512.
+    const int nrelax[3] = {4, 8, 16};
+    const double zrelax[3] = {0.5, 0.05, 0.02};
+    std::copy(nrelax, nrelax + 3, c.nrelax);
+    std::copy(zrelax, zrelax + 3, c.zrelax);
+  }
   const auto t0 = clk::now();
 
   // 1. Fill-reducing ordering of the interior block alone, on its node graph.
@@ -278,9 +285,10 @@ void Condensation::factorize(const SpMat& K, const Vec& f) {
   // mallopt) stay resident in the heap: the assembly's and the analysis's before the factor
   // (65 MB at fig2 n = 512), CHOLMOD's permuted copy of K and its workspaces after it (~85 MB).
   // Handed back to the system on both sides, the process's peak is what is alive, not the sum.
-  malloc_trim(0);
+  // (Each call walks the heap: 0.2 ms, a tenth of a small scene's factorization: large ones only.)
+  if (n >= MEMORY_BOUND) malloc_trim(0);
   cholmod_factorize(&A, m_impl->L, &c);
-  malloc_trim(0);
+  if (n >= MEMORY_BOUND) malloc_trim(0);
   cholmod_factor* L = m_impl->L;
   check_condensation_status(c, "factorization", n);
   if (c.status == CHOLMOD_NOT_POSDEF || L->minor < static_cast<size_t>(n))
