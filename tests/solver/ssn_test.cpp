@@ -129,6 +129,27 @@ TEST(Ssn, StopsAtTheAnswerAndFromIt) {
   EXPECT_LE((b.x - a.x).cwiseAbs().maxCoeff(), 1e-12 * a.x.cwiseAbs().maxCoeff());
 }
 
+// On statuses that hold, the conditions are linear and one Newton step is exact, pinned unknowns
+// included: their prescribed steps enter the free rows through J's coupling, which the stored
+// lower triangle holds once for both sides (a free row above a pinned column is an entry of the
+// pinned row). From the answer moved by 1e-7 of its size in every unknown (contact nodes off g,
+// every status kept), step 1 lands on the answer and the next reading confirms it with no step.
+// (Without the upper side's term: two steps here, and 11 instead of 7 from zero on fig2 n = 8.)
+TEST(Ssn, OneStepIsExactOnStatusesThatHold) {
+  SolveOptions opt;
+  const Model md = model_of("sofonea2017-frictionless.json", {"mesh.n=8"}, opt);
+  const SsnLimits lim{opt.ssn.max_iters, opt.ssn.tol, opt.petsc.ksp_rtol};
+  const SsnOutcome a = ssn_full(md, lim, nullptr);
+  ASSERT_TRUE(a.converged) << a.message;
+  const double size = a.x.cwiseAbs().maxCoeff();
+  Vec x0 = a.x;
+  for (Index i = 0; i < x0.size(); ++i) x0[i] += 1e-7 * size * std::sin(1.0 + static_cast<double>(i));
+  const SsnOutcome b = ssn_full(md, lim, &x0);
+  ASSERT_TRUE(b.converged) << b.message;
+  EXPECT_EQ(b.steps, 1);
+  EXPECT_LE((b.x - a.x).cwiseAbs().maxCoeff(), 1e-12 * size);
+}
+
 // A nonlinear material has no K_x to be the Newton matrix: refused, naming the fix.
 // Where ssn cannot certify (a softening branch of p_ν steeper than the body: its Newton matrix is
 // not positive definite), the engine's default backend takes over from the same start: the answer
