@@ -15,6 +15,10 @@
 
 namespace hemicontact {
 
+void hand_back_freed_memory(long unknowns) {
+  if (unknowns >= MEMORY_BOUND_UNKNOWNS) malloc_trim(0);
+}
+
 void configure_process_for_solves() {
   // glibc serves blocks above a dynamic threshold (128 KB at first, up to 32 MB) with mmap and
   // gives them back on free, and trims the heap top above 128 KB. A solve allocates and frees

@@ -3,9 +3,9 @@
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/interrupt.hpp>
+#include <hemicontact/core/process.hpp>
 
 #include <cholmod.h>
-#include <malloc.h>
 
 #include <algorithm>
 #include <chrono>
@@ -25,10 +25,6 @@ void check_condensation_status(const cholmod_common& c, const std::string& phase
   if (c.status < CHOLMOD_OK)
     throw Error("condensation: CHOLMOD " + phase + " failed with status " + std::to_string(c.status), EXIT_INTERNAL);
 }
-
-// The unknowns from which the factorization is set up for memory rather than for speed (a
-// milder relaxed amalgamation, the heap handed back around it): fig2 from n = 256 (131 584).
-constexpr Index MEMORY_BOUND = 100000;
 
 // A cholmod_sparse view (no copy) of the lower triangle of a compressed Eigen matrix.
 cholmod_sparse view_lower(const SpMat& A) {
@@ -210,7 +206,7 @@ Condensation::Condensation(const SpMat& K, Index m, const std::string& ordering)
   m_m = m;
   cholmod_common& c = m_impl->c;
   c.supernodal = CHOLMOD_SUPERNODAL;
-  if (n >= MEMORY_BOUND) {
+  if (n >= MEMORY_BOUND_UNKNOWNS) {
     // A milder relaxed amalgamation than CHOLMOD's default (nrelax 4, 16, 48; zrelax 0.8, 0.1,
     // 0.05): fewer explicit zeros in the supernodes. fig2 n = 512, METIS: peak 721 → 691 MB at
     // +0.03 s (of 2.9 s); n = 256, AMD: 188 → 179 MB at +0.01 s; the 3D box at n = 24: −4 MB, same
@@ -286,9 +282,9 @@ void Condensation::factorize(const SpMat& K, const Vec& f) {
   // (65 MB at fig2 n = 512), CHOLMOD's permuted copy of K and its workspaces after it (~85 MB).
   // Handed back to the system on both sides, the process's peak is what is alive, not the sum.
   // (Each call walks the heap: 0.2 ms, a tenth of a small scene's factorization: large ones only.)
-  if (n >= MEMORY_BOUND) malloc_trim(0);
+  hand_back_freed_memory(n);
   cholmod_factorize(&A, m_impl->L, &c);
-  if (n >= MEMORY_BOUND) malloc_trim(0);
+  hand_back_freed_memory(n);
   cholmod_factor* L = m_impl->L;
   check_condensation_status(c, "factorization", n);
   if (c.status == CHOLMOD_NOT_POSDEF || L->minor < static_cast<size_t>(n))

@@ -1,7 +1,5 @@
 #include <hemicontact/scene/build_model.hpp>
 
-#include <malloc.h>
-
 #include <hemicontact/contact/law_factory.hpp>
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
@@ -528,7 +526,7 @@ Model build_model(const json& scene, Mesh mesh, bool stiffness, bool piece, cons
   // its lower triangle, the one copy; both triangles live only here, and go back to the system.
   if (stiffness) {
     md.Kx = SymmetricSpMat(assemble_reduced_stiffness(md.mesh, md.material->tangent(Vec::Zero(voigt_size(d))), md.dofs));
-    malloc_trim(0);
+    hand_back_freed_memory(md.dofs.n_free());
   }
   const auto f0v = scene.at("loads").at("body_force").get<std::vector<double>>();
   if (static_cast<int>(f0v.size()) != d) input_error("loads.body_force: expected " + std::to_string(d) + " components");

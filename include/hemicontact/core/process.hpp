@@ -10,6 +10,17 @@ namespace hemicontact {
 /// in src/core/process.cpp.
 void configure_process_for_solves();
 
+/// The matrix size (unknowns) from which its factorization is set up for memory rather than for
+/// speed: fig2 from n = 256 (131 584 unknowns). Below it, a few MB are not worth a heap walk or a
+/// slower factorization (fem/condensation.cpp, hand_back_freed_memory).
+inline constexpr long MEMORY_BOUND_UNKNOWNS = 100000;
+
+/// @brief Where @p unknowns ≥ MEMORY_BOUND_UNKNOWNS: hands the heap's freed pages back to the system
+/// (malloc_trim). The thresholds of configure_process_for_solves keep freed blocks below 32 MB
+/// resident, which is right between a solve's phases but not just before the run's largest array
+/// (the factor) is allocated: then they would count in the peak beside it. Each call walks the heap.
+void hand_back_freed_memory(long unknowns);
+
 /// OpenBLAS's work buffer (Debian's build): one per thread that calls the BLAS, mapped at its first
 /// call and kept in OpenBLAS's pool for the process's life.
 inline constexpr double OPENBLAS_BUFFER_BYTES = 128.0 * (1 << 20);
