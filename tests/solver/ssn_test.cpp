@@ -24,6 +24,20 @@ Model model_of(const std::string& file, const std::vector<std::string>& sets, So
   return build_model(scene, ".");
 }
 
+// ssn from zero on a shipped scene, with the scene's limits: the model and the limits to rerun it.
+struct SsnFromZero {
+  Model md;
+  SsnLimits lim;
+  SsnOutcome a;
+};
+SsnFromZero ssn_from_zero(const std::string& file, const std::vector<std::string>& sets) {
+  SolveOptions opt;
+  Model md = model_of(file, sets, opt);
+  const SsnLimits lim{opt.ssn.max_iters, opt.ssn.tol, opt.petsc.ksp_rtol};
+  SsnOutcome a = ssn_full(md, lim, nullptr);
+  return {std::move(md), lim, std::move(a)};
+}
+
 // The Jacobian block of a status's rows is the derivative of their forces: a central difference
 // of each force over each unknown, with a step far below the branch widths of p_ν and F_b (so the
 // difference is exact up to round-off, O(ε_mach/h) relative) and far below |x_τ| (the slip
@@ -116,10 +130,7 @@ TEST(Ssn, SameAnswerOnALongStrip) {
 // ssn's own record: converged in a few steps, the last ones without a status change, and a start
 // at the answer converges at once (no step).
 TEST(Ssn, StopsAtTheAnswerAndFromIt) {
-  SolveOptions opt;
-  const Model md = model_of("sofonea2017-fig2.json", {"mesh.n=16"}, opt);
-  const SsnLimits lim{opt.ssn.max_iters, opt.ssn.tol, opt.petsc.ksp_rtol};
-  const SsnOutcome a = ssn_full(md, lim, nullptr);
+  const auto [md, lim, a] = ssn_from_zero("sofonea2017-fig2.json", {"mesh.n=16"});
   ASSERT_TRUE(a.converged) << a.message;
   EXPECT_LE(a.steps, 12);
   EXPECT_EQ(a.record.back().at("status_changes"), 0);
@@ -136,10 +147,7 @@ TEST(Ssn, StopsAtTheAnswerAndFromIt) {
 // every status kept), step 1 lands on the answer and the next reading confirms it with no step.
 // (Without the upper side's term: two steps here, and 11 instead of 7 from zero on fig2 n = 8.)
 TEST(Ssn, OneStepIsExactOnStatusesThatHold) {
-  SolveOptions opt;
-  const Model md = model_of("sofonea2017-frictionless.json", {"mesh.n=8"}, opt);
-  const SsnLimits lim{opt.ssn.max_iters, opt.ssn.tol, opt.petsc.ksp_rtol};
-  const SsnOutcome a = ssn_full(md, lim, nullptr);
+  const auto [md, lim, a] = ssn_from_zero("sofonea2017-frictionless.json", {"mesh.n=8"});
   ASSERT_TRUE(a.converged) << a.message;
   const double size = a.x.cwiseAbs().maxCoeff();
   Vec x0 = a.x;
