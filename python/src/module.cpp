@@ -27,6 +27,7 @@
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/engine_choice.hpp>
+#include <hemicontact/studies/petsc_process.hpp>
 #include <hemicontact/solver/adapt.hpp>
 #include <hemicontact/solver/solve.hpp>
 #include <hemicontact/studies/convergence.hpp>
@@ -256,16 +257,21 @@ struct Scene {
 
 std::string assignment(const std::string& key, py::handle value) { return key + "=" + py_json_dumps(value); }
 
-// The engine a study of the module runs (solver/engine_choice.hpp): a given petsc is refused, an
-// automatic choice says where `hemicontact solve` would have taken the petsc engine.
+// The engine a call of the module runs (solver/engine_choice.hpp): solve and converge take what
+// `hemicontact solve` would (the petsc engine as a process of its own, studies/petsc_process.hpp);
+// minima and path, which restart one solver from many points, run the cholmod engine (a given
+// petsc is refused) and say where `hemicontact solve` would have taken the petsc engine.
 EngineChoice module_engine(const json& scene, const std::string& directory, const char* what, int reference = 0) {
-  if (scene.at("solver").at("engine").get<std::string>() == "petsc")
-    input_error(std::string(what) +
-                ": solver.engine = petsc runs as its own MPI program (hemicontact-mpi); the Python module "
-                "solves on the cholmod engine: run `hemicontact solve` for the petsc engine");
-  EngineChoice e = reference > 0
-                       ? convergence_engine(scene, directory, reference, HEMICONTACT_HAS_PETSC)
-                       : in_process_engine(scene, directory, HEMICONTACT_HAS_PETSC, std::string("the Python module's ") + what);
+  const std::string w = what;
+  const bool hands_over = w == "solve" || w == "converge";
+  if (!hands_over && scene.at("solver").at("engine").get<std::string>() == "petsc")
+    input_error(w + ": solver.engine = petsc solves one scene from zero (`hemicontact solve`, the module's solve "
+                    "and converge); " + w + " restarts one solver from many points: use solver.engine = cholmod");
+  if (hands_over && !HEMICONTACT_HAS_PETSC && scene.at("solver").at("engine").get<std::string>() == "petsc")
+    input_error(w + ": solver.engine = petsc: this build has no petsc engine (hemicontact-mpi)");
+  EngineChoice e = reference > 0 ? convergence_engine(scene, directory, reference, HEMICONTACT_HAS_PETSC)
+                   : hands_over  ? choose_engine(scene, directory, HEMICONTACT_HAS_PETSC, adapt_requested(scene))
+                                 : in_process_engine(scene, directory, HEMICONTACT_HAS_PETSC, "the Python module's " + w);
   log_engine_choice(e);
   return e;
 }
@@ -309,7 +315,14 @@ std::shared_ptr<Solved> py_solve(const Scene& s, const std::vector<std::string>&
     auto out = std::make_shared<Solved>();
     // As `hemicontact solve` (studies/scene_solve.hpp); with adapt.target_error the final mesh's
     // model and solution, the loop's history in the report.
-    static_cast<SceneSolve&>(*out) = solve_scene(scene, s.directory);
+    if (engine.engine == "petsc") {
+      refuse_adaptive_outside_cholmod(scene);
+      const PetscProcess petsc(scene, s.directory);
+      static_cast<SceneSolve&>(*out) = solve_scene_with(scene, s.directory, petsc);
+      out->extra["petsc"] = petsc.last_report().at("petsc");
+    } else {
+      static_cast<SceneSolve&>(*out) = solve_scene(scene, s.directory);
+    }
     out->extra["engine_choice"] = engine_choice_json(engine);
     if (!out->missed.empty()) log_warn() << out->missed;
     return out;
@@ -457,7 +470,8 @@ py::object convergence_study(const Scene& s, const std::vector<std::string>& ext
                              int reference) {
   const json scene = s.with(extra);
   const EngineChoice engine = module_engine(scene, s.directory, "converge", reference);
-  json js = run_released([&] { return convergence_json(run_convergence(scene, s.directory, levels, reference)); });
+  json js = run_released(
+      [&] { return convergence_json(run_convergence(scene, s.directory, levels, reference, nullptr, HEMICONTACT_HAS_PETSC)); });
   js["engine_choice"] = engine_choice_json(engine);
   js["name"] = s.path ? std::filesystem::path(*s.path).stem().string() : std::string("dict");
   js["scene_file"] = s.name();

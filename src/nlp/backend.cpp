@@ -22,6 +22,12 @@ const char* to_string(SolveStatus s) {
   return "failed";  // unreachable for valid enumerators; keeps -Wreturn-type quiet
 }
 
+SolveStatus solve_status_from(const std::string& name) {
+  for (const SolveStatus s : {SolveStatus::CONVERGED, SolveStatus::ACCEPTABLE, SolveStatus::MAX_ITERATIONS, SolveStatus::FAILED})
+    if (name == to_string(s)) return s;
+  throw Error("no backend status '" + name + "'", EXIT_INTERNAL);
+}
+
 double first_order_residual(const Vec& x, const Vec& g, const Vec& lower, const Vec& upper) {
   double r = 0;
   for (Index i = 0; i < x.size(); ++i) {

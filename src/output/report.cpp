@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -181,6 +182,34 @@ json fixed_point_json(const Solution& sol, const SolveOptions& opt) {
           {"history", std::move(history)}};
 }
 
+// A number of a report read back: null is what a NaN or infinity was written as.
+double number_at(const json& j, const char* key) {
+  const json& v = j.at(key);
+  return v.is_null() ? std::numeric_limits<double>::quiet_NaN() : v.get<double>();
+}
+
+// One entry of fixed_point_json's history, read back.
+OuterIteration outer_iteration_from(const json& h) {
+  OuterIteration it;
+  it.k = h.at("k").get<int>();
+  it.stage = h.at("stage").get<int>();
+  it.eps_tau = number_at(h, "eps_tau");
+  it.eps_nu = number_at(h, "eps_nu");
+  it.change_u = number_at(h, "change_u");
+  it.change_lambda = number_at(h, "change_lambda");
+  it.grad_norm = number_at(h, "grad_norm");
+  it.delta_lambda = number_at(h, "delta_lambda");
+  it.contraction = number_at(h, "contraction");
+  it.backend.status = solve_status_from(h.at("backend_status").get<std::string>());
+  it.backend.iterations = h.at("backend_iterations").get<int>();
+  it.backend.evaluations = h.at("backend_evaluations").get<int>();
+  it.backend.seconds = number_at(h, "backend_seconds");
+  it.backend.message = h.at("backend_message").get<std::string>();
+  it.solver = h.at("solver").get<std::string>();
+  return it;
+}
+
+
 json options_json(const SolveOptions& opt) {
   return {{"backend", opt.backend},
           {"tol", opt.backend_options.tol},
@@ -307,6 +336,32 @@ json solve_records(const Solution& sol, const SolveOptions& opt, bool lagged) {
   r["message"] = sol.message;
   r["ok"] = report_ok(sol);
   return r;
+}
+
+void read_solve_records(const json& r, Solution& sol) {
+  const json& b = r.at("backend");
+  sol.backend = b.at("name").get<std::string>();
+  sol.backend_use.requested = b.at("requested").get<std::string>();
+  sol.backend_use.ran = b.at("ran").get<bool>();
+  sol.backend_use.not_run = b.at("not_run").is_null() ? "" : b.at("not_run").get<std::string>();
+  const json& fp = r.at("fixed_point");
+  sol.fixed_point_converged = fp.at("converged").get<bool>();
+  sol.contraction_estimate = number_at(fp, "contraction_estimate");
+  sol.history.clear();
+  for (const json& h : fp.at("history")) sol.history.push_back(outer_iteration_from(h));
+  sol.backend_ok = sol.history.empty() || sol.history.back().backend.ok();
+  sol.skipped = r.at("skipped").get<std::vector<std::string>>();
+  sol.formulation = r.at("formulation").get<std::string>();
+  sol.x_scale = number_at(r.at("scales"), "x_scale");
+  sol.f_scale = number_at(r.at("scales"), "f_scale");
+  const json& p = r.at("polish");
+  sol.polish.attempted = p.at("attempted").get<bool>();
+  sol.polish.accepted = p.at("accepted").get<bool>();
+  sol.polish.iterations = p.at("iterations").get<int>();
+  sol.polish.before = number_at(p, "certificate_before");
+  sol.polish.after = number_at(p, "certificate_after");
+  sol.polish.note = p.at("note").get<std::string>();
+  sol.message = r.at("message").get<std::string>();
 }
 
 json make_report(const Model& md, const Solution& sol, const SolveOptions& opt) {

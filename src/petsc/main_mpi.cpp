@@ -39,6 +39,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <iterator>
 #include <new>
 #include <optional>
 #include <string>
@@ -56,10 +57,16 @@ using namespace hemicontact;
 const char* const HELP =
     "usage: hemicontact-mpi solve SCENE.json [--out DIR] [--set path=value]... [--backend ssn|tao:bnls|tao:bntr|tao:bntl]\n"
     "                             [--force] [--quiet] [--plot [--magnification M]]\n"
+    "       hemicontact-mpi solve SCENE.json|- --stream [--set path=value]... [--quiet]\n"
     "The petsc engine of `hemicontact solve` (solver.engine = petsc), normally run through it:\n"
     "  mpirun -np P hemicontact solve SCENE.json --set solver.engine='\"petsc\"' --out DIR\n"
     "Same scene keys, results and exit codes as `hemicontact solve --help` describes; settings of the\n"
-    "engine under solver.petsc (docs/scene-format.md). PETSc options: solver.petsc.options or PETSC_OPTIONS.\n";
+    "engine under solver.petsc (docs/scene-format.md). PETSc options: solver.petsc.options or PETSC_OPTIONS.\n"
+    "  --stream   write no files: report.json's content as one line on stdout, then the whole mesh's\n"
+    "             displacement as raw float64 (native byte order, node-major, the report's node\n"
+    "             numbering); PETSc's own printing goes to stderr. For a program that holds the whole\n"
+    "             model (`hemicontact converge`, the Python module): it judges u itself. SCENE '-':\n"
+    "             the scene's JSON from stdin (its relative paths from the current folder).\n";
 
 // An error every rank holds, agreed on in a collective step (share, on_every_rank): the ranks can
 // leave together through PetscFinalize. Any other error may be one rank's alone while the others
@@ -160,7 +167,7 @@ long free_gamma3_nodes(const Mesh& mesh) {
 // report.json (rank 0) holds reductions and the gathered Γ3 rows.
 int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
               const SolveOptions& opt, MPI_Comm comm, std::chrono::steady_clock::time_point t0,
-              const std::string& layout) {
+              const std::string& layout, bool stream) {
   int size = 1;
   MPI_Comm_size(comm, &size);
   log_info() << "petsc: the mesh distributed over the ranks ("
@@ -194,6 +201,10 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
   petsc_engine::SlabResult out;
   Solution sol = petsc_engine::solve_slabs(md, slab, opt, comm, er, out);
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (stream) {
+    petsc_engine::stream_slab_results(scene, md, slab, sol, out, opt, er, comm);
+    return solve_exit_code(sol, opt);
+  }
   // The picture reads the pieces (scripts/plot_fig2.py the .pvtu's, plot_status3d.py the CSVs).
   petsc_engine::write_slab_results(a.out, scene, md, slab, sol, out, opt, er, comm,
                                    [&] { cli::draw_solve_picture(a, plot_args, scene, md.dim()); });
@@ -225,12 +236,33 @@ std::optional<OutputLock> lock_output(const cli::SceneArgs& a, int rank, MPI_Com
   return lock;
 }
 
+// SCENE "-" (--stream): the scene's text from rank 0's stdin, to every rank (collective). Read to
+// its end, up to MAX_SCENE_BYTES (one byte more tells "too long").
+std::string scene_from_stdin(MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::string text;
+  long size = 0;
+  if (rank == 0) {
+    char chunk[1 << 16];
+    for (size_t got; text.size() <= MAX_SCENE_BYTES && (got = std::fread(chunk, 1, sizeof chunk, stdin)) > 0;)
+      text.append(chunk, got);
+    size = text.size() > MAX_SCENE_BYTES ? -1 : static_cast<long>(text.size());
+  }
+  MPI_Bcast(&size, 1, MPI_LONG, 0, comm);
+  if (size < 0) throw SharedError("the scene on stdin is longer than MAX_SCENE_BYTES", EXIT_INPUT);
+  text.resize(static_cast<size_t>(size));
+  if (size > 0) MPI_Bcast(text.data(), static_cast<int>(size), MPI_CHAR, 0, comm);
+  return text;
+}
+
 // The scene and its options, read by every rank alike: an error in them (a bad key, a non-TAO
 // backend) is every rank's and is agreed on, so that the ranks leave together through
 // PetscFinalize with the message once, rather than by MPI_Abort.
 void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt) {
+  const std::optional<std::string> text = a.scene == "-" ? std::optional(scene_from_stdin(comm)) : std::nullopt;
   on_every_rank(comm, [&] {
-    scene = load_scene(a.scene, a.overrides);
+    scene = text ? load_scene_text(*text, "<stdin>", a.overrides) : load_scene(a.scene, a.overrides);
     refuse_adaptive_outside_cholmod(scene);  // as the CLI does before it runs this program
     const EngineChoice ec = choose_engine(scene, scene_directory(a.scene), true, false);
     engine_choice = engine_choice_json(
@@ -265,7 +297,18 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
     return EXIT_OK;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  const cli::SceneArgs a = cli::parse_scene_args(rest, {"--magnification"});
+  std::vector<std::string> kept;
+  std::copy_if(rest.begin(), rest.end(), std::back_inserter(kept), [](const std::string& s) { return s != "--stream"; });
+  const bool stream = kept.size() != rest.size();
+  if (stream) {
+    for (const char* files : {"--out", "--force", "--plot", "--magnification"})
+      if (std::find(kept.begin(), kept.end(), files) != kept.end())
+        throw cli::UsageError(std::string("--stream writes no files: ") + files + " has nothing to act on");
+    PETSC_STDOUT = stderr;  // stdout carries the stream alone (-ksp_monitor and the like print here)
+  } else if (!kept.empty() && kept[0] == "-") {
+    throw cli::UsageError("the scene '-' (stdin) is read with --stream only");
+  }
+  const cli::SceneArgs a = cli::parse_scene_args(kept, {"--magnification"});
   // OpenBLAS maps this thread's work buffer at its first BLAS call (PETSc's GAMG, late in the
   // solve) and retries a mapping that fails for ever: under a memory limit one rank spun there
   // while the others waited. Mapped now, or this rank ends the job with the memory message.
@@ -276,8 +319,8 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   SolveOptions opt;
   read_scene(a, comm, scene, opt);
 
-  const std::optional<OutputLock> lock = lock_output(a, rank, comm);
-  return run_slabs(a, plot_args, scene, opt, comm, t0, distributed_layout(scene, opt, comm));
+  const std::optional<OutputLock> lock = stream ? std::nullopt : lock_output(a, rank, comm);
+  return run_slabs(a, plot_args, scene, opt, comm, t0, distributed_layout(scene, opt, comm), stream);
 }
 
 // The end of a job after an error that may be this rank's alone: the message printed once (rank

@@ -16,6 +16,8 @@
 #include <hemicontact/output/vtk_writer.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <cstdio>
 #include <numeric>
 #include <filesystem>
@@ -161,15 +163,25 @@ std::vector<OutputNamePattern> slab_output_patterns() {
   return {{"solution_rank", ".vtu"}, {"gamma3_rank", ".csv"}};
 }
 
+namespace {
+
+// The whole mesh's longest edge (the summary's h; collective).
+double longest_edge(const Model& md, MPI_Comm comm) {
+  const double h_mine = md.mesh.max_edge_length();
+  double h = 0;
+  MPI_Allreduce(&h_mine, &h, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return h;
+}
+
+}  // namespace
+
 void write_slab_results(const std::string& dir, const nlohmann::json& scene, const Model& md, const Piece& slab,
                         const Solution& sol, const SlabResult& out, const SolveOptions& opt, const EngineReport& er,
                         MPI_Comm comm, const std::function<void()>& before_report) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  const double h_mine = md.mesh.max_edge_length();
-  double h = 0;
-  MPI_Allreduce(&h_mine, &h, 1, MPI_DOUBLE, MPI_MAX, comm);
+  const double h = longest_edge(md, comm);
   const std::filesystem::path p(dir);
   // The pieces' names are in the manifest before any is created (rank 0 alone appends to it), so
   // that --force after a crash knows every file; then each rank writes its own.
@@ -217,6 +229,69 @@ void write_slab_results(const std::string& dir, const nlohmann::json& scene, con
     });
   MPI_Bcast(&code, 1, MPI_INT, 0, comm);
   if (code != 0) throw Error(rank == 0 ? message : "rank 0 could not write the results", static_cast<ExitCode>(code));
+}
+
+
+namespace {
+
+// Every owned node's u, gathered to rank 0 in the whole mesh's numbering (collective): rank 0's
+// array of global_nodes × d values, NaN where no rank owned a node; empty on the other ranks.
+std::vector<double> gather_whole_u(const Model& md, const Piece& slab, const Vec& u, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const int d = md.dim();
+  std::vector<long> ids;
+  std::vector<double> vals;
+  for (Index v = 0; v < md.mesh.num_nodes(); ++v)
+    if (slab.owned_node[static_cast<size_t>(v)]) {
+      ids.push_back(slab.global_node[static_cast<size_t>(v)]);
+      for (int i = 0; i < d; ++i) vals.push_back(u[d * v + i]);
+    }
+  const int count = static_cast<int>(ids.size());
+  std::vector<int> counts(static_cast<size_t>(size)), at(static_cast<size_t>(size), 0), dcounts, dat;
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  for (int q = 1; q < size; ++q) at[static_cast<size_t>(q)] = at[static_cast<size_t>(q - 1)] + counts[static_cast<size_t>(q - 1)];
+  for (int q = 0; q < size; ++q) dcounts.push_back(counts[static_cast<size_t>(q)] * d), dat.push_back(at[static_cast<size_t>(q)] * d);
+  const size_t total = rank == 0 ? static_cast<size_t>(at.back() + counts.back()) : 0;
+  std::vector<long> all_ids(total);
+  std::vector<double> all(total * static_cast<size_t>(d));
+  MPI_Gatherv(ids.data(), count, MPI_LONG, all_ids.data(), counts.data(), at.data(), MPI_LONG, 0, comm);
+  MPI_Gatherv(vals.data(), count * d, MPI_DOUBLE, all.data(), dcounts.data(), dat.data(), MPI_DOUBLE, 0, comm);
+  if (rank != 0) return {};
+  std::vector<double> whole(static_cast<size_t>(slab.global_nodes) * static_cast<size_t>(d),
+                            std::numeric_limits<double>::quiet_NaN());
+  for (size_t q = 0; q < total; ++q)
+    for (int i = 0; i < d; ++i) whole[static_cast<size_t>(all_ids[q]) * d + i] = all[q * d + i];
+  return whole;
+}
+
+}  // namespace
+
+void stream_slab_results(const nlohmann::json& scene, const Model& md, const Piece& slab, const Solution& sol,
+                         const SlabResult& out, const SolveOptions& opt, const EngineReport& er, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const double h = longest_edge(md, comm);
+  std::vector<long> index;
+  const std::vector<Gamma3Row> nodes = gather_rows(owned_rows(md, slab, out.piece), md.dim(), index, comm);
+  const std::vector<double> whole = gather_whole_u(md, slab, out.piece.u, comm);
+  int code = 0;
+  if (rank == 0) {
+    nlohmann::json report = slab_report(scene, md, sol, slab_facts(md, slab, sol, er, h, nodes), opt, er, size);
+    report["files"] = nlohmann::json::array();
+    const std::string line = report.dump() + "\n";  // one line: dump() escapes every newline inside
+    const size_t bytes = whole.size() * sizeof(double);
+    if (std::any_of(whole.begin(), whole.end(), [](double x) { return std::isnan(x); }))
+      code = EXIT_INTERNAL;  // a node no rank owned: nothing is sent that could pass for u
+    else if (std::fwrite(line.data(), 1, line.size(), stdout) != line.size() ||
+             std::fwrite(whole.data(), 1, bytes, stdout) != bytes || std::fflush(stdout) != 0)
+      code = EXIT_OUTPUT;
+  }
+  MPI_Bcast(&code, 1, MPI_INT, 0, comm);
+  if (code == EXIT_INTERNAL) throw Error("petsc engine: a node of the whole mesh has no owner's u", EXIT_INTERNAL);
+  if (code != 0) throw Error("--stream: the results could not be written to stdout (a closed pipe?)", EXIT_OUTPUT);
 }
 
 }  // namespace hemicontact::petsc_engine

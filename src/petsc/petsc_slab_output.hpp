@@ -26,4 +26,14 @@ void write_slab_results(const std::string& dir, const nlohmann::json& scene, con
                         const Solution& sol, const SlabResult& out, const SolveOptions& opt, const EngineReport& er,
                         MPI_Comm comm, const std::function<void()>& before_report);
 
+/// @brief --stream: no files, report.json's content (as write_slab_results makes it, "files"
+/// empty) as one line on stdout, then the whole mesh's displacement as raw float64 (native byte
+/// order, node-major, in the whole mesh's node numbering: the report's "node", which the cholmod
+/// engine's mesh shares), rank 0 writing both after gathering the owned nodes' u (collective).
+/// For a caller that holds the whole model (studies/petsc_process.hpp runs this on one rank).
+/// @throws Error on every rank: EXIT_OUTPUT where stdout refused the bytes, EXIT_INTERNAL where a
+///         node had no owner
+void stream_slab_results(const nlohmann::json& scene, const Model& md, const Piece& slab, const Solution& sol,
+                         const SlabResult& out, const SolveOptions& opt, const EngineReport& er, MPI_Comm comm);
+
 }  // namespace hemicontact::petsc_engine

@@ -8,6 +8,7 @@
 #include <hemicontact/scene/build_model.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/solve.hpp>
+#include <hemicontact/studies/petsc_process.hpp>
 
 #include <algorithm>
 #include <memory>
@@ -47,7 +48,7 @@ EngineChoice convergence_engine(const nlohmann::json& scene, const std::string& 
                                 bool petsc_built) {
   const std::string type = scene.at("mesh").at("type").get<std::string>();
   const bool generated = type == "rectangle" || type == "box";
-  return in_process_engine(generated ? scene_at_level(scene, reference) : scene, scene_dir, petsc_built, "converge");
+  return choose_engine(generated ? scene_at_level(scene, reference) : scene, scene_dir, petsc_built, false);
 }
 
 namespace {
@@ -78,11 +79,20 @@ bool is_nested(const Mesh& coarse, const Mesh& fine) {
   return true;
 }
 
+// The engine of level @p n, whose effective scene is @p s: the one `hemicontact solve` would take
+// (the petsc engine as a process of its own where that is built), else the cholmod engine.
+SceneEngine level_engine(const nlohmann::json& s, const std::string& scene_dir, bool petsc_built, int n) {
+  const EngineChoice e = choose_engine(s, scene_dir, petsc_built, false);
+  if (e.engine != "petsc" || !petsc_built) return [](const Model& md, const SolveOptions& o) { return solve(md, o); };
+  log_info() << "convergence: n = " << n << ": the petsc engine (" << e.reason << ")";
+  return PetscProcess(s, scene_dir);
+}
+
 // One solve of the study; fills everything but error and order.
 ConvergenceLevel solve_level(const Model& md, const SolveOptions& opt, const nlohmann::json& scene, int n,
-                             Solution& sol) {
+                             Solution& sol, const SceneEngine& engine) {
   const auto t0 = std::chrono::steady_clock::now();
-  sol = solve(md, opt);
+  sol = engine(md, opt);
   ConvergenceLevel r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.n = n;
@@ -142,7 +152,7 @@ std::vector<int> parse_levels(const std::string& text) {
 }
 
 ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string& scene_dir, std::vector<int> levels,
-                                 int reference, const LevelSolved& on_level) {
+                                 int reference, const LevelSolved& on_level, bool petsc_built) {
   // ---- check the request before any solve
   if (levels.empty()) input_error("convergence: no mesh level given");
   std::sort(levels.begin(), levels.end());
@@ -168,7 +178,8 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
   const Model ref = build_model(st.scene, scene_dir);
   const SolveOptions ref_opt = solve_options_from_scene(st.scene);
   Solution ref_sol;
-  st.reference = solve_level(ref, ref_opt, st.scene, reference, ref_sol);
+  st.reference = solve_level(ref, ref_opt, st.scene, reference, ref_sol,
+                             level_engine(st.scene, scene_dir, petsc_built, reference));
   st.reference.error = 0;
   if (on_level) on_level(st, reference, ref, ref_sol);
   const double ref_norm = ref_sol.energy_norm;
@@ -188,7 +199,7 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
       const nlohmann::json s = scene_at_level(scene, L);
       level_model = std::make_unique<Model>(build_model(s, scene_dir));
       const Model& md = *level_model;
-      lvl = solve_level(md, solve_options_from_scene(s), s, L, level_sol);
+      lvl = solve_level(md, solve_options_from_scene(s), s, L, level_sol, level_engine(s, scene_dir, petsc_built, L));
       Pu = prolongate(md.mesh, level_sol.u, ref.mesh);
       lvl.nested = is_nested(md.mesh, ref.mesh);
       if (!lvl.nested)

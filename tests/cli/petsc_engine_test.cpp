@@ -150,6 +150,8 @@ TEST(PetscEngine, AutoChoosesTheEngineFromTheScenesSize) {
 // Where `solve` would take the petsc engine automatically (a 3D box above petsc_above, lowered
 // here), their JSON's engine_choice and the log say so with solve's reason; below it they say
 // nothing of the kind. converge judges the reference mesh (n = 4: 375 unknowns), not the scene's.
+// minima and path restart one solver from many points in this process: the cholmod engine, saying
+// where `solve` would have taken the petsc engine (converge takes it: the next test).
 TEST(PetscEngine, InProcessCommandsSayWhereSolveWouldTakeThePetscEngine) {
   const fs::path dir = scratch("engine-in-process");
   const std::string scene = problem("sofonea2017-3d") + " --set output.vtu=false --set output.plot=false";
@@ -161,8 +163,7 @@ TEST(PetscEngine, InProcessCommandsSayWhereSolveWouldTakeThePetscEngine) {
   const std::string low = " --set solver.method_choice.petsc_above=50";
   for (const auto& [command, file, unknowns] :
        {std::tuple{"minima " + scene + " --set mesh.n=2 --starts 1", "minima.json", "81"},
-        std::tuple{"path " + scene + " --set mesh.n=2 --steps 2", "path.json", "81"},
-        std::tuple{"converge " + scene + " --levels 2 --reference 4", "convergence.json", "375"}}) {
+        std::tuple{"path " + scene + " --set mesh.n=2 --steps 2", "path.json", "81"}}) {
     SCOPED_TRACE(command);
     const auto [above, log] = study(command + low, file, "above");
     EXPECT_EQ(above.at("engine"), "cholmod");
@@ -180,6 +181,79 @@ TEST(PetscEngine, InProcessCommandsSayWhereSolveWouldTakeThePetscEngine) {
     fs::remove_all(dir / "above");
     fs::remove_all(dir / "below");
   }
+  fs::remove_all(dir);
+}
+
+// converge takes the engine `solve` would, level by level: above petsc_above the petsc engine runs
+// as a process of its own (hemicontact-mpi --stream) and hands u back, which this process judges.
+// Its study must be the cholmod engine's: the same statuses, energy norms and errors to the
+// engines' agreement (file comment: 1e-8), every level certified by the in-process judge.
+TEST(PetscEngine, ConvergeRunsThePetscEngineWhereSolveWould) {
+  const fs::path dir = scratch("converge-petsc");
+  const std::string study = "converge " + problem("sofonea2017-3d") +
+                            " --set output.vtu=false --set output.plot=false --levels 2,4 --reference 8"
+                            " --set solver.method_choice.petsc_above=300 --out ";
+  const CliOutcome p = run_cli(dir, study + (dir / "auto").string());
+  ASSERT_EQ(p.code, 0) << p.err;
+  const CliOutcome c = run_cli(dir, study + (dir / "cholmod").string() + " --set solver.engine='\"cholmod\"'");
+  ASSERT_EQ(c.code, 0) << c.err;
+  const json a = json::parse(slurp(dir / "auto" / "convergence.json"));
+  const json b = json::parse(slurp(dir / "cholmod" / "convergence.json"));
+  EXPECT_EQ(a.at("engine_choice").at("engine"), "petsc") << a.at("engine_choice").dump();
+  EXPECT_EQ(b.at("engine_choice").at("engine"), "cholmod");
+  // n = 2 (81 unknowns) stays below petsc_above; n = 4 (375) and the reference (2187) are above it.
+  EXPECT_EQ(p.err.find("convergence: n = 2: the petsc engine"), std::string::npos) << p.err;
+  for (const char* n : {"n = 4: the petsc engine", "n = 8: the petsc engine", "--stream), u judged here"})
+    EXPECT_NE(p.err.find(n), std::string::npos) << n << "\n" << p.err;
+  json levels_a = a.at("levels"), levels_b = b.at("levels");
+  levels_a.push_back(a.at("reference"));
+  levels_b.push_back(b.at("reference"));
+  ASSERT_EQ(levels_a.size(), 3u);
+  ASSERT_EQ(levels_b.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    const json &la = levels_a[i], &lb = levels_b[i];
+    SCOPED_TRACE("n = " + la.at("n").dump());
+    EXPECT_TRUE(la.at("certified").get<bool>());
+    EXPECT_LE(la.at("certificate_max_residual").get<double>(), 1e-8);
+    EXPECT_EQ(la.at("status_counts"), lb.at("status_counts"));
+    const double na = la.at("energy_norm").get<double>(), nb = lb.at("energy_norm").get<double>();
+    EXPECT_LE(std::abs(na - nb), 1e-8 * nb);
+    EXPECT_LE(std::abs(la.at("error").get<double>() - lb.at("error").get<double>()), 1e-8);
+    const bool petsc = la.at("n").get<int>() > 2;
+    EXPECT_EQ(la.at("solved_by").get<std::string>().find("PETSc, 1 rank") != std::string::npos, petsc)
+        << la.at("solved_by");
+  }
+  fs::remove_all(dir);
+}
+
+// hemicontact-mpi's --stream writes no files: what would act on files is refused, and so is the
+// scene '-' (stdin) without it; an error of the engine (a nonlinear material) reaches converge's
+// caller with its code and message.
+TEST(PetscEngine, StreamRefusesFileOptionsAndConvergePassesTheEnginesErrorOn) {
+  const fs::path dir = scratch("stream-usage");
+  const std::string mpi = (fs::path(HEMICONTACT_CLI_PATH).parent_path() / "hemicontact-mpi").string();
+  const auto run = [&](const std::string& args) {
+    const int status = std::system(("cd '" + dir.string() + "' && " + mpi + " " + args + " </dev/null >" +
+                                    (dir / "o.txt").string() + " 2>" + (dir / "e.txt").string())
+                                       .c_str());
+    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "e.txt"));
+  };
+  const auto [with_out, err_out] = run("solve - --stream --out x");
+  EXPECT_EQ(with_out, 1);
+  EXPECT_NE(err_out.find("--stream writes no files: --out"), std::string::npos) << err_out;
+  const auto [dash, err_dash] = run("solve - --out x");
+  EXPECT_EQ(dash, 1);
+  EXPECT_NE(err_dash.find("the scene '-' (stdin) is read with --stream only"), std::string::npos) << err_dash;
+  EXPECT_FALSE(fs::exists(dir / "x"));
+  const CliOutcome bad = run_cli(dir, "converge " + problem("sofonea2017-3d") +
+                                          " --levels 2 --reference 2 --set solver.engine='\"petsc\"'"
+                                          " --set material.model='\"hencky\"' --set material.shear_ratio=0.5"
+                                          " --set material.eps_ref=1 --out " +
+                                          (dir / "bad").string());
+  EXPECT_EQ(bad.code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("solver.engine = petsc: linear materials only"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("the petsc engine (" + mpi + ") stopped with exit code 2"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "bad" / "convergence.json"));
   fs::remove_all(dir);
 }
 

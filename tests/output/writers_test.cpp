@@ -587,6 +587,48 @@ TEST(Report, EveryKeyWithTheSolutionsValues) {
 
 // "The certificate decides success, not the backend's own word": ok needs the fixed point and the
 // certificate; a backend failure with a certified answer is still ok.
+// read_solve_records is solve_records read back (a solve by another process, the petsc engine
+// streamed: studies/petsc_process.hpp): every record it reads equals the written one, a NaN
+// (written as null) comes back NaN, and what the answer is worth is not read (it is judged anew).
+TEST(Report, SolveRecordsReadBackAsWritten) {
+  Fixture F;
+  F.sol.fixed_point_converged = false;
+  F.sol.history[1].contraction = 0.5;
+  F.sol.polish = {true, true, 3, 1e-6, 1e-13, "accepted"};
+  F.sol.formulation = "full";
+  const json written = json::parse(solve_records(F.sol, F.opt, true).dump());
+  Solution back;
+  read_solve_records(written, back);
+  EXPECT_EQ(back.backend, F.sol.backend);
+  EXPECT_EQ(back.backend_use.requested, F.sol.backend_use.requested);
+  EXPECT_EQ(back.backend_use.ran, F.sol.backend_use.ran);
+  EXPECT_FALSE(back.fixed_point_converged);
+  EXPECT_EQ(back.skipped, F.sol.skipped);
+  EXPECT_EQ(back.formulation, "full");
+  EXPECT_EQ(back.x_scale, F.sol.x_scale);
+  EXPECT_EQ(back.f_scale, F.sol.f_scale);
+  EXPECT_EQ(back.message, F.sol.message);
+  EXPECT_TRUE(back.polish.accepted);
+  EXPECT_EQ(back.polish.iterations, 3);
+  EXPECT_EQ(back.polish.after, 1e-13);
+  ASSERT_EQ(back.history.size(), F.sol.history.size());
+  for (size_t k = 0; k < back.history.size(); ++k) {
+    const OuterIteration &a = back.history[k], &b = F.sol.history[k];
+    EXPECT_EQ(a.stage, b.stage);
+    EXPECT_EQ(a.eps_tau, b.eps_tau);
+    EXPECT_EQ(a.grad_norm, b.grad_norm);
+    EXPECT_EQ(a.backend.status, b.backend.status);
+    EXPECT_EQ(a.backend.iterations, b.backend.iterations);
+    EXPECT_EQ(a.backend.message, b.backend.message);
+    EXPECT_EQ(a.solver, b.solver);
+  }
+  EXPECT_TRUE(std::isnan(back.history[0].contraction));
+  EXPECT_EQ(back.history[1].contraction, 0.5);
+  EXPECT_EQ(back.solved_by(), F.sol.solved_by());
+  EXPECT_EQ(json::parse(solve_records(back, F.opt, true).dump()).at("backend"), written.at("backend"));
+  EXPECT_FALSE(back.certificate.passed);  // not read: the reader's own judge decides
+}
+
 TEST(Report, OkNeedsFixedPointAndCertificateNotTheBackendsWord) {
   Fixture fx;
   fx.sol.certificate.passed = true;

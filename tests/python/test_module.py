@@ -192,24 +192,35 @@ def test_converge_matches_cli(tmp_path):
     assert got["ok"] == expected["ok"]
 
 
-def test_engine_choice_says_where_solve_would_take_petsc():
-    """The module runs the cholmod engine (every field in this process); its report's
-    engine_choice says so, and where `hemicontact solve` would take the petsc engine (a 3D box
-    above solver.method_choice.petsc_above, lowered here) it says that too, as the CLI's
-    in-process commands do. converge judges its reference mesh (n = 4: 375 unknowns)."""
+def test_solve_and_converge_take_the_engine_solve_would():
+    """solve and converge take the engine `hemicontact solve` would: above
+    solver.method_choice.petsc_above (lowered here) a 3D box goes to the petsc engine, run as a
+    process of its own (hemicontact-mpi --stream), whose u this process judges; it must be the
+    cholmod engine's answer to the engines' agreement (1e-8: both end on the unsmoothed
+    conditions, solved to round-off on the same statuses). minima stays on the cholmod engine and
+    says where solve would have taken the petsc engine."""
     scene = hc.Scene.load(SOURCE / "problems" / "sofonea2017-3d.json")
     scene["mesh.n"] = 2
-    plain = hc.solve(scene).report["engine_choice"]
-    assert plain["engine"] == "cholmod" and "petsc engine" not in plain["reason"]
+    plain = hc.solve(scene)
+    assert plain.report["engine_choice"]["engine"] == "cholmod"
+    assert "petsc engine" not in plain.report["engine_choice"]["reason"]
     scene["solver.method_choice.petsc_above"] = 50
-    low = hc.solve(scene).report["engine_choice"]
-    if "this build has no petsc engine" in low["reason"]:
+    low = hc.solve(scene)
+    if "this build has no petsc engine" in low.report["engine_choice"]["reason"]:
         pytest.skip("built without the petsc engine")
-    assert low["engine"] == "cholmod" and low["automatic"]
-    assert "would take the petsc engine: 3D box of 81 unknowns" in low["reason"], low
-    conv = hc.converge(scene, levels=[2], reference=4)["engine_choice"]
-    assert "3D box of 375 unknowns" in conv["reason"], conv
-    # With adaptive refinement `solve` stays on the cholmod engine too, and says that instead.
+    assert low.report["engine_choice"]["engine"] == "petsc", low.report["engine_choice"]
+    assert "PETSc, 1 rank" in low.solved_by and low.report["petsc"]["ranks"] == 1
+    assert low.ok and low.certificate.max_residual <= 1e-8
+    assert low.status_counts == plain.status_counts
+    scale = np.abs(plain.u).max()
+    np.testing.assert_allclose(low.u, plain.u, rtol=0, atol=1e-8 * scale)
+    assert low.energy == pytest.approx(plain.energy, rel=1e-8)
+    conv = hc.converge(scene, levels=[2], reference=4)
+    assert conv["engine_choice"]["engine"] == "petsc" and "3D box of 375 unknowns" in conv["engine_choice"]["reason"]
+    assert "PETSc, 1 rank" in conv["reference"]["solved_by"] and conv["ok"]
+    minima = hc.minima(scene, starts=1).report["engine_choice"]
+    assert minima["engine"] == "cholmod" and "would take the petsc engine: 3D box of 81 unknowns" in minima["reason"]
+    # With adaptive refinement `solve` stays on the cholmod engine, and says that instead.
     scene["adapt.target_error"] = 0.6
     adaptive = hc.solve(scene).report["engine_choice"]
     assert "adaptive refinement runs in the cholmod engine" in adaptive["reason"], adaptive

@@ -20,6 +20,8 @@ enum class SolveStatus {
 
 /// @return "converged", "acceptable", "max_iterations" or "failed".
 const char* to_string(SolveStatus s);
+/// @return the status whose to_string is @p name. @throws Error (EXIT_INTERNAL) for another name.
+SolveStatus solve_status_from(const std::string& name);
 
 /// solver.backend = "auto": the engine's own backend (make_backend: ipopt, or newton where Ipopt
 /// was not compiled in; the petsc engine: ssn), whose stage the solve may skip where it cannot

@@ -81,6 +81,12 @@ nlohmann::json gamma3_row_json(const Gamma3Row& r, int dim);
 /// petsc engine's distributed path, whose rank 0 holds no whole model.
 /// @param lagged whether F_b depends on u_ν (the outer fixed point λ = F_b(u_ν) runs)
 nlohmann::json solve_records(const Solution& sol, const SolveOptions& opt, bool lagged);
+/// @brief The inverse of solve_records for what a run did (not what its answer is worth): the
+/// backend's name and use, the fixed point's history and verdict, the skipped stages, the
+/// formulation, the scales, the polish and the message, read from a report.json @p r into @p sol
+/// (a solve by another process, studies/petsc_process.hpp; its u is judged anew).
+/// @throws nlohmann::json::exception where @p r lacks one of those keys
+void read_solve_records(const nlohmann::json& r, Solution& sol);
 
 /// @return "material": {description, m_F, L_F, is_linear} of @p md.
 nlohmann::json material_json(const Model& md);

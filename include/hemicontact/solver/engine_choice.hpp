@@ -26,12 +26,13 @@ struct EngineChoice {
 /// @param adaptive the scene asks for adaptive refinement (adapt_requested)
 EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
                            bool adaptive);
-/// The engine of a command that runs in this process (converge, minima, path, the Python module):
-/// the cholmod engine, whose method choice (condensed or full) it uses; these need every field in
-/// this process, and the petsc engine is a program of its own. Where `hemicontact solve` would
+/// The engine of a command that restarts one solver from many points in this process (minima,
+/// path, and the Python module's): the cholmod engine, whose method choice (condensed or full) it
+/// uses. (converge and the module's solve take choose_engine's, the petsc engine streamed back:
+/// studies/petsc_process.hpp.) Where `hemicontact solve` would
 /// have taken the petsc engine automatically, the reason says so, with choose_engine's numbers,
 /// so that a slow in-process 3D run says where the fast one is.
-/// @param command the command's name, for the reason ("converge", "minima", "the Python module", ...)
+/// @param command the command's name, for the reason ("minima", "path", "the Python module's minima", ...)
 EngineChoice in_process_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
                                const std::string& command);
 /// The log's "engine ... (auto): reason" line, when the choice was automatic.

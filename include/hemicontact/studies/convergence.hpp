@@ -48,9 +48,9 @@ inline constexpr int MAX_LEVEL = 1 << 20;
 /// @throws Error (EXIT_USAGE) naming the bad entry: not a positive integer, or a "..." without two
 ///         increasing levels with an integer ratio before it and one level after it
 std::vector<int> parse_levels(const std::string& text);
-/// @return the engine a convergence study runs (solver/engine_choice.hpp, in_process_engine): the
-/// cholmod engine, with where `hemicontact solve` would take the petsc engine for the reference
-/// mesh n = @p reference (a generated mesh; any other is judged as given, and refused by the study).
+/// @return the engine the reference mesh n = @p reference is solved by: the one `hemicontact solve`
+/// would take for it (solver/engine_choice.hpp's choose_engine; a generated mesh; any other is
+/// judged as given, and refused by the study). Each level is chosen for alike (run_convergence).
 EngineChoice convergence_engine(const nlohmann::json& scene, const std::string& scene_dir, int reference,
                                 bool petsc_built);
 
@@ -75,7 +75,10 @@ EngineChoice convergence_engine(const nlohmann::json& scene, const std::string& 
 using LevelSolved =
     std::function<void(const ConvergenceStudy& so_far, int n, const Model& model, const Solution& solution)>;
 
+/// @param petsc_built  a level whose `hemicontact solve` would take the petsc engine (choose_engine:
+///                     a large 3D box, or solver.engine = petsc) runs it, as a process of its own
+///                     (studies/petsc_process.hpp); false: every level on the cholmod engine
 ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string& scene_dir, std::vector<int> levels,
-                                 int reference, const LevelSolved& on_level = nullptr);
+                                 int reference, const LevelSolved& on_level = nullptr, bool petsc_built = false);
 
 }  // namespace hemicontact

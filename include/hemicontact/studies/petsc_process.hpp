@@ -1,0 +1,46 @@
+#pragma once
+/// @file petsc_process.hpp  The petsc engine for a command that holds the whole model in this
+/// process (`converge`, the Python module's solve and converge): hemicontact-mpi run as a process
+/// of its own, on one rank, streaming the displacement of the whole mesh back (--stream); this process
+/// reads it back onto its own model, whose node numbering the engine's report shares, and judges
+/// it with its own judge (check/evaluate.hpp), so that the certificate, statuses and energies are
+/// those of this model, whatever ran. A process of its own because this one links Ipopt, whose
+/// MUMPS defines stub MPI symbols that would take the real MPI's place (src/cli/cli.cpp).
+
+#include <hemicontact/studies/scene_solve.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+
+namespace hemicontact {
+
+/// @return the path of hemicontact-mpi: $HEMICONTACT_MPI where set; else the one beside this
+/// process's executable (the CLI's build or install folder); else the build tree's that this
+/// library was built with; else the installed one. The first that exists; the last if none does.
+std::string petsc_engine_program();
+
+/// The petsc engine as a SceneEngine (studies/scene_solve.hpp) for the effective @p scene (relative
+/// paths from @p scene_dir), whose model the caller built. Each call runs `hemicontact-mpi solve -
+/// --stream` once: the scene on its stdin, report.json's content and u on its stdout, its progress
+/// and messages on this process's stderr; no file is written.
+class PetscProcess {
+ public:
+  PetscProcess(nlohmann::json scene, const std::string& scene_dir);
+  /// @brief Solve: u from the engine's file, the run's record (backend, history, verdict, skipped
+  /// stages) from its report.json, and the certificate, statuses and energies by this process's
+  /// judge on @p md at @p opt's tolerances.
+  /// @throws Error with the engine's exit code (its message is on stderr above) where it did not
+  ///         solve (an input error, a failure); a run that did not converge or certify is returned
+  Solution operator()(const Model& md, const SolveOptions& opt) const;
+  /// @return the engine's last report.json (its "petsc" record: ranks, Newton and Krylov counts,
+  /// peak memory), or null before any call.
+  const nlohmann::json& last_report() const { return *report_; }
+
+ private:
+  nlohmann::json scene_;  // the engine's: solver.engine = petsc, no files, mesh.file absolute
+  std::shared_ptr<nlohmann::json> report_ = std::make_shared<nlohmann::json>();
+};
+
+}  // namespace hemicontact
