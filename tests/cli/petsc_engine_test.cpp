@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -254,6 +255,35 @@ TEST(PetscEngine, StreamRefusesFileOptionsAndConvergePassesTheEnginesErrorOn) {
   EXPECT_NE(bad.err.find("solver.engine = petsc: linear materials only"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("the petsc engine (" + mpi + ") stopped with exit code 2"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(dir / "bad" / "convergence.json"));
+  fs::remove_all(dir);
+}
+
+// --stream on two ranks gathers every owned node's u into the whole mesh's numbering: the same
+// report line's counts and the same u as one rank, to the engines' agreement (file comment).
+TEST(PetscEngine, StreamGathersTheWholeDisplacementFromEveryRank) {
+  const fs::path dir = scratch("stream-ranks");
+  const std::string mpi = (fs::path(HEMICONTACT_CLI_PATH).parent_path() / "hemicontact-mpi").string();
+  const auto stream = [&](int np, const std::string& name) {
+    const std::string cmd = "cd '" + dir.string() + "' && " + MPIRUN + " " + std::to_string(np) + " " + mpi +
+                            " solve - --stream --quiet --set mesh.n=6 <" + problem("sofonea2017-3d") + " >" + name;
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const std::string all = slurp(dir / name);
+    const size_t eol = all.find('\n');
+    EXPECT_NE(eol, std::string::npos);
+    std::vector<double> u((all.size() - eol - 1) / sizeof(double));
+    std::memcpy(u.data(), all.data() + eol + 1, u.size() * sizeof(double));
+    return std::make_pair(json::parse(all.substr(0, eol)), u);
+  };
+  const auto [r1, u1] = stream(1, "one.bin");
+  const auto [r2, u2] = stream(2, "two.bin");
+  EXPECT_EQ(r2.at("petsc").at("ranks"), 2);
+  EXPECT_EQ(r1.at("status_counts"), r2.at("status_counts"));
+  ASSERT_EQ(u1.size(), 3u * 7 * 7 * 7);
+  ASSERT_EQ(u2.size(), u1.size());
+  double scale = 0, diff = 0;
+  for (size_t i = 0; i < u1.size(); ++i) scale = std::max(scale, std::abs(u1[i])), diff = std::max(diff, std::abs(u1[i] - u2[i]));
+  EXPECT_GT(scale, 0);
+  EXPECT_LE(diff, 1e-8 * scale);
   fs::remove_all(dir);
 }
 
