@@ -202,7 +202,10 @@ struct MinimaSearch {
   MinimaReport& R;
   std::vector<Candidate> cands;
 
-  void record(const std::string& start, const std::string& backend, Solution sol, double secs);
+  // @p started: when the run began. Its seconds are taken here, once @p sol exists: a since(t)
+  // beside S.solve() in one call's arguments may be evaluated first (the order is unspecified),
+  // which once timed every start but zero at 0 s.
+  void record(const std::string& start, const std::string& backend, Solution sol, clk::time_point started);
   void run_backend(std::unique_ptr<ContactSolver>& solver, const SolveOptions& opt, const std::string& name);
   void gamma3_starts(ContactSolver& S, const std::string& name, double Us);
   void load_path(ContactSolver& S, const std::string& name);
@@ -229,7 +232,9 @@ std::vector<int> MinimaSearch::random_abundances() const {
   return count;
 }
 
-void MinimaSearch::record(const std::string& start, const std::string& backend, Solution sol, double secs) {
+void MinimaSearch::record(const std::string& start, const std::string& backend, Solution sol,
+                          clk::time_point started) {
+  const double secs = since(started);
   const MinimaOptions& mopt = R.options;
   MinimaRun r;
   r.start = start;
@@ -272,7 +277,7 @@ void MinimaSearch::run_backend(std::unique_ptr<ContactSolver>& solver, const Sol
   const double Us = zero.x_scale;
   R.x_scale = Us;
   if (first) R.smallness = zero.smallness;
-  record("zero", name, std::move(zero), since(t));
+  record("zero", name, std::move(zero), t);
   if (S.formulation().empty()) {  // linear: the solution is unique, one solve says it all
     log_info() << "minima: linear problem, one solution; no further starts";
     return;
@@ -283,7 +288,7 @@ void MinimaSearch::run_backend(std::unique_ptr<ContactSolver>& solver, const Sol
   if (first && opt.exact) {
     S.set_exact_start("always");
     const auto t1 = clk::now();
-    record("exact-from-zero", name, S.solve(nullptr), since(t1));
+    record("exact-from-zero", name, S.solve(nullptr), t1);
     S.set_exact_start(o.exact_start);
   }
   gamma3_starts(S, name, Us);
@@ -292,7 +297,7 @@ void MinimaSearch::run_backend(std::unique_ptr<ContactSolver>& solver, const Sol
     const std::string label = "user-" + std::to_string(i + 1);
     const Vec z0 = user_start(S, md, mopt.user_starts[i], label);
     const auto t1 = clk::now();
-    record(label, name, S.solve(&z0), since(t1));
+    record(label, name, S.solve(&z0), t1);
   }
 }
 
@@ -303,7 +308,7 @@ void MinimaSearch::gamma3_starts(ContactSolver& S, const std::string& name, doub
   const int d = md.dim();
   const auto run_from = [&](const std::string& label, const Vec& z0) {
     const auto t1 = clk::now();
-    record(label, name, S.solve(&z0), since(t1));
+    record(label, name, S.solve(&z0), t1);
   };
   Vec c(d * nc);
   c.setZero();
@@ -363,14 +368,14 @@ void MinimaSearch::load_path(ContactSolver& S, const std::string& name) {
   for (int i = 1; i < N; ++i) step(i);
   Solution up = step(N);
   if (!ok) up.message = "load path: an intermediate solve did not converge; " + up.message;
-  record("load-up", name, std::move(up), since(t1));
+  record("load-up", name, std::move(up), t1);
   const auto t2 = clk::now();
   ok = true;
   for (int i = N + 1; i <= 2 * N; ++i) step(i);
   for (int i = 2 * N - 1; i > N; --i) step(i);
   Solution down = step(N);
   if (!ok) down.message = "load path: an intermediate solve did not converge; " + down.message;
-  record("load-down", name, std::move(down), since(t2));
+  record("load-down", name, std::move(down), t2);
 }
 
 // Group: greedy, against each group's first member (its anchor), in run order; each group's

@@ -313,6 +313,10 @@ TEST(Minima, SofteningSceneHasTwoCertifiedLocalMinima) {
   EXPECT_EQ(z.solution.status_counts().at("compliance"), L.md.contact.size());
   EXPECT_GE(a.solution.status_counts().at("contact"), 5);
   EXPECT_LT(a.solution.energy, z.solution.energy);
+  // Every run's seconds are its own solve's: at least one linear solve of the scene, far above
+  // 10 µs (a since(t) evaluated before the solve, as one call's arguments once allowed, reads
+  // the ~0.1 µs between two clock reads).
+  for (const auto& m : r.runs) EXPECT_GT(m.seconds, 1e-5) << m.start;
 }
 
 // solver.exact.start = auto means "convex" in minima: where the inner problem is not strongly
