@@ -155,7 +155,7 @@ struct BackendsArgs {
   std::vector<std::string> scenes = {"sofonea2017-fig2.json:mesh.n=64", "minima-softening.json:check.smallness=false",
                                      "minima-laminate.json:check.smallness=false"};
   std::vector<std::string> backends;
-  std::string out = "backends";
+  std::string out = "out/backends";  // under out/, which git ignores, as `hemicontact solve`'s default
   int repeats = 3;
   bool force = false, help = false;
 };

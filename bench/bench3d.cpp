@@ -50,7 +50,7 @@ struct Args {
   std::string backend = "newton";
   std::vector<std::string> overrides;
   std::vector<std::string> phases = {"linear", "contact"};
-  std::string out = "bench3d";
+  std::string out = "out/bench3d";  // under out/, which git ignores, as `hemicontact solve`'s default
 };
 
 [[noreturn]] void usage(const std::string& why) {

@@ -98,7 +98,7 @@ std::string path_of(const Solution& s) {
 // The command line (USAGE).
 struct StudyArgs {
   int seeds = 1000, n_min = 8, n_max = 16, first = 1, repeats = 3;
-  std::string out = "random-study", backend;
+  std::string out = "out/random-study", backend;  // under out/, which git ignores
   std::vector<std::string> sets;  // --set KEY=VALUE: a solver override on every scene (not the default study)
   bool force = false;
   bool help = false;

@@ -57,7 +57,7 @@ struct Args {
   std::vector<int> levels = {256, 1024};
   std::vector<std::string> backends = {"auto", "ipopt", "newton"};  // auto: what a default solve runs
   std::string cli = HEMICONTACT_CLI_PATH;
-  std::string out = "whole-process";
+  std::string out = "out/whole-process";  // under out/, which git ignores: run from the source tree, never committed
   int repeats = 1;
   bool force = false, help = false;
 };
