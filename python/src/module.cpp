@@ -267,11 +267,12 @@ EngineChoice module_engine(const json& scene, const std::string& directory, cons
   if (!hands_over && scene.at("solver").at("engine").get<std::string>() == "petsc")
     input_error(w + ": solver.engine = petsc solves one scene from zero (`hemicontact solve`, the module's solve "
                     "and converge); " + w + " restarts one solver from many points: use solver.engine = cholmod");
-  if (hands_over && !HEMICONTACT_HAS_PETSC && scene.at("solver").at("engine").get<std::string>() == "petsc")
-    input_error(w + ": solver.engine = petsc: this build has no petsc engine (hemicontact-mpi)");
-  EngineChoice e = reference > 0 ? convergence_engine(scene, directory, reference, HEMICONTACT_HAS_PETSC)
-                   : hands_over  ? choose_engine(scene, directory, HEMICONTACT_HAS_PETSC, adapt_requested(scene))
-                                 : in_process_engine(scene, directory, HEMICONTACT_HAS_PETSC, "the Python module's " + w);
+  if (const std::string missing = petsc_engine_missing();
+      hands_over && !missing.empty() && scene.at("solver").at("engine").get<std::string>() == "petsc")
+    input_error(w + ": solver.engine = petsc: " + missing);
+  EngineChoice e = reference > 0 ? convergence_engine(scene, directory, reference, petsc_engine_available())
+                   : hands_over  ? choose_engine(scene, directory, petsc_engine_available(), adapt_requested(scene))
+                                 : in_process_engine(scene, directory, petsc_engine_available(), "the Python module's " + w);
   log_engine_choice(e);
   return e;
 }
@@ -471,7 +472,7 @@ py::object convergence_study(const Scene& s, const std::vector<std::string>& ext
   const json scene = s.with(extra);
   const EngineChoice engine = module_engine(scene, s.directory, "converge", reference);
   json js = run_released(
-      [&] { return convergence_json(run_convergence(scene, s.directory, levels, reference, nullptr, HEMICONTACT_HAS_PETSC)); });
+      [&] { return convergence_json(run_convergence(scene, s.directory, levels, reference, nullptr, petsc_engine_available())); });
   js["engine_choice"] = engine_choice_json(engine);
   js["name"] = s.path ? std::filesystem::path(*s.path).stem().string() : std::string("dict");
   js["scene_file"] = s.name();

@@ -158,17 +158,15 @@ std::string command_help(const std::string& command) {
 
 namespace {
 
-// solver.engine = petsc: replace this process by hemicontact-mpi (beside this executable) with the
+// solver.engine = petsc: replace this process by hemicontact-mpi (petsc_engine_program) with the
 // same arguments; under mpirun every rank does so and the ranks meet in its MPI_Init. A separate
 // program because this one links Ipopt, whose MUMPS (libdmumps_seq) defines stub MPI_Init and
 // MPI_Comm_rank that would take the place of the real MPI's in one process.
 [[noreturn]] void exec_petsc_engine_impl(const std::vector<std::string>& args) {
 #if HEMICONTACT_HAS_PETSC
-  std::error_code ec;
-  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
-  const std::filesystem::path mpi = (ec ? std::filesystem::path(".") : self.parent_path()) / "hemicontact-mpi";
-  if (!std::filesystem::exists(mpi))
-    throw Error("solver.engine = petsc: " + mpi.string() + " not found (build the target hemicontact_mpi)", EXIT_INPUT);
+  const std::filesystem::path mpi = petsc_engine_program();
+  if (const std::string missing = petsc_engine_missing(); !missing.empty())
+    throw Error("solver.engine = petsc: " + missing, EXIT_INPUT);
   std::vector<std::string> all{mpi.string(), "solve"};
   all.insert(all.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -198,7 +196,7 @@ int cmd_solve(const std::vector<std::string>& args) {
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
   // solver.engine = auto: the engine from the scene's numbers (solver/method_choice.hpp). The
   // petsc engine is its own program (before the output folder is locked: it locks it itself).
-  const EngineChoice engine = choose_engine(scene, scene_directory(a.scene), HEMICONTACT_HAS_PETSC, adapt_requested(scene));
+  const EngineChoice engine = choose_engine(scene, scene_directory(a.scene), petsc_engine_available(), adapt_requested(scene));
   log_engine_choice(engine);
   if (engine.engine == "petsc") {
     refuse_adaptive_outside_cholmod(scene);

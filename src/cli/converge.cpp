@@ -128,7 +128,7 @@ int cmd_converge(const std::vector<std::string>& all_args) {
   require_utf8_scene_name(a.scene, "convergence.json");
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
   // The engine `solve` would take for the largest mesh, the reference's (each level is chosen for alike).
-  const EngineChoice engine = convergence_engine(scene, scene_directory(a.scene), reference[0], HEMICONTACT_HAS_PETSC);
+  const EngineChoice engine = convergence_engine(scene, scene_directory(a.scene), reference[0], petsc_engine_available());
   log_engine_choice(engine);
   // level_<n>.vtu: one per solved level (the reference's too), checked with the fixed names.
   const OutputLock lock = prepare_output_dir(
@@ -152,7 +152,7 @@ int cmd_converge(const std::vector<std::string>& all_args) {
     if (!so_far.levels.empty()) write_convergence_csv((out / "convergence.csv").string(), so_far);
   };
   const ConvergenceStudy st =
-      run_convergence(scene, scene_directory(a.scene), levels, reference[0], on_level, HEMICONTACT_HAS_PETSC);
+      run_convergence(scene, scene_directory(a.scene), levels, reference[0], on_level, petsc_engine_available());
   if (write_vtus) {
     std::sort(vtus.begin(), vtus.end());
     write_pvd((out / "convergence.pvd").string(), vtus);

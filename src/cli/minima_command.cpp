@@ -249,7 +249,7 @@ int cmd_minima(const std::vector<std::string>& all_args) {
 
   require_utf8_scene_name(a.scene, "minima.json");
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
-  const EngineChoice engine = in_process_engine(scene, scene_directory(a.scene), HEMICONTACT_HAS_PETSC, "minima");
+  const EngineChoice engine = in_process_engine(scene, scene_directory(a.scene), petsc_engine_available(), "minima");
   log_engine_choice(engine);
   const Model md = build_model(scene, scene_directory(a.scene));
   read_start_files(start_files, md, mo);

@@ -179,7 +179,7 @@ int cmd_path(const std::vector<std::string>& args) {
   parse_path_options(a, po);
   require_utf8_scene_name(a.scene, "path.json");
   const json scene = load_scene(a.scene, a.overrides);
-  const EngineChoice engine = in_process_engine(scene, scene_directory(a.scene), HEMICONTACT_HAS_PETSC, "path");
+  const EngineChoice engine = in_process_engine(scene, scene_directory(a.scene), petsc_engine_available(), "path");
   log_engine_choice(engine);
   const Model md = build_model(scene, scene_directory(a.scene));
   const OutputLock lock =

@@ -1,11 +1,15 @@
 #include <hemicontact/solver/engine_choice.hpp>
 
+#include <hemicontact/config.hpp>
 #include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/mesh/msh_peek.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/adapt.hpp>
 
+#include <cstdlib>
+#include <filesystem>
+#include <vector>
 
 namespace hemicontact {
 namespace {
@@ -46,14 +50,49 @@ std::string cholmod_only_setting(const nlohmann::json& scene, bool adaptive) {
   return "";
 }
 
+// Where petsc_engine_program looks, in order (the environment's choice apart).
+std::vector<std::filesystem::path> petsc_engine_places() {
+  std::vector<std::filesystem::path> places;
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) places.push_back(self.parent_path() / "hemicontact-mpi");
+#ifdef HEMICONTACT_MPI_BUILD_PATH
+  places.emplace_back(HEMICONTACT_MPI_BUILD_PATH);
+#endif
+#ifdef HEMICONTACT_MPI_INSTALL_PATH
+  places.emplace_back(HEMICONTACT_MPI_INSTALL_PATH);
+#endif
+  return places;
+}
+
 }  // namespace
+
+std::string petsc_engine_program() {
+  if (const char* given = std::getenv("HEMICONTACT_MPI"); given && *given) return given;
+  const std::vector<std::filesystem::path> places = petsc_engine_places();
+  std::error_code ec;
+  for (const std::filesystem::path& p : places)
+    if (std::filesystem::is_regular_file(p, ec)) return p.string();
+  return places.empty() ? std::string("hemicontact-mpi") : places.back().string();
+}
+
+std::string petsc_engine_missing() {
+  if (!HEMICONTACT_HAS_PETSC) return "this build has no petsc engine";
+  const std::string program = petsc_engine_program();
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(program, ec)) return "";
+  return "the petsc engine's program " + program + " is not there (build the target hemicontact_mpi, or set HEMICONTACT_MPI)";
+}
 
 EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
                            bool adaptive) {
   const std::string asked = scene.at("solver").at("engine").get<std::string>();
   if (asked != "auto") return {asked, false, "solver.engine = " + asked + " (given)"};
   const auto cholmod = [](const std::string& why) { return EngineChoice{"cholmod", true, why}; };
-  if (!petsc_built) return cholmod("this build has no petsc engine");
+  if (!petsc_built) {
+    const std::string missing = petsc_engine_missing();
+    return cholmod(missing.empty() ? "this build has no petsc engine" : missing);
+  }
   const SceneSize size = scene_size(scene.at("mesh"), scene_dir);
   if (size.dim == 0) return cholmod(size.what + ": its size is known only once the mesh is made");
   // In 2D the condensed path is one sparse factorization and a small dense Γ3 problem: faster

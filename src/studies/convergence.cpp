@@ -83,7 +83,11 @@ bool is_nested(const Mesh& coarse, const Mesh& fine) {
 // (the petsc engine as a process of its own where that is built), else the cholmod engine.
 SceneEngine level_engine(const nlohmann::json& s, const std::string& scene_dir, bool petsc_built, int n) {
   const EngineChoice e = choose_engine(s, scene_dir, petsc_built, false);
-  if (e.engine != "petsc" || !petsc_built) return [](const Model& md, const SolveOptions& o) { return solve(md, o); };
+  if (e.engine == "petsc" && !petsc_built) {  // given (auto never takes it then)
+    const std::string missing = petsc_engine_missing();
+    input_error("solver.engine = petsc: " + (missing.empty() ? std::string("the caller runs the cholmod engine only") : missing));
+  }
+  if (e.engine != "petsc") return [](const Model& md, const SolveOptions& o) { return solve(md, o); };
   log_info() << "convergence: n = " << n << ": the petsc engine (" << e.reason << ")";
   return PetscProcess(s, scene_dir);
 }

@@ -8,6 +8,7 @@
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/engine_choice.hpp>
 
 #include <csignal>
 #include <cstring>
@@ -128,23 +129,6 @@ EngineRun run_engine(const std::string& program, const std::string& scene) {
 }
 
 }  // namespace
-
-std::string petsc_engine_program() {
-  if (const char* given = std::getenv("HEMICONTACT_MPI"); given && *given) return given;
-  std::vector<fs::path> places;
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) places.push_back(self.parent_path() / "hemicontact-mpi");
-#ifdef HEMICONTACT_MPI_BUILD_PATH
-  places.emplace_back(HEMICONTACT_MPI_BUILD_PATH);
-#endif
-#ifdef HEMICONTACT_MPI_INSTALL_PATH
-  places.emplace_back(HEMICONTACT_MPI_INSTALL_PATH);
-#endif
-  for (const fs::path& p : places)
-    if (fs::is_regular_file(p, ec)) return p.string();
-  return places.empty() ? std::string("hemicontact-mpi") : places.back().string();
-}
 
 PetscProcess::PetscProcess(nlohmann::json scene, const std::string& scene_dir)
     : scene_(engine_scene(std::move(scene), scene_dir)) {}

@@ -258,6 +258,31 @@ TEST(PetscEngine, StreamRefusesFileOptionsAndConvergePassesTheEnginesErrorOn) {
   fs::remove_all(dir);
 }
 
+// Where the petsc engine's program is not found (a library or CLI copied without it; here
+// HEMICONTACT_MPI pointing nowhere), auto keeps the cholmod engine and says why; asked for, the
+// engine is refused naming the path (exit 2), by solve and converge alike.
+TEST(PetscEngine, AProgramNotFoundKeepsAutoOnCholmodAndRefusesAGivenPetsc) {
+  const fs::path dir = scratch("program-missing");
+  const std::string env = "HEMICONTACT_MPI=" + (dir / "nowhere").string();
+  const std::string scene = problem("sofonea2017-3d") + " --set output.vtu=false --set output.plot=false" +
+                            " --set mesh.n=2 --set solver.method_choice.petsc_above=50";
+  const CliOutcome a = run_cli(dir, "solve " + scene + " --out " + (dir / "auto").string(), env);
+  ASSERT_EQ(a.code, 0) << a.err;
+  const json choice = json::parse(slurp(dir / "auto" / "report.json")).at("engine_choice");
+  EXPECT_EQ(choice.at("engine"), "cholmod");
+  EXPECT_NE(choice.at("reason").get<std::string>().find((dir / "nowhere").string() + " is not there"), std::string::npos)
+      << choice.dump();
+  for (const std::string command : {"solve", "converge"}) {
+    const CliOutcome g = run_cli(dir,
+                                 command + " " + scene + " --set solver.engine='\"petsc\"' --out " +
+                                     (dir / ("given-" + command)).string() + (command == "converge" ? " --levels 2 --reference 2" : ""),
+                                 env);
+    EXPECT_EQ(g.code, 2) << command << ": " << g.err;
+    EXPECT_NE(g.err.find("is not there (build the target hemicontact_mpi"), std::string::npos) << command << ": " << g.err;
+  }
+  fs::remove_all(dir);
+}
+
 // --stream on two ranks gathers every owned node's u into the whole mesh's numbering: the same
 // report line's counts and the same u as one rank, to the engines' agreement (file comment).
 TEST(PetscEngine, StreamGathersTheWholeDisplacementFromEveryRank) {

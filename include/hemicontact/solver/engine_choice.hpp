@@ -9,20 +9,32 @@
 
 namespace hemicontact {
 
-/// solver.engine = auto: which engine `hemicontact solve` runs (the only command that can: the
-/// petsc engine is a program of its own, which the CLI execs). The petsc engine in one process (ssn
+/// solver.engine = auto: which engine `hemicontact solve` runs (and `converge` and the Python
+/// module's solve and converge, level by level: the petsc engine is a program of its own, which the
+/// CLI execs and they stream from, studies/petsc_process.hpp). The petsc engine in one process (ssn
 /// with CG + AMG: no factorization, no dense Γ3 work) for a 3D mesh of at least
 /// solver.method_choice.petsc_above unknowns (a generated box, or a Gmsh file whose header gives its
 /// size: mesh/msh_peek.hpp), a linear material and no adaptive refinement, where this build has it;
-/// the cholmod engine otherwise (every other command, the Python module, 2D). Decided from the
+/// the cholmod engine otherwise (minima, path, 2D, or where petsc_engine_missing). Decided from the
 /// scene alone, before any mesh is made.
 struct EngineChoice {
   std::string engine;      ///< "cholmod" or "petsc"
   bool automatic = false;  ///< solver.engine was auto
   std::string reason;
 };
+/// @return the path of the petsc engine's program, hemicontact-mpi: $HEMICONTACT_MPI where set;
+/// else the first that exists of: beside this process's executable (the CLI's build or install
+/// folder), the build tree's that this library was built with, the installed one; the last of
+/// those where none exists.
+std::string petsc_engine_program();
+/// @return why the petsc engine cannot run from this program ("" where it can): this build has
+/// none, or its program is not where petsc_engine_program looks (a library used without it).
+std::string petsc_engine_missing();
+/// @return petsc_engine_missing() is empty: what the callers of choose_engine pass as petsc_built.
+inline bool petsc_engine_available() { return petsc_engine_missing().empty(); }
+
 /// @param scene a validated scene @param scene_dir where a relative mesh.file is found
-/// @param petsc_built this build has the petsc engine
+/// @param petsc_built the petsc engine can run (petsc_engine_available; the engine's own program: true)
 /// @param adaptive the scene asks for adaptive refinement (adapt_requested)
 EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
                            bool adaptive);

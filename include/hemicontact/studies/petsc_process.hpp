@@ -16,11 +16,6 @@
 
 namespace hemicontact {
 
-/// @return the path of hemicontact-mpi: $HEMICONTACT_MPI where set; else the one beside this
-/// process's executable (the CLI's build or install folder); else the build tree's that this
-/// library was built with; else the installed one. The first that exists; the last if none does.
-std::string petsc_engine_program();
-
 /// The petsc engine as a SceneEngine (studies/scene_solve.hpp) for the effective @p scene (relative
 /// paths from @p scene_dir), whose model the caller built. Each call runs `hemicontact-mpi solve -
 /// --stream` once: the scene on its stdin, report.json's content and u on its stdout, its progress
