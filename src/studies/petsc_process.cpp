@@ -1,10 +1,12 @@
 // The petsc engine for a command that holds the whole model (studies/petsc_process.hpp):
 // hemicontact-mpi on one rank with --stream, the effective scene on its stdin, report.json's
-// content and the whole mesh's u back on its stdout; nothing is written to disk.
+// content and the whole mesh's u back on its stdout, its log passed on through this process's;
+// nothing is written to disk.
 #include <hemicontact/studies/petsc_process.hpp>
 
 #include <hemicontact/check/evaluate.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/scene/config.hpp>
@@ -19,6 +21,7 @@
 
 #include <cerrno>
 #include <fcntl.h>
+#include <poll.h>
 #include <pthread.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -74,54 +77,90 @@ bool write_all(int fd, const std::string& text) {
   return at == text.size();
 }
 
-std::string read_all(int fd) {
-  std::string out;
-  char chunk[1 << 16];
-  for (;;) {
-    const ssize_t n = ::read(fd, chunk, sizeof chunk);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    out.append(chunk, static_cast<size_t>(n));
-  }
-  return out;
-}
-
 struct EngineRun {
   int exit_code = 0;
-  std::string out;  // its stdout: the report's line, then u
+  std::string out;     // its stdout: the report's line, then u
+  std::string errors;  // its error lines ("hemicontact: error: ..."), for this process's message
 };
 
-// hemicontact-mpi solve - --stream [--quiet], @p scene on its stdin; its stderr is this process's
-// (its progress and messages reach the user as they come).
+// One line of the engine's stderr, passed on through this process's log (so that the Python
+// module's logger gets it too) at the engine's level, without its own clock; its error lines are
+// kept for the message of the Error this process throws.
+void pass_on(const std::string& line, EngineRun& r) {
+  if (line.rfind("hemicontact: ", 0) == 0) {  // "hemicontact: error: why", or an internal error
+    const std::string why = line.substr(line.rfind("hemicontact: error: ", 0) == 0 ? 20 : 13);
+    r.errors += (r.errors.empty() ? "" : "; ") + why;
+    return;
+  }
+  std::string text = line;
+  if (text.size() > 1 && text[0] == '[' && text.find("] ") != std::string::npos) text = text.substr(text.find("] ") + 2);
+  if (text.rfind("warning: ", 0) == 0)
+    log_warn() << "petsc engine: " << text.substr(9);
+  else
+    log_info() << "petsc engine: " << text;
+}
+
+// The engine's stdout (kept) and stderr (passed on line by line) until both end. Polled every
+// 0.1 s for this thread's interrupt check (core/interrupt.hpp: the Python module's Ctrl-C): then
+// the engine is stopped (SIGTERM) and Interrupted thrown.
+void pump(int out_fd, int err_fd, pid_t pid, EngineRun& r) {
+  std::string err_text;
+  pollfd fds[2] = {{out_fd, POLLIN, 0}, {err_fd, POLLIN, 0}};
+  char chunk[1 << 16];
+  while (fds[0].fd >= 0 || fds[1].fd >= 0) {
+    if (interrupt_requested()) {
+      ::kill(pid, SIGTERM);
+      int status = 0;
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      throw Interrupted();
+    }
+    if (::poll(fds, 2, 100) <= 0) continue;  // a timeout or EINTR: poll the interrupt again
+    for (int q = 0; q < 2; ++q) {
+      if (fds[q].fd < 0 || !(fds[q].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+      const ssize_t n = ::read(fds[q].fd, chunk, sizeof chunk);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) fds[q].fd = -1;
+      else (q == 0 ? r.out : err_text).append(chunk, static_cast<size_t>(n));
+    }
+    for (size_t eol; (eol = err_text.find('\n')) != std::string::npos; err_text.erase(0, eol + 1))
+      pass_on(err_text.substr(0, eol), r);
+  }
+  if (!err_text.empty()) pass_on(err_text, r);
+}
+
+// hemicontact-mpi solve - --stream [--quiet], @p scene on its stdin, its stdout and stderr read
+// here (pump).
 EngineRun run_engine(const std::string& program, const std::string& scene) {
-  int in[2], out[2];
-  if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0)
+  int in[2], out[2], err[2];
+  if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0 || ::pipe2(err, O_CLOEXEC) != 0)
     throw Error(std::string("the petsc engine: no pipe: ") + std::strerror(errno), EXIT_INTERNAL);
-  Fd write_in{in[1]}, read_out{out[0]}, child_in{in[0]}, child_out{out[1]};
+  Fd write_in{in[1]}, read_out{out[0]}, read_err{err[0]}, child_in{in[0]}, child_out{out[1]}, child_err{err[1]};
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_adddup2(&fa, in[0], STDIN_FILENO);
   posix_spawn_file_actions_adddup2(&fa, out[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&fa, err[1], STDERR_FILENO);
   std::vector<std::string> args{program, "solve", "-", "--stream"};
   if (log_level() < LogLevel::INFO) args.push_back("--quiet");
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   pid_t pid = 0;
-  const int err = posix_spawn(&pid, program.c_str(), &fa, nullptr, argv.data(), environ);
+  const int failed = posix_spawn(&pid, program.c_str(), &fa, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
-  if (err != 0)
-    throw Error("the petsc engine: cannot run " + program + ": " + std::strerror(err) + " (build the target hemicontact_mpi)",
-                EXIT_INPUT);
+  if (failed != 0) throw Error("the petsc engine: cannot run " + program + ": " + std::strerror(failed), EXIT_INPUT);
   child_in.reset();
   child_out.reset();
+  child_err.reset();
   write_all(write_in.fd, scene);
   write_in.reset();
   EngineRun r;
-  r.out = read_all(read_out.fd);
+  pump(read_out.fd, read_err.fd, pid, r);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
+  check_interrupt();  // a Ctrl-C that reached the engine too (one process group) is this process's
   if (WIFSIGNALED(status))
     throw Error("the petsc engine (" + program + ") was ended by signal " + std::to_string(WTERMSIG(status)), EXIT_INTERNAL);
   r.exit_code = WEXITSTATUS(status);
@@ -140,8 +179,8 @@ Solution PetscProcess::operator()(const Model& md, const SolveOptions& opt) cons
   // 0, 3 (not converged) and 4 (not certified) end with an answer; anything else is an error
   // whose message the engine printed on stderr.
   if (run.exit_code != EXIT_OK && run.exit_code != EXIT_NOT_CONVERGED && run.exit_code != EXIT_CERTIFICATE)
-    throw Error("the petsc engine (" + program + ") stopped with exit code " + std::to_string(run.exit_code) +
-                    " (its message is above)",
+    throw Error("the petsc engine (" + program + ") stopped with exit code " + std::to_string(run.exit_code) + ": " +
+                    (run.errors.empty() ? std::string("no message") : run.errors),
                 static_cast<ExitCode>(run.exit_code));
   const size_t eol = run.out.find('\n');
   const size_t bytes = static_cast<size_t>(md.mesh.num_nodes()) * static_cast<size_t>(md.dim()) * sizeof(double);

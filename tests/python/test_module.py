@@ -362,6 +362,37 @@ def test_ctrl_c_interrupts_a_solve():
     assert hc.solve(hc.Scene.load(FIG2, "mesh.n=4")).ok
 
 
+def _children():
+    kids = []
+    for task in os.listdir("/proc/self/task"):
+        with open(f"/proc/self/task/{task}/children") as f:
+            kids += f.read().split()
+    return kids
+
+
+def test_ctrl_c_stops_the_petsc_engine_it_runs():
+    """A solve handed to the petsc engine (a process of its own, streamed back) stopped by SIGINT
+    to this process alone, 0.5 s into a ~3 s solve: KeyboardInterrupt within a second, and the
+    engine's process is ended with it, not left running."""
+    scene = hc.Scene.load(SOURCE / "problems" / "sofonea2017-3d.json")
+    scene["mesh.n"] = 32
+    scene["output.vtu"] = False
+    if hc.solve(hc.Scene.load(FIG2, "mesh.n=4")).report["engine_choice"]["reason"].startswith("this build has no"):
+        pytest.skip("built without the petsc engine")
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    t0 = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            r = hc.solve(scene)
+            if r.report["engine_choice"]["engine"] != "petsc":
+                pytest.skip("the petsc engine was not chosen: " + r.report["engine_choice"]["reason"])
+    finally:
+        timer.cancel()
+    assert time.monotonic() - t0 < 1.5
+    assert _children() == []
+
+
 @pytest.mark.parametrize("script,args", [("fig2.py", ["16"]), ("mu_sweep.py", [])])
 def test_examples_run(script, args, tmp_path):
     path = SOURCE / "examples" / "python" / script

@@ -19,15 +19,18 @@ namespace hemicontact {
 /// The petsc engine as a SceneEngine (studies/scene_solve.hpp) for the effective @p scene (relative
 /// paths from @p scene_dir), whose model the caller built. Each call runs `hemicontact-mpi solve -
 /// --stream` once: the scene on its stdin, report.json's content and u on its stdout, its progress
-/// and messages on this process's stderr; no file is written.
+/// and warnings passed on through this process's log (core/log.hpp: the Python module's logger
+/// gets them), its error in the message of the Error thrown; no file is written. An interrupt of
+/// this thread (core/interrupt.hpp) stops it within 0.1 s.
 class PetscProcess {
  public:
   PetscProcess(nlohmann::json scene, const std::string& scene_dir);
   /// @brief Solve: u from the engine's file, the run's record (backend, history, verdict, skipped
   /// stages) from its report.json, and the certificate, statuses and energies by this process's
   /// judge on @p md at @p opt's tolerances.
-  /// @throws Error with the engine's exit code (its message is on stderr above) where it did not
-  ///         solve (an input error, a failure); a run that did not converge or certify is returned
+  /// @throws Error with the engine's exit code and message where it did not solve (an input error,
+  ///         a failure); Interrupted where this thread's interrupt check said stop; a run that did
+  ///         not converge or certify is returned
   Solution operator()(const Model& md, const SolveOptions& opt) const;
   /// @return the engine's last report.json (its "petsc" record: ranks, Newton and Krylov counts,
   /// peak memory), or null before any call.
