@@ -24,6 +24,7 @@
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/core/process.hpp>
 #include <hemicontact/mesh/boundary.hpp>
+#include <hemicontact/mesh/mesh_bytes.hpp>
 #include <hemicontact/output/output_dir.hpp>
 #include <hemicontact/studies/scene_solve.hpp>
 #include <hemicontact/scene/build_model.hpp>
@@ -40,6 +41,8 @@
 #include <cstdlib>
 #include <exception>
 #include <iterator>
+#include <numeric>
+#include <string_view>
 #include <new>
 #include <optional>
 #include <string>
@@ -50,6 +53,8 @@ namespace {
 
 // report.json's engine_choice (solver/method_choice.hpp): why this engine runs.
 nlohmann::json engine_choice;
+// --mesh-follows: stdin holds the scene's line, then the caller's mesh (mesh/mesh_bytes.hpp).
+bool given_mesh_follows = false;
 
 
 using namespace hemicontact;
@@ -57,7 +62,7 @@ using namespace hemicontact;
 const char* const HELP =
     "usage: hemicontact-mpi solve SCENE.json [--out DIR] [--set path=value]... [--backend ssn|tao:bnls|tao:bntr|tao:bntl]\n"
     "                             [--force] [--quiet] [--plot [--magnification M]]\n"
-    "       hemicontact-mpi solve SCENE.json|- --stream [--set path=value]... [--quiet]\n"
+    "       hemicontact-mpi solve SCENE.json|- --stream [--mesh-follows] [--set path=value]... [--quiet]\n"
     "The petsc engine of `hemicontact solve` (solver.engine = petsc), normally run through it:\n"
     "  mpirun -np P hemicontact solve SCENE.json --set solver.engine='\"petsc\"' --out DIR\n"
     "Same scene keys, results and exit codes as `hemicontact solve --help` describes; settings of the\n"
@@ -66,7 +71,9 @@ const char* const HELP =
     "             displacement as raw float64 (native byte order, node-major, the report's node\n"
     "             numbering); PETSc's own printing goes to stderr. For a program that holds the whole\n"
     "             model (`hemicontact converge`, the Python module): it judges u itself. SCENE '-':\n"
-    "             the scene's JSON from stdin (its relative paths from the current folder).\n";
+    "             the scene's JSON from stdin (its relative paths from the current folder).\n"
+    "  --mesh-follows  (one rank, SCENE '-') stdin holds the scene as one line, then the mesh to solve\n"
+    "             on (the caller's, mesh/mesh_bytes.hpp) instead of the scene's own.\n";
 
 // An error every rank holds, agreed on in a collective step (share, on_every_rank): the ranks can
 // leave together through PetscFinalize. Any other error may be one rank's alone while the others
@@ -162,25 +169,48 @@ long free_gamma3_nodes(const Mesh& mesh) {
   return static_cast<long>(std::unique(on.begin(), on.end()) - on.begin());
 }
 
+// --mesh-follows (one rank): the caller's whole mesh as this rank's piece, every node and cell
+// owned and numbered as the caller numbers them.
+petsc_engine::Piece whole_piece(const Mesh& mesh) {
+  petsc_engine::Piece p;
+  p.owned_node.assign(static_cast<size_t>(mesh.num_nodes()), 1);
+  p.owned_cell.assign(static_cast<size_t>(mesh.num_cells()), 1);
+  p.global_node.resize(static_cast<size_t>(mesh.num_nodes()));
+  std::iota(p.global_node.begin(), p.global_node.end(), 0L);
+  p.owner.assign(static_cast<size_t>(mesh.num_nodes()), 0);
+  p.global_nodes = mesh.num_nodes();
+  p.global_cells = mesh.num_cells();
+  p.layout = "given";
+  return p;
+}
+
 // The distributed path: each rank makes its piece of the mesh (@p layout: "slabs" of the generated
 // mesh, or the Gmsh file distributed by "dmplex") and its model, solves, and writes its piece;
 // report.json (rank 0) holds reductions and the gathered Γ3 rows.
 int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
               const SolveOptions& opt, MPI_Comm comm, std::chrono::steady_clock::time_point t0,
-              const std::string& layout, bool stream) {
+              const std::string& layout, bool stream, std::optional<Mesh> given_mesh) {
   int size = 1;
   MPI_Comm_size(comm, &size);
-  log_info() << "petsc: the mesh distributed over the ranks ("
-             << (layout == "slabs" ? "slabs of cell layers" : layout == "blocks" ? "blocks of cell columns" : "DMPlex")
-             << "), " << size << " rank(s)";
+  log_info() << "petsc: "
+             << (given_mesh ? "the caller's mesh, whole" : "the mesh distributed over the ranks (" +
+                                                          std::string(layout == "slabs"    ? "slabs of cell layers"
+                                                                      : layout == "blocks" ? "blocks of cell columns"
+                                                                                           : "DMPlex") + ")")
+             << ", " << size << " rank(s)";
   Mesh mesh;
   petsc_engine::Piece slab;
   Model md;
   const auto tm = std::chrono::steady_clock::now();
   on_every_rank(comm, [&] {
-    slab = layout == "slabs"    ? petsc_engine::make_slab(scene, comm, mesh)
-           : layout == "blocks" ? petsc_engine::make_block(scene, comm, mesh)
-                                : petsc_engine::make_plex_piece(scene, scene_directory(a.scene), comm, mesh);
+    if (given_mesh) {
+      mesh = std::move(*given_mesh);
+      slab = whole_piece(mesh);
+    } else {
+      slab = layout == "slabs"    ? petsc_engine::make_slab(scene, comm, mesh)
+             : layout == "blocks" ? petsc_engine::make_block(scene, comm, mesh)
+                                  : petsc_engine::make_plex_piece(scene, scene_directory(a.scene), comm, mesh);
+    }
   });
   const double t_mesh = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
   // A piece may hold no free Γ3 node where others have some (Γ3 on part of the slabs' cut axis, or
@@ -259,8 +289,15 @@ std::string scene_from_stdin(MPI_Comm comm) {
 // The scene and its options, read by every rank alike: an error in them (a bad key, a non-TAO
 // backend) is every rank's and is agreed on, so that the ranks leave together through
 // PetscFinalize with the message once, rather than by MPI_Abort.
-void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt) {
-  const std::optional<std::string> text = a.scene == "-" ? std::optional(scene_from_stdin(comm)) : std::nullopt;
+void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt,
+                std::optional<Mesh>& given) {
+  std::optional<std::string> text = a.scene == "-" ? std::optional(scene_from_stdin(comm)) : std::nullopt;
+  if (given_mesh_follows) {  // one rank (run() checked): the scene's line, then mesh_to_bytes's
+    const size_t eol = text->find('\n');
+    if (eol == std::string::npos) throw SharedError("--mesh-follows: no mesh after the scene's line on stdin", EXIT_INPUT);
+    given = mesh_from_bytes(std::string_view(*text).substr(eol + 1));
+    text->resize(eol);
+  }
   on_every_rank(comm, [&] {
     scene = text ? load_scene_text(*text, "<stdin>", a.overrides) : load_scene(a.scene, a.overrides);
     refuse_adaptive_outside_cholmod(scene);  // as the CLI does before it runs this program
@@ -298,8 +335,12 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::string> kept;
-  std::copy_if(rest.begin(), rest.end(), std::back_inserter(kept), [](const std::string& s) { return s != "--stream"; });
-  const bool stream = kept.size() != rest.size();
+  std::copy_if(rest.begin(), rest.end(), std::back_inserter(kept),
+               [](const std::string& s) { return s != "--stream" && s != "--mesh-follows"; });
+  const bool stream = std::find(rest.begin(), rest.end(), "--stream") != rest.end();
+  given_mesh_follows = std::find(rest.begin(), rest.end(), "--mesh-follows") != rest.end();
+  if (given_mesh_follows && (!stream || kept.empty() || kept[0] != "-" || size != 1))
+    throw cli::UsageError("--mesh-follows: one rank, with --stream and the scene '-' (stdin)");
   if (stream) {
     for (const char* files : {"--out", "--force", "--plot", "--magnification"})
       if (std::find(kept.begin(), kept.end(), files) != kept.end())
@@ -317,10 +358,12 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   const std::vector<std::string> plot_args = cli::solve_plot_args(a);
   nlohmann::json scene;
   SolveOptions opt;
-  read_scene(a, comm, scene, opt);
+  std::optional<Mesh> given;
+  read_scene(a, comm, scene, opt, given);
 
   const std::optional<OutputLock> lock = stream ? std::nullopt : lock_output(a, rank, comm);
-  return run_slabs(a, plot_args, scene, opt, comm, t0, distributed_layout(scene, opt, comm), stream);
+  const std::string layout = given ? "given" : distributed_layout(scene, opt, comm);
+  return run_slabs(a, plot_args, scene, opt, comm, t0, layout, stream, std::move(given));
 }
 
 // The end of a job after an error that may be this rank's alone: the message printed once (rank

@@ -65,7 +65,7 @@ struct Piece {
   /// unknowns and its owner's is not an error (it gets no PETSc row).
   std::vector<char> complete;
   long global_nodes = 0, global_cells = 0;  ///< the whole mesh's counts (sums over the ranks)
-  std::string layout = "slabs";              ///< "slabs", "blocks" or "dmplex"
+  std::string layout = "slabs";              ///< "slabs", "blocks", "dmplex" or "given" (--mesh-follows)
   std::string partitioner;                   ///< dmplex: PETSc's partitioner type (e.g. ptscotch)
   // The slabs only: the rank owns the node layers [c0, c1) along the cut (the last rank also layer
   // c1 = layers) and holds the cell layers [max(c0 − 1, 0), c1).
@@ -77,11 +77,13 @@ struct Piece {
   int grid_x = 0, grid_y = 0;
   BlockRange block;
   /// @return report.json's petsc.mesh: "distributed (per-rank slabs)", "distributed (per-rank blocks,
-  /// px x py)" or "distributed (DMPlex, <partitioner>)".
+  /// px x py)", "distributed (DMPlex, <partitioner>)" or, for a mesh given on stdin, "the caller's
+  /// mesh, whole, on one rank (--mesh-follows)".
   std::string describe() const {
     if (layout == "slabs") return "distributed (per-rank slabs)";
     if (layout == "blocks")
       return "distributed (per-rank blocks, " + std::to_string(grid_x) + " x " + std::to_string(grid_y) + ")";
+    if (layout == "given") return "the caller's mesh, whole, on one rank (--mesh-follows)";
     return "distributed (DMPlex, " + partitioner + ")";
   }
 };

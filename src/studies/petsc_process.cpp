@@ -1,5 +1,5 @@
 // The petsc engine for a command that holds the whole model (studies/petsc_process.hpp):
-// hemicontact-mpi on one rank with --stream, the effective scene on its stdin, report.json's
+// hemicontact-mpi on one rank with --stream, the effective scene and the model's mesh on its stdin, report.json's
 // content and the whole mesh's u back on its stdout, its log passed on through this process's;
 // nothing is written to disk.
 #include <hemicontact/studies/petsc_process.hpp>
@@ -8,6 +8,7 @@
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/interrupt.hpp>
 #include <hemicontact/core/log.hpp>
+#include <hemicontact/mesh/mesh_bytes.hpp>
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/engine_choice.hpp>
@@ -129,9 +130,9 @@ void pump(int out_fd, int err_fd, pid_t pid, EngineRun& r) {
   if (!err_text.empty()) pass_on(err_text, r);
 }
 
-// hemicontact-mpi solve - --stream [--quiet], @p scene on its stdin, its stdout and stderr read
-// here (pump).
-EngineRun run_engine(const std::string& program, const std::string& scene) {
+// hemicontact-mpi solve - --stream --mesh-follows [--quiet], @p input (the scene's line and the
+// mesh) on its stdin, its stdout and stderr read here (pump).
+EngineRun run_engine(const std::string& program, const std::string& input) {
   int in[2], out[2], err[2];
   if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0 || ::pipe2(err, O_CLOEXEC) != 0)
     throw Error(std::string("the petsc engine: no pipe: ") + std::strerror(errno), EXIT_INTERNAL);
@@ -141,7 +142,7 @@ EngineRun run_engine(const std::string& program, const std::string& scene) {
   posix_spawn_file_actions_adddup2(&fa, in[0], STDIN_FILENO);
   posix_spawn_file_actions_adddup2(&fa, out[1], STDOUT_FILENO);
   posix_spawn_file_actions_adddup2(&fa, err[1], STDERR_FILENO);
-  std::vector<std::string> args{program, "solve", "-", "--stream"};
+  std::vector<std::string> args{program, "solve", "-", "--stream", "--mesh-follows"};
   if (log_level() < LogLevel::INFO) args.push_back("--quiet");
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -153,7 +154,7 @@ EngineRun run_engine(const std::string& program, const std::string& scene) {
   child_in.reset();
   child_out.reset();
   child_err.reset();
-  write_all(write_in.fd, scene);
+  write_all(write_in.fd, input);
   write_in.reset();
   EngineRun r;
   pump(read_out.fd, read_err.fd, pid, r);
@@ -175,7 +176,9 @@ PetscProcess::PetscProcess(nlohmann::json scene, const std::string& scene_dir)
 Solution PetscProcess::operator()(const Model& md, const SolveOptions& opt) const {
   const std::string program = petsc_engine_program();
   log_info() << "petsc engine: " << program << " in one process (--stream), u judged here";
-  const EngineRun run = run_engine(program, scene_.dump());
+  // The model's own mesh goes with the scene: the engine solves on it, numbered as here (an
+  // adaptive level's too, which no scene key describes).
+  const EngineRun run = run_engine(program, scene_.dump() + "\n" + mesh_to_bytes(md.mesh));
   // 0, 3 (not converged) and 4 (not certified) end with an answer; anything else is an error
   // whose message the engine printed on stderr.
   if (run.exit_code != EXIT_OK && run.exit_code != EXIT_NOT_CONVERGED && run.exit_code != EXIT_CERTIFICATE)

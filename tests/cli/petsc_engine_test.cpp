@@ -242,6 +242,12 @@ TEST(PetscEngine, StreamRefusesFileOptionsAndConvergePassesTheEnginesErrorOn) {
   const auto [with_out, err_out] = run("solve - --stream --out x");
   EXPECT_EQ(with_out, 1);
   EXPECT_NE(err_out.find("--stream writes no files: --out"), std::string::npos) << err_out;
+  const auto [follows, err_follows] = run("solve - --mesh-follows --out x");
+  EXPECT_EQ(follows, 1);
+  EXPECT_NE(err_follows.find("--mesh-follows: one rank, with --stream and the scene '-'"), std::string::npos) << err_follows;
+  const auto [no_mesh, err_no_mesh] = run("solve - --stream --mesh-follows");  // stdin is empty
+  EXPECT_EQ(no_mesh, 2);
+  EXPECT_NE(err_no_mesh.find("--mesh-follows: no mesh after the scene's line"), std::string::npos) << err_no_mesh;
   const auto [dash, err_dash] = run("solve - --out x");
   EXPECT_EQ(dash, 1);
   EXPECT_NE(err_dash.find("the scene '-' (stdin) is read with --stream only"), std::string::npos) << err_dash;

@@ -1,8 +1,8 @@
 #pragma once
 /// @file petsc_process.hpp  The petsc engine for a command that holds the whole model in this
-/// process (`converge`, the Python module's solve and converge): hemicontact-mpi run as a process
-/// of its own, on one rank, streaming the displacement of the whole mesh back (--stream); this process
-/// reads it back onto its own model, whose node numbering the engine's report shares, and judges
+/// process (`converge`, the adaptive loop's levels, the Python module's solve and converge):
+/// hemicontact-mpi run as a process of its own, on one rank, on this process's mesh, streaming the
+/// displacement back (--stream --mesh-follows); this process reads it onto its own model and judges
 /// it with its own judge (check/evaluate.hpp), so that the certificate, statuses and energies are
 /// those of this model, whatever ran. A process of its own because this one links Ipopt, whose
 /// MUMPS defines stub MPI symbols that would take the real MPI's place (src/cli/cli.cpp).
@@ -18,7 +18,9 @@ namespace hemicontact {
 
 /// The petsc engine as a SceneEngine (studies/scene_solve.hpp) for the effective @p scene (relative
 /// paths from @p scene_dir), whose model the caller built. Each call runs `hemicontact-mpi solve -
-/// --stream` once: the scene on its stdin, report.json's content and u on its stdout, its progress
+/// --stream --mesh-follows` once: the scene and the model's own mesh (mesh/mesh_bytes.hpp: the
+/// engine solves on it, numbered as here, an adaptive level's too) on its stdin, report.json's
+/// content and u on its stdout, its progress
 /// and warnings passed on through this process's log (core/log.hpp: the Python module's logger
 /// gets them), its error in the message of the Error thrown; no file is written. An interrupt of
 /// this thread (core/interrupt.hpp) stops it within 0.1 s.
