@@ -9,6 +9,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <memory>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -241,7 +242,7 @@ Solution solve_from(ContactSolver& solver, const Model& md, const Vec& u_start) 
 }  // namespace
 
 AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOptions& aopt, const SolveOptions& sopt,
-                         const AdaptLevelSolved& on_level) {
+                         const AdaptLevelSolved& on_level, const AdaptLevelEngine& level_engine) {
   const auto t_start = clk::now();
   Refinable cur = start_refinable(scene, std::move(mesh));
   const ScopedBlasThreads blas_threads(aopt.blas_threads);
@@ -249,14 +250,18 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
   level_opt.smallness = false;  // evaluated once, on the final mesh (file comment)
   AdaptResult r;
   Vec u_start;  // the previous level's displacement carried to the current mesh
+  Solution previous;  // the previous level's solution (what the level engine decides on)
   for (int level = 0;; ++level) {
     const auto t_level = clk::now();
     Model md = build_model(scene, cur.mesh);
     const auto t_solve = clk::now();
     const double build_seconds = since(t_level);
-    ContactSolver solver(md, level_opt);
-    const double setup_seconds = since(t_solve);
-    Solution sol = solve_from(solver, md, u_start);
+    // Another engine where it takes the level (it starts from zero), else this process's solver.
+    std::optional<Solution> handed =
+        level_engine ? level_engine(md, level_opt, r.history.empty() ? nullptr : &previous) : std::nullopt;
+    std::unique_ptr<ContactSolver> solver = handed ? nullptr : std::make_unique<ContactSolver>(md, level_opt);
+    const double setup_seconds = handed ? 0.0 : since(t_solve);
+    Solution sol = handed ? std::move(*handed) : solve_from(*solver, md, u_start);
     AdaptLevel L;
     L.solve_seconds = since(t_solve);
     L.build_seconds = build_seconds;
@@ -285,12 +290,16 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
     if (!stop.empty()) {
       r.stop_reason = stop;
       r.reached = stop == "target reached";
-      if (sopt.smallness) final_smallness(solver, sol);
+      if (sopt.smallness && solver) final_smallness(*solver, sol);
+      if (sopt.smallness && !solver)
+        sol.skipped.push_back("smallness: (21) on the final mesh needs this process's factorization; the petsc "
+                              "engine solved that level");
       r.model = std::move(md);
       r.solution = std::move(sol);
       r.estimate = std::move(est);
       return r;
     }
+    previous = std::move(sol);
     cur = std::move(*next);
   }
 }

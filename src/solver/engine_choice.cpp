@@ -7,6 +7,7 @@
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/adapt.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <vector>
@@ -41,7 +42,9 @@ SceneSize scene_size(const nlohmann::json& mesh, const std::string& scene_dir) {
 
 // What the user set that only the cholmod engine has: it wins over the size ("" if nothing).
 std::string cholmod_only_setting(const nlohmann::json& scene, bool adaptive) {
-  if (adaptive) return "adaptive refinement runs in the cholmod engine";
+  if (adaptive)
+    return "adaptive refinement: its loop runs in this process, each level on the engine solve would take for "
+           "that level's mesh";
   const std::string backend = scene.at("solver").at("backend").get<std::string>();
   if (backend != "auto" && backend != "ssn" && backend.rfind("tao:", 0) != 0)
     return "solver.backend = " + backend + " runs in the cholmod engine";
@@ -84,16 +87,15 @@ std::string petsc_engine_missing() {
   return "the petsc engine's program " + program + " is not there (build the target hemicontact_mpi, or set HEMICONTACT_MPI)";
 }
 
-EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
-                           bool adaptive) {
-  const std::string asked = scene.at("solver").at("engine").get<std::string>();
-  if (asked != "auto") return {asked, false, "solver.engine = " + asked + " (given)"};
+namespace {
+
+// solver.engine = auto on a mesh of @p size (choose_engine's rule, file comment of the header).
+EngineChoice choose_by_size(const nlohmann::json& scene, const SceneSize& size, bool petsc_built, bool adaptive) {
   const auto cholmod = [](const std::string& why) { return EngineChoice{"cholmod", true, why}; };
   if (!petsc_built) {
     const std::string missing = petsc_engine_missing();
     return cholmod(missing.empty() ? "this build has no petsc engine" : missing);
   }
-  const SceneSize size = scene_size(scene.at("mesh"), scene_dir);
   if (size.dim == 0) return cholmod(size.what + ": its size is known only once the mesh is made");
   // In 2D the condensed path is one sparse factorization and a small dense Γ3 problem: faster
   // than the petsc engine at every size measured (docs/performance.md, method choice).
@@ -105,6 +107,36 @@ EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene
   return {"petsc", true,
           desc + " >= solver.method_choice.petsc_above = " + fmt(above, 3) +
               ": the petsc engine in one process (ssn, CG + AMG: no factorization, no dense Gamma3 work)"};
+}
+
+}  // namespace
+
+EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
+                           bool adaptive) {
+  const std::string asked = scene.at("solver").at("engine").get<std::string>();
+  if (asked != "auto") return {asked, false, "solver.engine = " + asked + " (given)"};
+  return choose_by_size(scene, scene_size(scene.at("mesh"), scene_dir), petsc_built, adaptive);
+}
+
+EngineChoice choose_level_engine(const nlohmann::json& scene, const LevelNumbers& n, bool petsc_built) {
+  const std::string asked = scene.at("solver").at("engine").get<std::string>();
+  if (asked != "auto") return {asked, false, "solver.engine = " + asked + " (given)"};
+  const auto cholmod = [](const std::string& why) { return EngineChoice{"cholmod", true, why}; };
+  if (!petsc_built || n.dim != 3) return choose_by_size(scene, {n.dim, n.unknowns, "2D adaptive level"}, petsc_built, false);
+  if (const std::string why = cholmod_only_setting(scene, false); !why.empty()) return cholmod(why);
+  const std::string petsc = ": the petsc engine in one process (ssn, CG + AMG: no factorization)";
+  if (n.previous_unknowns <= 0)  // the scene's own (uniform) mesh: as `solve` would take it
+    return choose_by_size(scene, {n.dim, n.unknowns, "3D adaptive level 0 (the scene's mesh)"}, petsc_built, false);
+  if (n.previous_petsc) return {"petsc", true, "the previous level went to the petsc engine" + petsc};
+  if (n.previous_factor_nnz <= 0) return cholmod("this process (the previous level made no factorization to go by)");
+  const double bytes = 8 * n.previous_factor_nnz * std::pow(n.unknowns / n.previous_unknowns, 4.0 / 3.0);
+  const double budget = scene.at("solver").at("method_choice").at("memory_fraction").get<double>() * n.memory_bytes;
+  const std::string numbers = "the factorization predicted from the previous level's (" + fmt(bytes / 1e9, 3) +
+                              " GB) " + (bytes > budget ? ">" : "<=") +
+                              " solver.method_choice.memory_fraction of the memory available (" +
+                              fmt(budget / 1e9, 3) + " GB)";
+  if (n.memory_bytes > 0 && bytes > budget) return {"petsc", true, numbers + petsc};
+  return cholmod(numbers + ": this process (faster on graded meshes)");
 }
 
 EngineChoice in_process_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,

@@ -1,5 +1,8 @@
 #include <hemicontact/studies/adapt_study.hpp>
 
+#include <hemicontact/solver/engine_choice.hpp>
+#include <hemicontact/studies/petsc_process.hpp>
+
 #include <hemicontact/core/clock.hpp>
 #include <hemicontact/core/error.hpp>
 #include <hemicontact/core/log.hpp>
@@ -174,14 +177,18 @@ WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scen
   Model ref;
   Solution sref;
   if (kind == "uniform") {
-    ref = build_model(with_mesh(scene, static_cast<int>(value)), scene_dir);
-    sref = solve(ref, opt);
+    const nlohmann::json uniform = with_mesh(scene, static_cast<int>(value));
+    ref = build_model(uniform, scene_dir);
+    // The engine `solve` would take for that mesh (a large 3D one: the petsc engine, streamed).
+    const EngineChoice e = choose_engine(uniform, scene_dir, petsc_engine_available(), false);
+    sref = e.engine == "petsc" ? PetscProcess(uniform, scene_dir)(ref, opt) : solve(ref, opt);
     st.reference_estimate = estimate_error(ref, sref, req.adapt.estimator).relative;
-    run_adaptive(scene, build_mesh(scene, scene_dir), req.adapt, opt, keep);
+    run_adaptive(scene, build_mesh(scene, scene_dir), req.adapt, opt, keep, petsc_level_engine(scene, scene_dir));
   } else {
     AdaptOptions deeper = req.adapt;
     deeper.target_error = value;
-    AdaptResult r = run_adaptive(scene, build_mesh(scene, scene_dir), deeper, opt, keep);
+    AdaptResult r =
+        run_adaptive(scene, build_mesh(scene, scene_dir), deeper, opt, keep, petsc_level_engine(scene, scene_dir));
     ref = std::move(r.model);
     sref = std::move(r.solution);
     st.reference_estimate = r.history.back().estimate;

@@ -12,6 +12,7 @@
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/engine_choice.hpp>
+#include <hemicontact/solver/method_choice.hpp>
 
 #include <csignal>
 #include <cstring>
@@ -35,11 +36,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The scene the engine solves: the caller's effective scene with solver.engine = petsc, no files
-// (the stream carries the results) and its mesh file's path absolute (the engine reads the scene
+// The scene the engine solves: the caller's effective scene with solver.engine = petsc, no
+// adaptive refinement (an adaptive caller's loop sends each level's mesh), no files (the stream
+// carries the results) and its mesh file's path absolute (the engine reads the scene
 // from stdin, with no folder of its own to resolve a relative path from).
 nlohmann::json engine_scene(nlohmann::json scene, const std::string& scene_dir) {
   scene["solver"]["engine"] = "petsc";
+  scene["adapt"]["target_error"] = nullptr;  // the caller's loop refines; the engine solves one mesh
   for (const char* file : {"vtu", "csv", "plot"}) scene["output"][file] = false;
   nlohmann::json& file = scene["mesh"]["file"];
   if (file.is_string()) file = fs::absolute(scene_path_of(file.get<std::string>(), scene_dir)).string();
@@ -204,6 +207,29 @@ Solution PetscProcess::operator()(const Model& md, const SolveOptions& opt) cons
                << " where this model's judge says " << (sol.certificate.passed ? "passed" : "failed")
                << " (max residual " << sol.certificate.max_residual << "): this judge's verdict stands";
   return sol;
+}
+
+AdaptLevelEngine petsc_level_engine(const nlohmann::json& scene, const std::string& scene_dir) {
+  return [scene, scene_dir](const Model& md, const SolveOptions& opt, const Solution* previous) -> std::optional<Solution> {
+    LevelNumbers n;
+    n.dim = md.dim();
+    n.unknowns = static_cast<double>(md.dim()) * static_cast<double>(md.mesh.num_nodes());
+    if (previous) {
+      n.previous_unknowns = static_cast<double>(previous->u.size());
+      const auto nnz = previous->method_choice.numbers.find("factor_nnz");
+      n.previous_factor_nnz = nnz == previous->method_choice.numbers.end() ? 0 : nnz->second;
+      n.previous_petsc = previous->method_choice.chosen == "petsc engine";
+    }
+    n.memory_bytes = available_memory_bytes();
+    const EngineChoice e = choose_level_engine(scene, n, petsc_engine_available());
+    log_info() << "adapt: this level's engine " << e.engine << (e.automatic ? " (auto)" : "") << ": " << e.reason;
+    if (e.engine != "petsc") return std::nullopt;
+    Solution sol = PetscProcess(scene, scene_dir)(md, opt);
+    sol.method_choice.chosen = "petsc engine";
+    sol.method_choice.automatic = e.automatic;
+    sol.method_choice.reason = e.reason;
+    return sol;
+  };
 }
 
 }  // namespace hemicontact

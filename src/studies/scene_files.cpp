@@ -16,7 +16,9 @@ namespace hemicontact {
 
 void refuse_adaptive_outside_cholmod(const nlohmann::json& scene) {
   if (adapt_requested(scene))
-    input_error("adapt.target_error: adaptive refinement runs on the cholmod engine only (solver.engine = petsc)");
+    input_error("adapt.target_error: adaptive refinement runs its loop in the process that holds the model "
+                "(solver.engine = auto or cholmod: a level whose factorization would not fit goes to the petsc "
+                "engine there), not in hemicontact-mpi (solver.engine = petsc)");
 }
 
 SceneSolve solve_scene_with(const nlohmann::json& scene, const std::string& scene_dir, const SceneEngine& engine) {

@@ -5,6 +5,7 @@
 #include <hemicontact/output/report.hpp>
 #include <hemicontact/solver/solve.hpp>
 #include <hemicontact/studies/minima.hpp>
+#include <hemicontact/studies/petsc_process.hpp>
 
 #include <chrono>
 
@@ -26,7 +27,8 @@ SceneSolve solve_adaptive(const nlohmann::json& scene, const std::string& scene_
     so_far.push_back(L);
     if (level_done) level_done(so_far);
   };
-  AdaptResult adapted = run_adaptive(scene, build_mesh(scene, scene_dir), aopt, r.opt, keep);
+  AdaptResult adapted =
+      run_adaptive(scene, build_mesh(scene, scene_dir), aopt, r.opt, keep, petsc_level_engine(scene, scene_dir));
   r.extra = adapt_solve_extra(adapted, aopt, r.missed);
   r.indicators = adapted.estimate.eta;
   r.adapt = aopt;

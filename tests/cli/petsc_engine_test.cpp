@@ -289,6 +289,37 @@ TEST(PetscEngine, AProgramNotFoundKeepsAutoOnCholmodAndRefusesAGivenPetsc) {
   fs::remove_all(dir);
 }
 
+// The adaptive loop's levels take the petsc engine where the factorization predicted from the
+// previous level's does not fit solver.method_choice.memory_fraction of the memory (lowered to
+// 1e-6 here: every level after the first); the loop's meshes, estimates and energies must be those
+// of the run that stays in this process, to the engines' agreement (file comment).
+TEST(PetscEngine, AdaptiveLevelsTakeThePetscEngineWhereTheFactorizationWouldNotFit) {
+  const fs::path dir = scratch("adapt-levels");
+  const std::string scene = "solve " + problem("sofonea2017-3d") +
+                            " --set output.vtu=false --set output.plot=false --set adapt.target_error=0.12 --out ";
+  const CliOutcome here = run_cli(dir, scene + (dir / "here").string());
+  ASSERT_EQ(here.code, 0) << here.err;
+  const CliOutcome low = run_cli(dir, scene + (dir / "low").string() + " --set solver.method_choice.memory_fraction=1e-6");
+  ASSERT_EQ(low.code, 0) << low.err;
+  const json a = json::parse(slurp(dir / "here" / "report.json")).at("adapt").at("history");
+  const json b = json::parse(slurp(dir / "low" / "report.json")).at("adapt").at("history");
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE("level " + std::to_string(k));
+    EXPECT_EQ(a[k].at("dofs"), b[k].at("dofs"));
+    EXPECT_NEAR(a[k].at("estimate").get<double>(), b[k].at("estimate").get<double>(), 1e-8);
+    const double ea = a[k].at("energy").get<double>(), eb = b[k].at("energy").get<double>();
+    EXPECT_LE(std::abs(ea - eb), 1e-8 * std::abs(ea));
+    EXPECT_LE(b[k].at("certificate").get<double>(), 1e-8);
+  }
+  EXPECT_NE(a[1].at("method"), "petsc engine");
+  EXPECT_EQ(b[1].at("method"), "petsc engine");
+  EXPECT_NE(low.err.find("adapt: this level's engine petsc (auto): the factorization predicted"), std::string::npos)
+      << low.err;
+  fs::remove_all(dir);
+}
+
 // --stream on two ranks gathers every owned node's u into the whole mesh's numbering: the same
 // report line's counts and the same u as one rank, to the engines' agreement (file comment).
 TEST(PetscEngine, StreamGathersTheWholeDisplacementFromEveryRank) {

@@ -220,11 +220,11 @@ def test_solve_and_converge_take_the_engine_solve_would():
     assert "PETSc, 1 rank" in conv["reference"]["solved_by"] and conv["ok"]
     minima = hc.minima(scene, starts=1).report["engine_choice"]
     assert minima["engine"] == "cholmod" and "would take the petsc engine: 3D box of 81 unknowns" in minima["reason"]
-    # With adaptive refinement `solve` stays on the cholmod engine, and says that instead.
+    # With adaptive refinement the loop runs here and says so; each level chooses its own engine.
     scene["adapt.target_error"] = 0.6
     adaptive = hc.solve(scene).report["engine_choice"]
-    assert "adaptive refinement runs in the cholmod engine" in adaptive["reason"], adaptive
-    assert "petsc engine" not in adaptive["reason"], adaptive
+    assert adaptive["engine"] == "cholmod"
+    assert "adaptive refinement: its loop runs in this process" in adaptive["reason"], adaptive
 
 
 def test_minima_matches_cli(tmp_path):

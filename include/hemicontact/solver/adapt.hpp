@@ -28,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -86,8 +87,16 @@ using AdaptLevelSolved =
 /// @brief Run the adaptive loop (file comment) from @p initial (boundary parts assigned).
 /// A level whose solve is not certified ends the loop (stop_reason "not certified"): refining on a
 /// wrong answer would chase its error.
+/// A level's solve by another engine, where it takes it (studies/petsc_process.hpp's
+/// petsc_level_engine: solver/engine_choice.hpp's choose_level_engine); nullopt: the level is solved
+/// here (ContactSolver, from the previous level's u). @p previous: the previous level's solution
+/// (null on the first), whose method_choice numbers say what its factorization took.
+using AdaptLevelEngine =
+    std::function<std::optional<Solution>(const Model&, const SolveOptions&, const Solution* previous)>;
+/// @param level_engine each level's other engine (null: every level here)
 AdaptResult run_adaptive(const nlohmann::json& scene, Mesh initial, const AdaptOptions& aopt,
-                         const SolveOptions& sopt, const AdaptLevelSolved& on_level = nullptr);
+                         const SolveOptions& sopt, const AdaptLevelSolved& on_level = nullptr,
+                         const AdaptLevelEngine& level_engine = nullptr);
 
 /// @return the report.json "adapt" object: options, history, final estimate, stop reason.
 nlohmann::json adapt_report(const AdaptResult& r, const AdaptOptions& aopt);

@@ -38,6 +38,25 @@ inline bool petsc_engine_available() { return petsc_engine_missing().empty(); }
 /// @param adaptive the scene asks for adaptive refinement (adapt_requested)
 EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
                            bool adaptive);
+/// What the engine of an adaptive level is decided on (choose_level_engine).
+struct LevelNumbers {
+  int dim = 0;
+  double unknowns = 0;           ///< this level's, dim × nodes
+  double previous_unknowns = 0;  ///< the previous level's (0: this is the first level)
+  double previous_factor_nnz = 0;  ///< its factorization's entries in this process (0: none made)
+  bool previous_petsc = false;     ///< the previous level went to the petsc engine
+  double memory_bytes = 0;         ///< what this process may still use (available_memory_bytes)
+};
+/// The engine of one level of the adaptive loop (a mesh the loop made). Adaptive meshes are graded
+/// towards Γ3's edges and their Γ3 stays small, where this process's factorization beats the
+/// petsc engine's CG + AMG (the 3D scene to 7 %: 59k unknowns 1.0 against 2.1 s, 355k 12.7
+/// against 18.9 s; docs/adaptivity.md), so size alone does not send a level there: a 3D level goes
+/// to the petsc engine where its factorization would not fit, predicted from the previous level's
+/// (nnz · (N/N_prev)^(4/3), nested dissection's growth in 3D, 8 bytes each) against
+/// solver.method_choice.memory_fraction of @p n.memory_bytes, and stays there once it went. The
+/// first level (the scene's own, uniform mesh) is decided as choose_engine decides it. A given
+/// solver.engine stays given; what only the cholmod engine has keeps it (choose_engine's rules).
+EngineChoice choose_level_engine(const nlohmann::json& scene, const LevelNumbers& n, bool petsc_built);
 /// The engine of a command that restarts one solver from many points in this process (minima,
 /// path, and the Python module's): the cholmod engine, whose method choice (condensed or full) it
 /// uses. (converge and the module's solve take choose_engine's, the petsc engine streamed back:

@@ -7,6 +7,7 @@
 /// those of this model, whatever ran. A process of its own because this one links Ipopt, whose
 /// MUMPS defines stub MPI symbols that would take the real MPI's place (src/cli/cli.cpp).
 
+#include <hemicontact/solver/adapt.hpp>
 #include <hemicontact/studies/scene_solve.hpp>
 
 #include <nlohmann/json.hpp>
@@ -42,5 +43,11 @@ class PetscProcess {
   nlohmann::json scene_;  // the engine's: solver.engine = petsc, no files, mesh.file absolute
   std::shared_ptr<nlohmann::json> report_ = std::make_shared<nlohmann::json>();
 };
+
+/// @return the adaptive loop's level engine (solver/adapt.hpp) for @p scene: a level that
+/// choose_level_engine sends to the petsc engine (3D, its factorization predicted not to fit, where
+/// the engine is available) is solved by a PetscProcess, its method_choice saying so ("petsc
+/// engine"); any other level by the loop's own solver. Each level's choice is logged.
+AdaptLevelEngine petsc_level_engine(const nlohmann::json& scene, const std::string& scene_dir);
 
 }  // namespace hemicontact
