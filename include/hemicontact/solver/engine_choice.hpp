@@ -14,9 +14,10 @@ namespace hemicontact {
 /// CLI execs and they stream from, studies/petsc_process.hpp). The petsc engine in one process (ssn
 /// with CG + AMG: no factorization, no dense Γ3 work) for a 3D mesh of at least
 /// solver.method_choice.petsc_above unknowns (a generated box, or a Gmsh file whose header gives its
-/// size: mesh/msh_peek.hpp), a linear material and no adaptive refinement, where this build has it;
-/// the cholmod engine otherwise (minima, path, 2D, or where petsc_engine_missing). Decided from the
-/// scene alone, before any mesh is made.
+/// size: mesh/msh_peek.hpp) and a linear material, where this build has it; the cholmod engine
+/// otherwise (minima, path, 2D, or where petsc_engine_missing). Decided from the scene alone,
+/// before any mesh is made. With adaptive refinement the loop runs in the cholmod engine's process
+/// and each level chooses again (choose_level_engine).
 struct EngineChoice {
   std::string engine;      ///< "cholmod" or "petsc"
   bool automatic = false;  ///< solver.engine was auto
