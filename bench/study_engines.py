@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
-"""The engines of the commands that hold the whole model (`converge`, the Python module's solve):
-each study as a whole process with solver.engine = auto (which hands a level above
+"""The engines of the commands that hold the whole model (`converge`, the Python module's solve, the
+adaptive solve): each study as a whole process with solver.engine = auto (which hands a level above
 solver.method_choice.petsc_above to the petsc engine, streamed back: studies/petsc_process.hpp) and
-with solver.engine = cholmod, side by side in one session.
+with solver.engine = cholmod, side by side in one session; an adaptive solve with auto (its graded
+levels stay in the process) and with every level after the first forced to the petsc engine.
 
 Each row: wall time, the peak resident memory of the process tree (the study's process and the
 engine it runs, summed while both live; sampled every 10 ms from /proc), which engine solved the
 largest mesh, and the largest difference between the two engines' results (relative energy norm
-and absolute error of every level for converge; relative max |u| difference for solve). A run past
+and absolute error (adaptive: estimate) of every level; relative max |u| difference for solve). A run past
 --timeout is killed and shown as "> T". Writes DIR/study_engines.md and .json.
 
   /usr/bin/python3 bench/study_engines.py --build build --out /tmp/study-engines   (Debian's, with NumPy)
@@ -26,14 +27,19 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BOX = os.path.join(ROOT, "problems", "sofonea2017-3d.json")
 ENGINES = ("auto", "cholmod")
 
-# (name, what, command arguments after the scene, levels): converge studies and Python solves.
+# (name, what, arguments): converge studies, Python solves, and adaptive solves (target error).
 STUDIES = [
     ("converge 3D n=4,8 ref 16", "converge", ["--levels", "4,8", "--reference", "16"]),
     ("converge 3D n=6,12 ref 24", "converge", ["--levels", "6,12", "--reference", "24"]),
     ("converge 3D n=8,16 ref 32", "converge", ["--levels", "8,16", "--reference", "32"]),
     ("Python solve 3D n=24", "python", [24]),
     ("Python solve 3D n=32", "python", [32]),
+    ("adaptive 3D to 12 %", "adapt", [0.12]),
+    ("adaptive 3D to 7 %", "adapt", [0.07]),
 ]
+# An adaptive run's second engine: every level after the first on the petsc engine, by a
+# memory_fraction so small that no factorization is predicted to fit (choose_level_engine).
+PETSC_LEVELS = ["--set", "solver.method_choice.memory_fraction=1e-6"]
 
 PY_SOLVE = """
 import sys, numpy as np, hemicontact as hc
@@ -108,6 +114,25 @@ def converge_run(build, args, engine, timeout, work):
     return r
 
 
+def adapt_run(build, target, engine, timeout, work):
+    """`hemicontact solve` of the 3D scene to @p target: auto, or ("cholmod") with the levels forced
+    to the petsc engine (PETSC_LEVELS): the second column of an adaptive row."""
+    out = os.path.join(work, f"adapt-{engine}-{target}")
+    cmd = [os.path.join(build, "hemicontact"), "solve", BOX, "--out", out, "--force", "--quiet",
+           "--set", "output.vtu=false", "--set", "output.plot=false", "--set", f"adapt.target_error={target}"]
+    secs, mb, _, code = run_tree(cmd + (PETSC_LEVELS if engine == "cholmod" else []), timeout)
+    r = {"seconds": secs, "peak_mb": mb, "exit": code}
+    path = os.path.join(out, "report.json")
+    if secs is not None and os.path.exists(path):
+        with open(path) as f:
+            rep = json.load(f)
+        hist = rep["adapt"]["history"]
+        r.update(levels=[{"energy_norm": h["energy_norm"], "error": h["estimate"]} for h in hist],
+                 engine="petsc levels" if engine == "cholmod" else "auto", ok=rep["ok"],
+                 solved_by=", ".join(h["method"] for h in hist))
+    return r
+
+
 def python_run(build, n, engine, timeout, work):
     u_file = os.path.join(work, f"u-{engine}-{n}.npy")
     env = dict(os.environ, PYTHONPATH=os.path.join(build, "python"))
@@ -123,7 +148,7 @@ def difference(what, a, b):
     """The largest difference between the two engines' results (see the file comment)."""
     if "engine" not in a or "engine" not in b:
         return None
-    if what == "converge":
+    if what in ("converge", "adapt"):
         d = 0.0
         for la, lb in zip(a["levels"], b["levels"]):
             d = max(d, abs(la["energy_norm"] - lb["energy_norm"]) / lb["energy_norm"], abs(la["error"] - lb["error"]))
@@ -152,11 +177,12 @@ def main():
         for name, what, extra in STUDIES:
             runs = {}
             for engine in ENGINES:
-                runs[engine] = (converge_run(args.build, extra, engine, args.timeout, work) if what == "converge"
-                                else python_run(args.build, extra[0], engine, args.timeout, work))
+                run = {"converge": converge_run, "python": python_run, "adapt": adapt_run}[what]
+                runs[engine] = run(args.build, extra if what == "converge" else extra[0], engine, args.timeout, work)
                 print(f"{name:28s} {engine:8s} {cell(runs[engine])}", file=sys.stderr, flush=True)
             rows.append({"study": name, "runs": runs, "difference": difference(what, runs["auto"], runs["cholmod"])})
-    lines = ["| study | auto | cholmod | auto / cholmod, wall | auto's largest mesh solved by | largest difference |",
+    lines = ["| study | auto | cholmod (adaptive: the levels on the petsc engine) | auto / other, wall | "
+             "auto's largest mesh solved by (adaptive: each level's method) | largest difference |",
              "|---|---|---|---|---|---|"]
     for row in rows:
         a, c = row["runs"]["auto"], row["runs"]["cholmod"]
