@@ -1,7 +1,7 @@
 // The petsc engine for a command that holds the whole model (studies/petsc_process.hpp):
-// hemicontact-mpi on one rank with --stream, the effective scene and the model's mesh on its stdin, report.json's
-// content and the whole mesh's u back on its stdout, its log passed on through this process's;
-// nothing is written to disk.
+// hemicontact-mpi on one rank with --stream, the effective scene and the model's mesh on its
+// stdin, report.json's content and the whole mesh's u back on its stdout, its log passed on
+// through this process's; nothing is written to disk.
 #include <hemicontact/studies/petsc_process.hpp>
 
 #include <hemicontact/check/evaluate.hpp>
@@ -182,8 +182,8 @@ Solution PetscProcess::operator()(const Model& md, const SolveOptions& opt) cons
   // The model's own mesh goes with the scene: the engine solves on it, numbered as here (an
   // adaptive level's too, which no scene key describes).
   const EngineRun run = run_engine(program, scene_.dump() + "\n" + mesh_to_bytes(md.mesh));
-  // 0, 3 (not converged) and 4 (not certified) end with an answer; anything else is an error
-  // whose message the engine printed on stderr.
+  // 0, 3 (not converged) and 4 (not certified) end with an answer; anything else is an error,
+  // whose message the engine's error lines give.
   if (run.exit_code != EXIT_OK && run.exit_code != EXIT_NOT_CONVERGED && run.exit_code != EXIT_CERTIFICATE)
     throw Error("the petsc engine (" + program + ") stopped with exit code " + std::to_string(run.exit_code) + ": " +
                     (run.errors.empty() ? std::string("no message") : run.errors),
@@ -194,7 +194,11 @@ Solution PetscProcess::operator()(const Model& md, const SolveOptions& opt) cons
     throw Error("the petsc engine's stream is not a report and " + std::to_string(bytes) + " bytes of u (" +
                     std::to_string(run.out.size()) + " bytes came)",
                 EXIT_INTERNAL);
-  *report_ = nlohmann::json::parse(run.out.substr(0, eol));
+  try {
+    *report_ = nlohmann::json::parse(run.out.substr(0, eol));
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(std::string("the petsc engine's report line is not JSON: ") + e.what(), EXIT_INTERNAL);
+  }
   Solution sol;
   read_solve_records(*report_, sol);
   sol.u.resize(md.mesh.num_nodes() * md.dim());
@@ -218,14 +222,14 @@ AdaptLevelEngine petsc_level_engine(const nlohmann::json& scene, const std::stri
       n.previous_unknowns = static_cast<double>(previous->u.size());
       const auto nnz = previous->method_choice.numbers.find("factor_nnz");
       n.previous_factor_nnz = nnz == previous->method_choice.numbers.end() ? 0 : nnz->second;
-      n.previous_petsc = previous->method_choice.chosen == "petsc engine";
+      n.previous_petsc = previous->method_choice.chosen == PETSC_ENGINE_METHOD;
     }
     n.memory_bytes = available_memory_bytes();
     const EngineChoice e = choose_level_engine(scene, n, petsc_engine_available());
     log_info() << "adapt: this level's engine " << e.engine << (e.automatic ? " (auto)" : "") << ": " << e.reason;
     if (e.engine != "petsc") return std::nullopt;
     Solution sol = PetscProcess(scene, scene_dir)(md, opt);
-    sol.method_choice.chosen = "petsc engine";
+    sol.method_choice.chosen = PETSC_ENGINE_METHOD;
     sol.method_choice.automatic = e.automatic;
     sol.method_choice.reason = e.reason;
     return sol;

@@ -39,6 +39,9 @@ inline bool petsc_engine_available() { return petsc_engine_missing().empty(); }
 /// @param adaptive the scene asks for adaptive refinement (adapt_requested)
 EngineChoice choose_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
                            bool adaptive);
+/// An adaptive level's method_choice.chosen (and report's "method") where the petsc engine solved it.
+inline constexpr const char* PETSC_ENGINE_METHOD = "petsc engine";
+
 /// What the engine of an adaptive level is decided on (choose_level_engine).
 struct LevelNumbers {
   int dim = 0;

@@ -46,8 +46,8 @@ class PetscProcess {
 
 /// @return the adaptive loop's level engine (solver/adapt.hpp) for @p scene: a level that
 /// choose_level_engine sends to the petsc engine (3D, its factorization predicted not to fit, where
-/// the engine is available) is solved by a PetscProcess, its method_choice saying so ("petsc
-/// engine"); any other level by the loop's own solver. Each level's choice is logged.
+/// the engine is available) is solved by a PetscProcess, its method_choice saying so
+/// (PETSC_ENGINE_METHOD); any other level by the loop's own solver. Each level's choice is logged.
 AdaptLevelEngine petsc_level_engine(const nlohmann::json& scene, const std::string& scene_dir);
 
 }  // namespace hemicontact
