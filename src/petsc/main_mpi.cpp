@@ -40,7 +40,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <iterator>
 #include <numeric>
 #include <string_view>
 #include <new>
@@ -53,8 +52,6 @@ namespace {
 
 // report.json's engine_choice (solver/method_choice.hpp): why this engine runs.
 nlohmann::json engine_choice;
-// --mesh-follows: stdin holds the scene's line, then the caller's mesh (mesh/mesh_bytes.hpp).
-bool given_mesh_follows = false;
 
 
 using namespace hemicontact;
@@ -289,10 +286,10 @@ std::string scene_from_stdin(MPI_Comm comm) {
 // The scene and its options, read by every rank alike: an error in them (a bad key, a non-TAO
 // backend) is every rank's and is agreed on, so that the ranks leave together through
 // PetscFinalize with the message once, rather than by MPI_Abort.
-void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt,
+void read_scene(const cli::SceneArgs& a, bool mesh_follows, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt,
                 std::optional<Mesh>& given) {
   std::optional<std::string> text = a.scene == "-" ? std::optional(scene_from_stdin(comm)) : std::nullopt;
-  if (given_mesh_follows) {  // one rank (run() checked): the scene's line, then mesh_to_bytes's
+  if (mesh_follows) {  // one rank (stream_flags checked): the scene's line, then mesh_to_bytes's
     const size_t eol = text->find('\n');
     if (eol == std::string::npos) throw SharedError("--mesh-follows: no mesh after the scene's line on stdin", EXIT_INPUT);
     given = mesh_from_bytes(std::string_view(*text).substr(eol + 1));
@@ -319,6 +316,32 @@ void read_scene(const cli::SceneArgs& a, MPI_Comm comm, nlohmann::json& scene, S
   });
 }
 
+// --stream and --mesh-follows, taken out of the command line (the rest for parse_scene_args) and
+// checked: --stream writes no files, so what acts on files is refused; the scene '-' (stdin) needs
+// it; --mesh-follows (the caller's mesh after the scene's line) needs both, on one rank. Under
+// --stream PETSc's own printing goes to stderr: stdout carries the stream alone.
+struct StreamFlags {
+  bool stream = false, mesh_follows = false;
+  std::vector<std::string> rest;
+};
+StreamFlags stream_flags(const std::vector<std::string>& args, int ranks) {
+  StreamFlags f;
+  for (const std::string& s : args) {
+    if (s == "--stream") f.stream = true;
+    else if (s == "--mesh-follows") f.mesh_follows = true;
+    else f.rest.push_back(s);
+  }
+  const bool from_stdin = !f.rest.empty() && f.rest[0] == "-";
+  if (f.mesh_follows && (!f.stream || !from_stdin || ranks != 1))
+    throw cli::UsageError("--mesh-follows: one rank, with --stream and the scene '-' (stdin)");
+  if (!f.stream && from_stdin) throw cli::UsageError("the scene '-' (stdin) is read with --stream only");
+  for (const char* files : {"--out", "--force", "--plot", "--magnification"})
+    if (f.stream && std::find(f.rest.begin(), f.rest.end(), files) != f.rest.end())
+      throw cli::UsageError(std::string("--stream writes no files: ") + files + " has nothing to act on");
+  if (f.stream) PETSC_STDOUT = stderr;  // -ksp_monitor and the like print here
+  return f;
+}
+
 int run(const std::vector<std::string>& args, MPI_Comm comm) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
@@ -334,22 +357,8 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
     return EXIT_OK;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<std::string> kept;
-  std::copy_if(rest.begin(), rest.end(), std::back_inserter(kept),
-               [](const std::string& s) { return s != "--stream" && s != "--mesh-follows"; });
-  const bool stream = std::find(rest.begin(), rest.end(), "--stream") != rest.end();
-  given_mesh_follows = std::find(rest.begin(), rest.end(), "--mesh-follows") != rest.end();
-  if (given_mesh_follows && (!stream || kept.empty() || kept[0] != "-" || size != 1))
-    throw cli::UsageError("--mesh-follows: one rank, with --stream and the scene '-' (stdin)");
-  if (stream) {
-    for (const char* files : {"--out", "--force", "--plot", "--magnification"})
-      if (std::find(kept.begin(), kept.end(), files) != kept.end())
-        throw cli::UsageError(std::string("--stream writes no files: ") + files + " has nothing to act on");
-    PETSC_STDOUT = stderr;  // stdout carries the stream alone (-ksp_monitor and the like print here)
-  } else if (!kept.empty() && kept[0] == "-") {
-    throw cli::UsageError("the scene '-' (stdin) is read with --stream only");
-  }
-  const cli::SceneArgs a = cli::parse_scene_args(kept, {"--magnification"});
+  const StreamFlags f = stream_flags(rest, size);
+  const cli::SceneArgs a = cli::parse_scene_args(f.rest, {"--magnification"});
   // OpenBLAS maps this thread's work buffer at its first BLAS call (PETSc's GAMG, late in the
   // solve) and retries a mapping that fails for ever: under a memory limit one rank spun there
   // while the others waited. Mapped now, or this rank ends the job with the memory message.
@@ -359,11 +368,11 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   nlohmann::json scene;
   SolveOptions opt;
   std::optional<Mesh> given;
-  read_scene(a, comm, scene, opt, given);
+  read_scene(a, f.mesh_follows, comm, scene, opt, given);
 
-  const std::optional<OutputLock> lock = stream ? std::nullopt : lock_output(a, rank, comm);
+  const std::optional<OutputLock> lock = f.stream ? std::nullopt : lock_output(a, rank, comm);
   const std::string layout = given ? "given" : distributed_layout(scene, opt, comm);
-  return run_slabs(a, plot_args, scene, opt, comm, t0, layout, stream, std::move(given));
+  return run_slabs(a, plot_args, scene, opt, comm, t0, layout, f.stream, std::move(given));
 }
 
 // The end of a job after an error that may be this rank's alone: the message printed once (rank
