@@ -179,9 +179,7 @@ WorkPrecisionStudy run_work_precision(const json& scene, const std::string& scen
   if (kind == "uniform") {
     const nlohmann::json uniform = with_mesh(scene, static_cast<int>(value));
     ref = build_model(uniform, scene_dir);
-    // The engine `solve` would take for that mesh (a large 3D one: the petsc engine, streamed).
-    const EngineChoice e = choose_engine(uniform, scene_dir, petsc_engine_available(), false);
-    sref = e.engine == "petsc" ? PetscProcess(uniform, scene_dir)(ref, opt) : solve(ref, opt);
+    sref = scene_engine(uniform, scene_dir, petsc_engine_available(), "adapt study: the uniform reference")(ref, opt);
     st.reference_estimate = estimate_error(ref, sref, req.adapt.estimator).relative;
     run_adaptive(scene, build_mesh(scene, scene_dir), req.adapt, opt, keep, petsc_level_engine(scene, scene_dir));
   } else {

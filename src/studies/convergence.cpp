@@ -79,19 +79,6 @@ bool is_nested(const Mesh& coarse, const Mesh& fine) {
   return true;
 }
 
-// The engine of level @p n, whose effective scene is @p s: the one `hemicontact solve` would take
-// (the petsc engine as a process of its own where that is built), else the cholmod engine.
-SceneEngine level_engine(const nlohmann::json& s, const std::string& scene_dir, bool petsc_built, int n) {
-  const EngineChoice e = choose_engine(s, scene_dir, petsc_built, false);
-  if (e.engine == "petsc" && !petsc_built) {  // given (auto never takes it then)
-    const std::string missing = petsc_engine_missing();
-    input_error("solver.engine = petsc: " + (missing.empty() ? std::string("the caller runs the cholmod engine only") : missing));
-  }
-  if (e.engine != "petsc") return [](const Model& md, const SolveOptions& o) { return solve(md, o); };
-  log_info() << "convergence: n = " << n << ": the petsc engine (" << e.reason << ")";
-  return PetscProcess(s, scene_dir);
-}
-
 // One solve of the study; fills everything but error and order.
 ConvergenceLevel solve_level(const Model& md, const SolveOptions& opt, const nlohmann::json& scene, int n,
                              Solution& sol, const SceneEngine& engine) {
@@ -183,7 +170,7 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
   const SolveOptions ref_opt = solve_options_from_scene(st.scene);
   Solution ref_sol;
   st.reference = solve_level(ref, ref_opt, st.scene, reference, ref_sol,
-                             level_engine(st.scene, scene_dir, petsc_built, reference));
+                             scene_engine(st.scene, scene_dir, petsc_built, "convergence: n = " + std::to_string(reference)));
   st.reference.error = 0;
   if (on_level) on_level(st, reference, ref, ref_sol);
   const double ref_norm = ref_sol.energy_norm;
@@ -203,7 +190,8 @@ ConvergenceStudy run_convergence(const nlohmann::json& scene, const std::string&
       const nlohmann::json s = scene_at_level(scene, L);
       level_model = std::make_unique<Model>(build_model(s, scene_dir));
       const Model& md = *level_model;
-      lvl = solve_level(md, solve_options_from_scene(s), s, L, level_sol, level_engine(s, scene_dir, petsc_built, L));
+      const SceneEngine engine = scene_engine(s, scene_dir, petsc_built, "convergence: n = " + std::to_string(L));
+      lvl = solve_level(md, solve_options_from_scene(s), s, L, level_sol, engine);
       Pu = prolongate(md.mesh, level_sol.u, ref.mesh);
       lvl.nested = is_nested(md.mesh, ref.mesh);
       if (!lvl.nested)

@@ -13,6 +13,7 @@
 #include <hemicontact/scene/config.hpp>
 #include <hemicontact/solver/engine_choice.hpp>
 #include <hemicontact/solver/method_choice.hpp>
+#include <hemicontact/solver/solve.hpp>
 
 #include <csignal>
 #include <cstring>
@@ -211,6 +212,18 @@ Solution PetscProcess::operator()(const Model& md, const SolveOptions& opt) cons
                << " where this model's judge says " << (sol.certificate.passed ? "passed" : "failed")
                << " (max residual " << sol.certificate.max_residual << "): this judge's verdict stands";
   return sol;
+}
+
+SceneEngine scene_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_available,
+                         const std::string& what) {
+  const EngineChoice e = choose_engine(scene, scene_dir, petsc_available, false);
+  if (e.engine == "petsc" && !petsc_available) {  // given (auto never takes it then)
+    const std::string missing = petsc_engine_missing();
+    input_error("solver.engine = petsc: " + (missing.empty() ? std::string("the caller runs the cholmod engine only") : missing));
+  }
+  if (e.engine != "petsc") return [](const Model& md, const SolveOptions& o) { return solve(md, o); };
+  log_info() << what << ": the petsc engine (" << e.reason << ")";
+  return PetscProcess(scene, scene_dir);
 }
 
 AdaptLevelEngine petsc_level_engine(const nlohmann::json& scene, const std::string& scene_dir) {

@@ -44,6 +44,14 @@ class PetscProcess {
   std::shared_ptr<nlohmann::json> report_ = std::make_shared<nlohmann::json>();
 };
 
+/// @return the engine `hemicontact solve` would take for the effective @p scene (choose_engine,
+/// no adaptive refinement): a PetscProcess where it takes the petsc engine (logged as "@p what:
+/// the petsc engine (reason)"), else the cholmod engine (solver/solve.hpp's solve).
+/// @throws Error (EXIT_INPUT) where solver.engine = petsc is given and @p petsc_available is false,
+///         naming why (petsc_engine_missing)
+SceneEngine scene_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_available,
+                         const std::string& what);
+
 /// @return the adaptive loop's level engine (solver/adapt.hpp) for @p scene: a level that
 /// choose_level_engine sends to the petsc engine (3D, its factorization predicted not to fit, where
 /// the engine is available) is solved by a PetscProcess, its method_choice saying so
