@@ -110,6 +110,25 @@ SsnReading ssn_reading(const NodeData& n, const Eigen::Vector3d& x, const Eigen:
   return out;
 }
 
+Eigen::Vector3d ssn_coupling(const NodeData& n, const Eigen::Vector3d& x, const SsnReading& rd, double delta) {
+  Eigen::Vector3d col = Eigen::Vector3d::Zero();
+  if (!n.friction || rd.slip_dir.squaredNorm() == 0 || rd.rows.is_pinned(0) || !(delta > 0)) return col;
+  const double slope = n.w * F_slope(n, x[0], delta);
+  for (int c = 1; c < n.d; ++c)
+    if (!rd.rows.is_pinned(c)) col[c] = slope * rd.slip_dir[c - 1];
+  return col;
+}
+
+double ssn_node_merit(const NodeData& n, const Eigen::Vector3d& x, const Eigen::Vector3d& r,
+                      const Eigen::Vector3d& diag, unsigned rollers, double diag_scale) {
+  const SsnReading rd = ssn_reading(n, x, r, diag, false, false, rollers);
+  double m = 0;
+  for (int c = 0; c < n.d; ++c)
+    m = std::max(m, rd.rows.is_pinned(c) ? diag_scale * std::abs(rd.rows.pin[c] - x[c])
+                                         : std::abs(r[c] + rd.rows.force[c]));
+  return m;
+}
+
 bool ssn_reversed(const Eigen::Vector2d& slip_dir, int d, Eigen::Vector3d& x) {
   if (slip_dir.squaredNorm() == 0) return false;
   double dot = 0;

@@ -158,11 +158,14 @@ class Engine : private OuterStepper {
   void ssn_describe();
   void ssn_setup(Ssn& s);
   long ssn_linearize(Ssn& s, int k);
-  int ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B);
+  int ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B, double slope_probe);
+  void ssn_couple(Ssn& s, ::Mat J);
+  double ssn_merit(Ssn& s, ::Vec xt);
+  double ssn_step_length_at(Ssn& s);
   double ssn_right_hand_side(Ssn& s);
   bool ssn_step(Ssn& s, int k, long changed_all, double res);
   bool ssn_judge_hierarchy(Ssn& s, PetscInt its);
-  long ssn_stop_reversals(Ssn& s);
+  long ssn_stop_reversals(Ssn& s, ::Vec xt, bool hold);
   Solution ssn_finish(Ssn& s, int k, bool converged, clk::time_point t0, clk::time_point t_loop);
   // The rows of K that ssn's J changes (those with a column on a Γ3 unknown), saved so that K can
   // be changed in place and put back exactly.

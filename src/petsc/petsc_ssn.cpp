@@ -6,15 +6,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace hemicontact::petsc_engine::detail {
 
+namespace {
+
+// The backend's name: the Krylov methods its steps used, the preconditioner, the ranks.
+std::string ssn_name(const std::string& krylov, const std::string& pc, int ranks) {
+  return "ssn (semismooth Newton, " + krylov + " + " + pc + ", PETSc, " + std::to_string(ranks) + " rank" +
+         (ranks > 1 ? "s" : "") + ")";
+}
+
+}  // namespace
+
 // ssn's iterate, its work vectors and what one step passes to the next.
 struct Engine::Ssn {
-  PVec x, R, dx, rhs, fixv, diagK;
+  PVec x, R, dx, rhs, fixv, diagK, xt, Rt;  // xt, Rt: a trial point's and its residual (the line search)
   PKsp ksp;
   BandRows band;    // K's rows that J changes, to put K back
   double diag_scale = 1;  // the fixed unknowns' diagonal in J (the mean K_ii)
@@ -36,6 +47,15 @@ struct Engine::Ssn {
   bool rebuild = true;  // the AMG hierarchy is (re)built at the next step
   int unchanged = 0;    // steps in a row without a status change
   double prev_step = INF;
+  // The globalization (solver/ssn.hpp, as the cholmod engine's ssn): the cycle watch, this rank's
+  // node signatures summed, each owned node's coupling column, how many nodes (all ranks) this
+  // step's J couples, and whether the KSP is GMRES for them.
+  SsnCycleWatch watch;
+  uint64_t signature = 0;
+  std::vector<Eigen::Vector3d> coupling_col;
+  long coupled = 0;
+  bool gmres = false;
+  bool used_gmres = false;  // some step's J was coupled: the backend's name says GMRES too
 };
 
 // This rank's arrays of the iterate, K's diagonal, the residual and the fixed unknowns' steps,
@@ -93,8 +113,7 @@ Solution Engine::run_ssn(clk::time_point t0) {
 
 // What ssn does and does not do, for the report.
 void Engine::ssn_describe() {
-  sol.backend = std::string("ssn (semismooth Newton, CG + ") + opt.petsc.pc + ", PETSc, " + std::to_string(size) +
-                " rank" + (size > 1 ? "s" : "") + ")";
+  sol.backend = ssn_name("CG", opt.petsc.pc, size);
   sol.formulation = "full";
   sol.fixed_point_converged = true;
   sol.skipped.push_back("continuation: ssn solves the unsmoothed problem (no eps stages)");
@@ -109,7 +128,7 @@ void Engine::ssn_describe() {
 }
 
 void Engine::ssn_setup(Ssn& s) {
-  for (PVec* v : {&s.x, &s.R, &s.dx, &s.rhs, &s.fixv, &s.diagK}) HC_PETSC(VecDuplicate(f.v, &v->v));
+  for (PVec* v : {&s.x, &s.R, &s.dx, &s.rhs, &s.fixv, &s.diagK, &s.xt, &s.Rt}) HC_PETSC(VecDuplicate(f.v, &v->v));
   HC_PETSC(MatGetDiagonal(K.m, s.diagK.v));
   // No second matrix: each step's J is K itself, changed in place (Γ3 blocks added, fixed rows and
   // columns zeroed) and put back from the saved rows before K is read again. A copy of K would cost
@@ -135,6 +154,7 @@ void Engine::ssn_setup(Ssn& s) {
   s.prev_status.assign(my_nodes.size(), -2);
   s.slip_dir.assign(my_nodes.size(), Eigen::Vector2d::Zero());
   s.hold_stick.assign(my_nodes.size(), 0);
+  s.coupling_col.assign(my_nodes.size(), Eigen::Vector3d::Zero());
 }
 
 // Step k's statuses and linearization at the iterate: R = K x − f plus the Γ3 forces, J = K plus
@@ -153,9 +173,13 @@ long Engine::ssn_linearize(Ssn& s, int k) {
   HC_PETSC(VecGetArray(s.R.v, &a.r));
   HC_PETSC(VecGetArray(s.fixv.v, &a.fix));
   long changed = 0;
+  s.signature = 0;
+  PetscReal xmax;
+  HC_PETSC(VecNorm(s.x.v, NORM_INFINITY, &xmax));
+  const double slope_probe = 1e-7 * xmax;  // F_b's slope probe, as the cholmod engine's ssn
   for (size_t q = 0; q < my_nodes.size(); ++q) {
     double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    s.status[q] = ssn_node(s, q, k, a, B);
+    s.status[q] = ssn_node(s, q, k, a, B, slope_probe);
     if (s.status[q] != s.prev_status[q]) ++changed;
     const PetscInt iv = cdof(my_nodes[q]);
     PetscInt idx[3] = {iv, iv + 1, iv + 2};
@@ -165,20 +189,86 @@ long Engine::ssn_linearize(Ssn& s, int k) {
   HC_PETSC(VecRestoreArrayRead(s.diagK.v, &a.diag));
   HC_PETSC(VecRestoreArray(s.R.v, &a.r));
   HC_PETSC(VecRestoreArray(s.fixv.v, &a.fix));
-  HC_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
-  HC_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
   long changed_all = 0;
   MPI_Allreduce(&changed, &changed_all, 1, MPI_LONG, MPI_SUM, comm);
+  uint64_t signature_all = 0;  // unsigned: the sum wraps, the same on every partition
+  MPI_Allreduce(&s.signature, &signature_all, 1, MPI_UINT64_T, MPI_SUM, comm);
+  s.watch.see(signature_all, changed_all);
+  ssn_couple(s, J);
+  HC_PETSC(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  HC_PETSC(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
   s.prev_status = s.status;
   s.unchanged = changed_all == 0 ? s.unchanged + 1 : 0;
   return changed_all;
+}
+
+// Once the statuses cycle (solver/ssn.hpp): the coupling columns into J (its τ rows, the ν
+// column: unsymmetric), and the KSP switched to GMRES while any node is coupled (back to CG after).
+void Engine::ssn_couple(Ssn& s, ::Mat J) {
+  long mine = 0;
+  if (s.watch.cycling())
+    for (size_t q = 0; q < my_nodes.size(); ++q) {
+      if (s.coupling_col[q].squaredNorm() == 0) continue;
+      const PetscInt iv = cdof(my_nodes[q]);
+      const PetscInt rows[2] = {iv + 1, iv + 2};
+      const double vals[2] = {s.coupling_col[q][1], s.coupling_col[q][2]};
+      HC_PETSC(MatSetValues(J, d - 1, rows, 1, &iv, vals, ADD_VALUES));
+      ++mine;
+    }
+  MPI_Allreduce(&mine, &s.coupled, 1, MPI_LONG, MPI_SUM, comm);
+  const bool gmres = s.coupled > 0;
+  if (gmres == s.gmres) return;
+  // GMRES with the unpreconditioned norm needs the preconditioner on the right (CG's on the left).
+  HC_PETSC(KSPSetType(s.ksp.k, gmres ? KSPGMRES : KSPCG));
+  HC_PETSC(KSPSetPCSide(s.ksp.k, gmres ? PC_RIGHT : PC_LEFT));
+  HC_PETSC(KSPSetNormType(s.ksp.k, KSP_NORM_UNPRECONDITIONED));
+  s.gmres = gmres;
+  s.used_gmres = s.used_gmres || gmres;
+}
+
+// ssn's merit at @p xt (solver/ssn.hpp): ‖K xt − f‖∞ off Γ3, each Γ3 node's ssn_node_merit on it.
+// K must be as assembled (restore_band).
+double Engine::ssn_merit(Ssn& s, ::Vec xt) {
+  HC_PETSC(MatMult(K.m, xt, s.Rt.v));
+  HC_PETSC(VecAXPY(s.Rt.v, -1.0, f.v));
+  const PetscScalar *px, *pd;
+  PetscScalar* pr;
+  HC_PETSC(VecGetArrayRead(xt, &px));
+  HC_PETSC(VecGetArrayRead(s.diagK.v, &pd));
+  HC_PETSC(VecGetArray(s.Rt.v, &pr));
+  for (const Index kk : my_nodes) {
+    const PetscInt l = cdof(kk) - lo;
+    Eigen::Vector3d x = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero(), diag = Eigen::Vector3d::Zero();
+    for (int c = 0; c < d; ++c) x[c] = px[l + c], r[c] = pr[l + c], diag[c] = pd[l + c];
+    const double m = ssn_node_merit(node_data(md, kk), x, r, diag, roller_components(md, kk), s.diag_scale);
+    for (int c = 0; c < d; ++c) pr[l + c] = c == 0 ? m : 0.0;
+  }
+  HC_PETSC(VecRestoreArrayRead(xt, &px));
+  HC_PETSC(VecRestoreArrayRead(s.diagK.v, &pd));
+  HC_PETSC(VecRestoreArray(s.Rt.v, &pr));
+  PetscReal m;
+  HC_PETSC(VecNorm(s.Rt.v, NORM_INFINITY, &m));
+  return m;
+}
+
+// The step's length (solver/ssn.hpp): 1 until the statuses cycle; then the backtracking rule on
+// the merit of the iterate each trial leads to (the reversal rule applied, nothing held).
+double Engine::ssn_step_length_at(Ssn& s) {
+  if (!s.watch.cycling()) return 1.0;
+  restore_band(s.band);  // K as assembled: the merit reads K x − f (the next step restores it anyway)
+  const double now = ssn_merit(s, s.x.v);
+  return ssn_step_length(now, [&](double t) {
+    HC_PETSC(VecWAXPY(s.xt.v, t, s.dx.v, s.x.v));
+    ssn_stop_reversals(s, s.xt.v, false);
+    return ssn_merit(s, s.xt.v);
+  });
 }
 
 // Owned Γ3 node q at step k: its statuses read from the iterate (check/status_equations.hpp's
 // ssn_reading, the CHOLMOD engine's ssn's too), its forces added to the residual, its block of J
 // into @p B (row-major d×d), its fixed unknowns and their prescribed steps recorded.
 // @return its status code (SsnReading::code).
-int Engine::ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B) {
+int Engine::ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B, double slope_probe) {
   const Index kk = my_nodes[q];
   const PetscInt iv = cdof(kk), l = iv - lo;
   Eigen::Vector3d x = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero(), diag = Eigen::Vector3d::Zero();
@@ -186,6 +276,8 @@ int Engine::ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B) {
   const SsnReading rd =
       ssn_reading(node_data(md, kk), x, r, diag, k == 1, s.hold_stick[q] != 0, roller_components(md, kk));
   s.slip_dir[q] = rd.slip_dir;
+  s.signature += ssn_node_signature(kk, rd.code);
+  s.coupling_col[q] = ssn_coupling(node_data(md, kk), x, rd, slope_probe);
   for (int c = 0; c < d; ++c) {
     if (rd.rows.is_pinned(c)) {
       s.fixed.push_back(iv + c);
@@ -233,18 +325,22 @@ bool Engine::ssn_step(Ssn& s, int k, long changed_all, double res) {
   ++newton_total;
   const bool built = ssn_judge_hierarchy(s, its);
   ksp_check(s.ksp.k, "ssn Newton step " + std::to_string(k));  // exit 3 naming PETSc's reason
+  const double theta = ssn_step_length_at(s);
+  if (theta != 1.0) HC_PETSC(VecScale(s.dx.v, theta));
   HC_PETSC(VecAXPY(s.x.v, 1.0, s.dx.v));
-  const long projected = ssn_stop_reversals(s);
+  const long projected = ssn_stop_reversals(s, s.x.v, true);
   PetscReal step, scale;
   HC_PETSC(VecNorm(s.dx.v, NORM_INFINITY, &step));
   HC_PETSC(VecNorm(s.x.v, NORM_INFINITY, &scale));
   const double rel = scale > 0 ? step / scale : 0.0;
+  const char* krylov = s.gmres ? "GMRES" : "CG";
   s.steps.push_back({{"step", k}, {"status_changes", changed_all}, {"slip_reversals", projected}, {"krylov", its},
-                     {"rtol", rtol}, {"pc_built", built}, {"residual", res / F_s}, {"dx_rel", rel},
-                     {"seconds", since(t_ksp)}});
+                     {"krylov_method", krylov}, {"coupled_nodes", s.coupled}, {"theta", theta}, {"rtol", rtol},
+                     {"pc_built", built}, {"residual", res / F_s}, {"dx_rel", rel}, {"seconds", since(t_ksp)}});
   log_info() << "ssn " << k << ": " << changed_all << " status changes, residual " << short_number(res / F_s)
-             << ", CG " << its << " it (rtol " << short_number(rtol) << (built ? ", AMG built" : "")
-             << "), |dx|/|x| " << short_number(rel)
+             << ", " << krylov << " " << its << " it (rtol " << short_number(rtol) << (built ? ", AMG built" : "")
+             << ")" << (s.coupled > 0 ? ", " + std::to_string(s.coupled) + " nodes coupled" : "")
+             << (theta != 1.0 ? ", step " + short_number(theta) : "") << ", |dx|/|x| " << short_number(rel)
              << (projected > 0 ? ", " + std::to_string(projected) + " slip reversals set to 0" : "") << ", memory "
              << short_number(double(current_rss_kb()) / 1024.0) << " MB (rank 0)";
   // Done when the statuses have held for two steps and the step reached round-off or stopped
@@ -279,22 +375,24 @@ bool Engine::ssn_judge_hierarchy(Ssn& s, PetscInt its) {
 // given is more than equilibrium needs, so it should stick) is put at x_τ = 0 and held at stick
 // for the next step; the step after that reads stick or slip from the relaxed neighbours.
 // Without this, nodes at the stick limit chattered (slip, reversal, slip...) and the iteration
-// stalled at a residual ~1e-4 (3D scene, n = 48 and 70). @return the count over all ranks.
-long Engine::ssn_stop_reversals(Ssn& s) {
+// stalled at a residual ~1e-4 (3D scene, n = 48 and 70). On @p xt: the iterate (@p hold: the
+// nodes are held) or a trial point of the line search (nothing held). @return the count over all ranks.
+long Engine::ssn_stop_reversals(Ssn& s, ::Vec xt, bool hold) {
   long projected = 0;
   PetscScalar* px;
-  HC_PETSC(VecGetArray(s.x.v, &px));
+  HC_PETSC(VecGetArray(xt, &px));
   for (size_t q = 0; q < my_nodes.size(); ++q) {
     const PetscInt l = cdof(my_nodes[q]) - lo;
     Eigen::Vector3d x = Eigen::Vector3d::Zero();
     for (int c = 0; c < d; ++c) x[c] = px[l + c];
-    s.hold_stick[q] = ssn_reversed(s.slip_dir[q], d, x);  // one step only
-    if (s.hold_stick[q]) {
+    const bool reversed = ssn_reversed(s.slip_dir[q], d, x);
+    if (hold) s.hold_stick[q] = reversed;  // one step only
+    if (reversed) {
       for (int c = 1; c < d; ++c) px[l + c] = 0;
       ++projected;
     }
   }
-  HC_PETSC(VecRestoreArray(s.x.v, &px));
+  HC_PETSC(VecRestoreArray(xt, &px));
   long all = 0;
   MPI_Allreduce(&projected, &all, 1, MPI_LONG, MPI_SUM, comm);
   return all;
@@ -303,6 +401,7 @@ long Engine::ssn_stop_reversals(Ssn& s) {
 // K put back, the record of the run, and the certified answer.
 Solution Engine::ssn_finish(Ssn& s, int k, bool converged, clk::time_point t0, clk::time_point t_loop) {
   restore_band(s.band);  // K as assembled, for the certificate (K x − f) and the energies
+  if (s.used_gmres) sol.backend = ssn_name("CG and GMRES", opt.petsc.pc, size);
   timings["backend"] = since(t_loop);
   U_s = 1;
   sol.x_scale = 1;

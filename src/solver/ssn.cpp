@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace hemicontact {
@@ -28,6 +30,7 @@ struct SsnRun {
   SparseCholesky chol;
   double diag_scale = 1, F_s = 1;
   bool factored = false;     // chol holds a factorization of an earlier step's J
+  bool fresh = false;        // this step factorized J
   std::vector<char> pinned;  // per unknown, this step
   Vec pin_step;              // a pinned unknown's prescribed step
   std::vector<int> code, prev_code;
@@ -36,15 +39,24 @@ struct SsnRun {
   int unchanged = 0;
   double prev_step = INF;
   bool cold;  // started from zero: the first reading puts every node in contact (ssn_reading)
+  // The globalization (ssn.hpp): the cycle watch, this step's node signatures summed, each node's
+  // coupling column (ssn_coupling) and, once cycling, the columns this step's Newton matrix takes.
+  SsnCycleWatch watch;
+  uint64_t signature = 0;
+  std::vector<Eigen::Vector3d> coupling_col;
+  std::vector<std::pair<Index, Eigen::Vector3d>> coupled;  // (the node's first unknown, its column)
 
   SsnRun(const Model& m, const SsnLimits& l, const Vec* x0);
   long linearize(int k);
-  void add_node(Index q, int k);
+  void add_node(Index q, int k, double slope_probe);
   double right_hand_side();
   bool step(int k, long changed, double res, SsnOutcome& out);
-  bool newton_direction(long changed, Vec& dx, int& cg_its);
+  bool newton_direction(long changed, Vec& dx, int& its);
   bool preconditioned_cg(Vec& dx, int& its) const;
-  long stop_reversals();
+  bool gmres(Vec& dx, int& its) const;
+  Vec apply(const Vec& v) const;
+  double merit(const Vec& xt) const;
+  long stop_reversals(Vec& xt, std::vector<char>* held) const;
 };
 
 SsnRun::SsnRun(const Model& m, const SsnLimits& l, const Vec* x0)
@@ -66,11 +78,13 @@ SsnRun::SsnRun(const Model& m, const SsnLimits& l, const Vec* x0)
   prev_code.assign(nc, -2);
   slip_dir.assign(nc, Eigen::Vector2d::Zero());
   hold_stick.assign(nc, 0);
+  coupling_col.assign(nc, Eigen::Vector3d::Zero());
   chol.analyze(J);  // once: every step's J has K's pattern
 }
 
-// Node q's reading at step k: its forces into R, its block into J, its pinned unknowns.
-void SsnRun::add_node(Index q, int k) {
+// Node q's reading at step k: its forces into R, its block into J, its pinned unknowns, its
+// signature and its coupling column (used once the statuses cycle).
+void SsnRun::add_node(Index q, int k, double slope_probe) {
   const Index iv = md.dofs.contact_dof(q, 0);
   Eigen::Vector3d xl = Eigen::Vector3d::Zero(), rl = Eigen::Vector3d::Zero(), dl = Eigen::Vector3d::Zero();
   for (int c = 0; c < d; ++c) xl[c] = x[iv + c], rl[c] = R[iv + c], dl[c] = diag[iv + c];
@@ -79,6 +93,8 @@ void SsnRun::add_node(Index q, int k) {
       ssn_reading(node_data(md, q), xl, rl, dl, cold && k == 1, hold_stick[qs] != 0, roller_components(md, q));
   code[qs] = rd.code;
   slip_dir[qs] = rd.slip_dir;
+  signature += ssn_node_signature(q, rd.code);
+  coupling_col[qs] = ssn_coupling(node_data(md, q), xl, rd, slope_probe);
   for (int c = 0; c < d; ++c) {
     if (rd.rows.is_pinned(c)) {
       pinned[static_cast<size_t>(iv + c)] = 1;
@@ -100,13 +116,35 @@ long SsnRun::linearize(int k) {
   pinned.assign(static_cast<size_t>(x.size()), 0);
   pin_step = Vec::Zero(x.size());
   long changed = 0;
+  signature = 0;
+  // F_b's slope probe: 1e-7 of the iterate's size (the polishes' 1e-7 of the length scale).
+  const double slope_probe = 1e-7 * (x.size() ? x.cwiseAbs().maxCoeff() : 0.0);
   for (Index q = 0; q < md.contact.size(); ++q) {
-    add_node(q, k);
+    add_node(q, k, slope_probe);
     if (code[static_cast<size_t>(q)] != prev_code[static_cast<size_t>(q)]) ++changed;
   }
   prev_code = code;
   unchanged = changed == 0 ? unchanged + 1 : 0;
+  watch.see(signature, changed);
+  coupled.clear();
+  if (watch.cycling())
+    for (Index q = 0; q < md.contact.size(); ++q)
+      if (coupling_col[static_cast<size_t>(q)].squaredNorm() > 0)
+        coupled.emplace_back(md.dofs.contact_dof(q, 0), coupling_col[static_cast<size_t>(q)]);
   return changed;
+}
+
+// ssn's merit at @p xt (ssn.hpp): ‖K xt − f‖∞ off Γ3, each Γ3 node's ssn_node_merit on it.
+double SsnRun::merit(const Vec& xt) const {
+  Vec Rt = md.Kx * xt - md.fx;
+  for (Index q = 0; q < md.contact.size(); ++q) {
+    const Index iv = md.dofs.contact_dof(q, 0);
+    Eigen::Vector3d xl = Eigen::Vector3d::Zero(), rl = Eigen::Vector3d::Zero(), dl = Eigen::Vector3d::Zero();
+    for (int c = 0; c < d; ++c) xl[c] = xt[iv + c], rl[c] = Rt[iv + c], dl[c] = diag[iv + c];
+    const double m = ssn_node_merit(node_data(md, q), xl, rl, dl, roller_components(md, q), diag_scale);
+    for (int c = 0; c < d; ++c) Rt[iv + c] = c == 0 ? m : 0.0;
+  }
+  return Rt.size() ? Rt.cwiseAbs().maxCoeff() : 0.0;
 }
 
 // rhs = −R on free rows, diag_scale × the prescribed step on pinned ones; the pinned rows and
@@ -132,17 +170,19 @@ double SsnRun::right_hand_side() {
   return rhs.size() ? rhs.cwiseAbs().maxCoeff() : 0.0;
 }
 
-// The reversal rule (status_equations.hpp's ssn_reversed) on every sliding node.
-long SsnRun::stop_reversals() {
+// The reversal rule (status_equations.hpp's ssn_reversed) on every sliding node of @p xt; @p held
+// (hold_stick, or null for a trial point) gets which reversed. @return how many.
+long SsnRun::stop_reversals(Vec& xt, std::vector<char>* held) const {
   long projected = 0;
   for (Index q = 0; q < md.contact.size(); ++q) {
     const auto qs = static_cast<size_t>(q);
     const Index iv = md.dofs.contact_dof(q, 0);
     Eigen::Vector3d xl = Eigen::Vector3d::Zero();
-    for (int c = 0; c < d; ++c) xl[c] = x[iv + c];
-    hold_stick[qs] = ssn_reversed(slip_dir[qs], d, xl);  // one step only
-    if (hold_stick[qs]) {
-      for (int c = 1; c < d; ++c) x[iv + c] = 0;
+    for (int c = 0; c < d; ++c) xl[c] = xt[iv + c];
+    const bool reversed = ssn_reversed(slip_dir[qs], d, xl);
+    if (held) (*held)[qs] = reversed;  // one step only
+    if (reversed) {
+      for (int c = 1; c < d; ++c) xt[iv + c] = 0;
       ++projected;
     }
   }
@@ -171,17 +211,62 @@ bool SsnRun::preconditioned_cg(Vec& dx, int& its) const {
   return false;
 }
 
-// The Newton step: CG on the last factor where the statuses held, else (or if that stalls) a
-// numeric factorization of J. @return false when J is not positive definite.
-bool SsnRun::newton_direction(long changed, Vec& dx, int& cg_its) {
-  cg_its = 0;
-  if (factored && changed == 0 && preconditioned_cg(dx, cg_its)) return true;
+// The Newton matrix with this step's coupling columns (J's lower triangle holds its symmetric part).
+Vec SsnRun::apply(const Vec& v) const {
+  Vec y = J.selfadjointView<Eigen::Lower>() * v;
+  for (const auto& [iv, col] : coupled)
+    for (int c = 1; c < d; ++c) y[iv + c] += col[c] * v[iv];
+  return y;
+}
+
+// GMRES on (J + C) dx = rhs (C the coupling columns), right-preconditioned by the factor of J: the
+// preconditioned matrix I + C J⁻¹ is the identity plus a rank of the coupled nodes' count, so it
+// converges in about that many iterations. @return whether it reached lim.rtol within MAX_ITS.
+bool SsnRun::gmres(Vec& dx, int& its) const {
+  constexpr int MAX_ITS = 30;  // more means the factor no longer fits J: refactorize instead
+  const double bnorm = rhs.norm();
+  dx = Vec::Zero(rhs.size());
+  its = 0;
+  if (!(bnorm > 0)) return true;
+  Mat V(rhs.size(), MAX_ITS + 1), H = Mat::Zero(MAX_ITS + 1, MAX_ITS);
+  V.col(0) = rhs / bnorm;
+  Vec y;
+  bool done = false;
+  while (its < MAX_ITS && !done) {
+    const int j = its++;
+    Vec w = apply(chol.solve(V.col(j)));
+    for (int i = 0; i <= j; ++i) {  // modified Gram–Schmidt
+      H(i, j) = w.dot(V.col(i));
+      w -= H(i, j) * V.col(i);
+    }
+    H(j + 1, j) = w.norm();
+    Vec e = Vec::Zero(j + 2);
+    e[0] = bnorm;
+    const auto Hj = H.topLeftCorner(j + 2, j + 1);
+    y = Hj.colPivHouseholderQr().solve(e);
+    done = (e - Hj * y).norm() <= lim.rtol * bnorm || !(H(j + 1, j) > 0);
+    if (!done) V.col(j + 1) = w / H(j + 1, j);
+  }
+  dx = chol.solve(V.leftCols(y.size()) * y);
+  return done;
+}
+
+// The Newton step: CG (GMRES once coupled) on the last factor where the statuses held, else (or if
+// that stalls) a numeric factorization of J. @return false when J is not positive definite.
+bool SsnRun::newton_direction(long changed, Vec& dx, int& its) {
+  its = 0;
+  fresh = false;
+  const bool krylov_on_last = factored && changed == 0;
+  if (krylov_on_last && (coupled.empty() ? preconditioned_cg(dx, its) : gmres(dx, its))) return true;
+  fresh = true;
   try {
     chol.factorize(J);
   } catch (const Error&) {
     return false;
   }
   factored = true;
+  if (!coupled.empty()) return gmres(dx, its), true;  // on a fresh factor: converged, or the best it has
+  its = 0;
   dx = chol.solve(rhs);
   return true;
 }
@@ -198,15 +283,30 @@ bool SsnRun::step(int k, long changed, double res, SsnOutcome& out) {
                   "problem is not convex there); the design's path (--backend ipopt) handles it";
     return false;
   }
+  // Once the statuses cycle, the step is shortened until the merit of the iterate it leads to
+  // (the reversal rule applied) decreases (ssn.hpp).
+  const auto iterate = [&](double t) {
+    Vec xt = x + t * dx;
+    stop_reversals(xt, nullptr);
+    return merit(xt);
+  };
+  const double theta = watch.cycling() ? ssn_step_length(merit(x), iterate) : 1.0;
+  if (theta != 1.0) dx *= theta;
   x += dx;
-  const long projected = stop_reversals();
+  const long projected = stop_reversals(x, &hold_stick);
   const double step = dx.cwiseAbs().maxCoeff(), scale = x.cwiseAbs().maxCoeff();
   const double rel = scale > 0 ? step / scale : 0.0;
+  const char* krylov = coupled.empty() ? "CG" : "GMRES";
   out.record.push_back({{"step", k}, {"status_changes", changed}, {"slip_reversals", projected}, {"cg", cg_its},
+                        {"krylov", krylov}, {"coupled_nodes", coupled.size()}, {"theta", theta},
                         {"residual", res / F_s}, {"dx_rel", rel}, {"seconds", since(t0)}});
   log_info() << "ssn " << k << ": " << changed << " status changes, residual " << fmt(res / F_s, 3)
-             << (cg_its > 0 ? ", CG " + std::to_string(cg_its) + " it on the last factor" : ", factorized")
-             << ", |dx|/|x| " << fmt(rel, 3)
+             << (fresh ? ", factorized" : "")
+             << (cg_its > 0 ? std::string(", ") + krylov + " " + std::to_string(cg_its) + " it on the " +
+                                  (fresh ? "new" : "last") + " factor"
+                            : "")
+             << (coupled.empty() ? "" : ", " + std::to_string(coupled.size()) + " nodes coupled")
+             << (theta != 1.0 ? ", step " + fmt(theta, 3) : "") << ", |dx|/|x| " << fmt(rel, 3)
              << (projected > 0 ? ", " + std::to_string(projected) + " slip reversals set to 0" : "");
   const bool settled = ssn_step_settled(unchanged, rel, step, prev_step);
   prev_step = unchanged >= 1 ? step : INF;
@@ -214,6 +314,27 @@ bool SsnRun::step(int k, long changed, double res, SsnOutcome& out) {
 }
 
 }  // namespace
+
+uint64_t ssn_node_signature(Index node, int code) {
+  // splitmix64 of (node, code): a change of one node's code changes the sum in any of 2⁶⁴ ways.
+  uint64_t z = static_cast<uint64_t>(node) * 0x9E3779B97F4A7C15ull + static_cast<uint64_t>(code) + 1;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+void SsnCycleWatch::see(uint64_t signature, long changed) {
+  if (changed > 0 && std::find(m_recent.begin(), m_recent.end(), signature) != m_recent.end()) m_cycling = true;
+  m_recent.push_back(signature);
+  if (m_recent.size() > static_cast<size_t>(SSN_CYCLE_MEMORY)) m_recent.erase(m_recent.begin());
+}
+
+double ssn_step_length(double merit_now, const std::function<double(double)>& merit_at) {
+  double theta = 1;
+  for (int h = 0; h < SSN_HALVINGS; ++h, theta *= 0.5)
+    if (merit_at(theta) < (1 - SSN_ARMIJO * theta) * merit_now) return theta;
+  return theta;  // 1/2^SSN_HALVINGS: the shortest, whether or not it decreases the merit
+}
 
 SsnOutcome ssn_full(const Model& md, const SsnLimits& limits, const Vec* x0) {
   if (!md.material->is_linear()) throw Error("ssn: needs a linear material (K_x is its stiffness)", EXIT_INPUT);

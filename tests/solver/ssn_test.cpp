@@ -197,6 +197,106 @@ TEST(Ssn, RefusesANonlinearMaterialAndTheCondensedFormulation) {
     EXPECT_NE(std::string(e.what()).find("runs in the full space"), std::string::npos) << e.what();
   }
 }
+// The globalization's rules (solver/ssn.hpp). The cycle watch turns on at a signature seen in the
+// SSN_CYCLE_MEMORY steps before (not further back), only on a step whose statuses changed, and stays on.
+TEST(SsnGlobalization, CycleWatchTurnsOnAtARepeatedSignatureOnly) {
+  const uint64_t A = ssn_node_signature(0, 1), B = ssn_node_signature(0, 2), C = ssn_node_signature(1, 1),
+                 D = ssn_node_signature(1, 2);
+  EXPECT_NE(A, B);
+  EXPECT_NE(A, C);  // the node counts, not only its code
+  SsnCycleWatch far;  // A comes back 4 steps later: beyond the memory
+  for (const uint64_t s : {A, B, C, D, A}) far.see(s, 5);
+  EXPECT_FALSE(far.cycling());
+  SsnCycleWatch held;  // the same statuses again without a change: converging, not cycling
+  for (const uint64_t s : {A, B, B, B}) held.see(s, s == A ? 5 : 0);
+  EXPECT_FALSE(held.cycling());
+  SsnCycleWatch two;  // period 2
+  for (const uint64_t s : {A, B, A}) two.see(s, 3);
+  EXPECT_TRUE(two.cycling());
+  two.see(C, 1), two.see(D, 1);
+  EXPECT_TRUE(two.cycling());  // and stays on
+  SsnCycleWatch three;  // period 3, within the memory
+  for (const uint64_t s : {A, B, C, A}) three.see(s, 2);
+  EXPECT_TRUE(three.cycling());
+}
+
+// Backtracking: the first θ = 1, ½, ¼, … with sufficient decrease; the shortest where none has it.
+TEST(SsnGlobalization, StepLengthIsTheFirstWithSufficientDecrease) {
+  // merit(θ) = 1 + 10 θ (θ − 0.3): 8 at 1, 2 at ½, 0.875 at ¼.
+  EXPECT_EQ(ssn_step_length(1.0, [](double t) { return 1 + 10 * t * (t - 0.3); }), 0.25);
+  EXPECT_EQ(ssn_step_length(1.0, [](double t) { return 1 - 0.5 * t; }), 1.0);
+  EXPECT_EQ(ssn_step_length(1.0, [](double) { return 2.0; }), std::ldexp(1.0, -SSN_HALVINGS));
+  // Armijo's margin: a decrease by less than SSN_ARMIJO θ of the merit is not enough.
+  EXPECT_EQ(ssn_step_length(1.0, [](double t) { return 1 - 0.5 * SSN_ARMIJO * t; }), std::ldexp(1.0, -SSN_HALVINGS));
+}
+
+// The coupling column is the derivative of the slip force w F_b(x_ν) t in x_ν (central difference
+// with a step far below F_b's branch widths: exact up to round-off), zero where x_ν is pinned, and
+// the node merit is zero at a node in equilibrium with its statuses.
+TEST(StatusEquations, CouplingIsTheSlipForcesDerivativeInXnu) {
+  SolveOptions opt;
+  const Model md = model_of("sofonea2017-3d.json", {"mesh.n=2"}, opt);
+  const NodeData n = node_data(md, 0);
+  const Eigen::Vector3d diag(1e3, 1e3, 1e3), r(1e6, -40.0, 30.0);  // pushed off g, sliding along (40, −30)/50
+  const double h = 1e-7;
+  for (const double x_nu : {0.05, 0.12, 0.2}) {  // the three branches of p_ν (32), F_b = μ p_ν
+    const Eigen::Vector3d x(x_nu, 0.0, 0.0);
+    const SsnReading rd = ssn_reading(n, x, r, diag, false, false, 0);
+    ASSERT_GT(rd.slip_dir.squaredNorm(), 0.0) << x_nu;
+    ASSERT_FALSE(rd.rows.is_pinned(0)) << x_nu;
+    const Eigen::Vector3d col = ssn_coupling(n, x, rd, h);
+    const SsnReading up = ssn_reading(n, x + Eigen::Vector3d(h, 0, 0), r, diag, false, false, 0);
+    const SsnReading down = ssn_reading(n, x - Eigen::Vector3d(h, 0, 0), r, diag, false, false, 0);
+    EXPECT_EQ(col[0], 0.0);
+    const double scale = col.norm();
+    ASSERT_GT(scale, 0.0) << x_nu;
+    for (int c = 1; c < 3; ++c)
+      EXPECT_NEAR(col[c], (up.rows.force[c] - down.rows.force[c]) / (2 * h), 1e-6 * scale) << x_nu << " " << c;
+  }
+  // At g (contact: x_ν pinned) the column is zero: the step of x_ν is prescribed there.
+  const Eigen::Vector3d at_g(n.g, 0.0, 0.0), pushed(-1e6, -40.0, 30.0);
+  const SsnReading contact = ssn_reading(n, at_g, pushed, diag, false, false, 0);
+  ASSERT_TRUE(contact.rows.is_pinned(0));
+  EXPECT_EQ(ssn_coupling(n, at_g, contact, h).norm(), 0.0);
+  // A node whose forces balance its statuses' rows has merit 0, and an imbalance of 5 on its
+  // normal row makes it 5: r_ν = −w p(x_ν), and r_τ = −w λ t on the stick limit (|y| = wλ: stick).
+  const Eigen::Vector3d x(0.12, 0.0, 0.0);
+  const double wp = n.w * n.normal_law->p(x[0]), wl = n.w * n.friction->F(x[0]);
+  const Eigen::Vector3d balanced(-wp, -0.8 * wl, 0.6 * wl);
+  ASSERT_FALSE(ssn_reading(n, x, balanced, diag, false, false, 0).rows.is_pinned(0));
+  EXPECT_NEAR(ssn_node_merit(n, x, balanced, diag, 0, 1.0), 0.0, 1e-12 * (std::abs(wp) + wl));
+  EXPECT_NEAR(ssn_node_merit(n, x, balanced + Eigen::Vector3d(5, 0, 0), diag, 0, 1.0), 5.0, 1e-9);
+}
+
+// Random scene 152 (the default-settings study's, n in [8, 16]): plain ssn's statuses cycled there
+// for ever (slip reversals of neighbouring nodes taking turns, then a node switching between
+// separated and sliding). The globalization switches on, and ssn certifies it at the condensed
+// exact solver's answer. On the paper's scene no signature comes back: every step is plain.
+TEST(SsnGlobalization, CertifiesTheRandomSceneWhoseStatusesCycled) {
+  const stress::RandomScene rs = stress::draw_default_scene(152, 8, 16);
+  SCOPED_TRACE(rs.command());
+  SolveOptions opt;
+  const Model md = model_of("sofonea2017-fig2.json", rs.overrides, opt);
+  const SsnOutcome a = ssn_full(md, {opt.ssn.max_iters, opt.ssn.tol, opt.petsc.ksp_rtol}, nullptr);
+  ASSERT_TRUE(a.converged) << a.message;
+  bool coupled = false;
+  for (const auto& step : a.record) coupled = coupled || step.at("coupled_nodes").get<long>() > 0;
+  EXPECT_TRUE(coupled);
+  SolveOptions o = opt;
+  o.backend = SSN_BACKEND;
+  const Solution s = solve(md, o);
+  ASSERT_TRUE(s.certificate.passed) << s.message;
+  EXPECT_EQ(s.solved_by(), "ssn (semismooth Newton, CHOLMOD)");
+  const Solution ref = solve(md, opt);  // the default: condensed, the exact solver
+  ASSERT_TRUE(ref.certificate.passed) << ref.message;
+  EXPECT_NEAR(s.energy, ref.energy, 1e-12 * std::abs(ref.energy));
+  const auto [paper_md, lim, plain] = ssn_from_zero("sofonea2017-fig2.json", {"mesh.n=16"});
+  ASSERT_TRUE(plain.converged) << plain.message;
+  for (const auto& step : plain.record) {
+    EXPECT_EQ(step.at("theta").get<double>(), 1.0);
+    EXPECT_EQ(step.at("coupled_nodes").get<long>(), 0);
+  }
+}
 
 }  // namespace
 }  // namespace hemicontact

@@ -66,6 +66,21 @@ struct SsnReading {
 SsnReading ssn_reading(const NodeData& n, const Eigen::Vector3d& x, const Eigen::Vector3d& r,
                        const Eigen::Vector3d& diag, bool first_step, bool hold_stick, unsigned rollers);
 
+/// The slip force's dependence on x_ν at a node ssn read as sliding along @p slip_dir with x_ν free:
+/// the column w F_b'(x_ν) t on its τ rows (eq. (6) with λ = F_b(x_ν) not held), zero where the
+/// node does not slide, x_ν is pinned (@p rd's rows) or F_b does not depend on u_ν. Unsymmetric:
+/// ssn adds it only once its statuses cycle (solver/ssn.hpp, SsnCycleWatch), with a Krylov method
+/// that takes it (GMRES). @param delta F_b's slope probe (central difference, as status_rows's)
+/// @return the entries (τ rows; entry 0 is 0)
+Eigen::Vector3d ssn_coupling(const NodeData& n, const Eigen::Vector3d& x, const SsnReading& rd, double delta);
+
+/// The node's part of ssn's merit, the true semismooth residual its line search measures
+/// (solver/ssn.hpp): the largest of |r_c + force_c| over the free components and
+/// @p diag_scale · |pin_c − x_c| over the pinned ones, with the statuses read at @p x as a step
+/// reads them (ssn_reading, not the first step, nothing held). @param r the node's rows of K x − f
+double ssn_node_merit(const NodeData& n, const Eigen::Vector3d& x, const Eigen::Vector3d& r,
+                      const Eigen::Vector3d& diag, unsigned rollers, double diag_scale);
+
 /// ssn's reversal rule: a sliding node whose step carried x_τ through 0 (x_τ · t < 0: the friction
 /// force it was given is more than equilibrium needs) is put at x_τ = 0 and held at stick for the
 /// next step. @return true (and @p x's tangential part zeroed) when it reversed.

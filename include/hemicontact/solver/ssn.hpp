@@ -8,13 +8,17 @@
 /// held changes J only in the slip blocks' directions, and is solved by CG with the last factor as
 /// preconditioner, refactorized only if that does not converge in a few iterations). No smoothing, no
 /// continuation, no outer loop: λ = F_b(x_ν) is read at every step (held in the Jacobian, so the
-/// coupling converges linearly, as the fixed point does). The answer is judged by the certificate.
+/// coupling converges linearly, as the fixed point does, until the statuses cycle: then the
+/// globalization below takes it in). The answer is judged by the certificate.
 
 #include <hemicontact/problem/model.hpp>
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
 namespace hemicontact {
 
@@ -35,6 +39,45 @@ struct SsnLimits {
 inline bool ssn_step_settled(int unchanged, double rel, double step, double prev_step) {
   return unchanged >= 2 && (rel <= 1e-14 || (rel <= 1e-10 && step >= prev_step));
 }
+
+/// ssn's globalization (both engines). Plain ssn takes full steps: fast where it converges, but on
+/// some scenes its statuses cycle for ever (random scene 152: slip reversals of neighbouring Γ3
+/// nodes taking turns with period 2; held longer at stick, a node switching between separated and
+/// sliding, its F_b(x_ν) on and off, with period 3). Measured on the 1000 random scenes
+/// (docs/performance.md), a line search from the first step slowed a tenth of the scenes and lost
+/// some plain ssn certified; so the globalization waits for the cycle itself: once a status
+/// signature seen in the last SSN_CYCLE_MEMORY steps comes back (SsnCycleWatch), every later step
+///  - is shortened by backtracking (ssn_step_length) on the merit ‖·‖∞ of the true semismooth
+///    residual (check/status_equations.hpp's ssn_node_merit on Γ3, K x − f elsewhere), and
+///  - takes the slip force's dependence on x_ν into the Newton matrix (ssn_coupling, w F_b'(x_ν) t):
+///    with λ held, the coupling converges linearly at ~0.5 per step (seed 152: 50 steps), with it
+///    quadratically (11 steps). That column is unsymmetric, so those steps use GMRES (the cholmod
+///    engine: preconditioned by the factor of the symmetric part; the petsc engine: by its AMG).
+/// A run that never revisits a signature is plain ssn, step for step.
+inline constexpr int SSN_CYCLE_MEMORY = 3;  ///< steps back a repeated status signature is looked for
+inline constexpr double SSN_ARMIJO = 1e-4;  ///< sufficient decrease: merit(θ) < (1 − SSN_ARMIJO θ) merit(0)
+inline constexpr int SSN_HALVINGS = 5;      ///< θ = 1, ½, …, 1/16 tried; 1/32 taken if none decreases
+
+/// One node's part of a step's status signature: the signatures of the nodes (and of the ranks)
+/// are summed, so the sum does not depend on their order or partition. A hash of (node, code).
+uint64_t ssn_node_signature(Index node, int code);
+
+/// Watches the status signatures step by step; cycling() is true from the first step whose statuses
+/// changed to a signature seen in the SSN_CYCLE_MEMORY steps before it, and stays true.
+class SsnCycleWatch {
+ public:
+  /// @param signature this step's (the sum of ssn_node_signature) @param changed status changes
+  void see(uint64_t signature, long changed);
+  bool cycling() const { return m_cycling; }
+
+ private:
+  std::vector<uint64_t> m_recent;
+  bool m_cycling = false;
+};
+
+/// The backtracking rule: the first θ = 1, ½, …, 2^−(SSN_HALVINGS−1) with
+/// merit_at(θ) < (1 − SSN_ARMIJO θ) @p merit_now, else 2^−SSN_HALVINGS.
+double ssn_step_length(double merit_now, const std::function<double(double)>& merit_at);
 
 /// What a run of ssn gives.
 struct SsnOutcome {
