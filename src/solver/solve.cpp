@@ -704,7 +704,7 @@ Solution ContactSolver::Impl::ssn_answer(const Vec* z0, clk::time_point t_start)
 }
 
 // ssn did not certify: it stops where its Newton matrix is not positive definite or the statuses
-// cycle (a nonconvex inner problem: 185 of the 1000 random scenes). The engine's default NLP
+// still change at its step cap (a nonconvex inner problem: 148 of the 1000 random scenes). The engine's default NLP
 // backend then runs the design's path from the same start, as a named backend (its first ε-stage,
 // then the exact solver's hand-over and the polish), and the answer says that ssn ran first.
 Solution ContactSolver::Impl::ssn_handover(Solution failed, const Vec* z0) const {
