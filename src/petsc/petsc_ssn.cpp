@@ -176,7 +176,7 @@ long Engine::ssn_linearize(Ssn& s, int k) {
   s.signature = 0;
   PetscReal xmax;
   HC_PETSC(VecNorm(s.x.v, NORM_INFINITY, &xmax));
-  const double slope_probe = 1e-7 * xmax;  // F_b's slope probe, as the cholmod engine's ssn
+  const double slope_probe = SSN_SLOPE_PROBE * xmax;
   for (size_t q = 0; q < my_nodes.size(); ++q) {
     double B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     s.status[q] = ssn_node(s, q, k, a, B, slope_probe);

@@ -117,8 +117,7 @@ long SsnRun::linearize(int k) {
   pin_step = Vec::Zero(x.size());
   long changed = 0;
   signature = 0;
-  // F_b's slope probe: 1e-7 of the iterate's size (the polishes' 1e-7 of the length scale).
-  const double slope_probe = 1e-7 * (x.size() ? x.cwiseAbs().maxCoeff() : 0.0);
+  const double slope_probe = SSN_SLOPE_PROBE * (x.size() ? x.cwiseAbs().maxCoeff() : 0.0);
   for (Index q = 0; q < md.contact.size(); ++q) {
     add_node(q, k, slope_probe);
     if (code[static_cast<size_t>(q)] != prev_code[static_cast<size_t>(q)]) ++changed;

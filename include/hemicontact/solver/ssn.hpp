@@ -57,6 +57,9 @@ inline bool ssn_step_settled(int unchanged, double rel, double step, double prev
 inline constexpr int SSN_CYCLE_MEMORY = 3;  ///< steps back a repeated status signature is looked for
 inline constexpr double SSN_ARMIJO = 1e-4;  ///< sufficient decrease: merit(θ) < (1 − SSN_ARMIJO θ) merit(0)
 inline constexpr int SSN_HALVINGS = 5;      ///< θ = 1, ½, …, 1/16 tried; 1/32 taken if none decreases
+/// F_b's slope probe for the coupling column (ssn_coupling's central difference): this × ‖x‖∞, the
+/// polishes' 1e-7 of the length scale (F_b is piecewise linear: exact up to round-off off a kink).
+inline constexpr double SSN_SLOPE_PROBE = 1e-7;
 
 /// One node's part of a step's status signature: the signatures of the nodes (and of the ranks)
 /// are summed, so the sum does not depend on their order or partition. A hash of (node, code).
