@@ -50,8 +50,9 @@ inline bool ssn_step_settled(int unchanged, double rel, double step, double prev
 ///  - is shortened by backtracking (ssn_step_length) on the merit ‖·‖∞ of the true semismooth
 ///    residual (check/status_equations.hpp's ssn_node_merit on Γ3, K x − f elsewhere), and
 ///  - takes the slip force's dependence on x_ν into the Newton matrix (ssn_coupling, w F_b'(x_ν) t):
-///    with λ held, the coupling converges linearly at ~0.5 per step (seed 152: 50 steps), with it
-///    quadratically (11 steps). That column is unsymmetric, so those steps use GMRES (the cholmod
+///    with λ held, the coupling converges linearly at ~0.5 per step (seed 152 with the line search
+///    alone: 50 steps), with it quadratically (15 steps in all, the first 8 plain before the cycle
+///    shows). That column is unsymmetric, so those steps use GMRES (the cholmod
 ///    engine: preconditioned by the factor of the symmetric part; the petsc engine: by its AMG).
 /// A run that never revisits a signature is plain ssn, step for step.
 inline constexpr int SSN_CYCLE_MEMORY = 3;  ///< steps back a repeated status signature is looked for
