@@ -297,7 +297,7 @@ bool SsnRun::step(int k, long changed, double res, SsnOutcome& out) {
   const double rel = scale > 0 ? step / scale : 0.0;
   const char* krylov = coupled.empty() ? "CG" : "GMRES";
   out.record.push_back({{"step", k}, {"status_changes", changed}, {"slip_reversals", projected}, {"cg", cg_its},
-                        {"krylov", krylov}, {"coupled_nodes", coupled.size()}, {"theta", theta},
+                        {"krylov_method", krylov}, {"coupled_nodes", coupled.size()}, {"theta", theta},
                         {"residual", res / F_s}, {"dx_rel", rel}, {"seconds", since(t0)}});
   log_info() << "ssn " << k << ": " << changed << " status changes, residual " << fmt(res / F_s, 3)
              << (fresh ? ", factorized" : "")
