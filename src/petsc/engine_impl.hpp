@@ -142,7 +142,8 @@ void fresh_gamg(KSP ksp);
 class Engine : private OuterStepper {
  public:
   // md is this rank's piece; the answer's vectors stay on the ranks (out).
-  Engine(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep, SlabResult& out);
+  Engine(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& rep, SlabResult& out,
+         const Vec* start);
   ~Engine() {
     if (rigid) MatNullSpaceDestroy(&rigid);
   }
@@ -157,6 +158,7 @@ class Engine : private OuterStepper {
   Solution run_ssn(clk::time_point t0);
   void ssn_describe();
   void ssn_setup(Ssn& s);
+  void ssn_start(Ssn& s);
   long ssn_linearize(Ssn& s, int k);
   int ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B, double slope_probe);
   void ssn_couple(Ssn& s, ::Mat J);
@@ -271,6 +273,7 @@ class Engine : private OuterStepper {
   std::map<std::string, double> timings;
   const Piece& slab;     // md is this rank's piece
   SlabResult& slab_out;  // and its piece of the answer goes here
+  const Vec* start;      // ssn's start: the piece's reduced unknowns (null: zero)
 };
 
 }  // namespace hemicontact::petsc_engine::detail

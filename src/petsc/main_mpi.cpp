@@ -37,9 +37,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
+#include <limits>
 #include <numeric>
 #include <string_view>
 #include <new>
@@ -59,7 +62,7 @@ using namespace hemicontact;
 const char* const HELP =
     "usage: hemicontact-mpi solve SCENE.json [--out DIR] [--set path=value]... [--backend ssn|tao:bnls|tao:bntr|tao:bntl]\n"
     "                             [--force] [--quiet] [--plot [--magnification M]]\n"
-    "       hemicontact-mpi solve SCENE.json|- --stream [--mesh-follows] [--set path=value]... [--quiet]\n"
+    "       hemicontact-mpi solve SCENE.json|- --stream [--mesh-follows [--start-follows]] [--set path=value]... [--quiet]\n"
     "The petsc engine of `hemicontact solve` (solver.engine = petsc), normally run through it:\n"
     "  mpirun -np P hemicontact solve SCENE.json --set solver.engine='\"petsc\"' --out DIR\n"
     "Same scene keys, results and exit codes as `hemicontact solve --help` describes; settings of the\n"
@@ -70,7 +73,9 @@ const char* const HELP =
     "             model (`hemicontact converge`, the Python module): it judges u itself. SCENE '-':\n"
     "             the scene's JSON from stdin (its relative paths from the current folder).\n"
     "  --mesh-follows  (one rank, SCENE '-') stdin holds the scene as one line, then the mesh to solve\n"
-    "             on (the caller's, mesh/mesh_bytes.hpp) instead of the scene's own.\n";
+    "             on (the caller's, mesh/mesh_bytes.hpp) instead of the scene's own.\n"
+    "  --start-follows  (with --mesh-follows; ssn) between the scene's line and the mesh, ssn's start:\n"
+    "             a uint64 count, then that many float64, the whole mesh's displacement (node-major).\n";
 
 // An error every rank holds, agreed on in a collective step (share, on_every_rank): the ranks can
 // leave together through PetscFinalize. Any other error may be one rank's alone while the others
@@ -186,7 +191,7 @@ petsc_engine::Piece whole_piece(const Mesh& mesh) {
 // report.json (rank 0) holds reductions and the gathered Γ3 rows.
 int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args, const nlohmann::json& scene,
               const SolveOptions& opt, MPI_Comm comm, std::chrono::steady_clock::time_point t0,
-              const std::string& layout, bool stream, std::optional<Mesh> given_mesh) {
+              const std::string& layout, bool stream, std::optional<Mesh> given_mesh, const std::optional<Vec>& start) {
   int size = 1;
   MPI_Comm_size(comm, &size);
   log_info() << "petsc: "
@@ -226,7 +231,10 @@ int run_slabs(const cli::SceneArgs& a, const std::vector<std::string>& plot_args
   petsc_engine::EngineReport er;
   er.json["engine_choice"] = engine_choice;
   petsc_engine::SlabResult out;
-  Solution sol = petsc_engine::solve_slabs(md, slab, opt, comm, er, out);
+  // The caller's start (--start-follows, the whole mesh: this rank's piece is all of it) in the
+  // model's reduced unknowns.
+  const std::optional<Vec> x0 = start ? std::optional(md.dofs.to_reduced(*start)) : std::nullopt;
+  Solution sol = petsc_engine::solve_slabs(md, slab, opt, comm, er, out, x0 ? &*x0 : nullptr);
   sol.timings["wall_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (stream) {
     petsc_engine::stream_slab_results(scene, md, slab, sol, out, opt, er, comm);
@@ -264,35 +272,68 @@ std::optional<OutputLock> lock_output(const cli::SceneArgs& a, int rank, MPI_Com
 }
 
 // SCENE "-" (--stream): the scene's text from rank 0's stdin, to every rank (collective). Read to
-// its end, up to MAX_SCENE_BYTES (one byte more tells "too long").
-std::string scene_from_stdin(MPI_Comm comm) {
-  int rank = 0;
+// its end: up to MAX_SCENE_BYTES for a scene alone (one byte more tells "too long"); under
+// --mesh-follows (one rank) the caller's mesh and start follow its line, as large as the caller's
+// own (an adaptive level of 122k nodes: 17 MB with its start): no cap then but the memory (read_scene checks
+// the scene's line).
+std::string scene_from_stdin(MPI_Comm comm, bool mesh_follows) {
+  int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  const size_t cap = mesh_follows ? std::numeric_limits<size_t>::max() - (1 << 16) : MAX_SCENE_BYTES;
   std::string text;
   long size = 0;
   if (rank == 0) {
     char chunk[1 << 16];
-    for (size_t got; text.size() <= MAX_SCENE_BYTES && (got = std::fread(chunk, 1, sizeof chunk, stdin)) > 0;)
+    for (size_t got; text.size() <= cap && (got = std::fread(chunk, 1, sizeof chunk, stdin)) > 0;)
       text.append(chunk, got);
-    size = text.size() > MAX_SCENE_BYTES ? -1 : static_cast<long>(text.size());
+    size = text.size() > cap ? -1 : static_cast<long>(text.size());
   }
   MPI_Bcast(&size, 1, MPI_LONG, 0, comm);
   if (size < 0) throw SharedError("the scene on stdin is longer than MAX_SCENE_BYTES", EXIT_INPUT);
   text.resize(static_cast<size_t>(size));
-  if (size > 0) MPI_Bcast(text.data(), static_cast<int>(size), MPI_CHAR, 0, comm);
+  if (size > 0 && ranks > 1) MPI_Bcast(text.data(), static_cast<int>(size), MPI_CHAR, 0, comm);
   return text;
+}
+
+// The stream's flags (stream_flags below).
+struct StreamFlags {
+  bool stream = false, mesh_follows = false, start_follows = false;
+  std::vector<std::string> rest;
+};
+
+// --start-follows: a uint64 count and that many float64 from the front of @p rest (which then holds
+// what follows them).
+Vec start_from_bytes(std::string_view& rest) {
+  uint64_t count = 0;
+  if (rest.size() < sizeof count) throw SharedError("--start-follows: no start after the scene's line", EXIT_INPUT);
+  std::memcpy(&count, rest.data(), sizeof count);
+  rest.remove_prefix(sizeof count);
+  if (count > rest.size() / sizeof(double))
+    throw SharedError("--start-follows: a start of " + std::to_string(count) + " values beyond the input's end", EXIT_INPUT);
+  Vec u(static_cast<Index>(count));
+  if (count > 0) std::memcpy(u.data(), rest.data(), count * sizeof(double));
+  rest.remove_prefix(count * sizeof(double));
+  return u;
 }
 
 // The scene and its options, read by every rank alike: an error in them (a bad key, a non-TAO
 // backend) is every rank's and is agreed on, so that the ranks leave together through
 // PetscFinalize with the message once, rather than by MPI_Abort.
-void read_scene(const cli::SceneArgs& a, bool mesh_follows, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt,
-                std::optional<Mesh>& given) {
-  std::optional<std::string> text = a.scene == "-" ? std::optional(scene_from_stdin(comm)) : std::nullopt;
-  if (mesh_follows) {  // one rank (stream_flags checked): the scene's line, then mesh_to_bytes's
+void read_scene(const cli::SceneArgs& a, const StreamFlags& f, MPI_Comm comm, nlohmann::json& scene, SolveOptions& opt,
+                std::optional<Mesh>& given, std::optional<Vec>& start) {
+  std::optional<std::string> text = a.scene == "-" ? std::optional(scene_from_stdin(comm, f.mesh_follows)) : std::nullopt;
+  if (f.mesh_follows) {  // one rank (stream_flags checked): the scene's line, [the start], then mesh_to_bytes's
     const size_t eol = text->find('\n');
     if (eol == std::string::npos) throw SharedError("--mesh-follows: no mesh after the scene's line on stdin", EXIT_INPUT);
-    given = mesh_from_bytes(std::string_view(*text).substr(eol + 1));
+    if (eol > MAX_SCENE_BYTES) throw SharedError("the scene on stdin is longer than MAX_SCENE_BYTES", EXIT_INPUT);
+    std::string_view rest = std::string_view(*text).substr(eol + 1);
+    if (f.start_follows) start = start_from_bytes(rest);
+    given = mesh_from_bytes(rest);
+    if (start && start->size() != given->num_nodes() * given->dim)
+      throw SharedError("--start-follows: " + std::to_string(start->size()) + " values for a mesh of " +
+                            std::to_string(given->num_nodes()) + " nodes in " + std::to_string(given->dim) + "D",
+                        EXIT_INPUT);
     text->resize(eol);
   }
   on_every_rank(comm, [&] {
@@ -318,22 +359,21 @@ void read_scene(const cli::SceneArgs& a, bool mesh_follows, MPI_Comm comm, nlohm
 
 // --stream and --mesh-follows, taken out of the command line (the rest for parse_scene_args) and
 // checked: --stream writes no files, so what acts on files is refused; the scene '-' (stdin) needs
-// it; --mesh-follows (the caller's mesh after the scene's line) needs both, on one rank. Under
-// --stream PETSc's own printing goes to stderr: stdout carries the stream alone.
-struct StreamFlags {
-  bool stream = false, mesh_follows = false;
-  std::vector<std::string> rest;
-};
+// it; --mesh-follows (the caller's mesh after the scene's line) needs both, on one rank, and
+// --start-follows (ssn's start before that mesh) needs --mesh-follows. Under --stream PETSc's own
+// printing goes to stderr: stdout carries the stream alone.
 StreamFlags stream_flags(const std::vector<std::string>& args, int ranks) {
   StreamFlags f;
   for (const std::string& s : args) {
     if (s == "--stream") f.stream = true;
     else if (s == "--mesh-follows") f.mesh_follows = true;
+    else if (s == "--start-follows") f.start_follows = true;
     else f.rest.push_back(s);
   }
   const bool from_stdin = !f.rest.empty() && f.rest[0] == "-";
   if (f.mesh_follows && (!f.stream || !from_stdin || ranks != 1))
     throw cli::UsageError("--mesh-follows: one rank, with --stream and the scene '-' (stdin)");
+  if (f.start_follows && !f.mesh_follows) throw cli::UsageError("--start-follows: with --mesh-follows only");
   if (!f.stream && from_stdin) throw cli::UsageError("the scene '-' (stdin) is read with --stream only");
   for (const char* files : {"--out", "--force", "--plot", "--magnification"})
     if (f.stream && std::find(f.rest.begin(), f.rest.end(), files) != f.rest.end())
@@ -368,11 +408,12 @@ int run(const std::vector<std::string>& args, MPI_Comm comm) {
   nlohmann::json scene;
   SolveOptions opt;
   std::optional<Mesh> given;
-  read_scene(a, f.mesh_follows, comm, scene, opt, given);
+  std::optional<Vec> start;
+  read_scene(a, f, comm, scene, opt, given, start);
 
   const std::optional<OutputLock> lock = f.stream ? std::nullopt : lock_output(a, rank, comm);
   const std::string layout = given ? "given" : distributed_layout(scene, opt, comm);
-  return run_slabs(a, plot_args, scene, opt, comm, t0, layout, f.stream, std::move(given));
+  return run_slabs(a, plot_args, scene, opt, comm, t0, layout, f.stream, std::move(given), start);
 }
 
 // The end of a job after an error that may be this rank's alone: the message printed once (rank

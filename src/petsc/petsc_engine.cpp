@@ -24,6 +24,7 @@ Solution Engine::run() {
   assemble();
   near_null_space();
   if (tao_type(opt.backend) == "ssn") return run_ssn(t0);
+  if (start) input_error("a start (--start-follows) is read by ssn only, not by " + opt.backend);
   elastic_solve();
   sol.backend = "tao:" + tao_type(opt.backend) + " (PETSc, " + std::to_string(size) + " rank" +
                 (size > 1 ? "s" : "") + ")";
@@ -108,6 +109,7 @@ void Engine::record() {
   rep.json["method"] = tao_type(opt.backend) == "ssn" ? std::string("ssn") : "tao:" + tao_type(opt.backend);
   rep.json["newton_pc"] = opt.petsc.newton_pc;
   rep.json["pc"] = opt.petsc.pc;
+  rep.json["start"] = start ? "the caller's u (--start-follows)" : "zero";
   rep.json["newton_iterations"] = newton_total;
   rep.json["krylov_iterations"] = krylov_total;
   rep.json["krylov_per_newton"] = newton_total > 0 ? double(krylov_total) / double(newton_total) : 0.0;
@@ -135,8 +137,8 @@ void Engine::close_record(Solution& s, clk::time_point t0, clk::time_point t1) {
 }  // namespace detail
 
 Solution solve_slabs(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
-                     SlabResult& out) {
-  detail::Engine e(md, slab, opt, comm, report, out);
+                     SlabResult& out, const Vec* x0) {
+  detail::Engine e(md, slab, opt, comm, report, out, x0);
   return e.run();
 }
 

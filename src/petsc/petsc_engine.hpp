@@ -147,13 +147,14 @@ struct SlabResult {
 /// (make_slab, make_block or make_plex_piece, ghost_boundary_from_owners, build_model(scene, mesh,
 /// false, ..., &given)); the model is not changed and nothing global is gathered. The judge's
 /// residual K x − f is PETSc's product.
+/// @param x0 ssn's start in the piece's reduced unknowns (null: zero; --start-follows); refused by TAO
 /// @return the scalars of the answer (energies, certificate, verdict; its vectors empty); @p out the piece.
 /// @throws Error EXIT_INPUT for what the engine cannot do (a nonlinear material, a piece without a
 ///         free node, a non-TAO backend), EXIT_NOT_CONVERGED when a Krylov solve outside TAO fails
 ///         (the message names PETSc's reason, e.g. KSP_DIVERGED_ITS). Collective: every rank throws
 ///         the same error.
 Solution solve_slabs(const Model& md, const Piece& slab, const SolveOptions& opt, MPI_Comm comm, EngineReport& report,
-                     SlabResult& out);
+                     SlabResult& out, const Vec* x0 = nullptr);
 
 /// Replace PETSc's error handler (traceback on every rank) by one that keeps the failure's first
 /// message for the engine's Error, which then names @p user_options (solver.petsc.options) when

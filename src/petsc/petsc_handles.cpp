@@ -60,10 +60,9 @@ std::string tao_type(const std::string& backend) {
   // solver.backend = auto: this engine's own, ssn, which reaches the cholmod engine's answers ~10x
   // faster than tao:bnls (docs/petsc-engine.md). A backend of the cholmod engine that is named
   // is refused below: a named backend runs, or the run stops saying why.
-  if (backend == AUTO_BACKEND) return "ssn";
+  if (petsc_engine_runs_ssn(backend)) return "ssn";  // not TAO: the engine's own semismooth Newton (run_ssn)
   for (const char* t : {"bnls", "bntr", "bntl"})
     if (backend == std::string("tao:") + t) return t;
-  if (backend == "ssn") return "ssn";  // not TAO: the engine's own semismooth Newton (run_ssn)
   input_error("solver.backend = '" + backend +
               "': the petsc engine runs ssn (semismooth Newton on the unsmoothed statuses) or TAO's "
               "bounded Newton methods tao:bnls, tao:bntr, tao:bntl (other backends: solver.engine = cholmod)");

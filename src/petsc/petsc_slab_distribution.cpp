@@ -167,8 +167,9 @@ GivenBoundary ghost_boundary_from_owners(const Mesh& mesh, const Piece& pc, MPI_
 
 namespace detail {
 
-Engine::Engine(const Model& m, const Piece& sl, const SolveOptions& o, MPI_Comm c, EngineReport& r, SlabResult& out)
-    : md(m), opt(o), comm(c), rep(r), slab(sl), slab_out(out) {
+Engine::Engine(const Model& m, const Piece& sl, const SolveOptions& o, MPI_Comm c, EngineReport& r, SlabResult& out,
+               const Vec* x0)
+    : md(m), opt(o), comm(c), rep(r), slab(sl), slab_out(out), start(x0) {
   init();
 }
 

@@ -56,6 +56,7 @@ struct Engine::Ssn {
   long coupled = 0;
   bool gmres = false;
   bool used_gmres = false;  // some step's J was coupled: the backend's name says GMRES too
+  bool cold = true;  // from zero: the first reading puts every node in contact (ssn_reading)
 };
 
 // This rank's arrays of the iterate, K's diagonal, the residual and the fixed unknowns' steps,
@@ -86,6 +87,7 @@ Solution Engine::run_ssn(clk::time_point t0) {
   ssn_describe();
   Ssn s;
   ssn_setup(s);
+  if (start) ssn_start(s);
   bool converged = false;
   const auto t_loop = clk::now();
   int k = 0;
@@ -155,6 +157,22 @@ void Engine::ssn_setup(Ssn& s) {
   s.slip_dir.assign(my_nodes.size(), Eigen::Vector2d::Zero());
   s.hold_stick.assign(my_nodes.size(), 0);
   s.coupling_col.assign(my_nodes.size(), Eigen::Vector3d::Zero());
+}
+
+// The caller's start (--start-follows: an adaptive level's u carried from the level before) into
+// x, each owned unknown at its PETSc index; the first reading is then the iterate's, not "every
+// node in contact" (a guess for a start from zero).
+void Engine::ssn_start(Ssn& s) {
+  if (start->size() != static_cast<Index>(perm.size()))
+    throw Error("the petsc engine: a start of " + std::to_string(start->size()) + " unknowns for a piece of " +
+                    std::to_string(perm.size()),
+                EXIT_INTERNAL);
+  for (size_t i = 0; i < perm.size(); ++i)
+    if (perm[i] >= lo && perm[i] < hi) HC_PETSC(VecSetValue(s.x.v, perm[i], (*start)[static_cast<Index>(i)], INSERT_VALUES));
+  HC_PETSC(VecAssemblyBegin(s.x.v));
+  HC_PETSC(VecAssemblyEnd(s.x.v));
+  s.cold = false;
+  log_info() << "ssn: from the caller's start (the previous level's u carried to this mesh)";
 }
 
 // Step k's statuses and linearization at the iterate: R = K x − f plus the Γ3 forces, J = K plus
@@ -274,7 +292,7 @@ int Engine::ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B, dou
   Eigen::Vector3d x = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero(), diag = Eigen::Vector3d::Zero();
   for (int c = 0; c < d; ++c) x[c] = a.x[l + c], r[c] = a.r[l + c], diag[c] = a.diag[l + c];
   const SsnReading rd =
-      ssn_reading(node_data(md, kk), x, r, diag, k == 1, s.hold_stick[q] != 0, roller_components(md, kk));
+      ssn_reading(node_data(md, kk), x, r, diag, s.cold && k == 1, s.hold_stick[q] != 0, roller_components(md, kk));
   s.slip_dir[q] = rd.slip_dir;
   s.signature += ssn_node_signature(kk, rd.code);
   s.coupling_col[q] = ssn_coupling(node_data(md, kk), x, rd, slope_probe);

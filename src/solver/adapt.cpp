@@ -256,9 +256,9 @@ AdaptResult run_adaptive(const nlohmann::json& scene, Mesh mesh, const AdaptOpti
     Model md = build_model(scene, cur.mesh);
     const auto t_solve = clk::now();
     const double build_seconds = since(t_level);
-    // Another engine where it takes the level (it starts from zero), else this process's solver.
+    // Another engine where it takes the level, else this process's solver; both from u_start.
     std::optional<Solution> handed =
-        level_engine ? level_engine(md, level_opt, r.history.empty() ? nullptr : &previous) : std::nullopt;
+        level_engine ? level_engine(md, level_opt, r.history.empty() ? nullptr : &previous, u_start) : std::nullopt;
     std::unique_ptr<ContactSolver> solver = handed ? nullptr : std::make_unique<ContactSolver>(md, level_opt);
     const double setup_seconds = handed ? 0.0 : since(t_solve);
     Solution sol = handed ? std::move(*handed) : solve_from(*solver, md, u_start);

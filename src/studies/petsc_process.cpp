@@ -134,9 +134,9 @@ void pump(int out_fd, int err_fd, pid_t pid, EngineRun& r) {
   if (!err_text.empty()) pass_on(err_text, r);
 }
 
-// hemicontact-mpi solve - --stream --mesh-follows [--quiet], @p input (the scene's line and the
-// mesh) on its stdin, its stdout and stderr read here (pump).
-EngineRun run_engine(const std::string& program, const std::string& input) {
+// hemicontact-mpi solve - --stream --mesh-follows [--start-follows] [--quiet], @p input (the
+// scene's line, [the start,] the mesh) on its stdin, its stdout and stderr read here (pump).
+EngineRun run_engine(const std::string& program, const std::string& input, bool start) {
   int in[2], out[2], err[2];
   if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0 || ::pipe2(err, O_CLOEXEC) != 0)
     throw Error(std::string("the petsc engine: no pipe: ") + std::strerror(errno), EXIT_INTERNAL);
@@ -147,6 +147,7 @@ EngineRun run_engine(const std::string& program, const std::string& input) {
   posix_spawn_file_actions_adddup2(&fa, out[1], STDOUT_FILENO);
   posix_spawn_file_actions_adddup2(&fa, err[1], STDERR_FILENO);
   std::vector<std::string> args{program, "solve", "-", "--stream", "--mesh-follows"};
+  if (start) args.push_back("--start-follows");
   if (log_level() < LogLevel::INFO) args.push_back("--quiet");
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -177,12 +178,19 @@ EngineRun run_engine(const std::string& program, const std::string& input) {
 PetscProcess::PetscProcess(nlohmann::json scene, const std::string& scene_dir)
     : scene_(engine_scene(std::move(scene), scene_dir)) {}
 
-Solution PetscProcess::operator()(const Model& md, const SolveOptions& opt) const {
+Solution PetscProcess::operator()(const Model& md, const SolveOptions& opt, const Vec* u_start) const {
   const std::string program = petsc_engine_program();
   log_info() << "petsc engine: " << program << " in one process (--stream), u judged here";
   // The model's own mesh goes with the scene: the engine solves on it, numbered as here (an
-  // adaptive level's too, which no scene key describes).
-  const EngineRun run = run_engine(program, scene_.dump() + "\n" + mesh_to_bytes(md.mesh));
+  // adaptive level's too, which no scene key describes); the start, where given, before it.
+  const bool start = u_start && u_start->size() > 0;
+  std::string input = scene_.dump() + "\n";
+  if (start) {
+    const auto count = static_cast<uint64_t>(u_start->size());
+    input.append(reinterpret_cast<const char*>(&count), sizeof count);
+    input.append(reinterpret_cast<const char*>(u_start->data()), count * sizeof(double));
+  }
+  const EngineRun run = run_engine(program, input + mesh_to_bytes(md.mesh), start);
   // 0, 3 (not converged) and 4 (not certified) end with an answer; anything else is an error,
   // whose message the engine's error lines give.
   if (run.exit_code != EXIT_OK && run.exit_code != EXIT_NOT_CONVERGED && run.exit_code != EXIT_CERTIFICATE)
@@ -227,7 +235,8 @@ SceneEngine scene_engine(const nlohmann::json& scene, const std::string& scene_d
 }
 
 AdaptLevelEngine petsc_level_engine(const nlohmann::json& scene, const std::string& scene_dir) {
-  return [scene, scene_dir](const Model& md, const SolveOptions& opt, const Solution* previous) -> std::optional<Solution> {
+  return [scene, scene_dir](const Model& md, const SolveOptions& opt, const Solution* previous,
+                            const Vec& u_start) -> std::optional<Solution> {
     LevelNumbers n;
     n.dim = md.dim();
     n.unknowns = static_cast<double>(md.dim()) * static_cast<double>(md.mesh.num_nodes());
@@ -241,7 +250,8 @@ AdaptLevelEngine petsc_level_engine(const nlohmann::json& scene, const std::stri
     const EngineChoice e = choose_level_engine(scene, n, petsc_engine_available());
     log_info() << "adapt: this level's engine " << e.engine << (e.automatic ? " (auto)" : "") << ": " << e.reason;
     if (e.engine != "petsc") return std::nullopt;
-    Solution sol = PetscProcess(scene, scene_dir)(md, opt);
+    // ssn (the engine's default) starts from the previous level's u, as a level solved here does.
+    Solution sol = PetscProcess(scene, scene_dir)(md, opt, petsc_engine_runs_ssn(opt.backend) ? &u_start : nullptr);
     sol.method_choice.chosen = PETSC_ENGINE_METHOD;
     sol.method_choice.automatic = e.automatic;
     sol.method_choice.reason = e.reason;

@@ -13,6 +13,10 @@
 // each answer must pass at 1e-8 (check.certificate_tol).
 #include <hemicontact/config.hpp>
 #include <hemicontact/core/error.hpp>
+#include <hemicontact/scene/build_model.hpp>
+#include <hemicontact/scene/config.hpp>
+#include <hemicontact/solver/solve.hpp>
+#include <hemicontact/studies/petsc_process.hpp>
 #include <hemicontact/studies/random_scenes.hpp>
 
 #include "support/cli_runner.hpp"
@@ -249,6 +253,9 @@ TEST(PetscEngine, StreamRefusesFileOptionsAndConvergePassesTheEnginesErrorOn) {
   const auto [no_mesh, err_no_mesh] = run("solve - --stream --mesh-follows");  // stdin is empty
   EXPECT_EQ(no_mesh, 2);
   EXPECT_NE(err_no_mesh.find("--mesh-follows: no mesh after the scene's line"), std::string::npos) << err_no_mesh;
+  const auto [start, err_start] = run("solve - --stream --start-follows");
+  EXPECT_EQ(start, 1);
+  EXPECT_NE(err_start.find("--start-follows: with --mesh-follows only"), std::string::npos) << err_start;
   const auto [dash, err_dash] = run("solve - --out x");
   EXPECT_EQ(dash, 1);
   EXPECT_NE(err_dash.find("the scene '-' (stdin) is read with --stream only"), std::string::npos) << err_dash;
@@ -318,6 +325,61 @@ TEST(PetscEngine, AdaptiveLevelsTakeThePetscEngineWhereTheFactorizationWouldNotF
   EXPECT_EQ(b[1].at("method"), "petsc engine");
   EXPECT_NE(low.err.find("adapt: this level's engine petsc (auto): the factorization predicted"), std::string::npos)
       << low.err;
+  // ssn there starts from the previous level's u, as a level solved here does.
+  EXPECT_NE(low.err.find("ssn: from the caller's start (the previous level's u"), std::string::npos) << low.err;
+  fs::remove_all(dir);
+}
+
+// ssn's start (--start-follows, studies/petsc_process.hpp): from the cholmod engine's answer, the
+// petsc engine confirms it in one step (from zero: several), at the same answer; a start of the
+// wrong size is refused naming both sizes.
+TEST(PetscEngine, SsnFromTheCallersStartConfirmsTheAnswerAtOnce) {
+  using namespace hemicontact;
+  const nlohmann::json scene = load_scene(problem("sofonea2017-3d"), {"mesh.n=6"});
+  const SolveOptions opt = solve_options_from_scene(scene);
+  const Model md = build_model(scene, ".");
+  const Solution ref = solve(md, opt);
+  ASSERT_TRUE(ref.ok()) << ref.message;
+  const PetscProcess engine(scene, ".");
+  const Solution cold = engine(md, opt);
+  const long cold_steps = engine.last_report().at("petsc").at("newton_iterations").get<long>();
+  EXPECT_EQ(engine.last_report().at("petsc").at("start"), "zero");
+  const Solution warm = engine(md, opt, &ref.u);
+  const long warm_steps = engine.last_report().at("petsc").at("newton_iterations").get<long>();
+  EXPECT_EQ(engine.last_report().at("petsc").at("start"), "the caller's u (--start-follows)");
+  ASSERT_TRUE(cold.ok() && warm.ok()) << cold.message << warm.message;
+  EXPECT_LE(warm_steps, 1);
+  EXPECT_GT(cold_steps, 3);
+  EXPECT_NEAR(warm.energy, ref.energy, 1e-10 * std::abs(ref.energy));
+  EXPECT_NEAR(cold.energy, ref.energy, 1e-10 * std::abs(ref.energy));
+  const Vec half = ref.u.head(ref.u.size() / 2);
+  try {
+    engine(md, opt, &half);
+    ADD_FAILURE() << "a start of the wrong size was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--start-follows: " + std::to_string(half.size()) + " values for a mesh of " +
+                                         std::to_string(md.mesh.num_nodes()) + " nodes in 3D"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// Under --mesh-follows stdin holds the caller's mesh after the scene's line, as large as the
+// caller's own: not capped at MAX_SCENE_BYTES (an adaptive level of 122k nodes is 17 MB with its
+// start), while the scene's line itself still is. 17 MB of zeros after a scene: the mesh's bytes are
+// judged (and refused), not their size.
+TEST(PetscEngine, MeshFollowsIsNotCappedAtTheScenesSize) {
+  const fs::path dir = scratch("stream-large");
+  const std::string mpi = (fs::path(HEMICONTACT_CLI_PATH).parent_path() / "hemicontact-mpi").string();
+  const std::string cmd = "cd '" + dir.string() + "' && { tr -d '\\n' <" + problem("sofonea2017-3d") +
+                          "; echo; head -c 17000000 /dev/zero; } | " + mpi +
+                          " solve - --stream --mesh-follows >o.bin 2>e.txt";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status)) << cmd;
+  EXPECT_EQ(WEXITSTATUS(status), 2) << cmd;
+  const std::string err = slurp(dir / "e.txt");
+  EXPECT_NE(err.find("the mesh's bytes"), std::string::npos) << err;
+  EXPECT_EQ(err.find("MAX_SCENE_BYTES"), std::string::npos) << err;
   fs::remove_all(dir);
 }
 

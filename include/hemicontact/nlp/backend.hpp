@@ -31,6 +31,9 @@ inline constexpr const char* AUTO_BACKEND = "auto";
 /// space, in both engines (solver/ssn.hpp with CHOLMOD; the petsc engine's with CG + AMG). No NLP
 /// backend: ContactSolver (and the petsc engine) run it themselves.
 inline constexpr const char* SSN_BACKEND = "ssn";
+/// @return whether the petsc engine runs its ssn for solver.backend = @p backend (auto means ssn
+/// there; the others it takes are TAO's).
+inline bool petsc_engine_runs_ssn(const std::string& backend) { return backend == AUTO_BACKEND || backend == SSN_BACKEND; }
 
 /// Statistics and verdict of one backend run.
 struct SolveResult {

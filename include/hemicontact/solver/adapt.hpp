@@ -90,9 +90,10 @@ using AdaptLevelSolved =
 /// A level's solve by another engine, where it takes it (studies/petsc_process.hpp's
 /// petsc_level_engine: solver/engine_choice.hpp's choose_level_engine); nullopt: the level is solved
 /// here (ContactSolver, from the previous level's u). @p previous: the previous level's solution
-/// (null on the first), whose method_choice numbers say what its factorization took.
-using AdaptLevelEngine =
-    std::function<std::optional<Solution>(const Model&, const SolveOptions&, const Solution* previous)>;
+/// (null on the first), whose method_choice numbers say what its factorization took; @p u_start:
+/// its u carried to this level's mesh (empty on the first), the start either engine takes.
+using AdaptLevelEngine = std::function<std::optional<Solution>(const Model&, const SolveOptions&,
+                                                               const Solution* previous, const Vec& u_start)>;
 /// @param level_engine each level's other engine (null: every level here)
 AdaptResult run_adaptive(const nlohmann::json& scene, Mesh initial, const AdaptOptions& aopt,
                          const SolveOptions& sopt, const AdaptLevelSolved& on_level = nullptr,

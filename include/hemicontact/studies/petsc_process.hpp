@@ -30,11 +30,12 @@ class PetscProcess {
   PetscProcess(nlohmann::json scene, const std::string& scene_dir);
   /// @brief Solve: u from the engine's file, the run's record (backend, history, verdict, skipped
   /// stages) from its report.json, and the certificate, statuses and energies by this process's
-  /// judge on @p md at @p opt's tolerances.
+  /// judge on @p md at @p opt's tolerances. @p u_start (the whole mesh's u; null or empty: zero)
+  /// goes with the mesh as ssn's start (--start-follows; the TAO backends refuse one).
   /// @throws Error with the engine's exit code and message where it did not solve (an input error,
   ///         a failure); Interrupted where this thread's interrupt check said stop; a run that did
   ///         not converge or certify is returned
-  Solution operator()(const Model& md, const SolveOptions& opt) const;
+  Solution operator()(const Model& md, const SolveOptions& opt, const Vec* u_start = nullptr) const;
   /// @return the engine's last report.json (its "petsc" record: ranks, Newton and Krylov counts,
   /// peak memory), or null before any call.
   const nlohmann::json& last_report() const { return *report_; }
