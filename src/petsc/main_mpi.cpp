@@ -274,13 +274,13 @@ std::optional<OutputLock> lock_output(const cli::SceneArgs& a, int rank, MPI_Com
 // SCENE "-" (--stream): the scene's text from rank 0's stdin, to every rank (collective). Read to
 // its end: up to MAX_SCENE_BYTES for a scene alone (one byte more tells "too long"); under
 // --mesh-follows (one rank) the caller's mesh and start follow its line, as large as the caller's
-// own (an adaptive level of 122k nodes: 17 MB with its start): no cap then but the memory (read_scene checks
-// the scene's line).
+// own (an adaptive level of 122k nodes: 17 MB with its start), so no cap but the memory there
+// (read_scene caps the scene's line).
 std::string scene_from_stdin(MPI_Comm comm, bool mesh_follows) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
-  const size_t cap = mesh_follows ? std::numeric_limits<size_t>::max() - (1 << 16) : MAX_SCENE_BYTES;
+  const size_t cap = mesh_follows ? std::numeric_limits<size_t>::max() / 2 : MAX_SCENE_BYTES;
   std::string text;
   long size = 0;
   if (rank == 0) {
