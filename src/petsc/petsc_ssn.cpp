@@ -172,7 +172,7 @@ void Engine::ssn_start(Ssn& s) {
   HC_PETSC(VecAssemblyBegin(s.x.v));
   HC_PETSC(VecAssemblyEnd(s.x.v));
   s.cold = false;
-  log_info() << "ssn: from the caller's start (the previous level's u carried to this mesh)";
+  log_info() << "ssn: from the caller's start (--start-follows), not from zero";
 }
 
 // Step k's statuses and linearization at the iterate: R = K x − f plus the Γ3 forces, J = K plus
