@@ -291,11 +291,11 @@ int Engine::ssn_node(Ssn& s, size_t q, int k, const SsnArrays& a, double* B, dou
   const PetscInt iv = cdof(kk), l = iv - lo;
   Eigen::Vector3d x = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero(), diag = Eigen::Vector3d::Zero();
   for (int c = 0; c < d; ++c) x[c] = a.x[l + c], r[c] = a.r[l + c], diag[c] = a.diag[l + c];
-  const SsnReading rd =
-      ssn_reading(node_data(md, kk), x, r, diag, s.cold && k == 1, s.hold_stick[q] != 0, roller_components(md, kk));
+  const NodeData nd = node_data(md, kk);
+  const SsnReading rd = ssn_reading(nd, x, r, diag, s.cold && k == 1, s.hold_stick[q] != 0, roller_components(md, kk));
   s.slip_dir[q] = rd.slip_dir;
   s.signature += ssn_node_signature(kk, rd.code);
-  s.coupling_col[q] = ssn_coupling(node_data(md, kk), x, rd, slope_probe);
+  s.coupling_col[q] = ssn_coupling(nd, x, rd, slope_probe);
   for (int c = 0; c < d; ++c) {
     if (rd.rows.is_pinned(c)) {
       s.fixed.push_back(iv + c);

@@ -89,12 +89,12 @@ void SsnRun::add_node(Index q, int k, double slope_probe) {
   Eigen::Vector3d xl = Eigen::Vector3d::Zero(), rl = Eigen::Vector3d::Zero(), dl = Eigen::Vector3d::Zero();
   for (int c = 0; c < d; ++c) xl[c] = x[iv + c], rl[c] = R[iv + c], dl[c] = diag[iv + c];
   const auto qs = static_cast<size_t>(q);
-  const SsnReading rd =
-      ssn_reading(node_data(md, q), xl, rl, dl, cold && k == 1, hold_stick[qs] != 0, roller_components(md, q));
+  const NodeData nd = node_data(md, q);
+  const SsnReading rd = ssn_reading(nd, xl, rl, dl, cold && k == 1, hold_stick[qs] != 0, roller_components(md, q));
   code[qs] = rd.code;
   slip_dir[qs] = rd.slip_dir;
   signature += ssn_node_signature(q, rd.code);
-  coupling_col[qs] = ssn_coupling(node_data(md, q), xl, rd, slope_probe);
+  coupling_col[qs] = ssn_coupling(nd, xl, rd, slope_probe);
   for (int c = 0; c < d; ++c) {
     if (rd.rows.is_pinned(c)) {
       pinned[static_cast<size_t>(iv + c)] = 1;
