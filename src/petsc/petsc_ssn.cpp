@@ -223,16 +223,18 @@ long Engine::ssn_linearize(Ssn& s, int k) {
 // Once the statuses cycle (solver/ssn.hpp): the coupling columns into J (its τ rows, the ν
 // column: unsymmetric), and the KSP switched to GMRES while any node is coupled (back to CG after).
 void Engine::ssn_couple(Ssn& s, ::Mat J) {
+  // The watch reads the signature summed over the ranks: every rank takes this return alike, and a
+  // run that never cycles pays no reduction for it (cycling() stays true once on, so the KSP is CG).
+  if (!s.watch.cycling()) return;
   long mine = 0;
-  if (s.watch.cycling())
-    for (size_t q = 0; q < my_nodes.size(); ++q) {
-      if (s.coupling_col[q].squaredNorm() == 0) continue;
-      const PetscInt iv = cdof(my_nodes[q]);
-      const PetscInt rows[2] = {iv + 1, iv + 2};
-      const double vals[2] = {s.coupling_col[q][1], s.coupling_col[q][2]};
-      HC_PETSC(MatSetValues(J, d - 1, rows, 1, &iv, vals, ADD_VALUES));
-      ++mine;
-    }
+  for (size_t q = 0; q < my_nodes.size(); ++q) {
+    if (s.coupling_col[q].squaredNorm() == 0) continue;
+    const PetscInt iv = cdof(my_nodes[q]);
+    const PetscInt rows[2] = {iv + 1, iv + 2};
+    const double vals[2] = {s.coupling_col[q][1], s.coupling_col[q][2]};
+    HC_PETSC(MatSetValues(J, d - 1, rows, 1, &iv, vals, ADD_VALUES));
+    ++mine;
+  }
   MPI_Allreduce(&mine, &s.coupled, 1, MPI_LONG, MPI_SUM, comm);
   const bool gmres = s.coupled > 0;
   if (gmres == s.gmres) return;
