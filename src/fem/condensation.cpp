@@ -13,6 +13,9 @@
 #include <numeric>
 #include <string>
 
+// LAPACK (CHOLMOD's own dependency): U Uᵀ of an upper-triangular U, in place (m³/3 flops).
+extern "C" void dlauum_(const char* uplo, const int* n, double* a, const int* lda, int* info);
+
 namespace hemicontact {
 namespace {
 
@@ -164,6 +167,22 @@ std::vector<int> interior_ordering(const SpMat& A, Index nI, std::string& method
     for (int j = G.first[g]; j < end; ++j) perm.push_back(j);
   }
   return perm;
+}
+
+// S = L Lᵀ for the lower-triangular trailing block L of the factor, in m³/3 flops (LAPACK's
+// dlauum) instead of the m³ of a triangular × dense product, and no m × m temporary: with J the
+// exchange matrix, U = J L J is upper triangular and J (U Uᵀ) J = L Lᵀ. At m = 258 (a random
+// study's 128-cell strip) this is 0.3 ms instead of 1.3 ms of a 23 ms process.
+// S is L's size already (allocated where a failure names the memory).
+void schur_from_factor(const Mat& L, Mat& S) {
+  const int m = static_cast<int>(L.rows());
+  S = L.reverse();  // J L J: upper triangular
+  int info = 0;
+  if (m > 0) dlauum_("U", &m, S.data(), &m, &info);
+  if (info != 0) throw Error("condensation: LAPACK dlauum failed with info " + std::to_string(info), EXIT_INTERNAL);
+  S.reverseInPlace();  // its lower triangle is now L Lᵀ's
+  for (int j = 1; j < m; ++j)
+    for (int i = 0; i < j; ++i) S(i, j) = S(j, i);
 }
 
 }  // namespace
@@ -330,7 +349,7 @@ void Condensation::extract_schur(Index nI, Index m) {
         if (row >= nI) LCC(row - nI, j - nI) = x[px[s] + static_cast<size_t>(j - k1) * nsrow + r];
       }
   }
-  m_S.noalias() = LCC.triangularView<Eigen::Lower>() * LCC.transpose();  // no third m × m temporary
+  schur_from_factor(LCC, m_S);
 }
 
 Condensation::~Condensation() = default;
