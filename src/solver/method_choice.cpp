@@ -57,12 +57,24 @@ void decide(SceneNumbers n, const MethodChoiceOptions& o, const std::function<do
     c.reason = dw + " <= " + fmt(o.small_fraction, 3) + " x the factorization's " + fmt(n.factor_flops, 3) + " flops";
     return;
   }
+  const std::string cw = "condensed work " + fmt(condensed, 3) + " flops (a factorization with the Gamma3 block, " +
+                         fmt(n.factor_flops, 3) + ", and the " + dw + ")";
+  // full_factorizations · fl_F ≥ full_factorizations · (K's pattern bound): where that bound already
+  // leaves the condensed work within full_cheaper_by, fl_F's analysis would not change the answer.
+  const double full_low = o.full_factorizations * n.full_factor_flops_low;
+  if (condensed <= o.condensed_below && condensed <= o.full_cheaper_by * full_low) {
+    c.numbers["full_flops_low"] = full_low;
+    c.chosen = "condensed";
+    c.reason = cw + " <= solver.method_choice.condensed_below, and the full work >= " + fmt(full_low, 3) +
+               " flops (" + fmt(o.full_factorizations, 3) + " factorizations of at least nnz(K)^2/n = " +
+               fmt(n.full_factor_flops_low, 3) + ", no analysis needed) is not " + fmt(o.full_cheaper_by, 3) +
+               "x less: the exact solver's path, at no real cost";
+    return;
+  }
   if (full_flops) n.full_factor_flops = full_flops();
   const double full = o.full_factorizations * n.full_factor_flops;
   c.numbers["full_factor_flops"] = n.full_factor_flops;
   c.numbers["full_flops"] = full;
-  const std::string cw = "condensed work " + fmt(condensed, 3) + " flops (a factorization with the Gamma3 block, " +
-                         fmt(n.factor_flops, 3) + ", and the " + dw + ")";
   const std::string fw = "full work " + fmt(full, 3) + " flops (" + fmt(o.full_factorizations, 3) +
                          " factorizations of " + fmt(n.full_factor_flops, 3) + ")";
   if (condensed <= o.condensed_below && condensed <= o.full_cheaper_by * full) {
@@ -76,6 +88,11 @@ void decide(SceneNumbers n, const MethodChoiceOptions& o, const std::function<do
 }
 
 }  // namespace
+
+double factor_flops_lower_bound(const SpMat& lower) {
+  const double n = static_cast<double>(lower.cols()), nnz = static_cast<double>(lower.nonZeros());
+  return n > 0 ? nnz * nnz / n : 0.0;
+}
 
 double available_memory_bytes() {
   double avail = meminfo_available();

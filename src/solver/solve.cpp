@@ -92,6 +92,7 @@ MethodChoice choose_formulation(const Model& md, const SolveOptions& opt, std::s
     plan = std::make_shared<Condensation>(md.Kx.lower(), n.gamma3_unknowns, opt.ordering);
     n.factor_nnz = plan->factor_nnz();
     n.factor_flops = plan->predicted_flops();
+    n.full_factor_flops_low = factor_flops_lower_bound(md.Kx.lower());
   }
   // The full formulation's factorization: the same analysis with no Γ3 block, only when asked.
   const auto full_flops = [&] { return Condensation(md.Kx.lower(), 0, opt.ordering).predicted_flops(); };
@@ -221,7 +222,9 @@ struct ContactSolver::Impl {
   }
   /// The Lanczos spectrum from the factor at hand (the condensation's L_CC, or the elastic factor
   /// while the set-up holds it); null when neither is there.
-  const Gamma3Spectrum* spectrum() const;
+  /// @param with_k1 false: k_1ν alone (the inner convexity's) where (21) is not asked; a later
+  /// caller that needs k_1 too gets it computed then (the condensation's factor is kept).
+  const Gamma3Spectrum* spectrum(bool with_k1 = true) const;
   SmallnessReport sparse_smallness() const;
   void report_smallness(SmallnessReport r, double& t_smallness);
   void take_choice_backend();
@@ -365,7 +368,7 @@ void ContactSolver::Impl::check_inner_convexity() {
     const auto t_cvx = clk::now();
     // Above check.dense_max_unknowns from k_1ν (sparse_checks.hpp), not a dense Cholesky of S − αW_ν.
     convexity = dense_checks_too_large()
-                    ? convexity_from_spectrum(*spectrum(), md.normal_law.get())
+                    ? convexity_from_spectrum(*spectrum(opt.smallness), md.normal_law.get())
                     : inner_convexity(F.cond->S(), md.contact.w, md.dim(), md.normal_law.get(),
                                       opt.convexity_max_unknowns);
     setup_timings["inner_convexity"] = since(t_cvx);
@@ -425,8 +428,8 @@ void ContactSolver::Impl::take_choice_backend() {
   backend->check_options(opt.backend_options);
 }
 
-const Gamma3Spectrum* ContactSolver::Impl::spectrum() const {
-  if (spectrum_) return &*spectrum_;
+const Gamma3Spectrum* ContactSolver::Impl::spectrum(bool with_k1) const {
+  if (spectrum_ && (spectrum_->has_k1 || !with_k1)) return &*spectrum_;
   const Model& md = *model;
   const int d = md.dim();
   const Index m = d * md.contact.size(), n = md.dofs.n_free();
@@ -448,9 +451,10 @@ const Gamma3Spectrum* ContactSolver::Impl::spectrum() const {
   }
   // Enough digits once (21) and the inner-convexity test are both decided by the brackets.
   const auto decided = [this](const Gamma3Spectrum& s) {
-    return smallness_from_spectrum(*model, s).computed && convexity_from_spectrum(s, model->normal_law.get()).checked;
+    return (!s.has_k1 || smallness_from_spectrum(*model, s).computed) &&
+           convexity_from_spectrum(s, model->normal_law.get()).checked;
   };
-  spectrum_ = gamma3_spectrum(apply, md.contact.w, d, opt, what, decided);
+  spectrum_ = gamma3_spectrum(apply, md.contact.w, d, opt, what, decided, with_k1);
   return &*spectrum_;
 }
 

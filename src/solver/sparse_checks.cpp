@@ -1,6 +1,7 @@
 #include <hemicontact/solver/sparse_checks.hpp>
 
 #include <hemicontact/core/clock.hpp>
+#include <hemicontact/core/error.hpp>
 #include <hemicontact/core/format.hpp>
 
 #include <Eigen/Eigenvalues>
@@ -21,14 +22,16 @@ std::pair<double, double> ritz_top(const Vec& alpha, const Vec& beta, Index k) {
   return {t.eigenvalues()[k], beta[k] * std::abs(t.eigenvectors()(k, k))};  // ascending: the top is k
 }
 
-// k_1, k_1ν and their lower bounds 1/(θ + r) from the two runs' Ritz pairs.
-Gamma3Spectrum spectrum_of(const LanczosResult& r1, const LanczosResult& rn) {
+// k_1, k_1ν and their lower bounds 1/(θ + r) from the two runs' Ritz pairs (k_1 NaN where its run
+// was not asked for).
+Gamma3Spectrum spectrum_of(const LanczosResult& r1, const LanczosResult& rn, bool with_k1) {
   Gamma3Spectrum S;
-  S.k1 = 1 / r1.theta;
-  S.k1_low = 1 / (r1.theta + r1.residual);
+  S.has_k1 = with_k1;
+  S.k1 = with_k1 ? 1 / r1.theta : NAN;
+  S.k1_low = with_k1 ? 1 / (r1.theta + r1.residual) : NAN;
   S.k1nu = 1 / rn.theta;
   S.k1nu_low = 1 / (rn.theta + rn.residual);
-  S.converged = r1.converged && rn.converged;
+  S.converged = (r1.converged || !with_k1) && rn.converged;
   S.iterations = r1.iterations + rn.iterations;
   return S;
 }
@@ -85,7 +88,7 @@ LanczosResult lanczos_largest(const std::function<Vec(const Vec&)>& apply, Index
 
 Gamma3Spectrum gamma3_spectrum(const std::function<Vec(const Vec&)>& apply_Sinv, const Vec& w, int d,
                                const SolveOptions& opt, const std::string& what,
-                               const std::function<bool(const Gamma3Spectrum&)>& decided) {
+                               const std::function<bool(const Gamma3Spectrum&)>& decided, bool with_k1) {
   const auto t0 = clk::now();
   const Index nc = w.size(), m = d * nc;
   // (W^-1/2 S W^-1/2)⁻¹ = W^1/2 S⁻¹ W^1/2: the scaling of the inverse operator is by diag(w)^1/2.
@@ -110,22 +113,27 @@ Gamma3Spectrum gamma3_spectrum(const std::function<Vec(const Vec&)>& apply_Sinv,
   // Both runs side by side, read every LANCZOS_READ_EVERY steps: they stop at check.lanczos_tol, or
   // once both are within check.lanczos_decide_tol and their brackets decide what the caller asks
   // (@p decided): a bracket that decides needs no more digits.
-  LanczosRun r1(op1, m, opt.lanczos_max_iter), rn(opn, nc, opt.lanczos_max_iter);
+  // Without k_1 its run is empty (size 0: done before it starts).
+  LanczosRun r1(op1, with_k1 ? m : 0, opt.lanczos_max_iter), rn(opn, nc, opt.lanczos_max_iter);
   Gamma3Spectrum S;
   do {
     r1.advance(LANCZOS_READ_EVERY, opt.lanczos_tol);
     rn.advance(LANCZOS_READ_EVERY, opt.lanczos_tol);
-    S = spectrum_of(r1.result(), rn.result());
+    S = spectrum_of(r1.result(), rn.result(), with_k1);
     Gamma3Spectrum final_now = S;  // what the caller would read were the runs to stop here
     final_now.decided = true;
     const auto close = [&](const LanczosResult& r) {
       return r.theta > 0 && r.residual <= opt.lanczos_decide_tol * r.theta;
     };
-    S.decided = decided && close(r1.result()) && close(rn.result()) && decided(final_now);
+    S.decided = decided && (close(r1.result()) || !with_k1) && close(rn.result()) && decided(final_now);
   } while (!(r1.done() && rn.done()) && !S.decided);
   const LanczosResult &a = r1.result(), &b = rn.result();
-  S.how = "Lanczos on " + what + ": " + std::to_string(a.iterations) + " + " + std::to_string(b.iterations) +
-          " steps, relative Ritz residuals " + fmt(a.residual / a.theta, 2) + ", " + fmt(b.residual / b.theta, 2) +
+  S.how = "Lanczos on " + what + ": " +
+          (with_k1 ? std::to_string(a.iterations) + " + " + std::to_string(b.iterations) +
+                         " steps, relative Ritz residuals " + fmt(a.residual / a.theta, 2) + ", " +
+                         fmt(b.residual / b.theta, 2)
+                   : "k_1nu alone (the inner convexity's), " + std::to_string(b.iterations) +
+                         " steps, relative Ritz residual " + fmt(b.residual / b.theta, 2)) +
           (S.decided && !S.converged ? " (stopped once the brackets decided)"
            : S.converged             ? ""
                                      : " (not converged in check.lanczos_max_iter steps)");
@@ -141,6 +149,7 @@ SmallnessReport smallness_from_spectrum(const Model& md, const Gamma3Spectrum& s
   r.seconds = s.seconds;
   r.method = "bound";
   r.note = s.how;
+  if (!s.has_k1) throw Error("smallness (21) from a spectrum without k_1", EXIT_INTERNAL);
   if (!s.converged && !s.decided) return r;
   const double m_F = md.material->m_F(), L_F = md.material->L_F();
   // λ(S_G) ∈ [λ(S_K)/L_F, λ(S_K)/m_F] (check/smallness.hpp), λ(S_K) ∈ [k_low, k] (Lanczos).

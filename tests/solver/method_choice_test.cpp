@@ -161,6 +161,37 @@ TEST(MethodChoice, TheCostModelDecides) {
   EXPECT_NE(c.reason.find("memory"), std::string::npos) << c.reason;
   n.linear_material = false;
   EXPECT_EQ(choose_method(n, opt, full).chosen, "full");
+  // K's pattern bound of fl_F decides without the analysis where it can (3e6 ≤ 100 · 10 · 1e4),
+  // and says so; a bound too low to decide leaves the analysis to decide.
+  n = SceneNumbers{};
+  n.dofs = 10000;
+  n.gamma3_unknowns = 100;
+  n.factor_flops = 2e6;
+  n.full_factor_flops_low = 1e4;
+  opt = SolveOptions{};
+  const MethodChoice b = choose_method(n, opt, full);
+  EXPECT_EQ(b.chosen, "condensed");
+  EXPECT_EQ(analyses, 5);
+  EXPECT_NE(b.reason.find("no analysis needed"), std::string::npos) << b.reason;
+  EXPECT_EQ(b.numbers.at("full_flops_low"), 1e5);
+  n.full_factor_flops_low = 1e3;  // 3e6 > 100 · 10 · 1e3: the analysis (fl_F = 1e6) decides
+  EXPECT_EQ(choose_method(n, opt, full).chosen, "condensed");
+  EXPECT_EQ(analyses, 6);
+}
+
+// The pattern bound nnz(K)²/n never exceeds what CHOLMOD's analysis predicts for the full
+// formulation's factorization (2D and 3D, squares and strips), whatever the ordering.
+TEST(MethodChoice, PatternBoundIsBelowTheAnalysedFlops) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> scenes = {
+      {"sofonea2017-fig2", {"mesh.n=16"}}, {"sofonea2017-fig2", mct::strip()}, {"sofonea2017-3d", {"mesh.n=4"}}};
+  for (const auto& [scene, o] : scenes)
+    for (const std::string ordering : {"amd", "metis", "nesdis"}) {
+      const Model md = mct::model_of(scene, o);
+      const double low = factor_flops_lower_bound(md.Kx.lower());
+      const double fl = Condensation(md.Kx.lower(), 0, ordering).predicted_flops();
+      EXPECT_GT(low, 0);
+      EXPECT_LE(low, fl) << scene << " " << ordering;
+    }
 }
 
 // report.json carries the choice, its reason and the numbers it decided on.
@@ -256,6 +287,33 @@ TEST(SparseChecks, SmallnessAndConvexityAgreeWithTheDenseChecks) {
   EXPECT_NEAR(sparse.sol.energy, dense.sol.energy, 1e-12 * std::abs(dense.sol.energy));
 }
 
+// check.smallness = false asks the inner convexity alone: the spectrum then runs k_1ν's Lanczos
+// only (half the S⁻¹ applications), decides as the run with (21) does, and (21) asked afterwards
+// (the adaptive loop's final mesh) gets k_1 then, from the factor the solver keeps: the same
+// bracket as the solve that asked it.
+TEST(SparseChecks, ConvexityAloneRunsTheKOneNuLanczosOnly) {
+  const std::vector<std::string> o = {"mesh.n=16", "check.dense_max_unknowns=0"};
+  const mct::Solved both = mct::run("sofonea2017-fig2", o);
+  std::vector<std::string> off = o;
+  off.push_back("check.smallness=false");
+  const json scene = load_scene(HEMICONTACT_SOURCE_DIR "/problems/sofonea2017-fig2.json", off);
+  const Model md = build_model(scene, HEMICONTACT_SOURCE_DIR "/problems");
+  ContactSolver solver(md, solve_options_from_scene(scene));
+  const Solution sol = solver.solve();
+  const InnerConvexity &c = sol.inner_convexity, &cb = both.sol.inner_convexity;
+  ASSERT_TRUE(c.checked && cb.checked) << c.note;
+  EXPECT_EQ(c.strongly_convex, cb.strongly_convex);
+  EXPECT_NE(c.note.find("k_1nu alone"), std::string::npos) << c.note;
+  EXPECT_EQ(cb.note.find("k_1nu alone"), std::string::npos) << cb.note;
+  EXPECT_FALSE(sol.smallness.computed);
+  EXPECT_NEAR(sol.energy, both.sol.energy, 1e-12 * std::abs(both.sol.energy));
+  const SmallnessReport later = solver.smallness(), &asked = both.sol.smallness;
+  ASSERT_TRUE(later.computed && asked.computed) << later.note;
+  EXPECT_EQ(later.holds, asked.holds);
+  EXPECT_NEAR(later.lhs_lower, asked.lhs_lower, 1e-12 * asked.lhs_upper);
+  EXPECT_NEAR(later.lhs_upper, asked.lhs_upper, 1e-12 * asked.lhs_upper);
+}
+
 // The spectrum on a known operator: to check.lanczos_tol without a question, and stopped early,
 // with a bracket that holds the exact values, where the question is decided.
 TEST(SparseChecks, SpectrumRunsToTheToleranceOrUntilTheQuestionIsDecided) {
@@ -297,6 +355,17 @@ TEST(SparseChecks, SpectrumRunsToTheToleranceOrUntilTheQuestionIsDecided) {
   EXPECT_LE(early.k1nu_low, k1nu * (1 + 1e-12));
   EXPECT_GE(early.k1nu, k1nu * (1 - 1e-12));
   EXPECT_NE(early.how.find("stopped once the brackets decided"), std::string::npos) << early.how;
+  // k_1ν alone: its run is the same run (the same start), to the tolerance, without k_1's steps;
+  // (21) is not decided from it.
+  const Gamma3Spectrum nu = gamma3_spectrum(apply, w, d, opt, "dense S", {}, false);
+  ASSERT_TRUE(nu.converged);
+  EXPECT_FALSE(nu.has_k1);
+  EXPECT_TRUE(std::isnan(nu.k1) && std::isnan(nu.k1_low));
+  EXPECT_NEAR(nu.k1nu, k1nu, 10 * opt.lanczos_tol * k1nu);
+  EXPECT_LT(nu.iterations, full.iterations);
+  EXPECT_NE(nu.how.find("k_1nu alone"), std::string::npos) << nu.how;
+  const Model md = mct::model_of("sofonea2017-fig2", {"mesh.n=4"});
+  EXPECT_THROW(smallness_from_spectrum(md, nu), Error);
 }
 
 // A softening law whose inner problem is not strongly convex: Lanczos says so too.

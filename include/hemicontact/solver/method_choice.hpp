@@ -14,7 +14,8 @@
 /// dense_work · m³ ≤ small_fraction · fl_C → condensed (the paper's 2D scenes: no second analysis);
 /// fl_C + dense_work · m³ ≤ condensed_below, and not above full_cheaper_by · full_factorizations ·
 /// fl_F → condensed (small scenes keep the exact path, but a long strip's dense work is its whole
-/// cost); otherwise condensed iff fl_C + dense_work · m³ ≤ full_factorizations · fl_F. The analysis of the
+/// cost; where fl_F's lower bound from K's pattern already decides it, fl_F is not analysed);
+/// otherwise condensed iff fl_C + dense_work · m³ ≤ full_factorizations · fl_F. The analysis of the
 /// condensation is its own, which the condensed path then factorizes without analysing again. The
 /// cores do not enter: the supernodal factorization and the dense Γ3 work are both BLAS-3 and
 /// scale alike.
@@ -39,9 +40,15 @@ struct SceneNumbers {
   double factor_nnz = 0;    ///< nnz(L) predicted by CHOLMOD's analysis (Γ3 last)
   double factor_flops = 0;  ///< fl_C: flops of the condensation's numeric factorization, predicted likewise
   double full_factor_flops = 0;  ///< fl_F: the full formulation's factorization (0: not analysed yet)
+  double full_factor_flops_low = 0;  ///< a lower bound of fl_F from K's own pattern (factor_flops_lower_bound)
   double memory_bytes = 0;  ///< memory available to the process
   int cores = 1;            ///< hardware threads (reported; see the file comment)
 };
+
+/// A lower bound of any Cholesky factorization's flops Σ_j c_j² for the symmetric matrix whose lower
+/// triangle is @p lower, under any ordering: L's column counts c_j contain the permuted matrix's, so
+/// Σ_j c_j ≥ nnz(lower), and Σ_j c_j² ≥ (Σ_j c_j)²/n (Cauchy–Schwarz). No analysis: nnz and n.
+double factor_flops_lower_bound(const SpMat& lower);
 
 /// The memory this process may still use: physical memory available (/proc/meminfo MemAvailable),
 /// or the address-space limit less what the process maps, where lower.

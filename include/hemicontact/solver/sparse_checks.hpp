@@ -65,7 +65,8 @@ LanczosResult lanczos_largest(const std::function<Vec(const Vec&)>& apply, Index
 struct Gamma3Spectrum {
   double k1 = 0, k1_low = 0;      ///< λ_min(S_K, diag(w)) and a lower bound of it
   double k1nu = 0, k1nu_low = 0;  ///< λ_min(S_ν, diag(w)) and a lower bound of it
-  bool converged = false;         ///< both Lanczos runs converged
+  bool has_k1 = true;             ///< k_1 was asked for (only k_1ν decides the inner convexity)
+  bool converged = false;         ///< both Lanczos runs converged (the k_1ν run, without k_1)
   bool decided = false;           ///< stopped before that: the caller's question was decided
   int iterations = 0;             ///< S⁻¹ applications, both runs
   double seconds = 0;             ///< wall time
@@ -76,9 +77,12 @@ struct Gamma3Spectrum {
 /// @param what how S⁻¹ is applied, for the report.
 /// @param decided where given, the runs stop once both are within check.lanczos_decide_tol and it
 /// is true of the brackets so far, else at check.lanczos_tol.
+/// @param with_k1 false: the k_1ν run alone (half the S⁻¹ applications), for a caller that asks
+/// the inner convexity only; the result's has_k1 says so and (21) is not decided from it.
 Gamma3Spectrum gamma3_spectrum(const std::function<Vec(const Vec&)>& apply_Sinv, const Vec& w, int d,
                                const SolveOptions& opt, const std::string& what,
-                               const std::function<bool(const Gamma3Spectrum&)>& decided = {});
+                               const std::function<bool(const Gamma3Spectrum&)>& decided = {},
+                               bool with_k1 = true);
 
 /// (21) decided by the bracket of check/smallness.hpp from the spectrum: method "bound", computed
 /// only when the bracket (widened by the Lanczos residuals) decides; the note says how, or why not.
