@@ -169,6 +169,25 @@ std::vector<int> interior_ordering(const SpMat& A, Index nI, std::string& method
   return perm;
 }
 
+// cholmod_factorize's steps for a lower triangle and a permuted supernodal factor, with the
+// permuted copy of K made first and the intermediate one given back before the numeric work:
+// cholmod_factorize_p permutes a lower triangle by two transposes, triu(PAPᵀ) and then its
+// transpose tril(PAPᵀ), and frees the first only as the factorization starts; its arrays (below
+// the 32 MB mmap threshold, core/process.cpp) stayed resident through the factorization, whose
+// end, the whole factor written, is the run's peak. fig2 n = 512: one copy of K's lower triangle,
+// ~47 MB, off that peak (docs/performance.md).
+void factorize_with_one_copy(cholmod_sparse& A, cholmod_factor* L, cholmod_common& c, Index n) {
+  cholmod_sparse* upper = cholmod_ptranspose(&A, 2, static_cast<int*>(L->Perm), nullptr, 0, &c);  // triu(PAPᵀ)
+  cholmod_sparse* lower = upper ? cholmod_ptranspose(upper, 2, nullptr, nullptr, 0, &c) : nullptr;  // tril(PAPᵀ)
+  cholmod_free_sparse(&upper, &c);
+  check_condensation_status(c, "factorization", n);
+  if (!lower) throw Error("condensation: CHOLMOD could not permute the matrix", EXIT_INTERNAL);
+  hand_back_freed_memory(n);
+  double zero[2] = {0, 0};
+  cholmod_super_numeric(lower, nullptr, zero, L, &c);
+  cholmod_free_sparse(&lower, &c);
+}
+
 // S = L Lᵀ for the lower-triangular trailing block L of the factor, in m³/3 flops (LAPACK's
 // dlauum) instead of the m³ of a triangular × dense product, and no m × m temporary: with J the
 // exchange matrix, U = J L J is upper triangular and J (U Uᵀ) J = L Lᵀ. At m = 258 (a random
@@ -302,7 +321,7 @@ void Condensation::factorize(const SpMat& K, const Vec& f) {
   // Handed back to the system on both sides, the process's peak is what is alive, not the sum.
   // (Each call walks the heap: 0.2 ms, a tenth of a small scene's factorization: large ones only.)
   hand_back_freed_memory(n);
-  cholmod_factorize(&A, m_impl->L, &c);
+  factorize_with_one_copy(A, m_impl->L, c, n);
   hand_back_freed_memory(n);
   cholmod_factor* L = m_impl->L;
   check_condensation_status(c, "factorization", n);
