@@ -11,6 +11,8 @@
 #include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/energy/energy_term.hpp>
+#include <hemicontact/fem/sparse_cholesky.hpp>
+#include <hemicontact/solver/sparse_checks.hpp>
 
 #include <Eigen/Eigenvalues>
 
@@ -68,6 +70,74 @@ struct Candidate {
   Solution sol;
 };
 
+// The reduced Hessian: H's rows and columns @p idx (ascending), its lower triangle (H's own).
+SpMat reduced_lower(const SpMat& H, const std::vector<Index>& idx, Index n) {
+  std::vector<Index> pos(static_cast<size_t>(n), -1);
+  for (size_t i = 0; i < idx.size(); ++i) pos[static_cast<size_t>(idx[i])] = static_cast<Index>(i);
+  std::vector<Eigen::Triplet<double>> t;
+  for (Index j = 0; j < H.outerSize(); ++j)
+    for (SpMat::InnerIterator it(H, j); it; ++it) {
+      const Index a = pos[static_cast<size_t>(it.row())], b = pos[static_cast<size_t>(it.col())];
+      if (a >= 0 && b >= 0) t.emplace_back(std::max(a, b), std::min(a, b), it.value());
+    }
+  const Index k = static_cast<Index>(idx.size());
+  SpMat R(k, k);
+  R.setFromTriplets(t.begin(), t.end());
+  return R;
+}
+
+// λ_min of the reduced Hessian H_r without a dense matrix: H_r + σI is positive definite for
+// σ > α · max w, α the normal law's softening (one-sided Lipschitz constant of p_ν, (21)'s α_jν):
+// the only part of H_r below the elastic stiffness is w_k j_ν'' ≥ −α w_k (friction's is ≥ 0).
+// One sparse Cholesky of H_r + σI (σ doubled where round-off or the smoothing still leave it
+// indefinite) and Lanczos on its inverse, whose largest eigenvalue is 1/(λ_min + σ).
+// False with @p note where it cannot say.
+bool sparse_lambda_min(const SpMat& Hr, const Model& md, double tau, const SolveOptions& opt, double& lambda_min,
+                       std::string& note) {
+  const double alpha = md.normal_law ? md.normal_law->one_sided_lipschitz() : 0.0;
+  if (!std::isfinite(alpha)) {
+    note = "p_nu jumps downward: no shift makes the Hessian definite";
+    return false;
+  }
+  const double w_max = md.contact.size() ? md.contact.w.maxCoeff() : 0.0;
+  SpMat I(Hr.rows(), Hr.cols());
+  I.setIdentity();
+  double sigma = 2 * alpha * w_max + tau;
+  for (int attempt = 0; attempt < 8; ++attempt, sigma *= 4) {
+    SparseCholesky chol;
+    try {
+      chol.compute(SpMat(Hr + sigma * I));
+    } catch (const Error&) {
+      continue;  // not positive definite yet
+    }
+    const LanczosResult r = lanczos_largest([&](const Vec& v) { return chol.solve(v); }, Hr.rows(), opt.lanczos_tol,
+                                            opt.lanczos_max_iter);
+    if (!r.converged) {
+      note = "sparse check: Lanczos did not converge in check.lanczos_max_iter steps";
+      return false;
+    }
+    lambda_min = 1 / r.theta - sigma;
+    note = "sparse check (" + std::to_string(Hr.rows()) + " unknowns > max_dense): Cholesky of H + " + fmt(sigma, 3) +
+           " I and Lanczos, " + std::to_string(r.iterations) + " steps";
+    return true;
+  }
+  note = "sparse check: H + sigma I not positive definite for any tried sigma";
+  return false;
+}
+
+}  // namespace
+
+namespace {
+// The verdict from c.lambda_min, dense or sparse alike: a local minimum where λ_min ≥ −tol · scale.
+SecondOrderCheck second_order_verdict(SecondOrderCheck c, const MinimaOptions& mopt, const std::string& how) {
+  c.verdict = c.lambda_min >= -mopt.second_order_tol * c.scale ? "local minimum" : "saddle";
+  if (std::abs(c.lambda_min) <= mopt.second_order_tol * c.scale)
+    c.note = "lambda_min ~ 0: second-order test inconclusive (degenerate)";
+  else if (c.degenerate > 0)
+    c.note = std::to_string(c.degenerate) + " contact node(s) with zero rigid reaction: necessary condition only";
+  if (!how.empty()) c.note = c.note.empty() ? how : how + "; " + c.note;
+  return c;
+}
 }  // namespace
 
 SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, const SolveOptions& opt,
@@ -113,13 +183,17 @@ SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, cons
     c.note = "no free direction: every unknown is at the bound or sticking";
     return c;
   }
-  if (c.kept > mopt.max_dense) {
-    c.note = "free subspace of " + std::to_string(c.kept) +
-             " unknowns exceeds max_dense = " + std::to_string(mopt.max_dense) + " (use the condensed formulation)";
-    return c;
-  }
   SpMat H = f.hessian_pattern();
   f.hessian(z, H, Psd::NONE);
+  if (c.kept > mopt.max_dense) {
+    std::string how;
+    if (!sparse_lambda_min(reduced_lower(H, idx, n), md, mopt.second_order_tol * c.scale, opt, c.lambda_min, how)) {
+      c.note = "free subspace of " + std::to_string(c.kept) + " unknowns > max_dense = " +
+               std::to_string(mopt.max_dense) + ": " + how;
+      return c;
+    }
+    return second_order_verdict(c, mopt, how);
+  }
   std::vector<Index> pos(static_cast<size_t>(n), -1);
   for (Index i = 0; i < c.kept; ++i) pos[static_cast<size_t>(idx[static_cast<size_t>(i)])] = i;
   Mat Hr = Mat::Zero(c.kept, c.kept);
@@ -136,12 +210,7 @@ SecondOrderCheck second_order_check(ContactSolver& solver, const Model& md, cons
     return c;
   }
   c.lambda_min = es.eigenvalues().minCoeff();
-  c.verdict = c.lambda_min >= -mopt.second_order_tol * c.scale ? "local minimum" : "saddle";
-  if (std::abs(c.lambda_min) <= mopt.second_order_tol * c.scale)
-    c.note = "lambda_min ~ 0: second-order test inconclusive (degenerate)";
-  else if (c.degenerate > 0)
-    c.note = std::to_string(c.degenerate) + " contact node(s) with zero rigid reaction: necessary condition only";
-  return c;
+  return second_order_verdict(c, mopt, "");
 }
 
 namespace {

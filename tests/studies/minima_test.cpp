@@ -234,6 +234,15 @@ TEST(Minima, SecondOrderCheckAtTheExactStationaryPoints) {
     const long contacts = std::count(s.branch.begin(), s.branch.end(), -1);
     EXPECT_EQ(c.removed_contact, contacts);
     EXPECT_EQ(c.kept, 4 - contacts);
+    // Above max_dense, no dense matrix: the shifted sparse Cholesky and Lanczos on its inverse give
+    // the same λ_min (to Lanczos's tolerance on 1/(λ_min + σ)) and verdict, minima and saddles alike.
+    MinimaOptions sparse;
+    sparse.max_dense = 0;
+    const SecondOrderCheck q = second_order_check(solver, md, L.opt, sol, sparse);
+    if (c.kept == 0) continue;
+    EXPECT_EQ(q.verdict, c.verdict) << q.note;
+    EXPECT_NEAR(q.lambda_min, c.lambda_min, 1e-8 * q.scale) << q.note;
+    EXPECT_NE(q.note.find("sparse check"), std::string::npos) << q.note;
   }
 }
 

@@ -39,8 +39,9 @@ struct MinimaOptions {
   /// Second-order check: λ_min ≥ −second_order_tol · scale counts as a local minimum (see
   /// SecondOrderCheck::scale).
   double second_order_tol = 1e-8;
-  /// Largest number of kept unknowns for which the dense Hessian is formed (full formulation);
-  /// beyond it the check is skipped ("unchecked"). The condensed Hessian is dense anyway.
+  /// Largest number of kept unknowns for which the dense Hessian's eigenvalues are computed;
+  /// beyond it λ_min comes from one sparse Cholesky of the shifted Hessian and Lanczos on its
+  /// inverse (studies/minima.cpp: sparse_lambda_min), no dense matrix.
   Index max_dense = 4000;
   /// Run random starts in batches of `starts` until the estimated number of distinct solutions no
   /// random start has reached yet (UnseenEstimate::unseen) is below one, or max_starts random starts
