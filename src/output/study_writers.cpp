@@ -257,16 +257,23 @@ void write_minima_csv(const std::string& path, const MinimaReport& r) {
   write_text_file(path, out.str());
 }
 
+namespace {
+// A CSV text field: quoted, its quotes doubled (a backend's name has commas: "ssn (semismooth
+// Newton, CG + gamg, PETSc, 1 rank)").
+std::string csv_text(std::string text) {
+  for (size_t q = text.find('"'); q != std::string::npos; q = text.find('"', q + 2)) text.insert(q, 1, '"');
+  return '"' + text + '"';
+}
+}  // namespace
+
 void write_minima_runs_csv(const std::string& path, const std::vector<MinimaRun>& runs) {
   std::ostringstream out;
   out << "run,start,backend,solved_by,converged,certified,energy,certificate,seconds,message\n";
   for (size_t i = 0; i < runs.size(); ++i) {
     const MinimaRun& m = runs[i];
-    std::string message = m.message;  // CSV: a quoted field with its quotes doubled
-    for (size_t q = message.find('"'); q != std::string::npos; q = message.find('"', q + 2)) message.insert(q, 1, '"');
-    out << i << ',' << m.start << ',' << m.backend << ',' << m.solved_by << ',' << (m.converged ? 1 : 0) << ',' << (m.certified ? 1 : 0)
-        << ',' << exact(m.energy) << ',' << exact(m.certificate) << ',' << exact(m.seconds) << ",\"" << message
-        << "\"\n";
+    out << i << ',' << m.start << ',' << csv_text(m.backend) << ',' << csv_text(m.solved_by) << ','
+        << (m.converged ? 1 : 0) << ',' << (m.certified ? 1 : 0) << ',' << exact(m.energy) << ','
+        << exact(m.certificate) << ',' << exact(m.seconds) << ',' << csv_text(m.message) << '\n';
   }
   write_text_file(path, out.str());
 }
