@@ -259,8 +259,9 @@ std::string assignment(const std::string& key, py::handle value) { return key + 
 
 // The engine a call of the module runs (solver/engine_choice.hpp): solve and converge take what
 // `hemicontact solve` would (the petsc engine as a process of its own, studies/petsc_process.hpp);
-// minima and path, which restart one solver from many points, run the cholmod engine (a given
-// petsc is refused) and say where `hemicontact solve` would have taken the petsc engine.
+// path, which restarts one solver from many points, runs the cholmod engine (a given petsc is
+// refused) and says where `hemicontact solve` would have taken the petsc engine; minima decides
+// as the CLI does (minima_engine, in minima_study).
 EngineChoice module_engine(const json& scene, const std::string& directory, const char* what, int reference = 0) {
   const std::string w = what;
   const bool hands_over = w == "solve" || w == "converge";
@@ -432,8 +433,11 @@ py::dict study_dict(json js, const Scene& s, const json& scene, const char* key,
 
 py::object minima_study(const Scene& s, const std::vector<std::string>& extra, MinimaOptions mo, bool barriers) {
   const json scene = s.with(extra);
-  const EngineChoice engine = module_engine(scene, s.directory, "minima");
+  // The CLI's rule (minima_engine): the petsc engine for a large 3D mesh, every start judged here.
+  const EngineChoice engine = minima_engine(scene, s.directory, petsc_engine_available(), !mo.backends.empty(), barriers);
+  log_engine_choice(engine);
   const SolveOptions opt = solve_options_from_scene(scene);
+  if (engine.engine == "petsc") petsc_minima_starts(scene, s.directory, opt, mo);
   auto [js, solved] = run_released([&] {
     auto md = std::make_shared<const Model>(build_model(scene, s.directory));
     if (barriers) require_barrier_scene(*md);  // before the search, as the CLI

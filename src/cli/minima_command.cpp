@@ -33,6 +33,7 @@
 #include <hemicontact/studies/barriers.hpp>
 #include <hemicontact/studies/study_json.hpp>
 #include <hemicontact/studies/minima.hpp>
+#include <hemicontact/studies/petsc_process.hpp>
 
 #include <algorithm>
 #include <cerrno>
@@ -249,7 +250,8 @@ int cmd_minima(const std::vector<std::string>& all_args) {
 
   require_utf8_scene_name(a.scene, "minima.json");
   const nlohmann::json scene = load_scene(a.scene, a.overrides);
-  const EngineChoice engine = in_process_engine(scene, scene_directory(a.scene), petsc_engine_available(), "minima");
+  const EngineChoice engine =
+      minima_engine(scene, scene_directory(a.scene), petsc_engine_available(), !mo.backends.empty(), barriers);
   log_engine_choice(engine);
   const Model md = build_model(scene, scene_directory(a.scene));
   read_start_files(start_files, md, mo);
@@ -261,6 +263,7 @@ int cmd_minima(const std::vector<std::string>& all_args) {
   const std::filesystem::path out(a.out);
 
   const SolveOptions opt = solve_options_from_scene(scene);
+  if (engine.engine == "petsc") petsc_minima_starts(scene, scene_directory(a.scene), opt, mo);
   // Each finished run is kept as it ends: an interrupted search loses only the run it was in, and
   // the interrupt message names minima-runs.csv.
   mo.on_run = [&](const std::vector<MinimaRun>& runs) {

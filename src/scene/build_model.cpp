@@ -596,6 +596,7 @@ SolveOptions solve_options_from_scene(const nlohmann::json& scene) {
   o.method_choice.condensed_below = mc.at("condensed_below").get<double>();
   o.method_choice.full_cheaper_by = mc.at("full_cheaper_by").get<double>();
   o.method_choice.petsc_above = mc.at("petsc_above").get<double>();
+  o.method_choice.petsc_restarts_above = mc.at("petsc_restarts_above").get<double>();
   o.certify_below = s.at("continuation").at("certify_below").get<double>();
   o.anderson_memory = s.at("fixed_point").at("anderson_memory").get<int>();
   const auto& ex = s.at("exact");

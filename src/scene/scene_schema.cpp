@@ -417,6 +417,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                            "Gmsh file whose header gives its node count), a linear material and no adaptive "
                            "refinement; the cholmod engine below it and elsewhere."),
                        0));
+  t.push_back(at_least(key("/solver/method_choice/petsc_restarts_above", "number", MC.petsc_restarts_above,
+                           "solver.engine = auto for `hemicontact minima`: its starts go to the petsc engine "
+                           "(a process each, judged here) for a 3D mesh of at least this many unknowns; below, "
+                           "the cholmod engine in this process, whose one factorization serves every start."),
+                       0));
   t.push_back(at_most(above(key("/solver/method_choice/memory_fraction", "number", MC.memory_fraction,
                                 "The condensed path's dense Γ3 matrices (7 of m × m doubles) may use at "
                                 "most this fraction of the memory available; above, full."),

@@ -1,6 +1,7 @@
 #include <hemicontact/solver/engine_choice.hpp>
 
 #include <hemicontact/config.hpp>
+#include <hemicontact/core/error.hpp>
 #include <hemicontact/core/format.hpp>
 #include <hemicontact/core/log.hpp>
 #include <hemicontact/mesh/msh_peek.hpp>
@@ -89,8 +90,10 @@ std::string petsc_engine_missing() {
 
 namespace {
 
-// solver.engine = auto on a mesh of @p size (choose_engine's rule, file comment of the header).
-EngineChoice choose_by_size(const nlohmann::json& scene, const SceneSize& size, bool petsc_built, bool adaptive) {
+// solver.engine = auto on a mesh of @p size (choose_engine's rule, file comment of the header),
+// the petsc engine from solver.method_choice.@p threshold unknowns on.
+EngineChoice choose_by_size(const nlohmann::json& scene, const SceneSize& size, bool petsc_built, bool adaptive,
+                            const std::string& threshold = "petsc_above") {
   const auto cholmod = [](const std::string& why) { return EngineChoice{"cholmod", true, why}; };
   if (!petsc_built) {
     const std::string missing = petsc_engine_missing();
@@ -101,11 +104,12 @@ EngineChoice choose_by_size(const nlohmann::json& scene, const SceneSize& size, 
   // than the petsc engine at every size measured (docs/performance.md, method choice).
   if (size.dim != 3) return cholmod("a " + size.what + " (2D: the cholmod engine)");
   if (const std::string why = cholmod_only_setting(scene, adaptive); !why.empty()) return cholmod(why);
-  const double above = scene.at("solver").at("method_choice").at("petsc_above").get<double>();
+  const double above = scene.at("solver").at("method_choice").at(threshold).get<double>();
   const std::string desc = size.what + " of " + fmt(size.unknowns, 3) + " unknowns";
-  if (size.unknowns < above) return cholmod(desc + " < solver.method_choice.petsc_above = " + fmt(above, 3));
+  const std::string key = "solver.method_choice." + threshold + " = " + fmt(above, 3);
+  if (size.unknowns < above) return cholmod(desc + " < " + key);
   return {"petsc", true,
-          desc + " >= solver.method_choice.petsc_above = " + fmt(above, 3) +
+          desc + " >= " + key +
               ": the petsc engine in one process (ssn, CG + AMG: no factorization, no dense Gamma3 work)"};
 }
 
@@ -148,6 +152,20 @@ EngineChoice in_process_engine(const nlohmann::json& scene, const std::string& s
           command + " runs in this process (it needs every field here): the cholmod engine. `hemicontact solve` "
                     "would take the petsc engine: " +
               solve.reason};
+}
+
+EngineChoice minima_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
+                           bool backends_named, bool barriers) {
+  const std::string asked = scene.at("solver").at("engine").get<std::string>();
+  const std::string why = backends_named ? "--backends names in-process backends"
+                          : barriers     ? "--barriers needs the in-process solver's energy landscape"
+                                         : "";
+  if (asked == "petsc" && !why.empty()) input_error("minima: solver.engine = petsc, but " + why + "; drop one of them");
+  if (asked != "auto") return {asked, false, "solver.engine = " + asked + " (given)"};
+  const EngineChoice c = choose_by_size(scene, scene_size(scene.at("mesh"), scene_dir), petsc_built,
+                                        adapt_requested(scene), "petsc_restarts_above");
+  if (c.engine != "petsc" || why.empty()) return c;
+  return {"cholmod", true, "minima runs in this process (" + why + "); else: " + c.reason};
 }
 
 void log_engine_choice(const EngineChoice& c) {

@@ -13,6 +13,7 @@
 #include <hemicontact/energy/energy_term.hpp>
 #include <hemicontact/fem/sparse_cholesky.hpp>
 #include <hemicontact/solver/sparse_checks.hpp>
+#include <hemicontact/solver/ssn.hpp>
 
 #include <Eigen/Eigenvalues>
 
@@ -276,8 +277,12 @@ struct MinimaSearch {
   // which once timed every start but zero at 0 s.
   void record(const std::string& start, const std::string& backend, Solution sol, clk::time_point started);
   void run_backend(std::unique_ptr<ContactSolver>& solver, const SolveOptions& opt, const std::string& name);
-  void gamma3_starts(ContactSolver& S, const std::string& name, double Us);
+  void run_engine(std::unique_ptr<ContactSolver>& checks, const SolveOptions& opt);
+  /// One solve from solver unknowns z0 (the in-process solver's, or the check solver's on an engine).
+  using SolveFrom = std::function<Solution(const Vec& z0)>;
+  void gamma3_starts(const ContactSolver& S, const std::string& name, double Us, const SolveFrom& solve_from);
   void load_path(ContactSolver& S, const std::string& name);
+  void engine_load_path(const std::string& name);
   void group();
   std::vector<int> random_abundances() const;
 };
@@ -360,7 +365,7 @@ void MinimaSearch::run_backend(std::unique_ptr<ContactSolver>& solver, const Sol
     record("exact-from-zero", name, S.solve(nullptr), t1);
     S.set_exact_start(o.exact_start);
   }
-  gamma3_starts(S, name, Us);
+  gamma3_starts(S, name, Us, [&](const Vec& z0) { return S.solve(&z0); });
   if (mopt.load_path_steps > 0) load_path(S, name);
   for (size_t i = 0; i < mopt.user_starts.size(); ++i) {
     const std::string label = "user-" + std::to_string(i + 1);
@@ -370,14 +375,84 @@ void MinimaSearch::run_backend(std::unique_ptr<ContactSolver>& solver, const Sol
   }
 }
 
+// Every start on the caller's engine (MinimaOptions::engine): zero (the engine's own start), the
+// Γ3 starts, the load path, the caller's starts; no "exact-from-zero", the in-process exact
+// solver's own path. The starts are u = T z from the check solver's unknowns: the full
+// formulation with ssn, which factorizes nothing at its set-up and serves the second-order check
+// (lagged_energy). Its U_s, which sets the random box and the check's smoothing widths, is the
+// zero start's largest |u| on Γ3 (the unconstrained elastic solution would be a solve of its own).
+void MinimaSearch::run_engine(std::unique_ptr<ContactSolver>& checks, const SolveOptions& opt) {
+  const MinimaOptions& mopt = R.options;
+  const std::string& name = mopt.engine_name;
+  auto t = clk::now();
+  Solution zero = mopt.engine(md, 1.0, nullptr);
+  double Us = 0;
+  for (Index k = 0; k < md.contact.size(); ++k)
+    Us = std::max({Us, std::abs(zero.state.u_nu[k]), std::abs(zero.state.u_tau[k])});
+  R.x_scale = Us > 0 ? Us : 1.0;
+  R.smallness = zero.smallness;
+  record("zero", name, std::move(zero), t);
+  SolveOptions o = opt;
+  o.engine = "cholmod";  // this process's solver, for the checks only
+  o.formulation = "full";
+  if (md.material->is_linear()) o.backend = SSN_BACKEND;
+  o.smallness = false;
+  o.x_scale = R.x_scale;
+  checks = std::make_unique<ContactSolver>(md, o);
+  const ContactSolver& S = *checks;
+  if (S.formulation().empty()) {
+    log_info() << "minima: linear problem, one solution; no further starts";
+    return;
+  }
+  const SolveFrom solve_from = [&](const Vec& z0) {
+    const Vec u = md.dofs.to_full(z0);
+    return mopt.engine(md, 1.0, &u);
+  };
+  gamma3_starts(S, name, R.x_scale, solve_from);
+  if (mopt.load_path_steps > 0) engine_load_path(name);
+  for (size_t i = 0; i < mopt.user_starts.size(); ++i) {
+    const std::string label = "user-" + std::to_string(i + 1);
+    const Vec z0 = user_start(S, md, mopt.user_starts[i], label);
+    const auto t1 = clk::now();
+    record(label, name, solve_from(z0), t1);
+  }
+}
+
+// load_path's steps on the engine: each load's model to judge on, u carried from step to step.
+void MinimaSearch::engine_load_path(const std::string& name) {
+  const int N = R.options.load_path_steps;
+  Vec u = Vec::Zero(md.dofs.n_full());
+  bool ok = true;
+  const auto step = [&](int i) {
+    const double scale = static_cast<double>(i) / N;
+    Solution s = i == N ? R.options.engine(md, 1.0, &u) : R.options.engine(scaled_model(md, scale), scale, &u);
+    u = s.u;
+    if (i != N && (!s.backend_ok || !s.fixed_point_converged)) ok = false;
+    return s;
+  };
+  const auto t1 = clk::now();
+  for (int i = 1; i < N; ++i) step(i);
+  Solution up = step(N);
+  if (!ok) up.message = "load path: an intermediate solve did not converge; " + up.message;
+  record("load-up", name, std::move(up), t1);
+  const auto t2 = clk::now();
+  ok = true;
+  for (int i = N + 1; i <= 2 * N; ++i) step(i);
+  for (int i = 2 * N - 1; i > N; --i) step(i);
+  Solution down = step(N);
+  if (!ok) down.message = "load path: an intermediate solve did not converge; " + down.message;
+  record("load-down", name, std::move(down), t2);
+}
+
 // Γ3 starts: at the gap, separated, random in the box.
-void MinimaSearch::gamma3_starts(ContactSolver& S, const std::string& name, double Us) {
+void MinimaSearch::gamma3_starts(const ContactSolver& S, const std::string& name, double Us,
+                                 const SolveFrom& solve_from) {
   const MinimaOptions& mopt = R.options;
   const Index nc = md.contact.size();
   const int d = md.dim();
   const auto run_from = [&](const std::string& label, const Vec& z0) {
     const auto t1 = clk::now();
-    record(label, name, S.solve(&z0), t1);
+    record(label, name, solve_from(z0), t1);
   };
   Vec c(d * nc);
   c.setZero();
@@ -505,7 +580,10 @@ MinimaReport find_minima(const Model& md, const SolveOptions& opt, const MinimaO
   MinimaSearch search{md, R, {}};
   // One solver for every backend, start and load step: factored (and condensed) once.
   std::unique_ptr<ContactSolver> solver;
-  for (const std::string& name : mopt.backends) search.run_backend(solver, opt, name);
+  if (mopt.engine)
+    search.run_engine(solver, opt);
+  else
+    for (const std::string& name : mopt.backends) search.run_backend(solver, opt, name);
   search.group();
   pair_mirror_images(md, R, mopt.group_tol);
   std::vector<int> abundance;

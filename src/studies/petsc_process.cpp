@@ -259,4 +259,16 @@ AdaptLevelEngine petsc_level_engine(const nlohmann::json& scene, const std::stri
   };
 }
 
+void petsc_minima_starts(const nlohmann::json& scene, const std::string& scene_dir, const SolveOptions& opt,
+                         MinimaOptions& mo) {
+  const nlohmann::json& loads = scene.at("loads");
+  const double scale = loads.contains("scale") ? loads.at("scale").get<double>() : 1.0;
+  mo.engine_name = "petsc engine";
+  mo.engine = [scene, scene_dir, scale, opt](const Model& scaled, double load_scale, const Vec* u_start) {
+    nlohmann::json s = scene;
+    s["loads"]["scale"] = scale * load_scale;
+    return PetscProcess(s, scene_dir)(scaled, opt, u_start);
+  };
+}
+
 }  // namespace hemicontact

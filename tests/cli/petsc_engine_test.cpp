@@ -152,12 +152,12 @@ TEST(PetscEngine, AutoChoosesTheEngineFromTheScenesSize) {
   fs::remove_all(dir);
 }
 
-// converge, minima and path run in the process (the cholmod engine: they need every field there).
 // Where `solve` would take the petsc engine automatically (a 3D box above petsc_above, lowered
-// here), their JSON's engine_choice and the log say so with solve's reason; below it they say
-// nothing of the kind. converge judges the reference mesh (n = 4: 375 unknowns), not the scene's.
-// minima and path restart one solver from many points in this process: the cholmod engine, saying
-// where `solve` would have taken the petsc engine (converge takes it: the next test).
+// here) and a command stays in this process, its JSON's engine_choice and the log say so with
+// solve's reason; below it they say nothing of the kind.
+// path restarts one solver from many points in this process: the cholmod engine, saying where
+// `solve` would have taken the petsc engine (converge takes it: the next test). minima has its own
+// threshold, solver.method_choice.petsc_restarts_above; --backends keeps it here, saying why.
 TEST(PetscEngine, InProcessCommandsSayWhereSolveWouldTakeThePetscEngine) {
   const fs::path dir = scratch("engine-in-process");
   const std::string scene = problem("sofonea2017-3d") + " --set output.vtu=false --set output.plot=false";
@@ -167,9 +167,20 @@ TEST(PetscEngine, InProcessCommandsSayWhereSolveWouldTakeThePetscEngine) {
     return std::make_pair(json::parse(slurp(dir / name / file)).at("engine_choice"), r.err);
   };
   const std::string low = " --set solver.method_choice.petsc_above=50";
-  for (const auto& [command, file, unknowns] :
-       {std::tuple{"minima " + scene + " --set mesh.n=2 --starts 1", "minima.json", "81"},
-        std::tuple{"path " + scene + " --set mesh.n=2 --steps 2", "path.json", "81"}}) {
+  // minima decides by its own threshold (MinimaRunsItsStartsOnThePetscEngineAboveItsThreshold);
+  // what needs this process keeps it there and says so.
+  const std::string minima = "minima " + scene + " --set mesh.n=2 --starts 1 --load-path-steps 1";
+  const auto [stays, stays_log] = study(minima + low, "minima.json", "minima-low");
+  EXPECT_EQ(stays.at("engine"), "cholmod");
+  EXPECT_NE(stays.at("reason").get<std::string>().find("< solver.method_choice.petsc_restarts_above"),
+            std::string::npos)
+      << stays.dump();
+  const auto [named, named_log] =
+      study(minima + " --set solver.method_choice.petsc_restarts_above=50 --backends ipopt", "minima.json", "named");
+  EXPECT_EQ(named.at("engine"), "cholmod");
+  EXPECT_NE(named.at("reason").get<std::string>().find("minima runs in this process (--backends"), std::string::npos)
+      << named.dump();
+  for (const auto& [command, file, unknowns] : {std::tuple{"path " + scene + " --set mesh.n=2 --steps 2", "path.json", "81"}}) {
     SCOPED_TRACE(command);
     const auto [above, log] = study(command + low, file, "above");
     EXPECT_EQ(above.at("engine"), "cholmod");
@@ -229,6 +240,61 @@ TEST(PetscEngine, ConvergeRunsThePetscEngineWhereSolveWould) {
     EXPECT_EQ(la.at("solved_by").get<std::string>().find("PETSc, 1 rank") != std::string::npos, petsc)
         << la.at("solved_by");
   }
+  fs::remove_all(dir);
+}
+
+// minima takes the petsc engine from solver.method_choice.petsc_restarts_above on: every start a
+// process of its own (zero: the engine's own start; the Γ3 starts and the load path from their u),
+// judged and second-order checked here. Against the same search in this process: the same
+// solution to the engines' agreement, both local minima (the full space's λ_min is not the
+// condensed one's, the sign is: Haynsworth), every run certified, no "exact-from-zero" run (the
+// in-process exact solver's own path), and minima-runs.csv readable with the engine's name,
+// commas and all, in one quoted field.
+TEST(PetscEngine, MinimaRunsItsStartsOnThePetscEngineAboveItsThreshold) {
+  const fs::path dir = scratch("minima-petsc");
+  const std::string search = "minima " + problem("sofonea2017-3d") +
+                             " --set mesh.n=4 --starts 2 --load-path-steps 2 --set output.vtu=false"
+                             " --set solver.method_choice.petsc_restarts_above=100 --out ";
+  const CliOutcome p = run_cli(dir, search + (dir / "petsc").string());
+  ASSERT_EQ(p.code, 0) << p.err;
+  const CliOutcome c = run_cli(dir, search + (dir / "cholmod").string() + " --set solver.engine='\"cholmod\"'");
+  ASSERT_EQ(c.code, 0) << c.err;
+  const json a = json::parse(slurp(dir / "petsc" / "minima.json"));
+  const json b = json::parse(slurp(dir / "cholmod" / "minima.json"));
+  EXPECT_EQ(a.at("engine_choice").at("engine"), "petsc") << a.at("engine_choice").dump();
+  EXPECT_NE(a.at("engine_choice").at("reason").get<std::string>().find("petsc_restarts_above"), std::string::npos);
+  ASSERT_EQ(a.at("solutions").size(), 1u) << a.at("solutions").dump();
+  ASSERT_EQ(b.at("solutions").size(), 1u);
+  const json &sa = a.at("solutions")[0], &sb = b.at("solutions")[0];
+  const double ea = sa.at("energy").get<double>(), eb = sb.at("energy").get<double>();
+  EXPECT_NEAR(ea, eb, 1e-8 * std::abs(eb));
+  EXPECT_EQ(sa.at("type"), "local minimum") << sa.at("second_order").dump();
+  EXPECT_EQ(sb.at("type"), "local minimum");
+  EXPECT_GT(sa.at("second_order").at("lambda_min").get<double>(), 0);
+  std::vector<std::string> starts;
+  for (const json& r : a.at("runs")) {
+    starts.push_back(r.at("start").get<std::string>());
+    EXPECT_TRUE(r.at("certified").get<bool>()) << r.dump();
+    EXPECT_EQ(r.at("backend"), "petsc engine");
+    EXPECT_NE(r.at("solved_by").get<std::string>().find("PETSc"), std::string::npos) << r.dump();
+  }
+  EXPECT_EQ(starts, (std::vector<std::string>{"zero", "at-gap", "separated", "random-1", "random-2", "load-up",
+                                              "load-down"}));
+  // minima-runs.csv: ten fields on every row, the quoted ones read whole.
+  std::istringstream csv(slurp(dir / "petsc" / "minima-runs.csv"));
+  std::string line;
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    int fields = 1;
+    bool quoted = false;
+    for (const char ch : line) {
+      if (ch == '"') quoted = !quoted;
+      if (ch == ',' && !quoted) ++fields;
+    }
+    EXPECT_EQ(fields, 10) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 8);  // the header and seven runs
   fs::remove_all(dir);
 }
 

@@ -197,8 +197,8 @@ def test_solve_and_converge_take_the_engine_solve_would():
     solver.method_choice.petsc_above (lowered here) a 3D box goes to the petsc engine, run as a
     process of its own (hemicontact-mpi --stream), whose u this process judges; it must be the
     cholmod engine's answer to the engines' agreement (1e-8: both end on the unsmoothed
-    conditions, solved to round-off on the same statuses). minima stays on the cholmod engine and
-    says where solve would have taken the petsc engine."""
+    conditions, solved to round-off on the same statuses). minima decides by its own threshold,
+    solver.method_choice.petsc_restarts_above."""
     scene = hc.Scene.load(SOURCE / "problems" / "sofonea2017-3d.json")
     scene["mesh.n"] = 2
     plain = hc.solve(scene)
@@ -218,8 +218,15 @@ def test_solve_and_converge_take_the_engine_solve_would():
     conv = hc.converge(scene, levels=[2], reference=4)
     assert conv["engine_choice"]["engine"] == "petsc" and "3D box of 375 unknowns" in conv["engine_choice"]["reason"]
     assert "PETSc, 1 rank" in conv["reference"]["solved_by"] and conv["ok"]
+    # minima has its own threshold (a search restarts one solver: the in-process factorization
+    # serves every start), as the CLI's; above it, every start on the petsc engine, judged here.
     minima = hc.minima(scene, starts=1).report["engine_choice"]
-    assert minima["engine"] == "cholmod" and "would take the petsc engine: 3D box of 81 unknowns" in minima["reason"]
+    assert minima["engine"] == "cholmod" and "< solver.method_choice.petsc_restarts_above" in minima["reason"]
+    scene["solver.method_choice.petsc_restarts_above"] = 50
+    found = hc.minima(scene, starts=1, load_path_steps=1)
+    assert found.report["engine_choice"]["engine"] == "petsc", found.report["engine_choice"]
+    assert all(r["certified"] and r["backend"] == "petsc engine" for r in found.report["runs"])
+    assert found.report["solutions"][0]["energy"] == pytest.approx(plain.energy, rel=1e-8)
     # With adaptive refinement the loop runs here and says so; each level chooses its own engine.
     scene["adapt.target_error"] = 0.6
     adaptive = hc.solve(scene).report["engine_choice"]

@@ -5,6 +5,7 @@
 // kept. The engine's availability is passed in: these rules hold whether or not it is built.
 #include <hemicontact/solver/engine_choice.hpp>
 
+#include <hemicontact/core/error.hpp>
 #include <hemicontact/scene/config.hpp>
 
 #include <gtest/gtest.h>
@@ -74,6 +75,33 @@ TEST(LevelEngine, GivenOrCholmodOnlySettingsAndAMissingEngineKeepTheirEngine) {
   LevelNumbers flat = over;
   flat.dim = 2;
   EXPECT_EQ(choose_level_engine(box_scene(), flat, true).engine, "cholmod");
+}
+
+// minima's engine: choose_engine's rule at petsc_restarts_above (a search restarts one solver
+// many times: the in-process factorization serves every start), the cholmod engine where
+// --backends or --barriers need the in-process solver, and a given petsc with either refused.
+TEST(MinimaEngine, RestartsHaveTheirOwnThresholdAndInProcessNeedsKeepCholmod) {
+  // n = 8: 2 187 unknowns. solve's threshold 1 000 would take the petsc engine; minima's 80 000 not.
+  const nlohmann::json s = box_scene("solver.method_choice.petsc_above=1000");
+  EXPECT_EQ(choose_engine(s, ".", true, false).engine, "petsc");
+  const EngineChoice low = minima_engine(s, ".", true, false, false);
+  EXPECT_EQ(low.engine, "cholmod");
+  EXPECT_NE(low.reason.find("< solver.method_choice.petsc_restarts_above = 8e+04"), std::string::npos) << low.reason;
+  const nlohmann::json big = box_scene("solver.method_choice.petsc_restarts_above=1000");
+  const EngineChoice p = minima_engine(big, ".", true, false, false);
+  EXPECT_EQ(p.engine, "petsc");
+  EXPECT_TRUE(p.automatic);
+  EXPECT_EQ(minima_engine(big, ".", false, false, false).engine, "cholmod");  // not built
+  for (const bool backends : {true, false}) {
+    const EngineChoice here = minima_engine(big, ".", true, backends, !backends);
+    EXPECT_EQ(here.engine, "cholmod");
+    EXPECT_NE(here.reason.find(backends ? "--backends" : "--barriers"), std::string::npos) << here.reason;
+    EXPECT_NE(here.reason.find("petsc_restarts_above"), std::string::npos) << here.reason;
+  }
+  const nlohmann::json given = box_scene("solver.engine=\"petsc\"");
+  EXPECT_EQ(minima_engine(given, ".", true, false, false).engine, "petsc");
+  EXPECT_THROW(minima_engine(given, ".", true, true, false), Error);
+  EXPECT_THROW(minima_engine(given, ".", true, false, true), Error);
 }
 
 }  // namespace

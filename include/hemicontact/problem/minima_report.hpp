@@ -16,6 +16,7 @@
 namespace hemicontact {
 
 struct MinimaRun;
+struct Model;
 
 /// The ranges of the minima search's counts, the CLI's (`minima --starts ...`) and the Python
 /// module's alike. Each start is a full solve, so 10 000 starts are hours at n = 64 already, and
@@ -52,6 +53,13 @@ struct MinimaOptions {
   /// them as they come (the CLI: minima-runs.csv), so that an interrupted search loses only the
   /// run it was in. The driver knows no files.
   std::function<void(const std::vector<MinimaRun>& runs_so_far)> on_run;
+  /// Where set, every start is solved by this engine instead of the in-process solver (the CLI:
+  /// the petsc engine, a process of its own, where `solve` would take it): the model with its
+  /// loads × @p load_scale (the load path) to judge on, and the whole mesh's u to start from
+  /// (null: the engine's own start). The backends are then the engine's; the second-order check
+  /// stays here (studies/minima.hpp).
+  std::function<Solution(const Model& scaled, double load_scale, const Vec* u_start)> engine;
+  std::string engine_name;  ///< the runs' backend column where engine is set ("ssn on the petsc engine")
 };
 
 

@@ -153,6 +153,13 @@ struct MethodChoiceOptions {
   /// 1.8 s condensed, n = 24 2.7 against 4.7 s, n = 32 4.2 against 21 s; at n = 8 (2 187) the two
   /// differ by noise. 10 000: from n = 14 on.
   double petsc_above = 10000;
+  /// minima's solver.engine = auto: its starts go to the petsc engine (a process each, judged
+  /// here) for a 3D mesh of at least this many unknowns; below, the cholmod engine in this process,
+  /// whose factorization (condensed: the Γ3 Schur complement) serves every start. Measured on the
+  /// 3D scene, `--starts 2 --load-path-steps 2`, whole process (docs/solver.md): n = 24 (46 875
+  /// unknowns) 39.5 against 33.0 s with 4 starts and 10 steps, n = 28 (73 167) 27.1 against
+  /// 25.7 s, n = 32 (107 811) 41.8 against 55.6 s and 1.14 against 1.64 GB.
+  double petsc_restarts_above = 80000;
   /// The condensed path's dense Γ3 matrices (L_CC, S, the condensed energy's dense Hessian and the
   /// solvers' copies: 7 · 8 m² bytes, from the strip's 940 MB peak at m = 4002) may use at most this
   /// fraction of the memory available to the process (physical memory free, or the address-space
@@ -203,6 +210,10 @@ struct SolveOptions {
   double certificate_tol = 1e-8;     ///< acceptance tolerance of the certificate
   double status_tol = 1e-8;          ///< status decisions, relative to U
   bool smallness = true;             ///< evaluate the smallness condition (21)
+  /// U_s given by the caller (no scene key): the scale of the smoothing widths and of the NLP
+  /// where this process has no unconstrained elastic solution to take it from (minima's starts on
+  /// the petsc engine judged by an in-process ssn solver); 0: max |K⁻¹f| as the set-up finds it.
+  double x_scale = 0;
   /// How (21) is decided (check/smallness.hpp): "auto" brackets λ_{1,ν}, λ_{1ν,ν} by the eigenvalues
   /// of the solver's own condensed stiffness (free: no factorization) and computes them exactly
   /// (one more sparse factorization) only when the bracket cannot decide; "exact" always does.

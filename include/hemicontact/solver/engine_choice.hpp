@@ -61,15 +61,24 @@ struct LevelNumbers {
 /// first level (the scene's own, uniform mesh) is decided as choose_engine decides it. A given
 /// solver.engine stays given; what only the cholmod engine has keeps it (choose_engine's rules).
 EngineChoice choose_level_engine(const nlohmann::json& scene, const LevelNumbers& n, bool petsc_built);
-/// The engine of a command that restarts one solver from many points in this process (minima,
-/// path, and the Python module's): the cholmod engine, whose method choice (condensed or full) it
-/// uses. (converge and the module's solve take choose_engine's, the petsc engine streamed back:
+/// The engine of a command that restarts one solver from many points in this process (path, the
+/// Python module's path; minima where it stays in this process, minima_engine): the cholmod engine,
+/// whose method choice (condensed or full) it uses. (converge and the module's solve take choose_engine's, the petsc engine streamed back:
 /// studies/petsc_process.hpp.) Where `hemicontact solve` would
 /// have taken the petsc engine automatically, the reason says so, with choose_engine's numbers,
 /// so that a slow in-process 3D run says where the fast one is.
 /// @param command the command's name, for the reason ("minima", "path", "the Python module's minima", ...)
 EngineChoice in_process_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
                                const std::string& command);
+/// minima's engine: choose_engine's rule with solver.method_choice.petsc_restarts_above for its
+/// threshold (a search restarts one solver many times: the in-process factorization, made once,
+/// serves every start), or solver.engine = petsc given. On the petsc engine every start is a
+/// process of its own (studies/petsc_process.hpp), judged and second-order checked here
+/// (MinimaOptions::engine). The cholmod engine in this process where --backends names backends
+/// or --barriers asks for the barriers, which both need the in-process solver, the reason saying
+/// so; a given petsc with either is refused (EXIT_INPUT), naming why.
+EngineChoice minima_engine(const nlohmann::json& scene, const std::string& scene_dir, bool petsc_built,
+                           bool backends_named, bool barriers);
 /// The log's "engine ... (auto): reason" line, when the choice was automatic.
 void log_engine_choice(const EngineChoice& c);
 /// report.json's engine_choice.

@@ -7,6 +7,7 @@
 /// those of this model, whatever ran. A process of its own because this one links Ipopt, whose
 /// MUMPS defines stub MPI symbols that would take the real MPI's place (src/cli/cli.cpp).
 
+#include <hemicontact/problem/minima_report.hpp>
 #include <hemicontact/solver/adapt.hpp>
 #include <hemicontact/studies/scene_solve.hpp>
 
@@ -44,6 +45,12 @@ class PetscProcess {
   nlohmann::json scene_;  // the engine's: solver.engine = petsc, no files, mesh.file absolute
   std::shared_ptr<nlohmann::json> report_ = std::make_shared<nlohmann::json>();
 };
+
+/// minima's starts on the petsc engine (MinimaOptions::engine, engine_name): each a PetscProcess
+/// on @p scene with its loads.scale × the load path's factor, judged here on the scaled model at
+/// @p opt's tolerances. For the CLI's minima and the Python module's alike (minima_engine).
+void petsc_minima_starts(const nlohmann::json& scene, const std::string& scene_dir, const SolveOptions& opt,
+                         MinimaOptions& mo);
 
 /// @return the engine `hemicontact solve` would take for the effective @p scene (choose_engine,
 /// no adaptive refinement): a PetscProcess where it takes the petsc engine (logged as "@p what:
