@@ -161,11 +161,12 @@ EngineChoice minima_engine(const nlohmann::json& scene, const std::string& scene
                           : barriers     ? "--barriers needs the in-process solver's energy landscape"
                                          : "";
   if (asked == "petsc" && !why.empty()) input_error("minima: solver.engine = petsc, but " + why + "; drop one of them");
+  if (asked == "petsc" && !petsc_built) input_error("minima: solver.engine = petsc: " + petsc_engine_missing());
   if (asked != "auto") return {asked, false, "solver.engine = " + asked + " (given)"};
   const EngineChoice c = choose_by_size(scene, scene_size(scene.at("mesh"), scene_dir), petsc_built,
                                         adapt_requested(scene), "petsc_restarts_above");
   if (c.engine != "petsc" || why.empty()) return c;
-  return {"cholmod", true, "minima runs in this process (" + why + "); else: " + c.reason};
+  return {"cholmod", true, "minima runs in this process (" + why + "); otherwise: " + c.reason};
 }
 
 void log_engine_choice(const EngineChoice& c) {

@@ -23,7 +23,9 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
@@ -90,7 +92,7 @@ SpMat reduced_lower(const SpMat& H, const std::vector<Index>& idx, Index n) {
 // λ_min of the reduced Hessian H_r without a dense matrix: H_r + σI is positive definite for
 // σ > α · max w, α the normal law's softening (one-sided Lipschitz constant of p_ν, (21)'s α_jν):
 // the only part of H_r below the elastic stiffness is w_k j_ν'' ≥ −α w_k (friction's is ≥ 0).
-// One sparse Cholesky of H_r + σI (σ doubled where round-off or the smoothing still leave it
+// One sparse Cholesky of H_r + σI (σ times 4 where round-off or the smoothing still leave it
 // indefinite) and Lanczos on its inverse, whose largest eigenvalue is 1/(λ_min + σ).
 // False with @p note where it cannot say.
 bool sparse_lambda_min(const SpMat& Hr, const Model& md, double tau, const SolveOptions& opt, double& lambda_min,
@@ -126,9 +128,6 @@ bool sparse_lambda_min(const SpMat& Hr, const Model& md, double tau, const Solve
   return false;
 }
 
-}  // namespace
-
-namespace {
 // The verdict from c.lambda_min, dense or sparse alike: a local minimum where λ_min ≥ −tol · scale.
 SecondOrderCheck second_order_verdict(SecondOrderCheck c, const MinimaOptions& mopt, const std::string& how) {
   c.verdict = c.lambda_min >= -mopt.second_order_tol * c.scale ? "local minimum" : "saddle";
@@ -283,6 +282,7 @@ struct MinimaSearch {
   void gamma3_starts(const ContactSolver& S, const std::string& name, double Us, const SolveFrom& solve_from);
   void load_path(ContactSolver& S, const std::string& name);
   void engine_load_path(const std::string& name);
+  void load_path_legs(const std::string& name, const std::function<Solution(double)>& solve_at);
   void group();
   std::vector<int> random_abundances() const;
 };
@@ -418,30 +418,14 @@ void MinimaSearch::run_engine(std::unique_ptr<ContactSolver>& checks, const Solv
   }
 }
 
-// load_path's steps on the engine: each load's model to judge on, u carried from step to step.
+// The load path on the engine: each load's model to judge on, u carried from step to step.
 void MinimaSearch::engine_load_path(const std::string& name) {
-  const int N = R.options.load_path_steps;
   Vec u = Vec::Zero(md.dofs.n_full());
-  bool ok = true;
-  const auto step = [&](int i) {
-    const double scale = static_cast<double>(i) / N;
-    Solution s = i == N ? R.options.engine(md, 1.0, &u) : R.options.engine(scaled_model(md, scale), scale, &u);
+  load_path_legs(name, [&](double scale) {
+    Solution s = scale == 1 ? R.options.engine(md, 1.0, &u) : R.options.engine(scaled_model(md, scale), scale, &u);
     u = s.u;
-    if (i != N && (!s.backend_ok || !s.fixed_point_converged)) ok = false;
     return s;
-  };
-  const auto t1 = clk::now();
-  for (int i = 1; i < N; ++i) step(i);
-  Solution up = step(N);
-  if (!ok) up.message = "load path: an intermediate solve did not converge; " + up.message;
-  record("load-up", name, std::move(up), t1);
-  const auto t2 = clk::now();
-  ok = true;
-  for (int i = N + 1; i <= 2 * N; ++i) step(i);
-  for (int i = 2 * N - 1; i > N; --i) step(i);
-  Solution down = step(N);
-  if (!ok) down.message = "load path: an intermediate solve did not converge; " + down.message;
-  record("load-down", name, std::move(down), t2);
+  });
 }
 
 // Γ3 starts: at the gap, separated, random in the box.
@@ -490,36 +474,44 @@ void MinimaSearch::gamma3_starts(const ContactSolver& S, const std::string& name
 
 // Load path up (1/N … 1), then on to 2 and back down to 1; warm starts all the way.
 void MinimaSearch::load_path(ContactSolver& S, const std::string& name) {
-  const int N = R.options.load_path_steps;
-  const auto t1 = clk::now();
   Vec z = Vec::Zero(S.size());
-  bool ok = true;
-  const auto step = [&](int i) {  // solve at load factor i/N from z (i = N: the model itself)
-    if (i == N) {
-      Solution s = S.solve(&z);
-      z = S.to_unknowns(s.x);
-      return s;
+  load_path_legs(name, [&](double scale) {  // from z, at loads × scale (1: the model itself)
+    std::optional<Model> scaled;  // outlives the solve: set_loads keeps a reference
+    if (scale != 1) {
+      scaled = scaled_model(md, scale);
+      S.set_loads(*scaled, scale);  // same factorization, scaled loads
     }
-    const double scale = static_cast<double>(i) / N;
-    const Model ms = scaled_model(md, scale);
-    S.set_loads(ms, scale);  // same factorization, scaled loads
     Solution s = S.solve(&z);
-    S.set_loads(md, 1.0);
+    if (scale != 1) S.set_loads(md, 1.0);
     z = S.to_unknowns(s.x);
-    if (!s.backend_ok || !s.fixed_point_converged) ok = false;
+    return s;
+  });
+}
+
+// The load path's schedule, one definition for both: up (1/N … 1), then on to 2 and back down to
+// 1, recorded at 1 on the way up and on the way down; @p solve_at(scale) solves at loads × scale
+// from the previous step's answer.
+void MinimaSearch::load_path_legs(const std::string& name, const std::function<Solution(double)>& solve_at) {
+  const int N = R.options.load_path_steps;
+  bool ok = true;
+  const auto step = [&](int i) {
+    Solution s = solve_at(static_cast<double>(i) / N);
+    if (i != N && (!s.backend_ok || !s.fixed_point_converged)) ok = false;
     return s;
   };
+  const auto leg_end = [&](const std::string& label, clk::time_point t) {
+    Solution end = step(N);
+    if (!ok) end.message = "load path: an intermediate solve did not converge; " + end.message;
+    record(label, name, std::move(end), t);
+    ok = true;
+  };
+  const auto t1 = clk::now();
   for (int i = 1; i < N; ++i) step(i);
-  Solution up = step(N);
-  if (!ok) up.message = "load path: an intermediate solve did not converge; " + up.message;
-  record("load-up", name, std::move(up), t1);
+  leg_end("load-up", t1);
   const auto t2 = clk::now();
-  ok = true;
   for (int i = N + 1; i <= 2 * N; ++i) step(i);
   for (int i = 2 * N - 1; i > N; --i) step(i);
-  Solution down = step(N);
-  if (!ok) down.message = "load path: an intermediate solve did not converge; " + down.message;
-  record("load-down", name, std::move(down), t2);
+  leg_end("load-down", t2);
 }
 
 // Group: greedy, against each group's first member (its anchor), in run order; each group's

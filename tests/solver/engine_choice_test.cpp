@@ -102,6 +102,7 @@ TEST(MinimaEngine, RestartsHaveTheirOwnThresholdAndInProcessNeedsKeepCholmod) {
   EXPECT_EQ(minima_engine(given, ".", true, false, false).engine, "petsc");
   EXPECT_THROW(minima_engine(given, ".", true, true, false), Error);
   EXPECT_THROW(minima_engine(given, ".", true, false, true), Error);
+  EXPECT_THROW(minima_engine(given, ".", false, false, false), Error);  // given, not built
 }
 
 }  // namespace
