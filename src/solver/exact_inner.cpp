@@ -205,12 +205,27 @@ ActiveSet active_set(const ExactInnerProblem& P, const Vec& x) {
   return A;
 }
 
+}  // namespace
+
+// The reduced Hessian's factor of the active set `cached` (ExactInnerFactor).
+struct ExactInnerFactor::Impl {
+  ActiveSet cached;
+  Eigen::LLT<Mat> llt;
+  Eigen::LDLT<Mat> ldlt;
+  bool factored = false, use_llt = false;
+};
+ExactInnerFactor::ExactInnerFactor() : m(std::make_unique<Impl>()) {}
+ExactInnerFactor::~ExactInnerFactor() = default;
+
+namespace {
+
 // The state of one exact_inner_solve: x and r = S (x − y) (kept together), Φ_λ(x), and the
-// reduced Hessian's factor kept across Newton steps.
+// reduced Hessian's factor kept across Newton steps (and, given one, across solves).
 class InnerSolver {
  public:
-  InnerSolver(const ExactInnerProblem& P, Vec& x, const ExactInnerOptions& opt, ExactInnerResult& R)
-      : P(P), S(*P.S), d(P.d), nc(P.w.size()), m(d * nc), x(x), opt(opt), R(R) {}
+  InnerSolver(const ExactInnerProblem& P, Vec& x, const ExactInnerOptions& opt, ExactInnerResult& R,
+              ExactInnerFactor::Impl& F)
+      : P(P), S(*P.S), d(P.d), nc(P.w.size()), m(d * nc), x(x), opt(opt), R(R), F(F) {}
   void start();
   bool sweep();
   bool newton();
@@ -231,12 +246,9 @@ class InnerSolver {
   Vec& x;
   const ExactInnerOptions& opt;
   ExactInnerResult& R;
+  ExactInnerFactor::Impl& F;  // a factor of the reduced Hessian of F.cached
   Vec r;
   double E = 0;
-  ActiveSet cached;
-  Eigen::LLT<Mat> llt;
-  Eigen::LDLT<Mat> ldlt;
-  bool factored = false, use_llt = false;  // a factor of the reduced Hessian of `cached`
 };
 
 void InnerSolver::start() {
@@ -321,7 +333,7 @@ Vec InnerSolver::piece_gradient(const ActiveSet& A,
 // reduced Hessian depends only on the active set, so its factorization is kept while the set
 // stays the same. False if neither factors.
 bool InnerSolver::factor(const ActiveSet& A, const std::vector<std::pair<Index, Eigen::Matrix2d>>& slip_blocks) {
-  const bool reuse = d == 2 && factored && A == cached;
+  const bool reuse = d == 2 && F.factored && A == F.cached;
   if (reuse) return true;
   const Index nf = static_cast<Index>(A.free.size());
   Mat H(nf, nf);
@@ -339,12 +351,12 @@ bool InnerSolver::factor(const ActiveSet& A, const std::vector<std::pair<Index, 
       for (int b = 0; b < 2; ++b)
         if (pos[i + a] >= 0 && pos[i + b] >= 0) H(pos[i + a], pos[i + b]) += B(a, b);
   ++R.factorizations;
-  cached = A;
-  llt.compute(H);
-  use_llt = llt.info() == Eigen::Success;
-  if (!use_llt) ldlt.compute(H);
-  factored = use_llt || ldlt.info() == Eigen::Success;
-  return factored;
+  F.cached = A;
+  F.llt.compute(H);
+  F.use_llt = F.llt.info() == Eigen::Success;
+  if (!F.use_llt) F.ldlt.compute(H);
+  F.factored = F.use_llt || F.ldlt.info() == Eigen::Success;
+  return F.factored;
 }
 
 // Backtracking on Φ_λ along the free unknowns' direction dF; true if a step was taken.
@@ -399,16 +411,18 @@ bool InnerSolver::newton() {
   if (!factor(A, slip_blocks)) return false;
   Vec gF(nf);
   for (Index a = 0; a < nf; ++a) gF[a] = G[A.free[a]];
-  const Vec dF = use_llt ? Vec(llt.solve(-gF)) : Vec(ldlt.solve(-gF));
+  const Vec dF = F.use_llt ? Vec(F.llt.solve(-gF)) : Vec(F.ldlt.solve(-gF));
   if (!dF.allFinite() || !(dF.dot(gF) < 0)) return false;  // not a descent direction (softening)
   return line_search(A, dF);
 }
 
 }  // namespace
 
-ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const ExactInnerOptions& opt) {
+ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const ExactInnerOptions& opt,
+                                   ExactInnerFactor* keep) {
   ExactInnerResult R;
-  InnerSolver solver(P, x, opt, R);
+  ExactInnerFactor own;
+  InnerSolver solver(P, x, opt, R, keep ? *keep->m : *own.m);
   solver.start();
   double& E = solver.energy();
   for (R.rounds = 1; R.rounds <= opt.max_rounds; ++R.rounds) {

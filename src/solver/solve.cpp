@@ -1038,11 +1038,12 @@ void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& re
   P.lambda = coupling.bounds(x);
   Anderson aa(opt.anderson_memory);
   double best = INF, floor_ref = INF;
+  ExactInnerFactor factor;  // kept across the λ updates (2D: where the statuses stay, no refactorization)
   for (int it = 0; it < opt.max_outer; ++it) {
     check_interrupt();
     P.traction_scale = coupling.scale(x, P.lambda);
     const auto ti = clk::now();
-    const ExactInnerResult R = exact_inner_solve(P, x, opt.exact_inner);
+    const ExactInnerResult R = exact_inner_solve(P, x, opt.exact_inner, &factor);
     OuterIteration rec = inner_solve_record(H, R, run.k_total++, stage, since(ti));
     rec.change_u = rel_change(x, x_prev);
     x_prev = x;

@@ -100,6 +100,37 @@ TEST(ExactInner, MinimizesTheUnsmoothedEnergy3D) {
 // One node, S diagonal: the exact answer in closed form. Normal: S_νν (x − y_ν) + w p(x) = 0 with
 // p on its piece; y_ν = 0.5 beyond g = 0.15 → contact x_ν = g; tangential: soft threshold
 // x_τ = y_τ − w λ/S_ττ·sign (slip) or 0 (stick when |S_ττ y_τ| ≤ w λ).
+// A kept factor (ExactInnerFactor, the outer loop's λ updates): in 2D a second solve with λ moved
+// slightly, from the first answer, needs no factorization where its statuses stay, and lands on the
+// same minimizer as a solve that factors afresh; a λ that moves the statuses (friction off: every
+// stick node slips) factors again where its Newton steps need it, and still lands where a fresh
+// solve does: no stale factor is used.
+TEST(ExactInner, AKeptFactorServesTheNextLambdaWhereTheStatusesStay) {
+  int refactored = 0;
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    Random r = random_problem(seed, 2, 12, 200.0, 0.5, 0.15);
+    r.P.law = &r.law;
+    ExactInnerFactor keep;
+    Vec x = Vec::Zero(r.S.rows());
+    ASSERT_TRUE(exact_inner_solve(r.P, x, {}, &keep).converged);
+    r.P.lambda *= 1 + 1e-9;  // a converging outer loop's last update
+    Vec kept = x, fresh = x;
+    const ExactInnerResult K = exact_inner_solve(r.P, kept, {}, &keep);
+    const ExactInnerResult F = exact_inner_solve(r.P, fresh);
+    ASSERT_TRUE(K.converged && F.converged) << K.note << F.note;
+    EXPECT_EQ(K.factorizations, 0) << "seed " << seed;
+    EXPECT_EQ(K.newton_steps, F.newton_steps);
+    EXPECT_LE((kept - fresh).cwiseAbs().maxCoeff(), 1e-12 * (1 + fresh.cwiseAbs().maxCoeff())) << "seed " << seed;
+    r.P.lambda.setZero();
+    Vec moved = x, moved_fresh = x;
+    const ExactInnerResult M = exact_inner_solve(r.P, moved, {}, &keep);
+    ASSERT_TRUE(M.converged && exact_inner_solve(r.P, moved_fresh).converged) << M.note;
+    EXPECT_LE((moved - moved_fresh).cwiseAbs().maxCoeff(), 1e-12 * (1 + moved_fresh.cwiseAbs().maxCoeff()));
+    refactored += M.factorizations;
+  }
+  EXPECT_GT(refactored, 0);
+}
+
 TEST(ExactInner, SingleNodeClosedForms) {
   const PiecewiseLinearLaw law = PiecewiseLinearLaw::paper(100, -100, 400, 0.1, 0.15);
   Mat S = Mat::Zero(2, 2);

@@ -34,6 +34,7 @@
 #include <hemicontact/problem/reports.hpp>
 #include <hemicontact/problem/solve_options.hpp>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -73,8 +74,24 @@ double exact_inner_energy(const ExactInnerProblem& P, const Vec& x);
 /// max(0, |σ_τ| − λ) where x_τ = 0, |σ_τ + λ x_τ/|x_τ|| elsewhere; wσ = S(x − y).
 double exact_inner_residual(const ExactInnerProblem& P, const Vec& x);
 
-/// Minimize Φ_λ from @p x (projected on the bounds first); @p x returns the answer.
-ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const ExactInnerOptions& opt = {});
+/// The reduced Hessian's factor, kept from one exact_inner_solve to the next on the same problem
+/// but λ (the outer loop's λ updates): in 2D it depends on the active set alone (|x_τ| has no
+/// curvature off 0), so an update whose statuses stay needs no new factorization. Opaque.
+class ExactInnerFactor {
+ public:
+  ExactInnerFactor();
+  ~ExactInnerFactor();
+  ExactInnerFactor(const ExactInnerFactor&) = delete;
+  ExactInnerFactor& operator=(const ExactInnerFactor&) = delete;
+  struct Impl;
+  std::unique_ptr<Impl> m;
+};
+
+/// Minimize Φ_λ from @p x (projected on the bounds first); @p x returns the answer. @p keep: the
+/// factor of the previous solve of this problem (S, w, g, law, fixed the same; λ may differ), used
+/// where its active set comes back, and left with this solve's.
+ExactInnerResult exact_inner_solve(const ExactInnerProblem& P, Vec& x, const ExactInnerOptions& opt = {},
+                                   ExactInnerFactor* keep = nullptr);
 
 /// Decide InnerConvexity (problem/reports.hpp): one dense Cholesky of S − α W_ν (positive definite or not), then, when
 /// it is, the smallest eigenvalue by inverse iteration on that factor (each step one pair of
