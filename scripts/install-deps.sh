@@ -15,6 +15,7 @@ pkgs=(
   libeigen3-dev          # Eigen 3.4: dense/sparse linear algebra
   libsuitesparse-dev     # CHOLMOD (supernodal sparse Cholesky), METIS ordering
   libopenblas0-pthread   # CHOLMOD's supernodes are BLAS-bound; reference BLAS is 2-5x slower
+  liblapack-dev          # LAPACK, linked by name: CHOLMOD's, and dlauum for S = L_CC L_CCᵀ
   coinor-libipopt-dev    # Ipopt 3.11.9 with MUMPS: the design's NLP backend
   libnlopt-cxx-dev       # NLopt 2.7: alternative local/global NLP backends
   nlohmann-json3-dev     # scene files and report.json
