@@ -21,7 +21,9 @@ Gamma3 nodes: each row runs the exact command the study records).
 Each row: wall time (CPU seconds, user + system, in parentheses: less sensitive to a loaded
 machine) and peak memory of every method, the fastest, what auto chose, auto's time over the
 fastest's, whether each run was certified, and the largest relative energy difference to auto's.
-A run past --timeout seconds is killed and shown as "> T". Writes DIR/method_choice.md and .json.
+A row's methods take turns (one process of each per round, best of --repeats, --min-time), so a
+drift of the machine's speed reaches all of them alike. A run past --timeout seconds is killed and
+shown as "> T". Writes DIR/method_choice.md and .json.
 
   python3 bench/method_choice.py --build build --repeats 2 --out /tmp/method-choice
   python3 bench/method_choice.py --build build --only strip --out /tmp/mc   # one family
@@ -133,24 +135,29 @@ REPEAT_BELOW = 2.0  # seconds: only runs this short are repeated (their noise is
 MAX_REPEATS = 60    # a cap on --min-time's repeats (60 runs of a 10 ms process: 0.6 s)
 
 
-def run_one(build, scene, overrides, method, timeout, repeats, min_time=0.0):
-    """The best by wall time of @p repeats whole processes, and of more while their wall times add
+def run_interleaved(build, scene, overrides, methods, timeout, repeats, min_time=0.0):
+    """Each of @p methods' best by wall time, its whole processes taken in turns (one of each
+    method per round, so that a drift of the machine's speed reaches every method alike instead of
+    the one measured while it lasted): @p repeats of them, and more while a method's wall times add
     up to less than @p min_time seconds (at most MAX_REPEATS; as a benchmark library's minimum time:
     the best of a 20 ms process needs more samples than that of a 2 s one); one where the first took
-    REPEAT_BELOW seconds or more: (seconds, CPU seconds, peak MB, report, note)."""
-    best = None
-    spent = 0.0
-    for i in range(MAX_REPEATS):
-        if i >= max(1, repeats) and spent >= min_time:
-            break
-        r = run_process(build, scene, overrides, method, timeout)
-        if r[0] is None:
-            return r
-        spent += r[0]
-        if best is None or r[0] < best[0]:
-            best = r
-        if r[0] >= REPEAT_BELOW:
-            break
+    REPEAT_BELOW seconds or more. {method: (seconds, CPU seconds, peak MB, report, note)}."""
+    best, spent, count = {}, {m: 0.0 for m in methods}, {m: 0 for m in methods}
+    todo = list(methods)
+    while todo:
+        for method in list(todo):
+            r = run_process(build, scene, overrides, method, timeout)
+            count[method] += 1
+            if r[0] is None:  # timed out or failed to time: that is its result
+                best[method] = r
+                todo.remove(method)
+                continue
+            spent[method] += r[0]
+            if method not in best or r[0] < best[method][0]:
+                best[method] = r
+            if r[0] >= REPEAT_BELOW or count[method] >= MAX_REPEATS or (
+                    count[method] >= max(1, repeats) and spent[method] >= min_time):
+                todo.remove(method)
     return best
 
 
@@ -194,10 +201,10 @@ def measure(build, scene_rows, timeout, repeats, min_time=0.0):
     results = []
     for family, name, scene, overrides, linear in scene_rows:
         row = {"family": family, "scene": name, "runs": {}}
-        for method in METHODS:
-            if method == "condensed" and not linear:
-                continue
-            secs, cpu, mb, rep, note = run_one(build, scene, overrides, method, timeout, repeats, min_time)
+        methods = [m for m in METHODS if linear or m != "condensed"]
+        best = run_interleaved(build, scene, overrides, methods, timeout, repeats, min_time)
+        for method in methods:
+            secs, cpu, mb, rep, note = best[method]
             r = {"seconds": secs, "cpu_seconds": cpu, "peak_mb": mb, "note": note}
             if rep:
                 r["certified"] = bool(rep.get("certificate", {}).get("passed"))
@@ -258,7 +265,8 @@ def main():
     ap.add_argument("--random-keep", type=int, default=4, help="how many random scenes (the largest)")
     ap.add_argument("--timeout", type=float, default=120)
     ap.add_argument("--repeats", type=int, default=1,
-                    help="best of this many processes by wall time (runs under %g s only)" % REPEAT_BELOW)
+                    help="best of this many processes by wall time (runs under %g s only; a row's methods "
+                         "take turns)" % REPEAT_BELOW)
     ap.add_argument("--min-time", type=float, default=0.0,
                     help="repeat a run under %g s beyond --repeats until its runs add up to this many "
                          "seconds (at most %d runs)" % (REPEAT_BELOW, MAX_REPEATS))
