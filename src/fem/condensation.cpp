@@ -254,14 +254,6 @@ Condensation::Condensation(const SpMat& K, Index m, const std::string& ordering)
     const double zrelax[3] = {0.5, 0.05, 0.02};
     std::copy(nrelax, nrelax + 3, c.nrelax);
     std::copy(zrelax, zrelax + 3, c.zrelax);
-  } else {
-    // Below it, larger relaxed supernodes than CHOLMOD's default (zrelax kept): a small matrix's
-    // numeric factorization is bound by the number of BLAS calls, not by their flops. Best of 8,
-    // 2026-11-29 (docs/performance.md): random seed 179 (4 128 unknowns, m = 258) 4.18 → 3.59 ms,
-    // fig2 n = 64 8.6 → 8.0 ms, n = 128 42 → 39 ms, the 3D box n = 12 30.0 → 29.4 ms, n = 16 111
-    // both; {16, 64, 128} was slower than the default on every one of them.
-    const int nrelax[3] = {8, 32, 64};
-    std::copy(nrelax, nrelax + 3, c.nrelax);
   }
   const auto t0 = clk::now();
 
