@@ -25,18 +25,19 @@ Solution evaluate_condensed(const Model& md, const Condensation& cond, const Sol
 }
 
 // Keep the polished x_C only if the statuses stay and the certificate does not get worse.
+// @p evaluated receives x's evaluation (when x is finite), which the next active-set round reads.
 void accept_if_better(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& s0,
-                      const Vec& x, double load_scale, PolishResult& r, Vec& x_C) {
+                      const Vec& x, double load_scale, PolishResult& r, Vec& x_C, Solution* evaluated) {
   if (!x.allFinite()) {
     r.note = "singular status system";
     return;
   }
-  const Solution s1 = evaluate_condensed(md, cond, opt, x, load_scale);
+  Solution s1 = evaluate_condensed(md, cond, opt, x, load_scale);
   r.after = s1.certificate.max_residual;
   r.note = polish_rejection(md, s0, s1, 1e-7 * s0.certificate.length_scale, r.before);
-  if (!r.note.empty()) return;
-  r.accepted = true;
-  x_C = x;
+  r.accepted = r.note.empty();
+  if (r.accepted) x_C = x;
+  if (evaluated) *evaluated = std::move(s1);
 }
 
 // 3D: on a slipping node the condition −σ_τ = λ u_τ/|u_τ| (6) is not linear in x_τ, so the status
@@ -46,7 +47,7 @@ void accept_if_better(const Model& md, const Condensation& cond, const SolveOpti
 // ∂t/∂x_τ = (I − t tᵀ)/|x_τ| and ∂F_b/∂x_ν the slope of F_b's branch (F_b is piecewise linear:
 // a central difference over a step far below the branch width is exact up to round-off).
 PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& s0,
-                                 Vec& x_C, double load_scale, Vec* candidate) {
+                                 Vec& x_C, double load_scale, Vec* candidate, Solution* evaluated) {
   PolishResult r;
   const int d = 3;
   const Index nc = md.contact.size(), m = cond.m();
@@ -96,13 +97,13 @@ PolishResult polish_condensed_3d(const Model& md, const Condensation& cond, cons
     prev = change;
   }
   if (candidate && x.allFinite()) *candidate = x;
-  accept_if_better(md, cond, opt, s0, x, load_scale, r, x_C);
+  accept_if_better(md, cond, opt, s0, x, load_scale, r, x_C, evaluated);
   return r;
 }
 
 // 2D: the status system is linear for fixed λ (file comment of polish.hpp).
 PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& s0,
-                                 Vec& x_C, double load_scale, Vec* candidate) {
+                                 Vec& x_C, double load_scale, Vec* candidate, Solution* evaluated) {
   PolishResult r;
   const int d = 2;
   const Index nc = md.contact.size(), m = cond.m();
@@ -159,7 +160,7 @@ PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, cons
     prev = change;
   }
   if (candidate && x.allFinite()) *candidate = x;
-  accept_if_better(md, cond, opt, s0, x, load_scale, r, x_C);
+  accept_if_better(md, cond, opt, s0, x, load_scale, r, x_C, evaluated);
   return r;
 }
 
@@ -170,11 +171,10 @@ PolishResult polish_condensed_2d(const Model& md, const Condensation& cond, cons
 //    branch of p_ν just below g;
 //  * dual, tangential: a sticking node outside the cone (|σ_τ| > λ) slips along −σ_τ; a node that
 //    slipped one way in the guess and came out the other way sticks.
-// @p start is moved to the candidate, with a small tangential start on newly slipping 3D nodes
-// (the slip direction t = x_τ/|x_τ| needs x_τ ≠ 0).
-Solution next_guess(const Model& md, const Condensation& cond, const SolveOptions& opt, const Solution& g, const Vec& c,
-                    double load_scale, Vec& start) {
-  Solution n = evaluate_condensed(md, cond, opt, c, load_scale);
+// @p n is the candidate @p c evaluated (accept_if_better's); @p start is moved to the candidate,
+// with a small tangential start on newly slipping 3D nodes (the slip direction t = x_τ/|x_τ|
+// needs x_τ ≠ 0).
+Solution next_guess(const Model& md, const SolveOptions& opt, const Solution& g, Solution n, const Vec& c, Vec& start) {
   start = c;
   const int d = md.dim();
   const double U = n.certificate.length_scale, delta = 1e-7 * U;
@@ -217,9 +217,9 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
     r.note = "no Γ3 node";
     return r;
   }
-  const auto run = [&](const SolveOptions& o, const Solution& guess, Vec& x, Vec* candidate) {
-    return md.dim() == 3 ? polish_condensed_3d(md, cond, o, guess, x, load_scale, candidate)
-                         : polish_condensed_2d(md, cond, o, guess, x, load_scale, candidate);
+  const auto run = [&](const SolveOptions& o, const Solution& guess, Vec& x, Vec* candidate, Solution* evaluated) {
+    return md.dim() == 3 ? polish_condensed_3d(md, cond, o, guess, x, load_scale, candidate, evaluated)
+                         : polish_condensed_2d(md, cond, o, guess, x, load_scale, candidate, evaluated);
   };
   // Round 0 reads the statuses off the smoothed answer. Two things can make them wrong:
   //  * the final ε exceeds check.status_tol: a sticking node has |u_τ| ~ ε_τ U, a node just short
@@ -235,9 +235,10 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
   PolishResult first;
   double before = 0;
   Vec start = x_C, candidate;
-  Solution guess = evaluate_condensed(md, cond, opt, x_C, load_scale);
-  const auto accept = [&](PolishResult r, const Vec& x, const std::string& how) {
-    const double after = evaluate_condensed(md, cond, opt, x, load_scale).certificate.max_residual;
+  Solution guess = evaluate_condensed(md, cond, opt, x_C, load_scale), evaluated;
+  // A round's candidate, accepted by its own guess's reading, against the smoothed answer's
+  // certificate; @p after is its certificate under opt (a round's own, or evaluated here).
+  const auto accept = [&](PolishResult r, const Vec& x, double after, const std::string& how) {
     if (!(after <= std::max(before, 1e-12))) return false;
     r.before = before;
     r.after = after;
@@ -248,7 +249,7 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
   };
   for (int round = 0; round < MAX_ROUNDS; ++round) {
     Vec x = start;
-    PolishResult r = run(opt, guess, x, &candidate);
+    PolishResult r = run(opt, guess, x, &candidate, &evaluated);
     if (round == 0) {
       first = r;
       before = r.before;
@@ -260,17 +261,21 @@ PolishResult polish_condensed(const Model& md, const Condensation& cond, const S
         SolveOptions o = opt;
         o.status_tol = coarse_tol;
         Vec xc = start;
-        const PolishResult rc = run(o, evaluate_condensed(md, cond, o, xc, load_scale), xc, nullptr);
-        if (rc.accepted && accept(rc, xc, "statuses read at 10 eps")) return first;
+        const PolishResult rc = run(o, evaluate_condensed(md, cond, o, xc, load_scale), xc, nullptr, nullptr);
+        // read at the coarse status_tol: its certificate under the user's is evaluated anew
+        if (rc.accepted &&
+            accept(rc, xc, evaluate_condensed(md, cond, opt, xc, load_scale).certificate.max_residual,
+                   "statuses read at 10 eps"))
+          return first;
       }
-    } else if (r.accepted && accept(r, x, "after " + std::to_string(round) + " active-set round(s)")) {
+    } else if (r.accepted && accept(r, x, r.after, "after " + std::to_string(round) + " active-set round(s)")) {
       return first;
     }
     if (candidate.size() == 0) {
       first.note += "; no candidate to correct the statuses from";
       return first;
     }
-    guess = next_guess(md, cond, opt, guess, candidate, load_scale, start);
+    guess = next_guess(md, opt, guess, std::move(evaluated), candidate, start);
     candidate.resize(0);
   }
   first.note += "; no consistent statuses after " + std::to_string(MAX_ROUNDS) + " active-set rounds";
