@@ -203,6 +203,7 @@ struct ContactSolver::Impl {
   std::map<std::string, double> setup_timings;
   std::vector<std::string> skipped;
   double U_s = 1, F_s = 1;
+  bool U_s_known = false;  // U_s from solver.x_scale or the unconstrained elastic solution (not the fallback 1)
   std::unique_ptr<ScaledObjective> scaled;
   NlpProblem prob;
   std::vector<std::pair<double, double>> schedule;  // (eps_tau, eps_nu), relative
@@ -312,6 +313,7 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   // Scales from the unconstrained elastic solution: U_s sets the smoothing widths and, with
   // F_s = ‖f‖∞, nondimensionalizes the NLP so that tolerances mean the same for the printed
   // (u ~ 1e-7) and the scaled (u ~ 1e-1) scene.
+  I.U_s_known = opt.x_scale > 0 || (F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0);
   I.U_s = opt.x_scale > 0                                          ? opt.x_scale
            : F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0 ? F.z_free.cwiseAbs().maxCoeff()
                                                                     : 1.0;
@@ -511,6 +513,8 @@ void ContactSolver::set_loads(const Model& scaled, double s) {
 Index ContactSolver::size() const { return m->linear ? m->model->dofs.n_free() : m->F.energy->size(); }
 
 const std::string& ContactSolver::formulation() const { return m->F.name; }
+
+double ContactSolver::length_scale() const { return m->U_s_known ? m->U_s : 0.0; }
 
 Vec ContactSolver::to_unknowns(const Vec& x) const {
   if (m->linear || !m->F.cond) return x;

@@ -329,6 +329,14 @@ void MinimaSearch::record(const std::string& start, const std::string& backend, 
   if (mopt.on_run) mopt.on_run(R.runs);
 }
 
+// The largest |u_ν|, |u_τ| of @p s over Γ3: the search's length U_s (the random box, the second-order
+// check's smoothing widths) where the solver has none of its own (ContactSolver::length_scale).
+double gamma3_extent(const Model& md, const Solution& s) {
+  double U = 0;
+  for (Index k = 0; k < md.contact.size(); ++k) U = std::max({U, std::abs(s.state.u_nu[k]), std::abs(s.state.u_tau[k])});
+  return U;
+}
+
 // Every start with backend @p name on the one solver (made by the first backend: factored, and
 // condensed, once for every backend, start and load step).
 void MinimaSearch::run_backend(std::unique_ptr<ContactSolver>& solver, const SolveOptions& opt,
@@ -345,10 +353,18 @@ void MinimaSearch::run_backend(std::unique_ptr<ContactSolver>& solver, const Sol
     solver = std::make_unique<ContactSolver>(md, o);
   else
     solver->set_backend(name);
-  ContactSolver& S = *solver;
   auto t = clk::now();
-  Solution zero = S.solve(nullptr);
-  const double Us = zero.x_scale;
+  Solution zero = solver->solve(nullptr);
+  double Us = zero.x_scale;
+  if (first && solver->length_scale() == 0 && gamma3_extent(md, zero) > 0) {
+    // ssn in the full space runs without a U_s (1 m: the random box ±1 m, the check's widths ε m
+    // whatever the loads); its zero answer's extent on Γ3 is the scale, as on the petsc engine
+    // (run_engine), and the solver is set up again with it (ssn's set-up factorizes nothing).
+    Us = gamma3_extent(md, zero);
+    o.x_scale = Us;
+    solver = std::make_unique<ContactSolver>(md, o);
+  }
+  ContactSolver& S = *solver;
   R.x_scale = Us;
   if (first) R.smallness = zero.smallness;
   record("zero", name, std::move(zero), t);
@@ -386,9 +402,7 @@ void MinimaSearch::run_engine(std::unique_ptr<ContactSolver>& checks, const Solv
   const std::string& name = mopt.engine_name;
   auto t = clk::now();
   Solution zero = mopt.engine(md, 1.0, nullptr);
-  double Us = 0;
-  for (Index k = 0; k < md.contact.size(); ++k)
-    Us = std::max({Us, std::abs(zero.state.u_nu[k]), std::abs(zero.state.u_tau[k])});
+  const double Us = gamma3_extent(md, zero);
   R.x_scale = Us > 0 ? Us : 1.0;
   R.smallness = zero.smallness;
   record("zero", name, std::move(zero), t);

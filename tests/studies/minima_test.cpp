@@ -379,6 +379,26 @@ TEST(Minima, PaperSceneWhereSmallnessHoldsHasOneSolution) {
   EXPECT_GT(r.solutions[0].second_order.removed_contact, 0);
 }
 
+// The full formulation's ssn has no U_s of its own (it factorizes no elastic solution): the search
+// takes its zero answer's extent on Γ3, as on the petsc engine, not 1 m. The printed loads (u ~
+// 1e-7, problems/sofonea2017-printed.json) would otherwise draw random starts from a ±1 m box and
+// smooth the second-order check over ε · 1 m.
+TEST(Minima, FullSsnTakesItsScaleFromTheZeroAnswer) {
+  Loaded L = load("sofonea2017-printed.json", {"mesh.n=8", "solver.formulation=\"full\""});
+  L.opt.backend = "ssn";
+  MinimaOptions mo;
+  mo.starts = 2;
+  mo.load_path_steps = 0;
+  const MinimaReport r = find_minima(L.md, L.opt, mo);
+  EXPECT_EQ(r.certified_runs(), static_cast<int>(r.runs.size()));
+  ASSERT_EQ(r.solutions.size(), 1u);  // the printed loads: (21) holds, one solution
+  const ContactState& st = r.solutions[0].solution.state;
+  const double extent = std::max(st.u_nu.cwiseAbs().maxCoeff(), st.u_tau.cwiseAbs().maxCoeff());
+  EXPECT_GT(extent, 0.0);
+  EXPECT_NEAR(r.x_scale, extent, 1e-9 * extent);
+  EXPECT_EQ(r.solutions[0].second_order.verdict, "local minimum");
+}
+
 // minima finds what a solve finds: the default solve's answer and the exact solver's own path from
 // zero (solver.exact.start = always) are both among its runs, on every nonconvex scene shipped
 // (minima-laminate: the exact path's −0.0758 was missed before it was a start).

@@ -78,6 +78,10 @@ class ContactSolver {
   Index size() const;
   /// @return "condensed", "full", or empty for a linear solve.
   const std::string& formulation() const;
+  /// @return U_s, the length that sets the smoothing widths (solver.eps_nu · U_s, ...): the
+  /// unconstrained elastic solution's largest |z|, or solver.x_scale; 0 where the solver has none
+  /// (the full formulation's ssn factorizes no elastic solution at its set-up, and runs with 1).
+  double length_scale() const;
   /// @return the solver unknowns of a reduced vector x (its Γ3 tail when condensed).
   Vec to_unknowns(const Vec& x) const;
   /// @return where each Γ3 node's (ν, τ) unknowns are in the solver unknowns.
