@@ -313,10 +313,9 @@ ContactSolver::ContactSolver(const Model& md, const SolveOptions& opt) : m(std::
   // Scales from the unconstrained elastic solution: U_s sets the smoothing widths and, with
   // F_s = ‖f‖∞, nondimensionalizes the NLP so that tolerances mean the same for the printed
   // (u ~ 1e-7) and the scaled (u ~ 1e-1) scene.
-  I.U_s_known = opt.x_scale > 0 || (F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0);
-  I.U_s = opt.x_scale > 0                                          ? opt.x_scale
-           : F.z_free.size() && F.z_free.cwiseAbs().maxCoeff() > 0 ? F.z_free.cwiseAbs().maxCoeff()
-                                                                    : 1.0;
+  const double z_max = F.z_free.size() ? F.z_free.cwiseAbs().maxCoeff() : 0.0;
+  I.U_s_known = opt.x_scale > 0 || z_max > 0;
+  I.U_s = opt.x_scale > 0 ? opt.x_scale : z_max > 0 ? z_max : 1.0;
   I.F_s = md.fx.size() && md.fx.cwiseAbs().maxCoeff() > 0 ? md.fx.cwiseAbs().maxCoeff() : 1.0;
   add_contact_terms(F, md, opt, I.U_s);
   I.check_inner_convexity();

@@ -356,12 +356,11 @@ void MinimaSearch::run_backend(std::unique_ptr<ContactSolver>& solver, const Sol
   auto t = clk::now();
   Solution zero = solver->solve(nullptr);
   double Us = zero.x_scale;
-  if (first && solver->length_scale() == 0 && gamma3_extent(md, zero) > 0) {
-    // ssn in the full space runs without a U_s (1 m: the random box ±1 m, the check's widths ε m
-    // whatever the loads); its zero answer's extent on Γ3 is the scale, as on the petsc engine
-    // (run_engine), and the solver is set up again with it (ssn's set-up factorizes nothing).
-    Us = gamma3_extent(md, zero);
-    o.x_scale = Us;
+  // ssn in the full space runs without a U_s (1 m: the random box ±1 m, the check's widths ε m
+  // whatever the loads); its zero answer's extent on Γ3 is the scale, as on the petsc engine
+  // (run_engine), and the solver is set up again with it (ssn's set-up factorizes nothing).
+  if (const double extent = gamma3_extent(md, zero); first && solver->length_scale() == 0 && extent > 0) {
+    Us = o.x_scale = extent;
     solver = std::make_unique<ContactSolver>(md, o);
   }
   ContactSolver& S = *solver;
