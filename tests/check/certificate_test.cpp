@@ -76,6 +76,19 @@ TEST(Certificate, SolvedSceneHasEveryResidualAtRoundoff) {
   EXPECT_EQ(r.traction_scale, S);
 }
 
+// Where u = 0 (the start of a solve, a scene whose loads vanish) the length scale U is the mesh's
+// longest edge, a length either way; the judge reads the edges only then.
+TEST(Certificate, ZeroDisplacementTakesTheLongestEdgeAsItsLength) {
+  const Fig2& f = fig2();
+  ContactState s = f.sol.state;
+  s.u_nu.setZero();
+  s.u_tau.setZero();
+  s.u_tau_vec.setZero();
+  const CertificateReport r = certify(f.md, Vec::Zero(f.sol.u.size()), s, 1e-8, f.opt.status_tol);
+  EXPECT_EQ(r.length_scale, f.md.mesh.max_edge_length());
+  EXPECT_GT(r.length_scale, 0.0);
+}
+
 // Each residual in turn: one node's entries moved by a chosen multiple of the scale; the residual
 // is that multiple, at that node, and it decides max_residual and the verdict.
 TEST(Certificate, EachResidualIsItsFormula) {
