@@ -198,6 +198,8 @@ int cmd_solve(const std::vector<std::string>& args) {
   // petsc engine is its own program (before the output folder is locked: it locks it itself).
   const EngineChoice engine = choose_engine(scene, scene_directory(a.scene), petsc_engine_available(), adapt_requested(scene));
   log_engine_choice(engine);
+  // stdout's first row, before either engine's summary: which engine, and why (as its "method" row).
+  std::fputs(summary_row("engine", describe(engine)).c_str(), stdout);
   if (engine.engine == "petsc") {
     refuse_adaptive_outside_cholmod(scene);
     std::fflush(nullptr);

@@ -470,11 +470,16 @@ SummaryFacts summary_facts(const Model& md, const Solution& sol) {
 
 std::string summary_table(const Model& md, const Solution& sol) { return summary_table(summary_facts(md, sol), sol); }
 
+// The summary's column: where every row's text starts, and its wrapped lines.
+constexpr size_t SUMMARY_COLUMN = 14;
+
+std::string summary_row(const std::string& label, const std::string& text) {
+  return label + std::string(SUMMARY_COLUMN > label.size() ? SUMMARY_COLUMN - label.size() : 1, ' ') + text + "\n";
+}
+
 std::string summary_table(const SummaryFacts& md, const Solution& sol) {
-  const size_t indent = 14;
-  const auto row = [&](const std::string& label, const std::string& text) {
-    return label + std::string(indent > label.size() ? indent - label.size() : 1, ' ') + text + "\n";
-  };
+  const size_t indent = SUMMARY_COLUMN;
+  const auto& row = summary_row;
   std::string out;
   std::vector<std::string> statuses;
   for (const Gamma3Row& r : md.rows) statuses.push_back(r.status.str());

@@ -169,8 +169,10 @@ EngineChoice minima_engine(const nlohmann::json& scene, const std::string& scene
   return {"cholmod", true, "minima runs in this process (" + why + "); otherwise: " + c.reason};
 }
 
+std::string describe(const EngineChoice& c) { return c.engine + (c.automatic ? " (auto): " : ": ") + c.reason; }
+
 void log_engine_choice(const EngineChoice& c) {
-  if (c.automatic) log_info() << "engine " << c.engine << " (auto): " << c.reason;
+  if (c.automatic) log_info() << "engine " << describe(c);
 }
 
 nlohmann::json engine_choice_json(const EngineChoice& c) {

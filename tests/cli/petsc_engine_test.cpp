@@ -120,13 +120,15 @@ TEST(PetscEngine, BackendsListSsnAndTao) {
 // solver.engine = auto (the default): `solve` runs the petsc engine in one process for a 3D box
 // at or above solver.method_choice.petsc_above unknowns (lowered here to keep the test small), the
 // cholmod engine below it, in 2D and where a setting is the cholmod engine's; report.json's
-// engine_choice says which and why, and the answers agree.
+// engine_choice and stdout's first row say which and why, and the answers agree.
 TEST(PetscEngine, AutoChoosesTheEngineFromTheScenesSize) {
   const fs::path dir = scratch("engine-auto");
   const std::string box = "solve " + problem("sofonea2017-3d") + " --set mesh.n=4 --set output.vtu=false";
+  std::map<std::string, std::string> stdout_of;
   const auto report = [&](const std::string& args, const std::string& name) {
     const CliOutcome r = run_cli(dir, args + " --out " + (dir / name).string());
     EXPECT_EQ(r.code, 0) << name << ": " << r.err;
+    stdout_of[name] = r.out;
     return json::parse(slurp(dir / name / "report.json"));
   };
   const json big = report(box + " --set solver.method_choice.petsc_above=300", "big");
@@ -149,6 +151,11 @@ TEST(PetscEngine, AutoChoosesTheEngineFromTheScenesSize) {
   const json given = report(box + " --set solver.method_choice.petsc_above=300 --set solver.engine=cholmod", "given");
   EXPECT_EQ(given.at("engine_choice").at("engine"), "cholmod");
   EXPECT_EQ(given.at("engine_choice").at("automatic"), false);
+  // stdout's first row, the same words as engine_choice, before either engine's summary.
+  const auto first_row = [&](const std::string& name) { return stdout_of[name].substr(0, stdout_of[name].find('\n')); };
+  EXPECT_EQ(first_row("big"), "engine        petsc (auto): " + big.at("engine_choice").at("reason").get<std::string>());
+  EXPECT_EQ(first_row("flat"), "engine        cholmod (auto): " + flat.at("engine_choice").at("reason").get<std::string>());
+  EXPECT_EQ(first_row("given"), "engine        cholmod: solver.engine = cholmod (given)");
   fs::remove_all(dir);
 }
 

@@ -115,6 +115,9 @@ std::string uniqueness_warning(const Solution& sol);
 /// The summary from @p facts and the solution's records (energies, counts, certificate, verdict).
 std::string summary_table(const SummaryFacts& facts, const Solution& sol);
 
+/// One row of the summary: @p label padded to the summary's column, @p text, '\n'.
+std::string summary_row(const std::string& label, const std::string& text);
+
 /// @brief The per-node statuses in Γ3 order, run-length compressed: consecutive equal statuses
 /// become "status xN", e.g. "compliance/slip- x2, contact/slip- x28, contact/stick x1".
 /// @param sol the solution @return the list ("" when there is no Γ3 node)

@@ -23,6 +23,9 @@ struct EngineChoice {
   bool automatic = false;  ///< solver.engine was auto
   std::string reason;
 };
+/// @return which engine, "(auto)" where solver.engine = auto chose it, and why (the log's line,
+/// `solve`'s "engine" summary row).
+std::string describe(const EngineChoice& c);
 /// @return the path of the petsc engine's program, hemicontact-mpi: $HEMICONTACT_MPI where set;
 /// else the first that exists of: beside this process's executable (the CLI's build or install
 /// folder), the build tree's that this library was built with, the installed one; the last of
