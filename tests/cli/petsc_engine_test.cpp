@@ -95,6 +95,26 @@ std::pair<json, json> same_answer_twice(const fs::path& dir, int np, const std::
   return r;
 }
 
+// A study as auto runs it and on the cholmod engine: each run's outcome and JSON file.
+struct BothEngines {
+  CliOutcome first, cholmod;
+  json a, b;  // empty where that run did not exit 0
+};
+
+// @p command (ending in "--out ") as auto runs it, into dir/@p first, and with solver.engine =
+// cholmod, into dir/cholmod; both must exit 0. Each run's @p file is read back.
+BothEngines on_both_engines(const fs::path& dir, const std::string& command, const std::string& first,
+                            const std::string& file) {
+  BothEngines r;
+  r.first = run_cli(dir, command + (dir / first).string());
+  EXPECT_EQ(r.first.code, 0) << r.first.err;
+  r.cholmod = run_cli(dir, command + (dir / "cholmod").string() + " --set solver.engine='\"cholmod\"'");
+  EXPECT_EQ(r.cholmod.code, 0) << r.cholmod.err;
+  if (r.first.code == 0) r.a = json::parse(slurp(dir / first / file));
+  if (r.cholmod.code == 0) r.b = json::parse(slurp(dir / "cholmod" / file));
+  return r;
+}
+
 struct Case {
   std::string scene;
   std::string sets;  // mesh size
@@ -217,12 +237,10 @@ TEST(PetscEngine, ConvergeRunsThePetscEngineWhereSolveWould) {
   const std::string study = "converge " + problem("sofonea2017-3d") +
                             " --set output.vtu=false --set output.plot=false --levels 2,4 --reference 8"
                             " --set solver.method_choice.petsc_above=300 --out ";
-  const CliOutcome p = run_cli(dir, study + (dir / "auto").string());
-  ASSERT_EQ(p.code, 0) << p.err;
-  const CliOutcome c = run_cli(dir, study + (dir / "cholmod").string() + " --set solver.engine='\"cholmod\"'");
-  ASSERT_EQ(c.code, 0) << c.err;
-  const json a = json::parse(slurp(dir / "auto" / "convergence.json"));
-  const json b = json::parse(slurp(dir / "cholmod" / "convergence.json"));
+  const BothEngines both = on_both_engines(dir, study, "auto", "convergence.json");
+  ASSERT_FALSE(both.a.empty() || both.b.empty());
+  const json &a = both.a, &b = both.b;
+  const CliOutcome& p = both.first;
   EXPECT_EQ(a.at("engine_choice").at("engine"), "petsc") << a.at("engine_choice").dump();
   EXPECT_EQ(b.at("engine_choice").at("engine"), "cholmod");
   // n = 2 (81 unknowns) stays below petsc_above; n = 4 (375) and the reference (2187) are above it.
@@ -262,12 +280,9 @@ TEST(PetscEngine, MinimaRunsItsStartsOnThePetscEngineAboveItsThreshold) {
   const std::string search = "minima " + problem("sofonea2017-3d") +
                              " --set mesh.n=4 --starts 2 --load-path-steps 2 --set output.vtu=false"
                              " --set solver.method_choice.petsc_restarts_above=100 --out ";
-  const CliOutcome p = run_cli(dir, search + (dir / "petsc").string());
-  ASSERT_EQ(p.code, 0) << p.err;
-  const CliOutcome c = run_cli(dir, search + (dir / "cholmod").string() + " --set solver.engine='\"cholmod\"'");
-  ASSERT_EQ(c.code, 0) << c.err;
-  const json a = json::parse(slurp(dir / "petsc" / "minima.json"));
-  const json b = json::parse(slurp(dir / "cholmod" / "minima.json"));
+  const BothEngines both = on_both_engines(dir, search, "petsc", "minima.json");
+  ASSERT_FALSE(both.a.empty() || both.b.empty());
+  const json &a = both.a, &b = both.b;
   EXPECT_EQ(a.at("engine_choice").at("engine"), "petsc") << a.at("engine_choice").dump();
   EXPECT_NE(a.at("engine_choice").at("reason").get<std::string>().find("petsc_restarts_above"), std::string::npos);
   ASSERT_EQ(a.at("solutions").size(), 1u) << a.at("solutions").dump();
