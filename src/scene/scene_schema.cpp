@@ -472,7 +472,11 @@ std::vector<SchemaEntry> build_scene_schema() {
                       1e-2));
   t.push_back(at_least(key("/solver/fixed_point/max_iters", "integer", D.max_outer, "Outer iteration limit."), 1));
   t.push_back(at_most(
-      above(key("/solver/fixed_point/relaxation", "number", D.relaxation, "θ in λ ← (1−θ)λ + θ F_b(u_ν)."), 0), 1));
+      above(key("/solver/fixed_point/relaxation", "number", D.relaxation,
+                "θ in λ ← (1−θ)λ + θ F_b(u_ν): the continuation's update, and the mixing of the "
+                "exact solver's Anderson step (its extrapolated λ plus θ times the extrapolated update)."),
+            0),
+      1));
   t.push_back(key("/solver/fixed_point/allow_not_converged", "boolean", D.allow_not_converged,
                   "true: reaching max_iters is a warning instead of an error."));
   t.push_back(below(above(key("/solver/fixed_point/contraction_floor", "number", D.contraction_floor,

@@ -514,13 +514,14 @@ Vec Anderson::next(const Vec& lambda, const Vec& G) {
   m_prev_f = f;
   m_prev_G = G;
   m_has_prev = true;
-  if (m_memory == 0 || m_dF.empty()) return G.cwiseMax(0.0);
+  const Vec relaxed = G - (1 - m_theta) * f;  // (1 − θ) λ + θ G
+  if (m_memory == 0 || m_dF.empty()) return relaxed.cwiseMax(0.0);
   const Index n = f.size(), mk = static_cast<Index>(m_dF.size());
   Mat DF(n, mk), DG(n, mk);
   for (Index j = 0; j < mk; ++j) DF.col(j) = m_dF[static_cast<size_t>(j)], DG.col(j) = m_dG[static_cast<size_t>(j)];
   const Vec gamma = DF.colPivHouseholderQr().solve(f);
-  if (!gamma.allFinite()) return G.cwiseMax(0.0);
-  return (G - DG * gamma).cwiseMax(0.0);
+  if (!gamma.allFinite()) return relaxed.cwiseMax(0.0);
+  return (G - DG * gamma - (1 - m_theta) * (f - DF * gamma)).cwiseMax(0.0);
 }
 
 }  // namespace hemicontact

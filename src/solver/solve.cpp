@@ -1002,8 +1002,9 @@ Vec anderson_relax(Anderson& aa, const Vec& lam, const Vec& G, double delta_lamb
   return next;
 }
 
-// The exact solver's verdict in the answer (@p when: where it started, for the message).
-void exact_verdict(Solution& sol, const std::string& when) {
+// The exact solver's verdict in the answer (@p when: where it started, for the message; @p theta:
+// the mixing it ran with, whose half the message offers).
+void exact_verdict(Solution& sol, const std::string& when, double theta) {
   const HandoverReport& H = sol.handover;
   sol.backend_ok = true;
   sol.message.clear();
@@ -1014,7 +1015,8 @@ void exact_verdict(Solution& sol, const std::string& when) {
     else
       sol.message = "fixed point lambda = F_b(u_nu) did not converge in the exact solver: " +
                     std::to_string(H.outer_iterations) + " Anderson iterations (solver.fixed_point.max_iters), " +
-                    "coupled residual " + fmt(H.residual, 3);
+                    "coupled residual " + fmt(H.residual, 3) + "; a smaller solver.fixed_point.relaxation (" +
+                    fmt(theta, 3) + " now), e.g. " + fmt(0.5 * theta, 3) + ", damps its updates";
   }
 }
 
@@ -1039,7 +1041,7 @@ void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& re
   const ExactCoupling coupling(md);
   Vec x = U_s * run.zs, x_prev = x;
   P.lambda = coupling.bounds(x);
-  Anderson aa(opt.anderson_memory);
+  Anderson aa(opt.anderson_memory, opt.relaxation);
   double best = INF, floor_ref = INF;
   ExactInnerFactor factor;  // kept across the λ updates (2D: where the statuses stay, no refactorization)
   for (int it = 0; it < opt.max_outer; ++it) {
@@ -1070,7 +1072,7 @@ void ContactSolver::Impl::exact_solve(Run& run, int stage, const std::string& re
   accept_at_cap(H, opt);
   run.zs = x / U_s;
   if (F.friction) F.friction->set_lambda(P.lambda);
-  exact_verdict(run.sol, when);
+  exact_verdict(run.sol, when, opt.relaxation);
   H.seconds = since(t0);
   run.sol.timings["exact"] = H.seconds;
   // The polish on the exact answer's statuses: kept only if the certificate improves, it takes the

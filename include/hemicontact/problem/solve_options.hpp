@@ -198,7 +198,7 @@ struct SolveOptions {
   double certify_below = 1e-4;
   double tol_u = 1e-12;              ///< fixed point: relative change of x on Γ3 and of λ
   int max_outer = 50;                ///< fixed point: iteration cap
-  double relaxation = 1.0;           ///< θ in λ ← (1−θ)λ + θ F_b(u_ν)
+  double relaxation = 1.0;           ///< θ in λ ← (1−θ)λ + θ F_b(u_ν); the exact solver's Anderson mixing
   /// Fixed-point updates ‖Δλ‖∞ at or below this × ‖λ‖∞ are the inner solves' round-off (backend
   /// tol 1e-12 on O(1) scaled unknowns), not the map's contraction: they enter no ratio ρ_k.
   double contraction_floor = 1e-9;

@@ -100,11 +100,13 @@ InnerConvexity inner_convexity(const Mat& S, const Vec& w, int d, const Piecewis
 
 /// Anderson acceleration (type II, memory m) of a fixed-point iteration λ = G(λ) (the outer
 /// map λ ↦ F_b(u_ν(λ)) need not contract). Each call takes λ_k and G(λ_k) and returns
-/// λ_{k+1} = G(λ_k) − ΔG γ, γ = argmin ‖f_k − ΔF γ‖₂ over the last m differences of f = G(λ) − λ
-/// and of G; with m = 0 it is the plain iteration λ_{k+1} = G(λ_k).
+/// λ_{k+1} = G(λ_k) − ΔG γ − (1 − θ)(f_k − ΔF γ), γ = argmin ‖f_k − ΔF γ‖₂ over the last m
+/// differences of f = G(λ) − λ and of G: the extrapolated λ plus θ times the extrapolated update
+/// (θ = solver.fixed_point.relaxation, the mixing of damped Anderson); with m = 0 it is the
+/// relaxed iteration λ_{k+1} = (1 − θ) λ_k + θ G(λ_k), with θ = 1 the plain one.
 class Anderson {
  public:
-  explicit Anderson(int memory) : m_memory(memory) {}
+  explicit Anderson(int memory, double theta = 1.0) : m_memory(memory), m_theta(theta) {}
   /// @return the next iterate, clamped at 0 below (a friction bound is ≥ 0, (15c)).
   Vec next(const Vec& lambda, const Vec& G);
   /// Forget the history (after a step that made the residual grow).
@@ -112,6 +114,7 @@ class Anderson {
 
  private:
   int m_memory;
+  double m_theta;
   std::vector<Vec> m_dF, m_dG;
   Vec m_prev_f, m_prev_G;
   bool m_has_prev = false;
