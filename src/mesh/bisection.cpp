@@ -177,7 +177,7 @@ void inherit_rollers(const Mesh& coarse, const EdgeMidpoints& midpoint, Mesh& fi
 
 }  // namespace
 
-Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionRule rule) {
+Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionRule rule, Index max_nodes) {
   require_2d(coarse, "bisect");
   const Index M = coarse.num_cells();
   if (static_cast<Index>(marked.size()) != M)
@@ -189,6 +189,9 @@ Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionR
   // One new node per marked edge, numbered in edge order (deterministic).
   Bisection out;
   const Index N0 = coarse.num_nodes();
+  out.nodes = N0 + std::count(edge_marked.begin(), edge_marked.end(), char(1));
+  if (out.nodes > max_nodes) return out;
+  out.built = true;
   EdgeMidpoints midpoint;
   for (size_t e = 0; e < E.edge_nodes.size(); ++e)
     if (edge_marked[e]) {

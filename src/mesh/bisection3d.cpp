@@ -319,7 +319,8 @@ TetLabels label_tetrahedra(const Mesh& mesh) {
   return L;
 }
 
-Bisection bisect(const Mesh& coarse, const TetLabels& labels, const std::vector<char>& marked, BisectionRule rule) {
+Bisection bisect(const Mesh& coarse, const TetLabels& labels, const std::vector<char>& marked, BisectionRule rule,
+                 Index max_nodes) {
   require_3d(coarse, "bisect");
   const Index M = coarse.num_cells();
   if (static_cast<Index>(marked.size()) != M || labels.size() != M)
@@ -341,6 +342,9 @@ Bisection bisect(const Mesh& coarse, const TetLabels& labels, const std::vector<
   }
   close_and_bisect(R);
   Bisection out;
+  out.nodes = static_cast<Index>(R.points.size());
+  if (out.nodes > max_nodes) return out;
+  out.built = true;
   fine_cells(R, out);
   fine_facets(coarse, R, out.mesh);
   fine_rollers(coarse, R, out.mesh);

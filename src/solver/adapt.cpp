@@ -94,9 +94,14 @@ struct Refinable {
   TetLabels labels;  // 3D only
 };
 
-Bisection bisect_any(const Refinable& r, const std::vector<char>& marked, BisectionRule rule) {
-  return r.mesh.dim == 3 ? bisect(r.mesh, r.labels, marked, rule) : bisect(r.mesh, marked, rule);
+// A refinement of more than @p max_nodes nodes is counted, not built (Bisection::nodes).
+Bisection bisect_any(const Refinable& r, const std::vector<char>& marked, BisectionRule rule, Index max_nodes) {
+  return r.mesh.dim == 3 ? bisect(r.mesh, r.labels, marked, rule, max_nodes) : bisect(r.mesh, marked, rule, max_nodes);
 }
+
+// The most nodes a mesh the loop may solve has: its free unknowns are at most d per node, and
+// d n > max_dofs exactly when n > ⌊max_dofs / d⌋.
+Index node_limit(const AdaptOptions& aopt, int d) { return aopt.max_dofs / d; }
 
 // One step: Dörfler's marking of @p eta, cut to the largest indicators when its mesh would have more
 // than @p need nodes (AdaptOptions::landing; the closure makes the count approximate, hence the
@@ -104,8 +109,9 @@ Bisection bisect_any(const Refinable& r, const std::vector<char>& marked, Bisect
 Bisection refine_once(const Refinable& r, const Vec& eta, double need, const AdaptOptions& aopt, Index& marked,
                       bool& landed) {
   std::vector<char> mark = dorfler_mark(eta, aopt.theta);
-  Bisection next = bisect_any(r, mark, aopt.bisection);
-  const Index n0 = r.mesh.num_nodes(), n_next = next.mesh.num_nodes();
+  const Index max_nodes = node_limit(aopt, r.mesh.dim);
+  Bisection next = bisect_any(r, mark, aopt.bisection, max_nodes);
+  const Index n0 = r.mesh.num_nodes(), n_next = next.nodes;
   landed = aopt.landing > 0 && need < static_cast<double>(n_next);
   if (landed) {
     Index k = 0;
@@ -113,9 +119,9 @@ Bisection refine_once(const Refinable& r, const Vec& eta, double need, const Ada
     const double share = (need - static_cast<double>(n0)) / static_cast<double>(n_next - n0);
     const Index k_land = std::max<Index>(1, std::llround(share * static_cast<double>(k)));
     mark = mark_largest(eta, k_land);
-    next = bisect_any(r, mark, aopt.bisection);
+    next = bisect_any(r, mark, aopt.bisection, max_nodes);
     log_info() << "adapt: landing, the target needs about " << std::llround(need) << " nodes (margin " << aopt.landing
-               << "): " << k_land << " of Dörfler's " << k << " cells marked, " << next.mesh.num_nodes()
+               << "): " << k_land << " of Dörfler's " << k << " cells marked, " << next.nodes
                << " nodes instead of " << n_next;
   }
   marked = 0;
@@ -164,10 +170,16 @@ std::optional<Refinable> refine_level(const Refinable& cur, const Solution& sol,
     bool landed = false;
     Bisection b = refine_once(*from, eta, need, aopt, marked, landed);
     // A predicted step beyond max_dofs is not taken: the mesh before it is solved.
-    if (step > 1 && d * b.mesh.num_nodes() > aopt.max_dofs) break;
+    if (step > 1 && !b.built) break;
     L.steps = step;
     L.marked += marked;
     L.landed = L.landed || landed;
+    // The first step beyond max_dofs: no next mesh (bisect counted its nodes and built nothing).
+    if (!b.built) {
+      stop = "max_dofs";
+      L.marked = 0;
+      return std::nullopt;
+    }
     u = prolongate_bisection(b, u, d);
     // Another step on predicted indicators while this mesh is predicted to miss the target (its N
     // below N (η/target)^d, the need without the margin) and the lookahead allows one.
@@ -181,12 +193,6 @@ std::optional<Refinable> refine_level(const Refinable& cur, const Solution& sol,
     next.labels = std::move(b.labels);
     from = &next;
     if (!predict) break;
-  }
-  // The next mesh's free unknowns are at most d per node: refuse it beyond max_dofs.
-  if (d * next.mesh.num_nodes() > aopt.max_dofs) {
-    stop = "max_dofs";
-    L.marked = 0;
-    return std::nullopt;
   }
   u_start = std::move(u);
   return next;

@@ -202,6 +202,28 @@ TEST(Bisection3d, ProlongationIsTheExactEmbedding) {
       EXPECT_NEAR(fine[3 * v + i], 1 + (i + 1) * b.mesh.points(v, i) - b.mesh.points(v, (i + 1) % 3), 1e-13);
 }
 
+// Above max_nodes a refinement is counted after its closure, not built: the count is the node count
+// of the mesh the same marks make without a limit (Maubach's tags and AMP's marks alike).
+TEST(Bisection3d, AboveMaxNodesTheRefinementIsCountedNotBuilt) {
+  const Mesh m = unit_box(2, BoxPattern::SYMMETRIC);
+  const TetLabels labels = label_tetrahedra(m);
+  const TetLabels amp = mark_tetrahedra(m);
+  std::vector<char> marked(static_cast<size_t>(m.num_cells()), 0);
+  marked[0] = marked[static_cast<size_t>(m.num_cells() / 2)] = 1;
+  for (const TetLabels* l : {&labels, &amp})
+    for (const BisectionRule rule : {BisectionRule::NEWEST_VERTEX, BisectionRule::BISEC3}) {
+      const Bisection full = bisect(m, *l, marked, rule);
+      ASSERT_TRUE(full.built);
+      EXPECT_EQ(full.nodes, full.mesh.num_nodes());
+      EXPECT_GT(full.nodes, m.num_nodes());
+      const Bisection counted = bisect(m, *l, marked, rule, full.nodes - 1);
+      EXPECT_FALSE(counted.built);
+      EXPECT_EQ(counted.nodes, full.nodes);
+      EXPECT_EQ(counted.mesh.num_nodes(), 0);
+      EXPECT_TRUE(bisect(m, *l, marked, rule, full.nodes).built);
+    }
+}
+
 // 20 levels of refinement, uniform (every cell bisected once per level: 2^20 times the cells would
 // not fit, so one Kuhn cube's six cells, 12 levels = 4 generations of eight) and local (the cells
 // at the edge x = 0, z = 0 where Γ3 meets a side, 20 levels): the smallest dihedral angle stays at

@@ -173,6 +173,27 @@ TEST(Bisection, CornerRefinementKeepsTheAngles) {
   EXPECT_LT(m.num_cells(), 400);  // 32 initial cells; graded, not uniform, refinement
 }
 
+// Above max_nodes a refinement is counted, not built: the count is the node count of the mesh the
+// same marks make without a limit, at the limit the mesh is built as without one.
+TEST(Bisection, AboveMaxNodesTheRefinementIsCountedNotBuilt) {
+  const Mesh m = square(4, Diagonal::SYMMETRIC);
+  std::vector<char> marked(static_cast<size_t>(m.num_cells()), 0);
+  marked[3] = marked[10] = 1;
+  for (const BisectionRule rule : {BisectionRule::NEWEST_VERTEX, BisectionRule::BISEC3}) {
+    const Bisection full = bisect(m, marked, rule);
+    ASSERT_TRUE(full.built);
+    EXPECT_EQ(full.nodes, full.mesh.num_nodes());
+    EXPECT_GT(full.nodes, m.num_nodes());
+    const Bisection counted = bisect(m, marked, rule, full.nodes - 1);
+    EXPECT_FALSE(counted.built);
+    EXPECT_EQ(counted.nodes, full.nodes);
+    EXPECT_EQ(counted.mesh.num_nodes(), 0);
+    const Bisection at_limit = bisect(m, marked, rule, full.nodes);
+    ASSERT_TRUE(at_limit.built);
+    EXPECT_EQ(at_limit.mesh.cells, full.mesh.cells);
+  }
+}
+
 TEST(Bisection, RejectsBadInput) {
   EXPECT_THROW(parse_bisection_rule("red"), Error);
   BoxSpec s;

@@ -39,6 +39,7 @@
 #include <hemicontact/mesh/mesh.hpp>
 
 #include <array>
+#include <limits>
 #include <vector>
 
 namespace hemicontact {
@@ -96,7 +97,15 @@ struct Bisection {
   std::vector<std::array<int, 2>> new_node_parents;
   std::vector<int> cell_parent;  ///< per fine cell, the coarse cell it lies in
   TetLabels labels;              ///< 3D: the fine cells' tagged tetrahedra (empty in 2D)
+  /// The refined mesh's node count, known once the closure has ended. Above the @p max_nodes given
+  /// to bisect() it is all there is: the mesh and the rest are not built (`built` false), as the
+  /// adaptive loop refuses such a mesh by its size alone (AdaptOptions::max_dofs).
+  Index nodes = 0;
+  bool built = false;
 };
+
+/// No limit on the refined mesh's node count (bisect()'s default max_nodes).
+inline constexpr Index NO_NODE_LIMIT = std::numeric_limits<Index>::max();
 
 /// Rotate every cell cyclically (orientation unchanged) so that its longest edge is the refinement
 /// edge (c1, c2). On the structured meshes (right/left/symmetric: the diagonal of each square; crossed:
@@ -107,9 +116,11 @@ struct Bisection {
 void label_longest_edges(Mesh& mesh);
 
 /// Refine the cells flagged in @p marked (size num_cells) by newest-vertex bisection with the
-/// conforming closure (file comment).
+/// conforming closure (file comment); a refinement of more than @p max_nodes nodes is counted, not
+/// built (Bisection::nodes).
 /// @throws Error if the mesh is not 2D or @p marked has the wrong size.
-Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionRule rule = BisectionRule::BISEC3);
+Bisection bisect(const Mesh& coarse, const std::vector<char>& marked, BisectionRule rule = BisectionRule::BISEC3,
+                 Index max_nodes = NO_NODE_LIMIT);
 
 /// @brief Label every tetrahedron of a 3D mesh for Maubach bisection: x0 and x3 the ends of its
 /// longest edge (x0 the smaller node index), x1 the remaining vertex nearer to x0, tag 3. On a box
@@ -123,12 +134,14 @@ TetLabels label_tetrahedra(const Mesh& mesh);
 /// @brief 3D: refine the cells flagged in @p marked (size num_cells) of @p coarse, labelled by
 /// @p labels, by Maubach's (or AMP's) bisection with the conforming closure (file comment). NEWEST_VERTEX marks
 /// a cell's refinement edge, BISEC3 all six edges (at least eight children). New nodes, parents,
-/// boundary facets and rollers as in 2D; Bisection::labels labels the fine mesh.
+/// boundary facets and rollers as in 2D; Bisection::labels labels the fine mesh. Above @p max_nodes
+/// nodes after the closure, only Bisection::nodes is filled (the closure is a third of the work; the
+/// fine cells, facets and the conformity check are the rest).
 /// @throws Error (EXIT_INPUT, naming the kind of mesh needed) if the closure does not end or leaves a
 /// face shared by more than two cells or a mismatched boundary (a labelling that is not compatible:
 /// a perturbed box, an imported mesh whose cells are not Kuhn paths).
 Bisection bisect(const Mesh& coarse, const TetLabels& labels, const std::vector<char>& marked,
-                 BisectionRule rule = BisectionRule::BISEC3);
+                 BisectionRule rule = BisectionRule::BISEC3, Index max_nodes = NO_NODE_LIMIT);
 
 /// A 3D mesh with its tagged tetrahedra.
 struct LabelledMesh {
